@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Make a fresh Debian machine ready: toolchains from apt (only when missing), a virtual
+# environment with the package and its test tools, the firmware images and the emulator.
+# Idempotent: a second run only rebuilds what changed.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+log() { printf '[setup] %s\n' "$*" >&2; }
+
+need_apt=()
+command -v avr-gcc >/dev/null || need_apt+=(gcc-avr binutils-avr)
+[ -f /usr/lib/avr/include/avr/io.h ] || [ -f /usr/avr/include/avr/io.h ] || need_apt+=(avr-libc)
+command -v simavr >/dev/null || need_apt+=(simavr)
+[ -f /usr/include/simavr/sim_avr.h ] || need_apt+=(libsimavr-dev)
+[ -f /usr/include/libelf.h ] || need_apt+=(libelf-dev)
+command -v pkg-config >/dev/null || need_apt+=(pkg-config)
+command -v arm-none-eabi-gcc >/dev/null || need_apt+=(gcc-arm-none-eabi)
+[ -d /usr/lib/arm-none-eabi/newlib ] || need_apt+=(libnewlib-arm-none-eabi)
+command -v make >/dev/null || need_apt+=(make)
+command -v gcc >/dev/null || need_apt+=(gcc libc6-dev)
+if [ ${#need_apt[@]} -gt 0 ]; then
+  sudo=""
+  [ "$(id -u)" = 0 ] || sudo="sudo"
+  log "installing Debian packages: ${need_apt[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${need_apt[@]}" >/dev/null
+fi
+
+python="${PYTHON:-python3}"
+if [ ! -x .venv/bin/python ]; then
+  log "creating .venv"
+  "$python" -m venv .venv
+fi
+stamp=.venv/.installed-$(sha1sum pyproject.toml | cut -c1-12)
+if [ ! -f "$stamp" ]; then
+  log "installing the Python package and its test tools into .venv"
+  .venv/bin/python -m pip install -q --upgrade pip >/dev/null
+  .venv/bin/python -m pip install -q -e '.[dev]'
+  rm -f .venv/.installed-*
+  touch "$stamp"
+fi
+
+log "building the firmware (uno, bluepill) and the emulator"
+for board in uno bluepill; do
+  if [ -f firmware/Makefile ]; then make -s -C firmware BOARD="$board" >/dev/null; fi
+done
+if [ -f tools/emulator/Makefile ]; then make -s -C tools/emulator >/dev/null; fi
+log "ready"
