@@ -3,6 +3,7 @@
 #ifndef OF_FRAME_H
 #define OF_FRAME_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
