@@ -1,0 +1,111 @@
+"""Sonar physics: speed of sound, formulas (6) and (7), statuses, median filter."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from obstacle_fusion.protocol.generated import Range, RangeStatus
+from obstacle_fusion.sonar import SonarConverter, SonarStatus, speed_of_sound
+
+
+def _range(ticks: int, status: RangeStatus = RangeStatus.OK, m: int = 0) -> Range:
+    return Range(measurement=m, sensor_id=0, trigger_us=1000, echo_ticks=ticks, status=int(status))
+
+
+def test_speed_of_sound_values() -> None:
+    assert speed_of_sound(0.0) == pytest.approx(331.3)
+    assert speed_of_sound(20.0) == pytest.approx(343.2, abs=0.1)
+    # The paper: "at T = 30 degrees, v = 349 m/s".
+    assert speed_of_sound(30.0) == pytest.approx(349.0, abs=0.1)
+    with pytest.raises(ValueError):
+        speed_of_sound(-300.0)
+
+
+def test_formula_7_far_away_and_formula_6_up_close() -> None:
+    conv = SonarConverter(timer_hz=2_000_000, temperature_c=20.0, half_spacing_m=0.013)
+    v = speed_of_sound(20.0)
+    # 2 m: the two formulas agree to 0.002%.
+    ticks = round(2 * 2.0 / v * 2_000_000)
+    r = conv.convert(_range(ticks))
+    assert r.status is SonarStatus.OK
+    assert r.slant_m == pytest.approx(2.0, rel=1e-5)
+    assert r.distance_m == pytest.approx(math.sqrt(2.0**2 - 0.013**2), rel=1e-5)
+    # 5 cm slant: the geometry matters (3.4%).
+    ticks = round(2 * 0.05 / v * 2_000_000)
+    r = conv.convert(_range(ticks))
+    assert r.distance_m == pytest.approx(math.sqrt(0.05**2 - 0.013**2), rel=1e-3)
+    assert r.distance_m < 0.049
+    # Formula 7 only.
+    r7 = SonarConverter(half_spacing_m=0.0).convert(_range(ticks))
+    assert r7.distance_m == pytest.approx(0.05, rel=1e-3)
+
+
+def test_temperature_changes_the_distance() -> None:
+    ticks = 11662  # about 1 m at 20 degC
+    cold = SonarConverter(temperature_c=-10.0).convert(_range(ticks)).distance_m
+    warm = SonarConverter(temperature_c=35.0).convert(_range(ticks)).distance_m
+    assert cold is not None and warm is not None
+    assert warm / cold == pytest.approx(speed_of_sound(35.0) / speed_of_sound(-10.0), rel=1e-4)
+
+
+def test_timer_hz_from_hello_sets_the_tick() -> None:
+    a = SonarConverter(timer_hz=2_000_000, half_spacing_m=0).convert(_range(10000)).distance_m
+    b = SonarConverter(timer_hz=1_000_000, half_spacing_m=0).convert(_range(5000)).distance_m
+    assert a == pytest.approx(b)
+
+
+@pytest.mark.parametrize(
+    ("wire", "expected"),
+    [
+        (RangeStatus.NO_ECHO, SonarStatus.NO_ECHO),
+        (RangeStatus.TIMEOUT, SonarStatus.TIMEOUT),
+        (RangeStatus.OUT_OF_RANGE, SonarStatus.OUT_OF_RANGE),
+    ],
+)
+def test_failed_measurements_have_no_distance(wire: RangeStatus, expected: SonarStatus) -> None:
+    r = SonarConverter().convert(_range(76000, wire))
+    assert r.status is expected
+    assert r.distance_m is None and not r.ok
+
+
+def test_unknown_status_code_is_explicit() -> None:
+    r = SonarConverter().convert(Range(0, 0, 0, 100, 99))
+    assert r.status is SonarStatus.UNKNOWN and r.distance_m is None
+
+
+def test_too_close_for_the_geometry() -> None:
+    r = SonarConverter(half_spacing_m=0.013).convert(_range(100))  # 8.6 mm slant
+    assert r.status is SonarStatus.TOO_CLOSE
+    assert r.distance_m is None and r.slant_m == pytest.approx(0.00858, rel=1e-2)
+
+
+def test_host_time_is_the_reflection_instant() -> None:
+    r = SonarConverter().convert(_range(20000), t_trigger_host=100.0)
+    assert r.t_host == pytest.approx(100.0 + 0.005)
+
+
+def test_median_filter_rejects_a_spike_and_keeps_raw() -> None:
+    conv = SonarConverter(median_window=3, half_spacing_m=0.0)
+    out = []
+    for i, ticks in enumerate([11662, 11670, 2000, 11680, 11690]):
+        out.append(conv.convert(_range(ticks, m=i), t_trigger_host=float(i) * 0.06))
+    spike = out[2]
+    assert spike.raw_distance_m == pytest.approx(0.1716, rel=1e-2)
+    assert spike.distance_m is not None and spike.distance_m > 0.99
+    assert all(r.distance_m is not None and r.distance_m > 0.99 for r in out)
+
+
+def test_median_filter_forgets_old_readings() -> None:
+    conv = SonarConverter(median_window=3, median_max_age_s=0.5, half_spacing_m=0.0)
+    conv.convert(_range(11662), t_trigger_host=0.0)
+    conv.convert(_range(11662), t_trigger_host=0.06)
+    late = conv.convert(_range(5831), t_trigger_host=5.0)
+    assert late.distance_m == pytest.approx(late.raw_distance_m)
+
+
+def test_bad_settings_are_refused() -> None:
+    with pytest.raises(ValueError):
+        SonarConverter(timer_hz=0)
+    with pytest.raises(ValueError):
+        SonarConverter(median_window=0)
