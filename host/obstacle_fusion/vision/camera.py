@@ -191,10 +191,13 @@ class CameraModel:
             )
         try:
             fs = cv2.FileStorage(str(p), cv2.FILE_STORAGE_READ)
-        except cv2.error as exc:
+        except (cv2.error, SystemError) as exc:
+            # Some OpenCV builds wrap the parse error in a SystemError.
+            cause = exc.__cause__ if isinstance(exc, SystemError) and exc.__cause__ else exc
+            detail = str(cause).strip().splitlines()[-1] if str(cause).strip() else "parse error"
             raise CameraModelError(
                 f"camera file {p} is not a readable OpenCV FileStorage file "
-                f"(YAML/XML/JSON): {str(exc).strip().splitlines()[-1]}"
+                f"(YAML/XML/JSON): {detail}"
             ) from None
         try:
             if not fs.isOpened():
@@ -238,7 +241,7 @@ class CameraModel:
         p = Path(path)
         try:
             fs = cv2.FileStorage(str(p), cv2.FILE_STORAGE_WRITE | cv2.FILE_STORAGE_FORMAT_YAML)
-        except cv2.error as exc:
+        except (cv2.error, SystemError) as exc:
             raise CameraModelError(f"cannot write camera file {p}: {exc}") from None
         if not fs.isOpened():
             raise CameraModelError(f"cannot write camera file {p}: check the folder exists")

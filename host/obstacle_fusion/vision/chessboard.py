@@ -125,7 +125,7 @@ def default_poses(camera: CameraModel, board: BoardSpec, count: int = 9) -> list
         (10, 35, 2),
         (-35, 5, -2),
     ]
-    shifts = [(0.0, 0.0), (-0.12, -0.1), (0.12, 0.1), (-0.12, 0.1), (0.12, -0.1)]
+    shifts = [(0.0, 0.0), (-0.17, -0.15), (0.17, 0.15), (-0.17, 0.15), (0.17, -0.15)]
     poses: list[BoardPose] = []
     for i in range(count):
         ax, ay, az = (math.radians(a) for a in tilts[i % len(tilts)])
@@ -162,7 +162,10 @@ class BoardRenderer:
         vs = (np.arange(camera.height)[:, None] + offs[None, :]).reshape(-1)
         uu, vv = np.meshgrid(us, vs)
         rays = camera.unproject(np.stack([uu.ravel(), vv.ravel()], axis=1))
-        self._rays = rays.reshape(camera.height * s, camera.width * s, 3)
+        # Normalised image coordinates of every sample; float32 is ample (1e-4 px).
+        shape = (camera.height * s, camera.width * s)
+        self._x = rays[:, 0].astype(np.float32).reshape(shape)
+        self._y = rays[:, 1].astype(np.float32).reshape(shape)
 
     def render(
         self,
@@ -176,24 +179,23 @@ class BoardRenderer:
         rng: np.random.Generator | None = None,
     ) -> RenderedBoard:
         cam, board, s = self.camera, self.board, self.supersample
+        # Board plane z = 0 maps to normalised image coordinates by H = [r1 r2 t];
+        # H^-1 takes each sample back to board coordinates, w > 0 means in front.
         r = pose.rotation()
-        t = np.asarray(pose.tvec, np.float64)
-        # Ray d hits the plane n.(X - t) = 0 with n = r[:, 2] at X = d * (n.t / n.d).
-        n = r[:, 2]
-        denom = self._rays @ n
-        with np.errstate(divide="ignore", invalid="ignore"):
-            lam = float(n @ t) / denom
-        hit = self._rays * lam[..., None]
-        local = (hit - t) @ r  # board coordinates (rows of r^T applied)
-        q = board.square_m
-        bx = local[..., 0] / q
-        by = local[..., 1] / q
+        h = np.column_stack([r[:, 0], r[:, 1], np.asarray(pose.tvec, np.float64)])
+        hi = np.linalg.inv(h).astype(np.float32)
+        x, y = self._x, self._y
+        w = hi[2, 0] * x + hi[2, 1] * y + hi[2, 2]
+        front = w > 1e-9
+        w = np.where(front, w, np.float32(1.0))
+        q = np.float32(board.square_m)
+        bx = (hi[0, 0] * x + hi[0, 1] * y + hi[0, 2]) / (w * q)
+        by = (hi[1, 0] * x + hi[1, 1] * y + hi[1, 2]) / (w * q)
         # Squares span [-1, cols] x [-1, rows] in square units; a 1-square white margin.
         on_squares = (bx >= -1) & (bx < board.cols) & (by >= -1) & (by < board.rows)
         on_margin = (bx >= -2) & (bx < board.cols + 1) & (by >= -2) & (by < board.rows + 1)
         black = ((np.floor(bx) + np.floor(by)) % 2 == 0) & on_squares
-        front = np.isfinite(lam) & (lam > 0)
-        value = np.full(bx.shape, float(background))
+        value = np.full(bx.shape, float(background), np.float32)
         value[on_margin & front] = light
         value[black & front] = dark
         img = value.reshape(cam.height, s, cam.width, s).mean(axis=(1, 3))

@@ -1,0 +1,47 @@
+"""Shared helpers for the vision tests: data locations and cameras with a known answer."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.chessboard import BoardRenderer, BoardSpec, default_poses
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED_DATA = REPO.parent / "shared" / "data"
+CHESSBOARD_DIR = SHARED_DATA / "opencv-chessboard"
+
+BOARD = BoardSpec(9, 6, 0.025)
+
+
+def real_chessboard_photos() -> list[Path]:
+    """The six real OpenCV sample photos; skip only when the shared data is truly absent."""
+    if not SHARED_DATA.is_dir():
+        pytest.skip(f"shared data folder {SHARED_DATA} is absent")
+    photos = sorted(CHESSBOARD_DIR.glob("*.jpg"))
+    assert len(photos) == 6, f"expected six photos in {CHESSBOARD_DIR}, found {len(photos)}"
+    return photos
+
+
+def known_camera(width: int = 640, height: int = 480) -> CameraModel:
+    """A camera with marked barrel distortion and an off-centre principal point."""
+    k = np.array([[610.0, 0.0, 327.3], [0.0, 603.5, 231.8], [0.0, 0.0, 1.0]])
+    dist = np.array([-0.21, 0.11, 0.0012, -0.0009, -0.02])
+    return CameraModel(k, dist, 640, 480).scaled_to(width, height)
+
+
+@lru_cache(maxsize=4)
+def rendered_boards(
+    width: int, height: int, count: int = 9, noise: float = 1.5
+) -> tuple[np.ndarray, ...]:
+    """Boards through known_camera at this size; identical poses at every size."""
+    cam = known_camera(width, height)
+    renderer = BoardRenderer(cam, BOARD, supersample=3 if width <= 640 else 2)
+    rng = np.random.default_rng(1234)
+    poses = default_poses(cam, BOARD, count)
+    return tuple(
+        renderer.render(p, noise_sigma=noise, blur_sigma=0.5, rng=rng).image for p in poses
+    )
