@@ -40,10 +40,10 @@ from obstacle_fusion.protocol.generated import Error as NackError
 
 log = logging.getLogger(__name__)
 
-_LOG_LEVELS = {
-    LogLevel.DEBUG: logging.DEBUG,
-    LogLevel.INFO: logging.INFO,
-    LogLevel.WARNING: logging.WARNING,
+_LOG_LEVELS: dict[int, int] = {
+    int(LogLevel.DEBUG): logging.DEBUG,
+    int(LogLevel.INFO): logging.INFO,
+    int(LogLevel.WARNING): logging.WARNING,
 }
 
 PortProvider = Callable[[], str | None]
