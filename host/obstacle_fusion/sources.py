@@ -1,0 +1,501 @@
+"""Frame sources: camera, video file, image folder, all stamped on the host's monotonic clock.
+
+Fusion pairs each frame with the echo of the same instant, so a frame carries the time it
+was *captured* (time.monotonic() at read minus the camera's latency), never the time some
+later stage happened to look at it. Bad images are skipped and counted, never fatal.
+
+To add a source, subclass :class:`FrameSource` and implement ``_capture`` (and ``_release``
+if it holds a resource); build each frame with ``self._frame(image, t_host)``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import re
+import time
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.errors import UserError
+
+log = logging.getLogger(__name__)
+
+Clock = Callable[[], float]
+Sleep = Callable[[float], None]
+
+IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp", ".ppm", ".pgm")
+
+
+class SourceError(UserError):
+    """A frame source that cannot be opened or used as asked."""
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One image and the host-monotonic instant it was captured."""
+
+    image: npt.NDArray[np.uint8]  # H x W x 3, BGR
+    t_host: float  # time.monotonic() seconds at the capture instant
+    index: int  # position in the source (camera: frames grabbed; file: frame number)
+    source: str  # the source's name, e.g. "camera:0", "video:run.mp4"
+
+    @property
+    def width(self) -> int:
+        return int(self.image.shape[1])
+
+    @property
+    def height(self) -> int:
+        return int(self.image.shape[0])
+
+
+@dataclass
+class SourceStats:
+    """Counters a live view shows: what was delivered and what was lost."""
+
+    delivered: int = 0
+    skipped: int = 0  # unreadable images or frames, passed over with a warning
+    read_failures: int = 0  # failed camera reads (retried)
+    skipped_names: list[str] = field(default_factory=list)
+
+
+def as_bgr(image: npt.NDArray[Any]) -> npt.NDArray[np.uint8]:
+    """Any 8-bit grey/BGR/BGRA image as 3-channel BGR uint8 (a view when already so)."""
+    if image.dtype != np.uint8:
+        raise SourceError(f"frames must be 8-bit images, got dtype {image.dtype}")
+    if image.ndim == 2:
+        return np.asarray(cv2.cvtColor(image, cv2.COLOR_GRAY2BGR), np.uint8)
+    if image.ndim == 3 and image.shape[2] == 3:
+        return image
+    if image.ndim == 3 and image.shape[2] == 4:
+        return np.asarray(cv2.cvtColor(image, cv2.COLOR_BGRA2BGR), np.uint8)
+    if image.ndim == 3 and image.shape[2] == 1:
+        return np.asarray(cv2.cvtColor(image, cv2.COLOR_GRAY2BGR), np.uint8)
+    raise SourceError(f"unsupported image layout {image.shape}")
+
+
+class FrameSource(ABC):
+    """A stream of :class:`Frame` records; iterate it, or call :meth:`read` until None.
+
+    Use it as a context manager (or call :meth:`close`) so devices and files are released.
+    """
+
+    def __init__(self, name: str, *, clock: Clock = time.monotonic) -> None:
+        self.name = name
+        self.clock = clock
+        self.stats = SourceStats()
+        self.end_reason: str | None = None  # why the stream ended, once it has
+        self._closed = False
+
+    # -- for subclasses ------------------------------------------------------------
+    @abstractmethod
+    def _capture(self) -> Frame | None:
+        """The next frame, or None at the end of the stream (set ``end_reason``)."""
+
+    def _release(self) -> None:
+        """Free the device or file; called once by :meth:`close`."""
+        return None
+
+    def _frame(self, image: npt.NDArray[Any], t_host: float, index: int | None = None) -> Frame:
+        """A Frame from an image of this source (converted to BGR uint8 if needed)."""
+        return Frame(
+            as_bgr(image),
+            float(t_host),
+            self.stats.delivered if index is None else int(index),
+            self.name,
+        )
+
+    def _skip(self, what: str, reason: str) -> None:
+        self.stats.skipped += 1
+        self.stats.skipped_names.append(what)
+        log.warning("%s: skipping %s: %s", self.name, what, reason)
+
+    # -- for users -----------------------------------------------------------------
+    @property
+    def nominal_fps(self) -> float | None:
+        """Frame rate the source claims, when it claims one."""
+        return None
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    def read(self) -> Frame | None:
+        """The next frame, or None when the stream has ended."""
+        if self._closed:
+            raise SourceError(f"{self.name} is closed")
+        if self.end_reason is not None:
+            return None
+        frame = self._capture()
+        if frame is None:
+            if self.end_reason is None:
+                self.end_reason = "end of stream"
+            return None
+        self.stats.delivered += 1
+        return frame
+
+    def __iter__(self) -> Iterator[Frame]:
+        while (frame := self.read()) is not None:
+            yield frame
+
+    def close(self) -> None:
+        if not self._closed:
+            self._closed = True
+            try:
+                self._release()
+            finally:
+                log.debug("%s closed: %s", self.name, self.stats)
+
+    def __enter__(self) -> FrameSource:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+
+# ---------------------------------------------------------------------------- camera
+
+
+class _QuietOpenCV:
+    """Silence OpenCV's own warnings while probing a device; we report our own error."""
+
+    def __enter__(self) -> None:
+        self._level = cv2.utils.logging.getLogLevel()
+        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_ERROR)
+
+    def __exit__(self, *exc: object) -> None:
+        cv2.utils.logging.setLogLevel(self._level)
+
+
+def _camera_help(device: int | str) -> str:
+    return (
+        f"cannot open camera {device!r}. Try: `ls /dev/video*` or `v4l2-ctl --list-devices` "
+        "to see which cameras exist; another index (0 is usually the built-in one); close "
+        "other programs using the camera; on Linux, check you may read it (the 'video' group)"
+    )
+
+
+class CameraSource(FrameSource):
+    """A live camera through cv2.VideoCapture.
+
+    ``latency_s`` is the time from exposure to the frame being readable (USB webcams:
+    typically 30-100 ms); it is subtracted from the read time. ``width``/``height``/``fps``
+    are requests; the camera may choose otherwise (logged; ``size``/``nominal_fps`` tell).
+    """
+
+    #: Consecutive failed reads after which the camera is taken as gone.
+    MAX_CONSECUTIVE_FAILURES = 30
+
+    def __init__(
+        self,
+        device: int | str = 0,
+        *,
+        width: int | None = None,
+        height: int | None = None,
+        fps: float | None = None,
+        latency_s: float = 0.0,
+        fourcc: str | None = None,
+        api_preference: int = cv2.CAP_ANY,
+        clock: Clock = time.monotonic,
+    ) -> None:
+        if isinstance(device, str) and device.strip().isdigit():
+            device = int(device.strip())
+        super().__init__(f"camera:{device}", clock=clock)
+        if not math.isfinite(latency_s) or latency_s < 0:
+            raise SourceError(f"camera latency must be >= 0 s, got {latency_s}")
+        if isinstance(device, int) and device < 0:
+            raise SourceError(f"camera index must be >= 0, got {device}")
+        if isinstance(device, str) and device.startswith("/dev/") and not Path(device).exists():
+            raise SourceError(f"camera device {device} does not exist. " + _camera_help(device))
+        self.device = device
+        self.latency_s = float(latency_s)
+        self._consecutive_failures = 0
+        with _QuietOpenCV():
+            try:
+                cap = cv2.VideoCapture(device, api_preference)
+            except cv2.error as exc:
+                raise SourceError(_camera_help(device) + f" (OpenCV: {exc})") from None
+            if not cap.isOpened():
+                cap.release()
+                raise SourceError(_camera_help(device))
+        self._cap = cap
+        if fourcc is not None:
+            if len(fourcc) != 4:
+                cap.release()
+                raise SourceError(f"fourcc must be 4 characters such as MJPG, got {fourcc!r}")
+            cap.set(cv2.CAP_PROP_FOURCC, cv2.VideoWriter.fourcc(*fourcc))
+        if width is not None:
+            cap.set(cv2.CAP_PROP_FRAME_WIDTH, width)
+        if height is not None:
+            cap.set(cv2.CAP_PROP_FRAME_HEIGHT, height)
+        if fps is not None:
+            cap.set(cv2.CAP_PROP_FPS, fps)
+        # A deep driver queue would hand us old frames stamped as new: keep it short.
+        cap.set(cv2.CAP_PROP_BUFFERSIZE, 1)
+        got = self.size
+        if (width is not None and got[0] != width) or (height is not None and got[1] != height):
+            log.warning("%s: asked for %sx%s, camera gives %dx%d", self.name, width, height, *got)
+        if fps is not None and self.nominal_fps and abs(self.nominal_fps - fps) > 0.5:
+            log.warning("%s: asked for %g fps, camera gives %g", self.name, fps, self.nominal_fps)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return (
+            int(self._cap.get(cv2.CAP_PROP_FRAME_WIDTH)),
+            int(self._cap.get(cv2.CAP_PROP_FRAME_HEIGHT)),
+        )
+
+    @property
+    def nominal_fps(self) -> float | None:
+        fps = float(self._cap.get(cv2.CAP_PROP_FPS))
+        return fps if math.isfinite(fps) and fps > 0 else None
+
+    def _capture(self) -> Frame | None:
+        while True:
+            # grab() returns once a frame is in hand: stamp then, decode after.
+            ok = self._cap.grab()
+            t_read = self.clock()
+            image = None
+            if ok:
+                ok, image = self._cap.retrieve()
+            if ok and image is not None:
+                self._consecutive_failures = 0
+                return self._frame(image, t_read - self.latency_s)
+            self.stats.read_failures += 1
+            self._consecutive_failures += 1
+            if self._consecutive_failures >= self.MAX_CONSECUTIVE_FAILURES:
+                self.end_reason = (
+                    f"camera {self.device!r} gave no frame in {self._consecutive_failures} "
+                    "tries in a row (unplugged or taken by another program?)"
+                )
+                log.error("%s: %s", self.name, self.end_reason)
+                return None
+
+    def _release(self) -> None:
+        self._cap.release()
+
+
+# ---------------------------------------------------------------------------- files
+
+
+class _Timeline:
+    """Frame k of a recording is stamped start + k / fps; optionally paced to real time."""
+
+    def __init__(
+        self, fps: float, start: float | None, realtime: bool, clock: Clock, sleep: Sleep
+    ) -> None:
+        self.fps = fps
+        self.start = clock() if start is None else float(start)
+        self.realtime = realtime
+        self.clock = clock
+        self.sleep = sleep
+
+    def stamp(self, position: int) -> float:
+        t = self.start + position / self.fps
+        if self.realtime:
+            wait = t - self.clock()
+            if wait > 0:
+                self.sleep(wait)
+        return t
+
+
+def _check_fps(fps: float | None, what: str) -> float | None:
+    if fps is None:
+        return None
+    if not math.isfinite(fps) or fps <= 0:
+        raise SourceError(f"{what}: frame rate must be a positive number, got {fps}")
+    return float(fps)
+
+
+class VideoFileSource(FrameSource):
+    """A video file; frame k is stamped ``start_time + k / fps`` on the host clock.
+
+    ``start_time`` defaults to the moment of opening. ``realtime=True`` also waits until
+    each frame's stamp before delivering it, so the file plays like a live camera.
+    ``fps`` overrides the rate the file declares (needed when it declares none).
+    """
+
+    #: Unreadable frames in a row after which the rest of the file is taken as lost.
+    MAX_CONSECUTIVE_BAD = 10
+
+    def __init__(
+        self,
+        path: str | Path,
+        *,
+        fps: float | None = None,
+        realtime: bool = False,
+        start_time: float | None = None,
+        clock: Clock = time.monotonic,
+        sleep: Sleep = time.sleep,
+    ) -> None:
+        p = Path(path)
+        super().__init__(f"video:{p.name}", clock=clock)
+        if not p.exists():
+            raise SourceError(f"video file {p} does not exist")
+        if p.is_dir():
+            raise SourceError(f"{p} is a folder; for a folder of images use an image source")
+        fps = _check_fps(fps, str(p))
+        with _QuietOpenCV():
+            cap = cv2.VideoCapture(str(p))
+        if not cap.isOpened():
+            cap.release()
+            raise SourceError(
+                f"cannot open video {p}: not a video OpenCV can decode (corrupt, empty or "
+                "an unsupported codec); try re-encoding it, e.g. `ffmpeg -i IN -c:v mjpeg OUT.avi`"
+            )
+        self.path = p
+        self._cap = cap
+        declared = float(cap.get(cv2.CAP_PROP_FPS))
+        if fps is None:
+            if not (math.isfinite(declared) and 0 < declared < 10000):
+                cap.release()
+                raise SourceError(f"video {p} declares no frame rate; give one (fps=...)")
+            fps = declared
+        self._fps = fps
+        count = int(cap.get(cv2.CAP_PROP_FRAME_COUNT))
+        self.frame_count: int | None = count if count > 0 else None
+        self._timeline = _Timeline(fps, start_time, realtime, clock, sleep)
+        self._position = 0
+
+    @property
+    def nominal_fps(self) -> float:
+        return self._fps
+
+    @property
+    def start_time(self) -> float:
+        return self._timeline.start
+
+    def _capture(self) -> Frame | None:
+        bad = 0
+        while True:
+            ok, image = self._cap.read()
+            position = self._position
+            self._position += 1
+            if ok and image is not None:
+                return self._frame(image, self._timeline.stamp(position), position)
+            more = self.frame_count is not None and position < self.frame_count - 1
+            if not more:
+                return None
+            bad += 1
+            self._skip(f"frame {position}", "could not be decoded")
+            if bad >= self.MAX_CONSECUTIVE_BAD:
+                self.end_reason = f"{bad} unreadable frames in a row at frame {position}"
+                log.error("%s: %s; stopping", self.name, self.end_reason)
+                return None
+
+    def _release(self) -> None:
+        self._cap.release()
+
+
+def _natural_key(path: Path) -> list[Any]:
+    """frame2 before frame10, as a person numbers files."""
+    return [int(part) if part.isdigit() else part.lower() for part in re.split(r"(\d+)", path.name)]
+
+
+class ImageFolderSource(FrameSource):
+    """The images of a folder in natural order, at a fixed frame rate.
+
+    Image k (by position in the folder, skipped ones included) is stamped
+    ``start_time + k / fps``, so skipping a corrupt file never shifts the others in time.
+    """
+
+    def __init__(
+        self,
+        folder: str | Path,
+        *,
+        fps: float = 10.0,
+        realtime: bool = False,
+        start_time: float | None = None,
+        extensions: Sequence[str] = IMAGE_EXTENSIONS,
+        clock: Clock = time.monotonic,
+        sleep: Sleep = time.sleep,
+    ) -> None:
+        p = Path(folder)
+        super().__init__(f"folder:{p.name}", clock=clock)
+        if not p.exists():
+            raise SourceError(f"image folder {p} does not exist")
+        if not p.is_dir():
+            raise SourceError(f"{p} is not a folder; for a video file use a video source")
+        checked = _check_fps(fps, str(p))
+        assert checked is not None
+        exts = {e.lower() if e.startswith(".") else "." + e.lower() for e in extensions}
+        self.paths = sorted(
+            (f for f in p.iterdir() if f.is_file() and f.suffix.lower() in exts), key=_natural_key
+        )
+        if not self.paths:
+            raise SourceError(f"no images in {p} (looked for {', '.join(sorted(exts))})")
+        self.folder = p
+        self._fps = checked
+        self._timeline = _Timeline(checked, start_time, realtime, clock, sleep)
+        self._position = 0
+
+    @property
+    def nominal_fps(self) -> float:
+        return self._fps
+
+    @property
+    def start_time(self) -> float:
+        return self._timeline.start
+
+    def _capture(self) -> Frame | None:
+        while self._position < len(self.paths):
+            position = self._position
+            path = self.paths[position]
+            self._position += 1
+            try:
+                data = np.fromfile(path, dtype=np.uint8)
+            except OSError as exc:
+                self._skip(path.name, f"cannot read it ({exc.strerror or exc})")
+                continue
+            image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+            if image is None:
+                self._skip(path.name, "not a readable image (empty, corrupt or unknown format)")
+                continue
+            return self._frame(image, self._timeline.stamp(position), position)
+        return None
+
+
+# ---------------------------------------------------------------------------- factory
+
+
+def open_source(
+    spec: str | int,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    fps: float | None = None,
+    latency_s: float = 0.0,
+    realtime: bool = False,
+    clock: Clock = time.monotonic,
+) -> FrameSource:
+    """A source from a command-line value: a camera index or /dev path, a video, a folder."""
+    if isinstance(spec, int) or str(spec).strip().isdigit():
+        return CameraSource(
+            int(spec), width=width, height=height, fps=fps, latency_s=latency_s, clock=clock
+        )
+    text = str(spec)
+    path = Path(text)
+    if text.startswith("/dev/") or "://" in text:  # a device, or a network stream
+        return CameraSource(
+            text, width=width, height=height, fps=fps, latency_s=latency_s, clock=clock
+        )
+    if path.is_dir():
+        return ImageFolderSource(path, fps=fps or 10.0, realtime=realtime, clock=clock)
+    if path.is_file():
+        return VideoFileSource(path, fps=fps, realtime=realtime, clock=clock)
+    raise SourceError(
+        f"{text!r} is not a camera index, a /dev/video device, a video file or an image folder"
+    )
