@@ -226,3 +226,19 @@ def test_subclassing_the_base_is_small() -> None:
     assert src.released == 1
     with pytest.raises(SourceError, match="8-bit"):
         CountingSource(1)._frame(np.zeros((2, 2), np.float32), 0.0)
+
+
+def test_camera_stamps_grab_time_minus_latency_and_ends_when_frames_stop(video: Path) -> None:
+    """A file opened through the camera path exercises grab/stamp/retrieve without hardware."""
+    clock = FakeClock(50.0)
+    with CameraSource(str(video), latency_s=0.08, clock=clock) as src:
+        assert src.size == (W, H)
+        first = src.read()
+        assert first is not None
+        assert first.t_host == pytest.approx(50.0 - 0.08)
+        assert first.source == f"camera:{video}"
+        rest = list(src)
+    assert len(rest) == 11 and [f.index for f in rest] == list(range(1, 12))
+    # At the end of the clip the "camera" stops giving frames: a clear reason, no exception.
+    assert src.stats.read_failures == CameraSource.MAX_CONSECUTIVE_FAILURES
+    assert src.end_reason is not None and "gave no frame" in src.end_reason
