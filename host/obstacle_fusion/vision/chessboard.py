@@ -125,6 +125,16 @@ def default_poses(camera: CameraModel, board: BoardSpec, count: int = 9) -> list
         (10, 35, 2),
         (-35, 5, -2),
     ]
+    q = board.square_m
+    outline = np.array(
+        [
+            [-2 * q, -2 * q, 0],
+            [(board.cols + 1) * q, -2 * q, 0],
+            [(board.cols + 1) * q, (board.rows + 1) * q, 0],
+            [-2 * q, (board.rows + 1) * q, 0],
+        ]
+    )
+    margin_x, margin_y = 0.02 * camera.width, 0.02 * camera.height
     shifts = [(0.0, 0.0), (-0.17, -0.15), (0.17, 0.15), (-0.17, 0.15), (0.17, -0.15)]
     poses: list[BoardPose] = []
     for i in range(count):
@@ -141,7 +151,19 @@ def default_poses(camera: CameraModel, board: BoardSpec, count: int = 9) -> list
         )
         target[0] += (camera.width / 2 - camera.cx) * z / camera.fx
         target[1] += (camera.height / 2 - camera.cy) * z / camera.fy
-        t = target - r @ centre_board
+        # Step back until the whole board, margin included, is inside the image.
+        for _ in range(30):
+            t = target - r @ centre_board
+            seen = camera.project(outline @ r.T + t)
+            inside = (
+                (seen[:, 0] >= margin_x)
+                & (seen[:, 0] <= camera.width - 1 - margin_x)
+                & (seen[:, 1] >= margin_y)
+                & (seen[:, 1] <= camera.height - 1 - margin_y)
+            )
+            if inside.all():
+                break
+            target = target * 1.08
         poses.append(BoardPose(rvec, (float(t[0]), float(t[1]), float(t[2]))))
     return poses
 
