@@ -212,3 +212,20 @@ def test_undistort_refuses_an_image_of_another_size() -> None:
     cam = known_camera()
     with pytest.raises(CameraModelError, match=r"1280x960.*640x480.*scaled_to"):
         cam.undistort(np.zeros((960, 1280), np.uint8))
+
+
+def test_save_follows_the_extension_and_never_half_writes(tmp_path: Path) -> None:
+    cam = CameraModel.paper()
+    for name, head in (("cam.json", "{"), ("cam.xml", "<?xml"), ("cam.yml", "%YAML")):
+        cam.save(tmp_path / name)
+        assert (tmp_path / name).read_text().startswith(head)
+        assert CameraModel.load(tmp_path / name) == cam
+    keep = tmp_path / "keep.yaml"
+    cam.save(keep)
+    before = keep.read_bytes()
+    with pytest.raises(cv2.error):
+        CameraModel.paper(1000, 750).save(keep, extra={"not a key!": 1})
+    assert keep.read_bytes() == before
+    assert not list(tmp_path.glob("*.part")) and not list(tmp_path.glob(".*.part"))
+    with pytest.raises(CameraModelError, match="does not exist"):
+        cam.save(tmp_path / "nowhere" / "cam.yaml")

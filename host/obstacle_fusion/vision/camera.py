@@ -237,14 +237,30 @@ class CameraModel:
         path: str | os.PathLike[str],
         extra: Mapping[str, int | float | str] | None = None,
     ) -> None:
-        """Write the FileStorage YAML that cv2.FileStorage and OpenCV's samples read."""
+        """Write the FileStorage file that cv2.FileStorage and OpenCV's samples read.
+
+        YAML unless the name ends in .xml or .json. Written beside the target and then
+        renamed, so a failed write never destroys an existing calibration.
+        """
         p = Path(path)
+        suffix = p.suffix.lower()
+        fmt = {
+            ".xml": cv2.FILE_STORAGE_FORMAT_XML,
+            ".json": cv2.FILE_STORAGE_FORMAT_JSON,
+        }.get(suffix, cv2.FILE_STORAGE_FORMAT_YAML)
+        if not p.parent.is_dir():
+            raise CameraModelError(
+                f"cannot write camera file {p}: folder {p.parent} does not exist"
+            )
+        if p.is_dir():
+            raise CameraModelError(f"cannot write camera file {p}: it is a directory")
+        part = p.with_name(f".{p.name}.part")
         try:
-            fs = cv2.FileStorage(str(p), cv2.FILE_STORAGE_WRITE | cv2.FILE_STORAGE_FORMAT_YAML)
+            fs = cv2.FileStorage(str(part), cv2.FILE_STORAGE_WRITE | fmt)
         except (cv2.error, SystemError) as exc:
             raise CameraModelError(f"cannot write camera file {p}: {exc}") from None
         if not fs.isOpened():
-            raise CameraModelError(f"cannot write camera file {p}: check the folder exists")
+            raise CameraModelError(f"cannot write camera file {p}: check folder permissions")
         try:
             fs.write("image_width", self.width)
             fs.write("image_height", self.height)
@@ -258,8 +274,12 @@ class CameraModel:
                 fs.write("avg_reprojection_error", float(self.rms_px))
             for key, value in (extra or {}).items():
                 fs.write(key, value)
-        finally:
             fs.release()
+            os.replace(part, p)
+        except BaseException:
+            fs.release()
+            part.unlink(missing_ok=True)
+            raise
 
     # ----------------------------------------------------------------- undistortion
     @cached_property
