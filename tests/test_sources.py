@@ -231,7 +231,7 @@ def test_subclassing_the_base_is_small() -> None:
 def test_camera_stamps_grab_time_minus_latency_and_ends_when_frames_stop(video: Path) -> None:
     """A file opened through the camera path exercises grab/stamp/retrieve without hardware."""
     clock = FakeClock(50.0)
-    with CameraSource(str(video), latency_s=0.08, clock=clock) as src:
+    with CameraSource(str(video), latency_s=0.08, clock=clock, sleep=clock.sleep) as src:
         assert src.size == (W, H)
         first = src.read()
         assert first is not None
@@ -242,3 +242,4 @@ def test_camera_stamps_grab_time_minus_latency_and_ends_when_frames_stop(video: 
     # At the end of the clip the "camera" stops giving frames: a clear reason, no exception.
     assert src.stats.read_failures == CameraSource.MAX_CONSECUTIVE_FAILURES
     assert src.end_reason is not None and "gave no frame" in src.end_reason
+    assert len(clock.sleeps) == CameraSource.MAX_CONSECUTIVE_FAILURES - 1

@@ -19,7 +19,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import Any, Self
 
 import cv2
 import numpy as np
@@ -154,7 +154,7 @@ class FrameSource(ABC):
             finally:
                 log.debug("%s closed: %s", self.name, self.stats)
 
-    def __enter__(self) -> FrameSource:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(
@@ -196,8 +196,9 @@ class CameraSource(FrameSource):
     are requests; the camera may choose otherwise (logged; ``size``/``nominal_fps`` tell).
     """
 
-    #: Consecutive failed reads after which the camera is taken as gone.
+    #: Consecutive failed reads, or seconds of them, after which the camera is taken as gone.
     MAX_CONSECUTIVE_FAILURES = 30
+    MAX_FAILING_S = 5.0
 
     def __init__(
         self,
@@ -210,6 +211,7 @@ class CameraSource(FrameSource):
         fourcc: str | None = None,
         api_preference: int = cv2.CAP_ANY,
         clock: Clock = time.monotonic,
+        sleep: Sleep = time.sleep,
     ) -> None:
         if isinstance(device, str) and device.strip().isdigit():
             device = int(device.strip())
@@ -223,6 +225,8 @@ class CameraSource(FrameSource):
         self.device = device
         self.latency_s = float(latency_s)
         self._consecutive_failures = 0
+        self._failing_since = 0.0
+        self._sleep = sleep
         with _QuietOpenCV():
             try:
                 cap = cv2.VideoCapture(device, api_preference)
@@ -276,13 +280,19 @@ class CameraSource(FrameSource):
                 return self._frame(image, t_read - self.latency_s)
             self.stats.read_failures += 1
             self._consecutive_failures += 1
-            if self._consecutive_failures >= self.MAX_CONSECUTIVE_FAILURES:
+            if self._consecutive_failures == 1:
+                self._failing_since = t_read
+            if (
+                self._consecutive_failures >= self.MAX_CONSECUTIVE_FAILURES
+                or t_read - self._failing_since > self.MAX_FAILING_S
+            ):
                 self.end_reason = (
                     f"camera {self.device!r} gave no frame in {self._consecutive_failures} "
                     "tries in a row (unplugged or taken by another program?)"
                 )
                 log.error("%s: %s", self.name, self.end_reason)
                 return None
+            self._sleep(0.01)  # a USB hiccup gets a moment to recover
 
     def _release(self) -> None:
         self._cap.release()
