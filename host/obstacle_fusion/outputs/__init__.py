@@ -1,0 +1,1 @@
+"""Where obstacle records go: live console, JSON lines, annotated video, MCAP recording."""

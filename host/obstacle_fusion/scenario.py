@@ -1,0 +1,179 @@
+"""The demo world: which obstacle stands how far in front of the robot, over time.
+
+One description feeds both halves of an emulated run: it is written out as the emulator's
+keyframe file (so the virtual HC-SR04 echoes these distances) and read by the synthetic
+camera (so the frames show the same obstacle at the same distance). Scenario time 0 is the
+emulator's simulated time 0 (the firmware's power-up).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+STEP_S = 0.001  # how long a keyframe step takes in the emulator's scene
+
+
+@dataclass(frozen=True, slots=True)
+class Obstacle:
+    """A box-like obstacle: the face toward the robot is width x height."""
+
+    name: str
+    height_m: float
+    width_m: float
+    depth_m: float = 0.3
+    color_bgr: tuple[int, int, int] = (60, 90, 170)
+
+
+@dataclass(frozen=True, slots=True)
+class Segment:
+    """From t0 to t1 the obstacle moves linearly from d0 to d1 (None: nothing in front)."""
+
+    t0: float
+    t1: float
+    obstacle: Obstacle | None
+    d0: float
+    d1: float
+
+    def distance(self, t: float) -> float:
+        if self.t1 <= self.t0:
+            return self.d1
+        f = min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
+        return self.d0 + f * (self.d1 - self.d0)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    segments: tuple[Segment, ...]
+    temperature_c: float = 20.0
+    name: str = "scenario"
+
+    def __post_init__(self) -> None:
+        if not self.segments:
+            raise ValueError("a scenario needs at least one segment")
+        for a, b in zip(self.segments, self.segments[1:], strict=False):
+            if b.t0 < a.t1:
+                raise ValueError(f"segments overlap at t={b.t0}")
+
+    @property
+    def duration_s(self) -> float:
+        return self.segments[-1].t1
+
+    def segment_at(self, t: float) -> Segment | None:
+        """The segment covering t; before the first, the first; after the last, the last.
+        In a gap between segments: None (nothing in front)."""
+        if t < self.segments[0].t0:
+            return self.segments[0]
+        for seg in self.segments:
+            if seg.t0 <= t < seg.t1:
+                return seg
+        last = self.segments[-1]
+        if t >= last.t1:
+            return last
+        return None
+
+    def obstacle_at(self, t: float) -> Obstacle | None:
+        seg = self.segment_at(t)
+        return None if seg is None else seg.obstacle
+
+    def distance_at(self, t: float) -> float | None:
+        seg = self.segment_at(t)
+        if seg is None or seg.obstacle is None:
+            return None
+        return seg.distance(t)
+
+    def keyframes(self) -> list[tuple[float, float | None]]:
+        """The emulator's keyframes: linear within a segment, steps between segments.
+
+        The format holds the earlier value until the next keyframe when either end of a
+        pair is `none`, and interpolates between numbers, so a step from one obstacle to
+        another (or to nothing) starts STEP_S after the old segment's last keyframe.
+        """
+        out: list[tuple[float, float | None]] = []
+
+        def add(t: float, d: float | None) -> None:
+            if out and t <= out[-1][0]:
+                t = out[-1][0] + STEP_S
+            out.append((t, d))
+
+        prev_end: float | None = None
+        for seg in self.segments:
+            if prev_end is not None and seg.t0 > prev_end:
+                add(prev_end, None)
+            if seg.obstacle is None:
+                add(seg.t0, None)
+            else:
+                add(seg.t0, seg.d0)
+                if seg.t1 > out[-1][0]:
+                    add(seg.t1, seg.d1)
+            prev_end = seg.t1
+        return out
+
+    def keyframe_text(self) -> str:
+        lines = [
+            f"# obstacle-fusion scenario '{self.name}': <time_s> <distance_m>|none",
+            f"temperature {self.temperature_c:g}",
+        ]
+        for t, d in self.keyframes():
+            lines.append(f"{t:.6f} {'none' if d is None else f'{d:.6f}'}")
+        return "\n".join(lines) + "\n"
+
+    def write_keyframes(self, path: str | Path) -> Path:
+        p = Path(path)
+        p.write_text(self.keyframe_text(), encoding="ascii")
+        return p
+
+
+def parse_keyframes(text: str) -> tuple[list[tuple[float, float | None]], float | None]:
+    """Read a keyframe file back (for checks and for replaying an emulator scene)."""
+    frames: list[tuple[float, float | None]] = []
+    temperature: float | None = None
+    for n, raw in enumerate(text.splitlines(), 1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        parts = line.split()
+        if parts[0] == "temperature" and len(parts) == 2:
+            temperature = float(parts[1])
+            continue
+        if len(parts) != 2:
+            raise ValueError(f"line {n}: expected '<time_s> <distance_m>|none', got {raw!r}")
+        t = float(parts[0])
+        d = None if parts[1] == "none" else float(parts[1])
+        if d is not None and not (math.isfinite(d) and d >= 0):
+            raise ValueError(f"line {n}: bad distance {parts[1]!r}")
+        frames.append((t, d))
+    return frames, temperature
+
+
+def keyframe_distance(frames: list[tuple[float, float | None]], t: float) -> float | None:
+    """The keyframe format's own rule: linear between numbers, steps at `none`."""
+    if not frames:
+        return None
+    if t <= frames[0][0]:
+        return frames[0][1]
+    for (t0, d0), (t1, d1) in zip(frames, frames[1:], strict=False):
+        if t0 <= t < t1:
+            if d0 is None or d1 is None or t1 <= t0:
+                return d0
+            return d0 + (t - t0) / (t1 - t0) * (d1 - d0)
+    return frames[-1][1]
+
+
+BOX_A = Obstacle("box-a", height_m=0.40, width_m=0.50, color_bgr=(50, 80, 160))
+BOX_B = Obstacle("box-b", height_m=0.60, width_m=0.30, color_bgr=(140, 90, 40))
+
+
+def demo_scenario() -> Scenario:
+    """An obstacle approaching from 2.5 m to 0.8 m, a clear moment, then a taller,
+    narrower one approaching from 3.0 m to 0.7 m."""
+    return Scenario(
+        segments=(
+            Segment(0.0, 12.0, BOX_A, 2.5, 0.8),
+            Segment(12.0, 14.0, None, 0.0, 0.0),
+            Segment(14.0, 28.0, BOX_B, 3.0, 0.7),
+        ),
+        temperature_c=20.0,
+        name="demo",
+    )

@@ -1,0 +1,57 @@
+"""The demo scenario and its keyframe file agree with each other."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from obstacle_fusion.scenario import (
+    Obstacle,
+    Scenario,
+    Segment,
+    demo_scenario,
+    keyframe_distance,
+    parse_keyframes,
+)
+
+
+def test_demo_has_an_approach_a_gap_and_a_different_obstacle() -> None:
+    s = demo_scenario()
+    a, b = s.obstacle_at(1.0), s.obstacle_at(20.0)
+    assert a is not None and b is not None and a != b
+    assert (a.height_m, a.width_m) != (b.height_m, b.width_m)
+    assert s.distance_at(0.0) > s.distance_at(11.0)  # type: ignore[operator]
+    assert s.obstacle_at(13.0) is None and s.distance_at(13.0) is None
+
+
+def test_keyframe_file_plays_the_same_distances(tmp_path: Path) -> None:
+    s = demo_scenario()
+    path = s.write_keyframes(tmp_path / "scene.txt")
+    frames, temperature = parse_keyframes(path.read_text())
+    assert temperature == s.temperature_c
+    t = 0.0
+    while t < s.duration_s + 2:
+        steps = [seg.t1 for seg in s.segments]
+        if all(abs(t - x) > 0.01 for x in steps):
+            assert keyframe_distance(frames, t) == pytest.approx(s.distance_at(t)), t
+        t += 0.05
+
+
+def test_gap_between_segments_becomes_none_and_steps_are_explicit() -> None:
+    box = Obstacle("b", 0.3, 0.3)
+    s = Scenario((Segment(0.0, 2.0, box, 1.0, 2.0), Segment(3.0, 4.0, box, 0.5, 0.5)))
+    frames = s.keyframes()
+    assert frames[0] == (0.0, 1.0) and frames[1] == (2.0, 2.0)
+    assert frames[2][1] is None and frames[2][0] > 2.0
+    assert keyframe_distance(frames, 2.5) is None
+    assert keyframe_distance(frames, 3.5) == pytest.approx(0.5)
+
+
+def test_bad_scenarios_and_files_are_refused() -> None:
+    box = Obstacle("b", 0.3, 0.3)
+    with pytest.raises(ValueError):
+        Scenario(())
+    with pytest.raises(ValueError, match="overlap"):
+        Scenario((Segment(0.0, 2.0, box, 1, 1), Segment(1.0, 3.0, box, 1, 1)))
+    with pytest.raises(ValueError, match="line 1"):
+        parse_keyframes("1.0 2.0 3.0\n")
