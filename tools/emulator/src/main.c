@@ -721,12 +721,6 @@ int main(int argc, char **argv)
             why = state == cpu_Done ? "firmware stopped (SLEEP with interrupts disabled)"
                                     : "firmware crashed";
             rc = 3;
-            /* Let the host read what was already sent. */
-            for (int i = 0; i < 1000 && e->bridge.tx_tail != e->bridge.tx_head; i++) {
-                avr->cycle += e->service_cycles;
-                bridge_service(&e->bridge);
-                usleep(1000);
-            }
             break;
         }
     }
@@ -736,13 +730,9 @@ int main(int argc, char **argv)
         why = "duration reached";
     else if (e->quit_requested)
         why = "quit";
-    /* Deliver the bytes still on the wire before the port goes away. */
-    for (int i = 0; i < 200 && e->bridge.client && e->bridge.tx_tail != e->bridge.tx_head; i++) {
-        avr->cycle += e->service_cycles;
-        bridge_service(&e->bridge);
-        if (e->bridge.tx_tail != e->bridge.tx_head)
-            usleep(1000);
-    }
+    /* Deliver the bytes still on the wire before the port goes away; after a signal,
+     * only briefly. */
+    bridge_drain(&e->bridge, g_signal ? 0.2 : 2.0);
     print_summary(e, why);
     if (e->have_control)
         control_close(&e->control);

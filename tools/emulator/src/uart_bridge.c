@@ -9,7 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "sim_cycle_timers.h"
@@ -253,4 +255,30 @@ int bridge_service(uart_bridge_t *b)
     if (b->client && (p.revents & POLLIN))
         rx_read(b);
     return opened;
+}
+
+void bridge_drain(uart_bridge_t *b, double timeout_s)
+{
+    struct timespec t0, now;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    /* Everything still queued goes out now, then we wait for the client to read it:
+     * unread input is lost when the master closes. The slave's input queue is shared by
+     * all its descriptors, so our own descriptor can measure it. */
+    int s = open(b->path, O_RDWR | O_NOCTTY | O_NONBLOCK);
+    for (;;) {
+        b->avr->cycle += bridge_cycles_per_byte(b) * 64;
+        bridge_service(b);
+        int pending = 0;
+        if (s >= 0 && ioctl(s, FIONREAD, &pending) != 0)
+            pending = 0;
+        if (!b->client || (b->tx_tail == b->tx_head && pending == 0))
+            break;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        double dt = (double)(now.tv_sec - t0.tv_sec) + (double)(now.tv_nsec - t0.tv_nsec) * 1e-9;
+        if (dt > timeout_s)
+            break;
+        usleep(2000);
+    }
+    if (s >= 0)
+        close(s);
 }

@@ -62,6 +62,9 @@ int bridge_attach(uart_bridge_t *b, avr_t *avr, rng_t *rng, const uart_faults_t 
 int bridge_service(uart_bridge_t *b);
 /* Whether a client has the pty open right now. */
 int bridge_client_present(uart_bridge_t *b);
+/* At exit: send what is queued and wait (up to timeout_s) until the client has read it.
+ * Advances the cycle counter: the simulation must be over. */
+void bridge_drain(uart_bridge_t *b, double timeout_s);
 /* Forget queued bytes in both directions (MCU reset). */
 void bridge_flush(uart_bridge_t *b);
 /* Cycles per byte at the configured baud: 11 bit times for 8N1 (simavr counts a parity
