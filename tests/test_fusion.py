@@ -204,3 +204,24 @@ def test_to_dict_is_json_ready() -> None:
     rec = f.add_reading(_reading(1.06, 1.0, m=8))[0]
     d = json.loads(json.dumps(rec.to_dict()))
     assert d["measurements"] == [7, 8] and d["status"] == "ok" and "latency_s" in d
+
+
+def test_a_vision_refusal_or_crash_is_a_record_not_an_exception() -> None:
+    from obstacle_fusion.errors import UserError
+
+    class Refuses:
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            raise UserError("range 0.01 m is outside 0.02..5 m")
+
+    class Crashes:
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            raise RuntimeError("boom")
+
+    for meas, text in ((Refuses(), "outside"), (Crashes(), "boom")):
+        clock = Clock()
+        f = Fusion(measurer=meas, clock=clock)
+        f.add_reading(_reading(1.00, 1.0))
+        f.add_frame(_frame(1.01))
+        rec = f.add_reading(_reading(1.06, 1.0))[0]
+        assert rec.status == "not_detected" and text in (rec.reason or "")
+        assert rec.distance_m == pytest.approx(1.0)

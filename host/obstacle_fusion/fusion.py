@@ -20,6 +20,7 @@ from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from typing import Any, Protocol
 
+from obstacle_fusion.errors import UserError
 from obstacle_fusion.sonar import SonarReading, SonarStatus
 from obstacle_fusion.sources import Frame
 
@@ -211,6 +212,7 @@ class Fusion:
     method: str | None = None
     clock: Callable[[], float] = time.monotonic
     stats: FusionStats = field(default_factory=FusionStats)
+    vision_errors: int = 0
     _pending: deque[tuple[Frame, float]] = field(default_factory=deque)
 
     def add_reading(self, reading: SonarReading) -> list[ObstacleRecord]:
@@ -284,10 +286,22 @@ class Fusion:
                 reason = "no measurer configured"
             else:
                 t0 = time.perf_counter()
-                m = self.measurer.measure(frame.image, pairing.distance_m)
+                m: Any = None
+                try:
+                    m = self.measurer.measure(frame.image, pairing.distance_m)
+                except UserError as exc:  # e.g. a range outside what the vision accepts
+                    reason = str(exc)
+                except Exception as exc:  # one bad frame must not end a robot's run
+                    self.vision_errors += 1
+                    if self.vision_errors <= 3:
+                        log.exception("vision failed on frame %d", frame.index)
+                    reason = f"vision failed: {exc!r}"
                 vision_ms = (time.perf_counter() - t0) * 1e3
                 method = getattr(m, "method", method)
-                if getattr(m, "detected", False):
+                if m is None:
+                    status = ObstacleStatus.NOT_DETECTED
+                    stats.not_detected += 1
+                elif getattr(m, "detected", False):
                     status = ObstacleStatus.OK
                     stats.detected += 1
                     height = getattr(m, "height_m", None)

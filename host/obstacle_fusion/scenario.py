@@ -162,17 +162,18 @@ def keyframe_distance(frames: list[tuple[float, float | None]], t: float) -> flo
 
 
 BOX_A = Obstacle("box-a", height_m=0.40, width_m=0.50, color_bgr=(50, 80, 160))
-BOX_B = Obstacle("box-b", height_m=0.60, width_m=0.30, color_bgr=(140, 90, 40))
+BOX_B = Obstacle("box-b", height_m=0.50, width_m=0.30, color_bgr=(140, 90, 40))
 
 
 def demo_scenario() -> Scenario:
     """An obstacle approaching from 2.5 m to 0.8 m, a clear moment, then a taller,
-    narrower one approaching from 3.0 m to 0.7 m."""
+    narrower one approaching from 3.0 m to 1.2 m (both stay wholly in view of a 20 cm high
+    camera with the paper's field of view, at 4:3 and at 16:9)."""
     return Scenario(
         segments=(
             Segment(0.0, 12.0, BOX_A, 2.5, 0.8),
             Segment(12.0, 14.0, None, 0.0, 0.0),
-            Segment(14.0, 28.0, BOX_B, 3.0, 0.7),
+            Segment(14.0, 28.0, BOX_B, 3.0, 1.2),
         ),
         temperature_c=20.0,
         name="demo",

@@ -1,0 +1,358 @@
+"""The run loop: link messages and camera frames in, obstacle records out.
+
+Nothing here blocks on a device: the link has its reader thread and queue, the frame
+source gets a grabber thread and a short queue (a slow consumer drops the oldest frame,
+counted, rather than pairing stale ones). One loop drains both, keeps the clock model fed,
+converts ranges, pairs frames, measures, and publishes to every output.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import queue
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from obstacle_fusion.clock import ClockModel
+from obstacle_fusion.emulated_robot import EmulatedRobot
+from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
+from obstacle_fusion.link import Link, Received, describe_hello
+from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
+from obstacle_fusion.outputs.jsonl import JsonLinesWriter
+from obstacle_fusion.outputs.mcap_file import McapRecorder
+from obstacle_fusion.outputs.video import AnnotatedVideoWriter
+from obstacle_fusion.protocol.generated import Config, Hello, Log, Range, TimeSyncReply
+from obstacle_fusion.sonar import SonarConverter
+from obstacle_fusion.sources import Frame, FrameSource
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class RunSettings:
+    duration_s: float | None = None
+    stop_distance_m: float | None = None
+    exit_on_alert: int | None = None
+    temperature_c: float = 20.0
+    half_spacing_m: float = 0.013
+    median_window: int = 1
+    pair_tolerance_s: float = 0.05
+    max_gap_s: float = 0.2
+    max_wait_s: float = 0.25
+    first_range_timeout_s: float = 5.0
+    method: str | None = None
+    mode: str = "robot"
+
+
+class FrameGrabber:
+    """Reads a frame source on its own thread into a short queue."""
+
+    def __init__(self, source: FrameSource, maxsize: int = 4) -> None:
+        self.source = source
+        self.queue: queue.Queue[Frame] = queue.Queue(maxsize=maxsize)
+        self.dropped = 0
+        self.finished = threading.Event()
+        self.error: BaseException | None = None
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="frame-grabber", daemon=True)
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def _run(self) -> None:
+        try:
+            while not self._stop.is_set():
+                frame = self.source.read()
+                if frame is None:
+                    break
+                while True:
+                    try:
+                        self.queue.put_nowait(frame)
+                        break
+                    except queue.Full:
+                        try:
+                            self.queue.get_nowait()
+                            self.dropped += 1
+                        except queue.Empty:
+                            pass
+        except BaseException as exc:  # reported by the loop, not lost in a thread
+            self.error = exc
+        finally:
+            self.finished.set()
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread.ident is not None:
+            self._thread.join(timeout=3.0)
+
+
+@dataclass
+class RunResult:
+    exit_code: int
+    stats: dict[str, Any] = field(default_factory=dict)
+
+
+class App:
+    """Owns nothing it was given; close what you opened after run() returns."""
+
+    def __init__(
+        self,
+        settings: RunSettings,
+        link: Link,
+        source: FrameSource,
+        measurer: Any = None,
+        *,
+        jsonl: JsonLinesWriter | None = None,
+        recorder: McapRecorder | None = None,
+        video: AnnotatedVideoWriter | None = None,
+        view: ConsoleView | None = None,
+        robot: EmulatedRobot | None = None,
+        extra_fields: Callable[[ObstacleRecord], dict[str, Any]] | None = None,
+    ) -> None:
+        self.s = settings
+        self.link = link
+        self.source = source
+        self.jsonl = jsonl
+        self.recorder = recorder
+        self.video = video
+        self.view = view
+        self.robot = robot
+        self.extra_fields = extra_fields
+        self.clock = ClockModel(baud=link.baud)
+        self.converter = SonarConverter(
+            temperature_c=settings.temperature_c,
+            half_spacing_m=settings.half_spacing_m,
+            median_window=settings.median_window,
+        )
+        self.fusion = Fusion(
+            measurer=measurer,
+            pairer=RangePairer(settings.pair_tolerance_s, settings.max_gap_s),
+            stop_distance_m=settings.stop_distance_m,
+            max_wait_s=settings.max_wait_s,
+            method=settings.method,
+        )
+        self.grabber = FrameGrabber(source)
+        self.session = 0
+        self.timer_hz = 2_000_000
+        self._unmapped: list[Received] = []
+        self._images: dict[int, Any] = {}
+        self.rates = {k: RateMeter() for k in ("frames", "ranges", "records")}
+        self.status = Status(mode=settings.mode)
+        self.latest: ObstacleRecord | None = None
+        self.alerted = False
+        self.ranges_mapped = 0
+        self.ranges_unmapped_dropped = 0
+        self._was_connected = False
+
+    # ------------------------------------------------------------------ messages
+    def _on_message(self, item: Received) -> list[ObstacleRecord]:
+        msg = item.msg
+        out: list[ObstacleRecord] = []
+        if isinstance(msg, Hello):
+            if item.session != self.session:
+                out = self._map_ranges(item.t_host)  # the old session's, on the old clock
+                self._unmapped.clear()
+                self.session = item.session
+                self.clock.reset()  # a new connection: the MCU may have rebooted
+                self.converter.reset()
+            self.timer_hz = msg.timer_hz
+            self.converter.timer_hz = msg.timer_hz
+            self._event("hello", {"session": item.session, "board": describe_hello(msg)})
+        elif isinstance(msg, TimeSyncReply) and item.t_send is not None:
+            self.clock.add_sync(item.t_send, item.t_host, msg.rx_us, msg.tx_us)
+        elif isinstance(msg, Range):
+            echo_us = msg.echo_ticks * 1_000_000 // max(self.timer_hz, 1)
+            if msg.status != 2 or msg.echo_ticks:  # a timeout's echo end is unknown
+                self.clock.add_oneway(item.t_host, (msg.trigger_us + echo_us) & 0xFFFFFFFF)
+            self.rates["ranges"].tick(item.t_host)
+            self._unmapped.append(item)
+        elif isinstance(msg, Config):
+            self._event("config", dataclasses.asdict(msg))
+        elif isinstance(msg, Log):
+            self._event("log", {"level": msg.level, "text": msg.text})
+        return out
+
+    def _map_ranges(self, now: float) -> list[ObstacleRecord]:
+        """Convert the ranges waiting for the clock model (usually at once)."""
+        out: list[ObstacleRecord] = []
+        if not self._unmapped:
+            return out
+        if not self.clock.ready:
+            stale = [r for r in self._unmapped if now - r.t_host > 2.0]
+            if stale:
+                self.ranges_unmapped_dropped += len(stale)
+                self._unmapped = [r for r in self._unmapped if now - r.t_host <= 2.0]
+            return out
+        for item in self._unmapped:
+            msg = item.msg
+            assert isinstance(msg, Range)
+            t_trig = self.clock.to_host(msg.trigger_us)
+            reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host)
+            self.ranges_mapped += 1
+            if self.recorder is not None:
+                self.recorder.write_range(reading, self.timer_hz, item.session, log_t=item.t_host)
+            out += self.fusion.add_reading(reading)
+        self._unmapped.clear()
+        return out
+
+    def _event(self, name: str, detail: dict[str, Any]) -> None:
+        log.info("%s: %s", name, detail)
+        if self.recorder is not None:
+            self.recorder.write_event(name, detail)
+
+    # ------------------------------------------------------------------ frames and records
+    def _on_frame(self, frame: Frame) -> list[ObstacleRecord]:
+        self.rates["frames"].tick()
+        if self.recorder is not None:
+            self.recorder.write_frame(frame, log_t=time.monotonic())
+        if self.video is not None:
+            self._images[frame.index] = frame.image
+        return self.fusion.add_frame(frame)
+
+    def _publish(self, records: list[ObstacleRecord]) -> None:
+        for rec in records:
+            self.latest = rec
+            self.rates["records"].tick()
+            extra = self.extra_fields(rec) if self.extra_fields else None
+            if self.jsonl is not None:
+                self.jsonl.write(rec, extra)
+            if self.recorder is not None:
+                self.recorder.write_obstacle(rec)
+            if self.video is not None:
+                image = self._images.pop(rec.frame_index, None)
+                if image is not None:
+                    self.video.write(image, rec)
+            if rec.alert:
+                self.alerted = True
+        if self.video is not None and len(self._images) > 64:
+            for k in sorted(self._images)[:-64]:
+                del self._images[k]
+
+    def _update_view(self, force: bool = False) -> None:
+        if self.view is None:
+            return
+        st = self.status
+        st.latest = self.latest
+        st.link = self.link.counters.as_dict()
+        st.fusion = self.fusion.stats.as_dict()
+        est = self.clock.estimate()
+        st.clock = (
+            {"source": est.source, "drift_ppm": est.drift_ppm, "uncertainty_s": est.uncertainty_s}
+            if est
+            else {}
+        )
+        st.rates = {k: m.rate() for k, m in self.rates.items()}
+        if self.link.last_problem:
+            st.notes = [self.link.last_problem]
+        self.view.update(st, force=force)
+
+    def _watch_link(self) -> None:
+        connected = self.link.connected
+        if connected != self._was_connected:
+            self._was_connected = connected
+            self._event(
+                "connected" if connected else "disconnected",
+                {"port": self.link.counters.port, "counters": self.link.counters.as_dict()},
+            )
+        if self.robot is not None and connected:
+            self.robot.probe_t0()
+
+    # ------------------------------------------------------------------ the loop
+    def _wait_for_first_range(self, deadline: float) -> None:
+        """Start the camera once ranges flow, so the first frames have a range to pair with."""
+        while time.monotonic() < deadline:
+            if self.link.error is not None:
+                raise self.link.error
+            for item in self.link.drain():
+                self._publish(self._on_message(item))
+            self._publish(self._map_ranges(time.monotonic()))
+            self._watch_link()
+            if self.fusion.pairer.newest_t is not None and (
+                self.robot is None or self.robot.scene_time(time.monotonic()) is not None
+            ):
+                return
+            time.sleep(0.01)
+        log.warning(
+            "no sonar range within %.1f s; starting the camera anyway", self.s.first_range_timeout_s
+        )
+
+    def run(self) -> RunResult:
+        start = time.monotonic()
+        exit_code = 0
+        self.link.start()
+        try:
+            self._wait_for_first_range(start + self.s.first_range_timeout_s)
+            self.grabber.start()
+            run_start = time.monotonic()
+            while True:
+                now = time.monotonic()
+                if self.s.duration_s is not None and now - run_start >= self.s.duration_s:
+                    break
+                if self.link.error is not None:
+                    raise self.link.error
+                if self.robot is not None:
+                    event = self.robot.check()
+                    if event:
+                        self._event("emulator_restart", {"detail": event})
+                self._watch_link()
+                records: list[ObstacleRecord] = []
+                for item in self.link.drain():
+                    records += self._on_message(item)
+                records += self._map_ranges(now)
+                got_frame = False
+                while True:
+                    try:
+                        frame = self.grabber.queue.get_nowait()
+                    except queue.Empty:
+                        break
+                    got_frame = True
+                    records += self._on_frame(frame)
+                records += self.fusion.poll()
+                self._publish(records)
+                if self.alerted and self.s.exit_on_alert is not None:
+                    exit_code = self.s.exit_on_alert
+                    self._event("alert_exit", {"code": exit_code})
+                    break
+                if self.grabber.error is not None:
+                    raise self.grabber.error
+                if self.grabber.finished.is_set() and self.grabber.queue.empty():
+                    self._publish(self.fusion.flush())
+                    log.info("frame source ended: %s", self.source.end_reason)
+                    break
+                self._update_view()
+                if not got_frame and not records:
+                    time.sleep(0.002)
+        finally:
+            self.grabber.stop()
+            try:
+                for item in self.link.drain():
+                    self._publish(self._on_message(item))
+                self._publish(self._map_ranges(time.monotonic()))
+                self._publish(self.fusion.flush())
+                self._update_view(force=True)
+            finally:
+                self.link.close()
+        return RunResult(exit_code, self.summary())
+
+    def summary(self) -> dict[str, Any]:
+        est = self.clock.estimate()
+        return {
+            "link": self.link.counters.as_dict(),
+            "fusion": self.fusion.stats.as_dict(),
+            "frames_dropped": self.grabber.dropped,
+            "ranges_mapped": self.ranges_mapped,
+            "ranges_dropped_before_clock": self.ranges_unmapped_dropped,
+            "clock": None
+            if est is None
+            else {
+                "source": est.source,
+                "drift_ppm": est.drift_ppm,
+                "uncertainty_s": est.uncertainty_s,
+                "resets": self.clock.resets,
+            },
+            "emulator_restarts": self.robot.restarts if self.robot else 0,
+        }
