@@ -1,0 +1,350 @@
+"""The fused method: the sonar's range tells the image where to look and what to expect.
+
+Working view: undistorted and levelled (see :class:`View`), so the face square to the robot
+is an exact scaled copy, its vertical edges are image columns, and a point on the floor at
+depth z sits on row cy + fy * camera_height / z. From the range L (face depth D):
+
+1. the floor-contact edge must lie near row cy + fy h / D (band from the range's error);
+2. the beam (about 15 degrees) bounds where the face is horizontally: it must reach into
+   the beam's columns at depth D;
+3. the face's vertical edges stand on that floor-contact edge and run straight up to the
+   front top edge, where they stop (top-face edges slant away, background lines do not
+   stop at the box's sides, a stripe on the face does not end the vertical edges).
+
+Candidates for each edge come from gradient profiles; every (bottom, left, right) triple
+is scored with its best top; the winner's four edges are refined to sub-pixel lines, and
+height/width follow from the pinhole model at depth D (per-edge depths from the floor
+geometry correct a few degrees of yaw).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.measure import Line, Measurement, Timer, View
+
+F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
+
+_MAX_SIDE_CANDIDATES = 4
+_MAX_BOTTOM_CANDIDATES = 3
+MIN_SIZE_M = 0.03  # smallest face side the method looks for
+
+
+def _local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
+    if p.size < 3:
+        return np.zeros(0, np.intp)
+    mid = p[1:-1]
+    idx = np.nonzero((mid >= p[:-2]) & (mid > p[2:]) & (mid > threshold))[0] + 1
+    return idx
+
+
+def _subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
+    """Parabolic peak offsets at integer peaks (vectorised); profile rows are samples."""
+    y0 = profile[centre - 1, np.arange(profile.shape[1])]
+    y1 = profile[centre, np.arange(profile.shape[1])]
+    y2 = profile[centre + 1, np.arange(profile.shape[1])]
+    den = y0 - 2.0 * y1 + y2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        off = np.where(den < 0, 0.5 * (y0 - y2) / den, 0.0)
+    return np.clip(off, -0.5, 0.5).astype(np.float64)
+
+
+def _hole_below(on: npt.NDArray[np.float64], tops: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
+    """Rows directly below each top candidate before the vertical edge begins."""
+    n = on.size
+    idx = np.where(on > 0, np.arange(n), n)
+    nxt = np.minimum.accumulate(idx[::-1])[::-1]  # first edge row at or below r
+    start = np.minimum(tops + 1, n - 1)
+    return (nxt[start] - start).astype(np.float64)
+
+
+def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
+    """y = a + b x, least squares with one round of outlier rejection."""
+    if x.size < 2:
+        return (float(np.median(y)) if y.size else 0.0, 0.0)
+    b, a = np.polyfit(x, y, 1)
+    res = np.abs(y - (a + b * x))
+    keep = res <= max(0.75, 2.5 * float(np.median(res)))
+    if 2 <= keep.sum() < x.size:
+        b, a = np.polyfit(x[keep], y[keep], 1)
+    return float(a), float(b)
+
+
+class FusedMethod:
+    name = "fused"
+
+    def __init__(self, view: View) -> None:
+        self.view = view
+        h, w = view.camera.height, view.camera.width
+        self._kernel3 = np.ones((1, 3), np.uint8)
+        self._h, self._w = h, w
+        self._depth = 1.0
+
+    # ------------------------------------------------------------------ per frame
+    def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
+        v = self.view
+        rig = v.rig
+        fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
+        grey = v.warp(image)
+        timer.lap("undistort")
+        depth = rig.face_depth(range_m)
+        self._depth = depth
+        if depth <= 0.05:
+            fail.reason = "the face depth from this range and the rig is not in front of the lens"
+            return fail
+        h_img, w_img = self._h, self._w
+        vb0 = v.cy + v.fy * rig.camera_height_m / depth
+        tol = 3.0 + (vb0 - v.cy) * (0.03 + 0.01 / depth)
+        r0b, r1b = int(math.floor(vb0 - tol)), int(math.ceil(vb0 + tol))
+        r0b, r1b = max(r0b, 4), min(r1b, h_img - 4)
+        if r0b > r1b:
+            fail.reason = (
+                f"the floor-contact row predicted from the range ({vb0:.0f}) is outside the "
+                "image; check the rig's camera height and pitch"
+            )
+            return fail
+        roi_end = min(h_img, r1b + 4)
+        roi = grey[:roi_end]
+        gx = cv2.Sobel(roi, cv2.CV_32F, 1, 0, ksize=3)
+        gy = cv2.Sobel(roi, cv2.CV_32F, 0, 1, ksize=3)
+        ax = np.abs(gx)
+        ay = np.abs(gy)
+        ax3 = cv2.dilate(ax, self._kernel3)  # tolerate a column of drift on vertical edges
+        noise = float(np.median(ay[::3, ::3])) / 0.6745 + 1.0
+        timer.lap("gradients")
+
+        xb0, xb1 = rig.beam_x_bounds(range_m)
+        u_lo = int(np.clip(math.floor(v.cx + v.fx * xb0 / depth), 2, w_img - 3))
+        u_hi = int(np.clip(math.ceil(v.cx + v.fx * xb1 / depth), 2, w_img - 3))
+        if u_hi - u_lo < 4:
+            mid = (u_lo + u_hi) // 2
+            u_lo, u_hi = max(2, mid - 2), min(w_img - 3, mid + 2)
+
+        prof_b = ay[r0b : r1b + 1, u_lo : u_hi + 1].mean(axis=1)
+        rows_b = np.arange(r0b, r1b + 1)
+        prior_b = 0.5 + 0.5 * np.exp(-0.5 * ((rows_b - vb0) / max(tol / 2.0, 1.0)) ** 2)
+        pk = _local_maxima(np.pad(prof_b, 1), 0.0) - 1
+        pk = pk[(pk >= 0) & (pk < prof_b.size)]
+        if pk.size == 0:
+            pk = np.array([int(np.argmax(prof_b))])
+        order = np.argsort(-(prof_b[pk] * prior_b[pk]))[:_MAX_BOTTOM_CANDIDATES]
+        bottoms = [(int(rows_b[pk[i]]), float(prior_b[pk[i]])) for i in order]
+
+        best: tuple[float, int, int, int, int, float] | None = None  # score, rb, ul, ur, vt, conf
+        cs = np.cumsum(ay, axis=1, dtype=np.float64)
+        min_w = max(4.0, v.fx * MIN_SIZE_M / depth)
+        for rb, pb in bottoms:
+            k = int(np.clip(round(v.fy * 0.05 / depth), 3, 25))
+            top_strip = max(0, rb - 1 - k)
+            if rb - 2 <= top_strip:
+                continue
+            prof_v = ax[top_strip : rb - 1].mean(axis=0)
+            base = float(np.median(prof_v)) + 0.5
+            peaks = _local_maxima(prof_v, max(3.0 * base, 1.5 * noise))
+            if peaks.size < 2:
+                continue
+            left = self._rank_sides(ax3, prof_v, peaks[peaks <= u_hi], rb, noise)
+            right = self._rank_sides(ax3, prof_v, peaks[peaks >= u_lo], rb, noise)
+            for ul in left:
+                for ur in right:
+                    if ur - ul < min_w:
+                        continue
+                    cand = self._score_pair(ax3, ay, cs, prof_v, noise, rb, int(ul), int(ur), pb)
+                    if cand is not None and (best is None or cand[0] > best[0]):
+                        best = cand
+        timer.lap("search")
+        if best is None:
+            fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
+            return fail
+        _, rb, ul, ur, vt, conf = best
+        return self._refine(ax, ay, rb, ul, ur, vt, conf, depth, range_m, timer)
+
+    @staticmethod
+    def _rank_sides(
+        ax3: F32, prof_v: F32, cols: npt.NDArray[np.intp], rb: int, noise: float
+    ) -> list[int]:
+        """Strongest columns whose edge runs straight up from the floor-contact row."""
+        if cols.size == 0:
+            return []
+        cols = cols[np.argsort(-prof_v[cols])][: 3 * _MAX_SIDE_CANDIDATES]
+        col_vals = ax3[: rb - 1, cols][::-1]  # rows going up from the bottom
+        tv = np.maximum(0.25 * prof_v[cols], 2.5 * noise)
+        on = col_vals > tv
+        # run length: rows up to the first gap of 3 consecutive misses
+        miss = ~on
+        gap = miss[:-2] & miss[1:-1] & miss[2:] if on.shape[0] > 2 else miss
+        first_gap = np.where(gap.any(axis=0), np.argmax(gap, axis=0), on.shape[0])
+        rank = prof_v[cols] * np.sqrt(np.maximum(first_gap, 1))
+        keep = first_gap >= 3
+        order = np.argsort(-rank[keep])[:_MAX_SIDE_CANDIDATES]
+        return [int(c) for c in cols[keep][order]]
+
+    def _score_pair(
+        self,
+        ax3: F32,
+        ay: F32,
+        cs: npt.NDArray[np.float64],
+        prof_v: F32,
+        noise: float,
+        rb: int,
+        ul: int,
+        ur: int,
+        prior_b: float,
+    ) -> tuple[float, int, int, int, int, float] | None:
+        width = ur - ul
+        m = max(1, width // 8)
+        c0, c1 = ul + m, ur - m
+        if c1 - c0 < 2:
+            return None
+        min_h = max(3, int(self.view.fy * MIN_SIZE_M / self._depth))
+        top_limit = rb - min_h
+        if top_limit < 3:
+            return None
+        snr_b = float(ay[rb - 1 : rb + 2, c0:c1].max(axis=0).mean()) / noise
+        prof_t = (cs[:top_limit, c1 - 1] - cs[:top_limit, c0 - 1]) / (c1 - c0)
+        tv_l = max(0.25 * float(prof_v[ul]), 2.5 * noise)
+        tv_r = max(0.25 * float(prof_v[ur]), 2.5 * noise)
+        el = (ax3[:rb, ul] > tv_l).astype(np.float64)
+        er = (ax3[:rb, ur] > tv_r).astype(np.float64)
+        # coverage of each side from row r down to the bottom, and just above r
+        cl = np.cumsum(el[::-1])[::-1]  # rows r..rb-1
+        cr = np.cumsum(er[::-1])[::-1]
+        rows = np.arange(top_limit)
+        span = (rb - rows).astype(np.float64)
+        cov = 0.5 * (cl[:top_limit] + cr[:top_limit]) / span
+        s = np.maximum(3, (rb - rows) // 6)
+        above_start = np.maximum(rows - s, 0)
+        ext = np.concatenate([[0.0], np.cumsum(0.5 * (el + er))])
+        above = (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
+        stop = 1.0 - above
+        snr_t = prof_t / noise
+        tops = _local_maxima(snr_t.astype(np.float32), 1.2)
+        if tops.size == 0:
+            return None
+        # rows just below a top candidate with no vertical edge: the top face of a low box
+        hole = 0.5 * (_hole_below(el, tops) + _hole_below(er, tops))
+        fit = np.exp(-hole / 2.0) * cov[tops] ** 2 * stop[tops]
+        score_t = np.minimum(snr_t[tops], 30.0) ** 0.5 * fit
+        i = int(np.argmax(score_t))
+        vt = int(tops[i])
+        snr_l = float(ax3[vt:rb, ul].mean()) / noise
+        snr_r = float(ax3[vt:rb, ur].mean()) / noise
+        side = min(snr_l, snr_r, 30.0)
+        horiz = min(float(snr_t[vt]), snr_b, 30.0)
+        if side < 2.0 or horiz < 2.0:
+            return None
+        score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
+        conf = float(fit[i]) * (1.0 - math.exp(-min(side, horiz) / 6.0)) * (0.5 + 0.5 * prior_b)
+        return (score, rb, ul, ur, vt, float(np.clip(conf, 0.0, 1.0)))
+
+    # ------------------------------------------------------------------ refinement
+    def _refine(
+        self,
+        ax: F32,
+        ay: F32,
+        rb: int,
+        ul: int,
+        ur: int,
+        vt: int,
+        conf: float,
+        depth: float,
+        range_m: float,
+        timer: Timer,
+    ) -> Measurement:
+        v = self.view
+        h_roi, w_img = ay.shape
+        # horizontal edges: per-column sub-pixel peaks near rb and vt
+        m = max(1, (ur - ul) // 10)
+        cols = np.arange(ul + m, ur - m + 1)
+        bottom_a, bottom_b = self._fit_horizontal(ay, cols, rb, h_roi)
+        top_a, top_b = self._fit_horizontal(ay, cols, vt, h_roi)
+        # vertical edges: per-row sub-pixel peaks near ul and ur
+        mv = max(1, (rb - vt) // 10)
+        rows = np.arange(vt + mv, rb - mv + 1)
+        left_a, left_b = self._fit_vertical(ax, rows, ul, w_img)
+        right_a, right_b = self._fit_vertical(ax, rows, ur, w_img)
+
+        def corner(
+            ha: float, hb: float, va: float, vb: float
+        ) -> tuple[float, float]:  # v = ha + hb u ; u = va + vb v
+            u = va + vb * ha
+            for _ in range(3):
+                u = va + vb * (ha + hb * u)
+            return (u, ha + hb * u)
+
+        bl = corner(bottom_a, bottom_b, left_a, left_b)
+        br = corner(bottom_a, bottom_b, right_a, right_b)
+        tr = corner(top_a, top_b, right_a, right_b)
+        tl = corner(top_a, top_b, left_a, left_b)
+        h_left = bl[1] - tl[1]
+        h_right = br[1] - tr[1]
+        h_px = 0.5 * (h_left + h_right)
+        # depths of the two vertical edges from the floor geometry, anchored at D (yaw)
+        vb_mid = 0.5 * (bl[1] + br[1]) - v.cy
+        z_l = z_r = depth
+        if vb_mid > 5.0:
+            rl = vb_mid / max(bl[1] - v.cy, 1e-6)
+            rr = vb_mid / max(br[1] - v.cy, 1e-6)
+            if abs(rl - 1.0) > 0.01 or abs(rr - 1.0) > 0.01:
+                z_l = depth * float(np.clip(rl, 0.8, 1.25))
+                z_r = depth * float(np.clip(rr, 0.8, 1.25))
+        ul_f = 0.5 * (bl[0] + tl[0])
+        ur_f = 0.5 * (br[0] + tr[0])
+        x_l = (ul_f - v.cx) * z_l / v.fx
+        x_r = (ur_f - v.cx) * z_r / v.fx
+        width_m = math.hypot(x_r - x_l, z_r - z_l)
+        height_m = h_px * depth / v.fy
+        timer.lap("refine")
+        corners = np.array([bl, br, tr, tl])
+        t = np.linspace(0.0, 1.0, 5)[:, None]
+        outline = np.concatenate(
+            [corners[i] + t * (corners[(i + 1) % 4] - corners[i]) for i in range(4)]
+        )
+        pix = v.to_input(outline)
+        box = (
+            float(pix[:, 0].min()),
+            float(pix[:, 1].min()),
+            float(pix[:, 0].max()),
+            float(pix[:, 1].max()),
+        )
+        ends = v.to_input(corners)
+        lines: list[Line] = [
+            (float(ends[a, 0]), float(ends[a, 1]), float(ends[b, 0]), float(ends[b, 1]))
+            for a, b in ((0, 1), (3, 2), (0, 3), (1, 2))
+        ]
+        return Measurement(
+            detected=True,
+            method=self.name,
+            range_m=range_m,
+            distance_m=range_m,
+            height_m=float(height_m),
+            width_m=float(width_m),
+            box_px=box,
+            confidence=round(conf, 3),
+            lines=lines,
+            height_px=float(h_px),
+            width_px=float(ur_f - ul_f),
+        )
+
+    @staticmethod
+    def _fit_horizontal(
+        ay: F32, cols: npt.NDArray[np.intp], row: int, h: int
+    ) -> tuple[float, float]:
+        r0 = int(np.clip(row - 3, 0, h - 7))
+        win = ay[r0 : r0 + 7, cols]  # 7 rows around the edge
+        peak = np.clip(np.argmax(win[1:-1], axis=0) + 1, 1, 5)
+        pos = r0 + peak + _subpixel(win, peak)
+        return _fit_line(cols.astype(np.float64), pos)
+
+    @staticmethod
+    def _fit_vertical(ax: F32, rows: npt.NDArray[np.intp], col: int, w: int) -> tuple[float, float]:
+        c0 = int(np.clip(col - 3, 0, w - 7))
+        win = np.ascontiguousarray(ax[rows, c0 : c0 + 7].T)
+        peak = np.clip(np.argmax(win[1:-1], axis=0) + 1, 1, 5)
+        pos = c0 + peak + _subpixel(win, peak)
+        return _fit_line(rows.astype(np.float64), pos)
