@@ -14,6 +14,7 @@ void of_ranger_init(of_ranger_t *r)
     r->sensor = 0;
     r->last_sensor = (uint8_t)(OF_MAX_SENSORS - 1u);
     r->measurement = 0;
+    r->triggers = 0;
     r->trigger_us = 0;
     r->rise_ticks = 0;
     r->next_due_us = 0;
@@ -66,7 +67,7 @@ static bool finish(of_ranger_t *r, of_range_t *out, uint32_t ticks, uint8_t stat
 {
     hal_echo_disarm();
     r->state = OF_RANGER_IDLE;
-    out->measurement = r->measurement++;
+    out->measurement = r->measurement;
     out->sensor_id = r->sensor;
     out->trigger_us = r->trigger_us;
     out->echo_ticks = ticks;
@@ -98,13 +99,15 @@ static void poll_idle(of_ranger_t *r, const of_ranger_config_t *cfg, uint32_t no
     }
     r->sensor = of_ranger_next_sensor(cfg->sensor_mask, r->last_sensor);
     r->last_sensor = r->sensor;
+    r->measurement = r->triggers++;
     r->trigger_us = hal_trigger(r->sensor);
     r->state = OF_RANGER_WAIT_RISE;
     r->low_seen = 0;
-    r->next_due_us += cfg->cycle_us;
-    if (of_time_reached(r->trigger_us, r->next_due_us)) {
-        /* Fell behind (guard, stuck line, long stop): keep the period from now on. */
+    if (r->trigger_us - r->next_due_us > OF_LATE_US) {
+        /* Held back (guard, stuck line, start): the period counts from this trigger. */
         r->next_due_us = r->trigger_us + cfg->cycle_us;
+    } else {
+        r->next_due_us += cfg->cycle_us; /* on time: keep the phase, no drift */
     }
     *wake_us = r->trigger_us + cfg->echo_timeout_us + 1u;
 }

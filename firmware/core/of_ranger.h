@@ -15,6 +15,9 @@
 /* If ECHO stays high this long past the due time (a stuck line or a missing sensor),
  * trigger anyway so the host sees timeouts instead of silence. */
 #define OF_STUCK_ECHO_US 100000UL
+/* A trigger later than its due time by more than this restarts the period from itself,
+ * so no two triggers come closer than the cycle. */
+#define OF_LATE_US 1000UL
 
 typedef enum {
     OF_RANGER_IDLE = 0,  /* waiting for the next due time and the guard */
@@ -35,7 +38,8 @@ typedef struct {
     uint8_t running;     /* 0 after stop */
     uint8_t sensor;      /* sensor of the measurement in progress */
     uint8_t last_sensor; /* round robin position */
-    uint32_t measurement;
+    uint32_t measurement; /* number of the measurement in progress (or last) */
+    uint32_t triggers;    /* triggers so far: the next measurement's number */
     uint32_t trigger_us;
     uint32_t rise_ticks;
     uint32_t next_due_us; /* next trigger time */
