@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import Any
 
 import cv2
-import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.measure import Measurement

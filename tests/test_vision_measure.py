@@ -1,0 +1,161 @@
+"""Both measurement methods on rendered scenes with known answers, and their bad inputs."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from obstacle_fusion.errors import UserError
+from obstacle_fusion.scene import SceneSpec, render_scene
+from obstacle_fusion.vision.camera import CameraModel, CameraModelError
+from obstacle_fusion.vision.measure import Measurer
+from obstacle_fusion.vision.paper import formula8_threshold
+from obstacle_fusion.vision.rig import Rig
+
+CAM = CameraModel.paper()
+
+
+def fresh_seed() -> int:
+    return int(np.random.SeedSequence().entropy % (1 << 31))
+
+
+def clean_room(**kw: object) -> SceneSpec:
+    base = dict(
+        floor_style="plain",
+        floor_color=(200.0, 200.0, 200.0),
+        wall_color=(200.0, 200.0, 200.0),
+        skirting_m=0.0,
+        shadow=0.0,
+        box_color=(40.0, 60.0, 90.0),
+    )
+    base.update(kw)
+    return SceneSpec(**base)  # type: ignore[arg-type]
+
+
+def test_fused_on_fresh_ordinary_scenes() -> None:
+    seed = fresh_seed()
+    rng = np.random.default_rng(seed)
+    errs, missed = [], 0
+    for _ in range(12):
+        rig = Rig(
+            camera_height_m=float(rng.uniform(0.12, 0.4)),
+            camera_pitch_deg=float(rng.uniform(0, 10)),
+        )
+        spec = SceneSpec.random(rng, False, CAM, rig)
+        sc = render_scene(spec, CAM, rig, rng)
+        res = Measurer(CAM, rig).measure(sc.image, spec.distance_m)
+        if not res.detected:
+            missed += 1
+            continue
+        errs.append(max(abs(res.height_m / spec.height_m - 1), abs(res.width_m / spec.width_m - 1)))
+    assert missed <= 1, f"seed {seed}"
+    assert float(np.median(errs)) < 0.02, f"seed {seed}: {errs}"
+
+
+@pytest.mark.parametrize("pitch", [0.0, 9.0])
+def test_fused_is_exact_for_a_pitched_camera(pitch: float) -> None:
+    """Levelling the view makes H = D h / fy exact even with a pitched camera."""
+    rig = Rig(camera_height_m=0.3, camera_pitch_deg=pitch, sonar_ahead_m=0.02)
+    spec = clean_room(width_m=0.45, height_m=0.5, distance_m=1.4, lateral_m=0.05, noise_sigma=1.0)
+    sc = render_scene(spec, CAM, rig, 5)
+    res = Measurer(CAM, rig).measure(sc.image, spec.distance_m)
+    assert res.detected
+    assert res.height_m == pytest.approx(spec.height_m, rel=0.01)
+    assert res.width_m == pytest.approx(spec.width_m, rel=0.01)
+    x0, y0, x1, y1 = res.box_px  # type: ignore[misc]
+    assert np.allclose([x0, y0, x1, y1], sc.truth.box_px, atol=1.0)
+    assert 0.5 < res.confidence <= 1.0  # type: ignore[operator]
+    assert set(res.timings_ms) >= {"undistort", "gradients", "search", "refine", "total"}
+
+
+def test_fused_skips_the_top_face_of_a_low_box() -> None:
+    rig = Rig(camera_height_m=0.35)
+    spec = clean_room(
+        height_m=0.12,
+        width_m=0.4,
+        length_m=0.5,
+        distance_m=1.2,
+        box_color=(220.0, 170.0, 160.0),
+        floor_color=(60.0, 60.0, 60.0),
+    )
+    sc = render_scene(spec, CAM, rig, 2)
+    res = Measurer(CAM, rig).measure(sc.image, spec.distance_m)
+    assert res.detected
+    assert res.height_m == pytest.approx(0.12, rel=0.03)
+
+
+def test_paper_method_on_a_clean_scene_and_its_formula() -> None:
+    """The paper assumes obstacles grey 70..210 in front of a background outside that span."""
+    rig = Rig(camera_height_m=0.2)
+    bright = (240.0, 240.0, 240.0)
+    spec = clean_room(
+        height_m=0.35,
+        width_m=0.5,
+        distance_m=1.5,
+        noise_sigma=1.0,
+        floor_color=bright,
+        wall_color=bright,
+        box_color=(100.0, 110.0, 120.0),
+    )
+    sc = render_scene(spec, CAM, rig, 4)
+    res = Measurer(CAM, rig, "paper").measure(sc.image, spec.distance_m)
+    assert res.detected and res.method == "paper"
+    # H = 2 L tan(beta/2) h / Y1 reduces to L h / fy
+    assert res.height_m == pytest.approx(spec.distance_m * res.height_px / CAM.fy, rel=1e-9)
+    assert res.height_m == pytest.approx(0.35, rel=0.05)
+    assert res.width_m == pytest.approx(0.5, rel=0.05)
+
+
+def test_formula8_threshold_is_the_mean_interval() -> None:
+    rng = np.random.default_rng(0)
+    img = rng.integers(0, 256, (200, 300)).astype(np.uint8)
+    lo, hi = formula8_threshold(img)
+    inside = img[(img >= 70) & (img <= 210)].astype(float)
+    half = 2.807 * inside.std(ddof=1) / np.sqrt(inside.size)
+    assert lo == int(np.floor(inside.mean() - half))
+    assert hi == int(np.ceil(inside.mean() + half))
+
+
+def test_no_obstacle_is_not_detected() -> None:
+    bright = (240.0, 240.0, 240.0)
+    spec = clean_room(obstacle=False, floor_color=bright, wall_color=bright)
+    sc = render_scene(spec, CAM, Rig(), 1)
+    for method in ("fused", "paper"):
+        res = Measurer(CAM, Rig(), method).measure(sc.image, 1.0)
+        assert not res.detected and res.reason
+        assert res.height_m is None
+
+
+def test_bad_inputs() -> None:
+    m = Measurer(CAM, Rig())
+    img = np.zeros((375, 500, 3), np.uint8)
+    with pytest.raises(UserError, match="range"):
+        m.measure(img, 6.0)
+    with pytest.raises(CameraModelError, match="aspect"):
+        m.measure(np.zeros((300, 500, 3), np.uint8), 1.0)
+    with pytest.raises(UserError, match="8-bit"):
+        m.measure(img.astype(np.float32), 1.0)
+    with pytest.raises(UserError, match="method"):
+        Measurer(CAM, Rig(), "magic")
+
+
+def test_scaled_resolution_and_json() -> None:
+    """A camera calibrated at 500x375 measures a 1000x750 frame of the same scene."""
+    spec = clean_room(height_m=0.3, width_m=0.4, distance_m=1.2)
+    big = CameraModel.paper(1000, 750)
+    sc = render_scene(spec, big, Rig(), 9)
+    res = Measurer(CAM, Rig()).measure(sc.image, 1.2)
+    assert res.height_m == pytest.approx(0.3, rel=0.015)
+    d = json.loads(json.dumps(res.to_dict()))
+    for key in (
+        "detected",
+        "height_m",
+        "width_m",
+        "distance_m",
+        "box_px",
+        "confidence",
+        "method",
+        "timings_ms",
+    ):
+        assert key in d
