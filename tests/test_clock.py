@@ -96,3 +96,63 @@ def test_inconsistent_round_trip_is_ignored() -> None:
     model = ClockModel()
     model.add_sync(10.0, 9.0, 100, 200)  # received before sent
     assert model.to_host(150) is None
+
+
+# ---------------------------------------------------------------------- on the emulator
+from tests.emulator_fixtures import emulator_built, emulator_factory, uno_elf  # noqa: E402, F401
+
+
+@pytest.mark.parametrize("ppm", [5000.0, -5000.0])
+def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
+    ppm: float, uno_elf: object, emulator_factory: object
+) -> None:
+    """The real firmware under simavr with its crystal `ppm` off, the host's link and clock
+    model as the app runs them; the truth is the emulator's own timeline: the host instant
+    of simulated time 0 (measured through the control channel, median of many queries)
+    plus the truth log's trigger time on the true (wall) clock."""
+    import statistics
+    import time
+
+    from obstacle_fusion.link import Link
+    from obstacle_fusion.protocol.generated import Range, TimeSyncReply
+
+    emu = emulator_factory(distance_m=1.0, clock_ppm=ppm, wait_client=True)  # type: ignore[operator]
+    link = Link(emu.pty_path)
+    link.start()
+    model = ClockModel()
+    online: list[tuple[float, Range, float | None]] = []
+    wall0: list[float] = []
+    t_start = time.monotonic()
+    next_query = 0.0
+    try:
+        while time.monotonic() - t_start < 12.0:
+            for item in link.drain():
+                msg = item.msg
+                if isinstance(msg, TimeSyncReply) and item.t_send is not None:
+                    model.add_sync(item.t_send, item.t_host, msg.rx_us, msg.tx_us)
+                elif isinstance(msg, Range):
+                    end_us = msg.trigger_us + msg.echo_ticks // 2  # 2 MHz ticks -> us
+                    model.add_oneway(item.t_host, end_us & 0xFFFFFFFF)
+                    online.append((item.t_host, msg, model.to_host(msg.trigger_us)))
+            now = time.monotonic()
+            if now >= next_query:
+                next_query = now + 0.2
+                t_a = time.monotonic()
+                sim = emu.control.sim_time()
+                t_b = time.monotonic()
+                if t_b - t_a < 2e-3:
+                    wall0.append((t_a + t_b) / 2 - sim / (1 + ppm * 1e-6))
+            time.sleep(0.005)
+    finally:
+        link.close()
+    origin = statistics.median(wall0)
+    truth = {r.index: r for r in emu.truth.read()}
+    errors = []
+    for t_arrival, msg, mapped in online:
+        rec = truth.get(msg.measurement)
+        if t_arrival - t_start >= 10.0 and mapped is not None and rec is not None:
+            errors.append(abs(mapped - (origin + rec.trigger_s / (1 + ppm * 1e-6))))
+    assert len(errors) >= 20
+    est = model.estimate()
+    assert est is not None and est.drift_ppm == pytest.approx(ppm, abs=50)
+    assert percentile(errors, 0.95) < 0.5e-3, f"p95 {percentile(errors, 0.95) * 1e3:.3f} ms"

@@ -110,6 +110,17 @@ def _lower_hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return hull
 
 
+def _weighted_median(values: list[float], weights: list[float]) -> float:
+    pairs = sorted(zip(values, weights, strict=True))
+    half = sum(weights) / 2.0
+    acc = 0.0
+    for value, weight in pairs:
+        acc += weight
+        if acc >= half:
+            return value
+    return pairs[-1][0]
+
+
 class ClockModel:
     """Feed it round trips and one-way arrivals; ask it to map MCU times.
 
@@ -134,6 +145,7 @@ class ClockModel:
         self.range_wire_s = frame_bytes(Range) * self.byte_s
         self.unwrap = Unwrapper()
         self.resets = 0
+        self.fast_round_trips = 0
         self._ref_us: int | None = None
         self._syncs: deque[_Sync] = deque()
         self._oneway: deque[tuple[float, float]] = deque()
@@ -165,8 +177,9 @@ class ClockModel:
             return
         lo = t_send + self.request_wire_s
         hi = t_recv - self.reply_wire_s
-        if hi < lo:  # wire faster than assumed (a pty): fall back to the raw bounds
+        if hi < lo:  # faster than the wire allows (a pty, a USB board): use the raw bounds
             lo, hi = t_send, t_recv
+            self.fast_round_trips += 1
         newest = (x_rx + x_tx) / 2
         self._syncs.append(_Sync(newest, (lo + hi) / 2, x_tx - x_rx, lo, hi))
         while self._syncs[0].x < newest - self.window_s:
@@ -246,14 +259,15 @@ class ClockModel:
         if slope is None or not 0.9 < slope < 1.1:
             slope = 1.0  # no drift evidence yet (or nonsense): assume none
         if syncs:
-            weights = []
-            offsets = []
-            for s in syncs:
-                half = max((s.hi - s.lo - slope * s.span_mcu) / 2, 0.0)
-                weights.append(1.0 / (half + 5e-5) ** 2)
-                offsets.append(s.y - slope * s.x)
+            halves = [max((s.hi - s.lo - slope * s.span_mcu) / 2, 0.0) for s in syncs]
+            offsets = [s.y - slope * s.x for s in syncs]
+            # A weighted median: one impossible round trip (faster than the wire, as when a
+            # board or emulator was still starting) cannot drag the line; the floor keeps a
+            # lucky near-zero slack from taking all the weight.
+            floor = max(sorted(halves)[len(halves) // 2] * 0.5, 1e-4)
+            weights = [1.0 / (h + floor) ** 2 for h in halves]
+            offset = _weighted_median(offsets, weights)
             wsum = sum(weights)
-            offset = sum(w * o for w, o in zip(weights, offsets, strict=True)) / wsum
             spread = math.sqrt(
                 sum(w * (o - offset) ** 2 for w, o in zip(weights, offsets, strict=True)) / wsum
             )
