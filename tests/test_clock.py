@@ -99,7 +99,11 @@ def test_inconsistent_round_trip_is_ignored() -> None:
 
 
 # ---------------------------------------------------------------------- on the emulator
-from tests.emulator_fixtures import emulator_built, emulator_factory, uno_elf  # noqa: E402, F401
+from tests import emulator_fixtures  # noqa: E402
+
+uno_elf = emulator_fixtures.uno_elf
+emulator_built = emulator_fixtures.emulator_built
+emulator_factory = emulator_fixtures.emulator_factory
 
 
 @pytest.mark.parametrize("ppm", [5000.0, -5000.0])
