@@ -1,0 +1,209 @@
+"""End to end: `obstacle-fusion run` on the emulated robot, checked against the scenario.
+
+The real firmware runs under simavr with the demo scene; the synthetic camera films the
+same scene; the app's JSON lines must agree with the scenario's truth at each frame's
+scene instant, and the MCAP must hold what happened, across an emulator crash too.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+from obstacle_fusion.outputs.mcap_file import (
+    TOPIC_EVENT,
+    TOPIC_IMAGE,
+    TOPIC_OBSTACLE,
+    TOPIC_RANGE,
+    read_recording,
+)
+from obstacle_fusion.scenario import demo_scenario
+
+from tests import emulator_fixtures
+
+uno_elf = emulator_fixtures.uno_elf
+emulator_built = emulator_fixtures.emulator_built
+
+# The vision benchmark's targets for the fused method on ordinary scenes (issue "Vision").
+VISION_MEAN_REL_ERROR = 0.02
+VISION_MAX_MISS_RATE = 1 / 25
+
+
+def _cmd(*args: str) -> list[str]:
+    return [sys.executable, "-m", "obstacle_fusion", *args]
+
+
+def _near_step(t: float) -> bool:
+    return any(abs(t - b) < 0.15 for seg in demo_scenario().segments for b in (seg.t0, seg.t1))
+
+
+def _check_against_scenario(records: list[dict[str, Any]]) -> dict[str, float]:
+    """Distance within 1% on every comparable frame; height/width errors and misses."""
+    scenario = demo_scenario()
+    h_err: list[float] = []
+    w_err: list[float] = []
+    missed = present = compared = 0
+    for r in records:
+        t = r.get("scene_t_s")
+        if t is None or _near_step(t):
+            continue
+        truth_d = scenario.distance_at(t)
+        obstacle = scenario.obstacle_at(t)
+        if truth_d is None or obstacle is None or r["distance_m"] is None:
+            continue
+        compared += 1
+        rel = abs(r["distance_m"] - truth_d) / truth_d
+        assert rel < 0.01, f"frame {r['frame_index']} at {t:.3f} s: {r['distance_m']} vs {truth_d}"
+        present += 1
+        if r["status"] != "ok":
+            missed += 1
+            continue
+        h_err.append(abs(r["height_m"] - obstacle.height_m) / obstacle.height_m)
+        w_err.append(abs(r["width_m"] - obstacle.width_m) / obstacle.width_m)
+    assert compared > 0
+    return {
+        "compared": compared,
+        "height_mean_rel": sum(h_err) / max(len(h_err), 1),
+        "width_mean_rel": sum(w_err) / max(len(w_err), 1),
+        "miss_rate": missed / max(present, 1),
+    }
+
+
+def test_run_on_the_emulator_matches_the_scenario(uno_elf: Path, tmp_path: Path) -> None:
+    mcap = tmp_path / "run.mcap"
+    proc = subprocess.run(
+        _cmd("run", "--duration", "11", "--json", "--quiet", "--record", str(mcap)),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "emulated robot" in proc.stderr  # it says it is not on hardware
+    records = [json.loads(line) for line in proc.stdout.splitlines()]
+    assert len(records) >= 10 * 15 * 0.9  # >= 10 s at 15 fps
+    span = records[-1]["t_host"] - records[0]["t_host"]
+    assert span >= 10.0
+    paired = sum(r["pairing"] != "none" for r in records) / len(records)
+    assert paired >= 0.99, f"only {paired:.3f} of frames paired"
+    figures = _check_against_scenario(records)
+    assert figures["compared"] >= 0.9 * len(records)
+    # Height and width: the vision benchmark's tolerance.
+    assert figures["miss_rate"] <= VISION_MAX_MISS_RATE, figures
+    assert figures["height_mean_rel"] <= VISION_MEAN_REL_ERROR, figures
+    assert figures["width_mean_rel"] <= VISION_MEAN_REL_ERROR, figures
+    rec = read_recording(mcap)
+    assert rec.complete
+    topics = [m.topic for m in rec.messages]
+    assert topics.count(TOPIC_IMAGE) == len(records) == topics.count(TOPIC_OBSTACLE)
+    assert topics.count(TOPIC_RANGE) >= 10 / 0.06 * 0.9
+
+
+def test_json_is_strict_and_the_alert_exit_code_works(uno_elf: Path) -> None:
+    # Box A reaches 2.3 m about 1.4 s into the scene: the first alert ends the run.
+    t0 = time.monotonic()
+    proc = subprocess.run(
+        _cmd("run", "--json", "--quiet", "--stop-distance", "2.3", "--exit-on-alert", "7"),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 7, proc.stderr
+    assert time.monotonic() - t0 < 20
+    records = [json.loads(line) for line in proc.stdout.splitlines()]
+    assert records[-1]["alert"] is True and records[-1]["distance_m"] <= 2.3
+    assert not any(r["alert"] for r in records[:-1])
+
+
+def test_killing_the_emulator_mid_run_loses_nothing_recorded(uno_elf: Path, tmp_path: Path) -> None:
+    mcap = tmp_path / "crash.mcap"
+    proc = subprocess.Popen(
+        _cmd("-v", "run", "--duration", "14", "--json", "--quiet", "--record", str(mcap)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stderr is not None and proc.stdout is not None
+    err_lines: list[str] = []
+    pid_found = threading.Event()
+    pids: list[int] = []
+
+    def read_stderr() -> None:
+        assert proc.stderr is not None
+        for line in proc.stderr:
+            err_lines.append(line)
+            m = re.search(r"emulator pid (\d+)", line)
+            if m and not pids:
+                pids.append(int(m.group(1)))
+                pid_found.set()
+
+    reader = threading.Thread(target=read_stderr, daemon=True)
+    reader.start()
+    try:
+        assert pid_found.wait(20), "".join(err_lines)
+        time.sleep(5.0)
+        t_kill = time.monotonic()
+        os.kill(pids[0], signal.SIGKILL)
+        out = proc.stdout.read()  # stderr is the reader thread's
+        proc.wait(60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    reader.join(5)
+    stderr = "".join(err_lines)
+    assert proc.returncode == 0, stderr
+    assert "restarted it as pid" in stderr
+    records = [json.loads(line) for line in out.splitlines()]
+    before = [r for r in records if r["t_host"] < t_kill - 0.2]
+    after = [r for r in records if r["t_host"] > t_kill + 3.0]
+    assert len(before) > 30 and len(after) > 30
+    assert sum(r["status"] == "ok" for r in after) > 0.8 * len(after)
+    _check_against_scenario(before + after)  # distances right on both sides
+    rec = read_recording(mcap)
+    assert rec.complete, rec.problem
+    sessions = {m.data["session"] for m in rec.messages if m.topic == TOPIC_RANGE}
+    assert sessions == {1, 2}
+    frames = [m.publish_time_ns / 1e9 for m in rec.messages if m.topic == TOPIC_IMAGE]
+    assert min(frames) < t_kill - 1.0 and max(frames) > t_kill + 3.0
+    events = [m.data["event"] for m in rec.messages if m.topic == TOPIC_EVENT]
+    assert "disconnected" in events and "emulator_restart" in events
+
+
+def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
+    mcap = tmp_path / "short.mcap"
+    run = subprocess.run(
+        _cmd("run", "--duration", "3", "--json", "--quiet", "--record", str(mcap)),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert run.returncode == 0, run.stderr
+    live = [json.loads(line) for line in run.stdout.splitlines()]
+    replay = subprocess.run(_cmd("replay", str(mcap)), capture_output=True, text=True, timeout=60)
+    assert replay.returncode == 0, replay.stderr
+    again = [json.loads(line) for line in replay.stdout.splitlines()]
+    assert len(again) == len(live)
+    for a, b in zip(live, again, strict=True):
+        assert a["frame_index"] == b["frame_index"] and a["pairing"] == b["pairing"]
+        if a["distance_m"] is not None:
+            assert b["distance_m"] == pytest.approx(a["distance_m"], abs=1e-9)
+    # A truncated copy: what precedes the cut is replayed, then a clear error.
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(mcap.read_bytes()[: mcap.stat().st_size // 2])
+    bad = subprocess.run(_cmd("replay", str(cut)), capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2
+    assert "cut short" in bad.stderr and "Traceback" not in bad.stderr
+    assert 0 < len(bad.stdout.splitlines()) < len(live)
+    # Not an MCAP at all.
+    txt = tmp_path / "x.mcap"
+    txt.write_text("not a recording")
+    bad = subprocess.run(_cmd("replay", str(txt)), capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2 and "not an MCAP file" in bad.stderr
