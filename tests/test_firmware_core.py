@@ -72,8 +72,6 @@ def test_unknown_test_name_fails(test_binary: Path) -> None:
 
 @pytest.mark.parametrize("name", declared_tests())
 def test_core(test_binary: Path, name: str) -> None:
-    result = subprocess.run(
-        [str(test_binary), name], capture_output=True, text=True, timeout=60
-    )
+    result = subprocess.run([str(test_binary), name], capture_output=True, text=True, timeout=60)
     assert result.returncode == 0, result.stdout + result.stderr
     assert f"{name}: ok" in result.stdout
