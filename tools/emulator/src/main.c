@@ -539,10 +539,7 @@ static void after_reset(emu_t *e)
     e->resets++;
     e->bridge.rx_scheduled = 0;
     avr_cycle_timer_register(e->avr, e->service_cycles, service_tick, e);
-    if (e->sonar.busy) {
-        e->sonar.busy = 0;
-        note(e, "MCU reset during a measurement; that echo is lost");
-    }
+    sonar_rearm(&e->sonar);
     note(e, "MCU reset at %.6f s", sim_seconds(e));
 }
 

@@ -184,3 +184,22 @@ int sonar_attach(sonar_t *s, avr_t *avr, const sonar_params_t *p, scene_t *scene
     }
     return 0;
 }
+
+void sonar_rearm(sonar_t *s)
+{
+    if (!s->busy)
+        return;
+    avr_t *avr = s->avr;
+    avr_cycle_count_t now = avr->cycle;
+    avr_cycle_count_t rise = s->m_rise_cycle;
+    avr_cycle_count_t fall = rise + s->m_echo_cycles;
+    if (now < rise) {
+        avr_cycle_timer_register(avr, rise - now, echo_rise, s);
+        avr_cycle_timer_register(avr, fall - now, echo_fall, s);
+    } else if (now < fall) {
+        avr_raise_irq(s->echo_irq, 1);
+        avr_cycle_timer_register(avr, fall - now, echo_fall, s);
+    } else {
+        echo_fall(avr, now, s);
+    }
+}

@@ -56,6 +56,9 @@ void sonar_default_params(sonar_params_t *p);
 /* Attach to the MCU's pins; truth may be NULL. Returns -1 if a pin does not exist. */
 int sonar_attach(sonar_t *s, avr_t *avr, const sonar_params_t *p, scene_t *scene, rng_t *rng,
                  FILE *truth);
+/* After an MCU reset (simavr drops all cycle timers): the sensor is outside the MCU, so
+ * a pulse in flight goes on; schedule its remaining edges again. */
+void sonar_rearm(sonar_t *s);
 /* Cycles to seconds of true time, taking the crystal error into account. */
 double sonar_true_time(const sonar_t *s, avr_cycle_count_t cycle);
 
