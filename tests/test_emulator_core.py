@@ -277,3 +277,29 @@ def test_mcu_reset_reboots_the_firmware_and_the_sensor_goes_on(emulator_factory:
     after = ranges(after_hello(lines))
     assert min(after) == 0 and len(after) >= 3  # the counter restarted with the firmware
     assert emu.control.stats()["resets"] == 1
+
+
+def test_spikes_answer_from_random_distances(emulator_factory: Factory) -> None:
+    got, truth, _ = run_echo_test(emulator_factory, 30, distance_m=1.0, spike=1.0, seed=5)
+    assert all(r.kind == "spike" and r.distance_m == 1.0 for r in truth)
+    spikes = [r.echo_distance_m for r in truth]
+    assert all(d is not None and 0.02 <= d <= 4.0 for d in spikes)
+    assert len({round(d or 0, 3) for d in spikes}) > 20
+    assert all(abs(got[r.index] - r.echo_ticks) <= 1 for r in truth if r.index in got)
+
+
+def test_uart_faults_towards_the_mcu(emulator_factory: Factory) -> None:
+    emu = emulator_factory(
+        elf=firmware_for_tests("echo_test"), fast=True, uart_corrupt=1.0, fault_dir="rx"
+    )
+    port = TextPort(emu.pty_path)
+    try:
+        port.lines(0.2)
+        port.serial.write(b"A" * 8)
+        lines = port.lines(3.0, until=lambda ls: sum(x.startswith("E ") for x in ls) >= 8)
+    finally:
+        port.close()
+    got = [int(x.split()[1], 16) for x in lines if x.startswith("E ")]
+    assert len(got) == 8
+    assert all(bin(v ^ 0x41).count("1") == 1 for v in got)  # one flipped bit each
+    assert emu.control.stats()["corrupted"] == 8

@@ -283,3 +283,20 @@ def test_decoder_recovers_every_intact_frame_with_1pct_corruption(emulator_facto
     assert dec.stats.bad_frames >= 1  # the damaged frames are counted, not returned
     assert len(got) < len(clean_msgs)
     assert clean_emu.wait(10.0) == 0 and noisy_emu.wait(10.0) == 0
+
+
+def test_real_time_mode_looks_like_a_board(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+    _, port, _, _ = boot(emulator_factory, open_port, uno_elf, fast=False, distance_m=1.0)
+    arrivals = []
+    while len(arrivals) < 9:
+        msg, _ = port.read_until(lambda m: isinstance(m, Range), 2.0)
+        assert isinstance(msg, Range)
+        arrivals.append(time.monotonic())
+    spacing = [b - a for a, b in zip(arrivals, arrivals[1:], strict=False)]
+    assert sum(spacing) / len(spacing) == pytest.approx(0.060, abs=0.006)
+    t0 = time.monotonic()
+    port.send(TimeSync(token=7))
+    reply, _ = port.read_until(lambda m: isinstance(m, TimeSyncReply), 2.0)
+    assert isinstance(reply, TimeSyncReply) and reply.token == 7
+    # Request and reply are ~20 bytes each at 115200 baud: a few ms, as on a board.
+    assert 0.003 < time.monotonic() - t0 < 0.2
