@@ -64,6 +64,8 @@ class SceneSpec:
     noise_sigma: float = 2.0  # grey levels
     blur_sigma: float = 0.5  # pixels (lens/motion softness)
     shadow: float = 0.35  # darkness of the soft contact shadow under the box, 0..1
+    light_x: float = 0.2  # light direction (x, 1 = downwards, z) shading the box faces
+    light_z: float = 0.6
     hard: bool = False  # a label for statistics only
 
     def __post_init__(self) -> None:
@@ -110,6 +112,11 @@ class SceneSpec:
         raise RuntimeError(
             "could not place an obstacle in view; is the camera pointed at the floor?"
         )
+
+
+def front_shade(light_x: float, light_z: float) -> float:
+    """Brightness factor of the box's front face under the spec's light (as rendered)."""
+    return 0.55 + 0.45 * light_z / math.sqrt(light_x**2 + 1.0 + light_z**2)
 
 
 def _grey(c: Color) -> float:
@@ -163,7 +170,15 @@ def _draw(gen: np.random.Generator, hard: bool, rig: Rig) -> SceneSpec:
         height_m=float(gen.uniform(0.10, 0.6)),
         length_m=float(gen.uniform(0.15, 0.6)),
     )
-    kw["box_color"] = _contrasting(gen, [floor, wall], 40.0)
+    kw["light_x"] = float(gen.uniform(-0.5, 0.5))
+    kw["light_z"] = float(gen.uniform(0.2, 1.0))
+    shade = front_shade(kw["light_x"], kw["light_z"])
+    for _ in range(100):  # ordinary: the lit front face contrasts with floor and wall
+        box = _color(gen)
+        lit = _grey(box) * shade
+        if abs(lit - _grey(floor)) >= 35 and abs(lit - _grey(wall)) >= 35:
+            break
+    kw["box_color"] = box
     half_beam = kw["distance_m"] * math.tan(rig.beam_half_rad)
     kw["lateral_m"] = float(gen.uniform(-0.5, 0.5) * half_beam)
     if hard:
@@ -557,7 +572,7 @@ class SceneRenderer:
         self._wall(spec, gen, wall_z, light)
         self._floor(spec, gen, wall_z, light)
         corners = _box_corners(spec, rig)
-        light_dir = np.array([gen.uniform(-0.5, 0.5), 1.0, gen.uniform(0.2, 1.0)])
+        light_dir = np.array([spec.light_x, 1.0, spec.light_z])
         light_dir /= np.linalg.norm(light_dir)
         for _ in range(spec.extra_boxes):
             ez = (

@@ -63,6 +63,19 @@ def _hole_below(on: npt.NDArray[np.float64], tops: npt.NDArray[np.intp]) -> npt.
     return (nxt[start] - start).astype(np.float64)
 
 
+def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
+    """Top row of the edge run that starts at the floor-contact row (gaps under ``gap``)."""
+    up = on[: rb - 1][::-1] > 0  # from just above the bottom, going up
+    if up.size < gap:
+        return rb - 1
+    miss = ~up
+    run = miss[: up.size - gap + 1].copy()
+    for k in range(1, gap):
+        run &= miss[k : up.size - gap + 1 + k]
+    n = int(np.argmax(run)) if run.any() else up.size
+    return rb - 1 - n
+
+
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
     """y = a + b x, least squares with one round of outlier rejection."""
     if x.size < 2:
@@ -162,7 +175,9 @@ class FusedMethod:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
         _, rb, ul, ur, vt, conf = best
-        return self._refine(ax, ay, rb, ul, ur, vt, conf, depth, range_m, timer)
+        vt, sign = self._front_top(gy, rb, ul, ur, vt, noise)
+        top_edge = np.maximum(gy * np.float32(sign), 0.0)
+        return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
     @staticmethod
     def _rank_sides(
@@ -224,29 +239,66 @@ class FusedMethod:
         stop = 1.0 - above
         snr_t = prof_t / noise
         tops = _local_maxima(snr_t.astype(np.float32), 1.2)
+        # where each vertical edge ends is a top candidate too: the front top edge of a
+        # box can be nearly invisible (front and top faces alike) while its sides are not
+        ends = [_run_top(el, rb), _run_top(er, rb)]
+        extra = [r for e in ends for r in (e - 1, e) if 0 < r < top_limit]
+        if extra:
+            tops = np.unique(np.concatenate([tops, np.array(extra, dtype=np.intp)]))
         if tops.size == 0:
             return None
         # rows just below a top candidate with no vertical edge: the top face of a low box
         hole = 0.5 * (_hole_below(el, tops) + _hole_below(er, tops))
-        fit = np.exp(-hole / 2.0) * cov[tops] ** 2 * stop[tops]
-        score_t = np.minimum(snr_t[tops], 30.0) ** 0.5 * fit
+        fit = np.exp(-hole / 2.0) * cov[tops] ** 2 * stop[tops] ** 2
+        score_t = np.minimum(np.maximum(snr_t[tops], 0.5), 20.0) ** 0.25 * fit
         i = int(np.argmax(score_t))
         vt = int(tops[i])
         snr_l = float(ax3[vt:rb, ul].mean()) / noise
         snr_r = float(ax3[vt:rb, ur].mean()) / noise
         side = min(snr_l, snr_r, 30.0)
-        horiz = min(float(snr_t[vt]), snr_b, 30.0)
+        horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[vt])), snr_b, 30.0)
         if side < 2.0 or horiz < 2.0:
             return None
         score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
         conf = float(fit[i]) * (1.0 - math.exp(-min(side, horiz) / 6.0)) * (0.5 + 0.5 * prior_b)
         return (score, rb, ul, ur, vt, float(np.clip(conf, 0.0, 1.0)))
 
+    def _front_top(
+        self, gy: F32, rb: int, ul: int, ur: int, vt: int, noise: float
+    ) -> tuple[int, float]:
+        """A box lower than the lens shows its top face: prefer the face's front edge.
+
+        The top face's back edge sits above the front one by at most
+        (vt - cy) * (1 - D / (D + 2 m)) rows (a box up to 2 m long). In the signed vertical
+        gradient the two edges stay apart even when only a pixel or two apart (the top
+        face is lit differently from the wall and from the front face); the lowest
+        significant extremum in that reach, within the upper 30 % of the face, is the
+        front top edge. Returns the row and the sign of its gradient.
+        """
+        v = self.view
+        m = max(1, (ur - ul) // 8)
+        prof = gy[:rb, ul + m : ur - m].mean(axis=1)
+        sign_vt = 1.0 if prof[vt] >= 0 else -1.0
+        below_horizon = vt - v.cy
+        reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
+        if below_horizon <= 1.0 or reach < 1:
+            return vt, sign_vt
+        thr = 3.0 * noise / math.sqrt(max(1, ur - ul - 2 * m)) + 0.1 * abs(float(prof[vt]))
+        best = vt
+        for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
+            a = abs(float(prof[r]))
+            if a >= thr and a >= abs(float(prof[r - 1])) and a >= abs(float(prof[r + 1])):
+                best = r
+            elif a >= thr and prof[r] * prof[r - 1] < 0 and a > abs(float(prof[r + 1])):
+                best = r
+        return best, (1.0 if prof[best] >= 0 else -1.0)
+
     # ------------------------------------------------------------------ refinement
     def _refine(
         self,
         ax: F32,
         ay: F32,
+        top_edge: F32,
         rb: int,
         ul: int,
         ur: int,
@@ -262,7 +314,7 @@ class FusedMethod:
         m = max(1, (ur - ul) // 10)
         cols = np.arange(ul + m, ur - m + 1)
         bottom_a, bottom_b = self._fit_horizontal(ay, cols, rb, h_roi)
-        top_a, top_b = self._fit_horizontal(ay, cols, vt, h_roi)
+        top_a, top_b = self._fit_horizontal(top_edge, cols, vt, h_roi)
         # vertical edges: per-row sub-pixel peaks near ul and ur
         mv = max(1, (rb - vt) // 10)
         rows = np.arange(vt + mv, rb - mv + 1)
@@ -281,6 +333,19 @@ class FusedMethod:
         br = corner(bottom_a, bottom_b, right_a, right_b)
         tr = corner(top_a, top_b, right_a, right_b)
         tl = corner(top_a, top_b, left_a, left_b)
+        # Where the vertical edges end is the front top corner even when the top face
+        # (a pixel or three tall) merges with the front top edge in the gradient.
+        if tl[1] - v.cy > 1.0:
+            end_l = self._edge_end(ax, left_a, left_b, vt, rb)
+            end_r = self._edge_end(ax, right_a, right_b, vt, rb)
+            if end_l is not None and end_r is not None:
+                d_l, d_r = end_l - tl[1], end_r - tr[1]
+                lower = 0.5 * (d_l + d_r)
+                # only a thin top face (thicker ones are separate edges, handled above),
+                # seen alike on both sides
+                if 0.75 < lower <= 4.0 and abs(d_l - d_r) < 1.0:
+                    tl = (left_a + left_b * end_l, end_l)
+                    tr = (right_a + right_b * end_r, end_r)
         h_left = bl[1] - tl[1]
         h_right = br[1] - tr[1]
         h_px = 0.5 * (h_left + h_right)
@@ -332,12 +397,36 @@ class FusedMethod:
         )
 
     @staticmethod
+    def _edge_end(ax: F32, a: float, b: float, vt: int, rb: int) -> float | None:
+        """Sub-pixel row where a vertical edge (u = a + b v) fades out going up."""
+        h, w = ax.shape
+        lo = max(1, vt - 6)
+        hi = min(rb - 2, vt + max(4, (rb - vt) // 2))
+        if hi - lo < 6:
+            return None
+        rows = np.arange(lo, hi + 1)
+        cols = np.clip(np.round(a + b * rows).astype(np.intp), 1, w - 2)
+        strength = np.maximum(np.maximum(ax[rows, cols - 1], ax[rows, cols]), ax[rows, cols + 1])
+        mid0 = vt + max(2, (rb - vt) // 4)
+        ref_rows = strength[rows >= mid0]
+        if ref_rows.size < 3:
+            return None
+        half = 0.5 * float(np.median(ref_rows))
+        # going up from the reference part, the first row below half strength
+        for i in range(int(np.searchsorted(rows, mid0)) - 1, 0, -1):
+            if strength[i] < half <= strength[i + 1]:
+                frac = (half - strength[i]) / max(float(strength[i + 1] - strength[i]), 1e-6)
+                return float(rows[i] + frac)
+        return None
+
+    @staticmethod
     def _fit_horizontal(
         ay: F32, cols: npt.NDArray[np.intp], row: int, h: int
     ) -> tuple[float, float]:
         r0 = int(np.clip(row - 3, 0, h - 7))
-        win = ay[r0 : r0 + 7, cols]  # 7 rows around the edge
-        peak = np.clip(np.argmax(win[1:-1], axis=0) + 1, 1, 5)
+        win = ay[r0 : r0 + 7, cols]  # 7 rows around the edge; the peak within +-1 row
+        lo = max(1, row - 1 - r0)
+        peak = np.clip(np.argmax(win[lo : lo + 3], axis=0) + lo, 1, 5)
         pos = r0 + peak + _subpixel(win, peak)
         return _fit_line(cols.astype(np.float64), pos)
 
@@ -345,6 +434,7 @@ class FusedMethod:
     def _fit_vertical(ax: F32, rows: npt.NDArray[np.intp], col: int, w: int) -> tuple[float, float]:
         c0 = int(np.clip(col - 3, 0, w - 7))
         win = np.ascontiguousarray(ax[rows, c0 : c0 + 7].T)
-        peak = np.clip(np.argmax(win[1:-1], axis=0) + 1, 1, 5)
+        lo = max(1, col - 1 - c0)
+        peak = np.clip(np.argmax(win[lo : lo + 3], axis=0) + lo, 1, 5)
         pos = c0 + peak + _subpixel(win, peak)
         return _fit_line(rows.astype(np.float64), pos)
