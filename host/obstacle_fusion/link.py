@@ -490,24 +490,25 @@ class Link:
 
 
 def resolve_port(port: str | None) -> str | PortProvider:
-    """--port as given, or a provider that finds a board by USB VID/PID on every (re)connect."""
+    """--port as given, or a provider that finds the board by USB VID/PID on every
+    (re)connect, so a board that comes back on another device name is found again."""
     if port:
         return port
     try:
-        from obstacle_fusion.ports import find_board_port  # written by the firmware side
+        from obstacle_fusion.ports import find_board_port  # the firmware side's VID/PID table
     except ImportError as exc:
         raise LinkError(
             "no --port given and board auto-detection (obstacle_fusion.ports) is not "
             "available; pass --port /dev/ttyACM0 (or COM3)"
         ) from exc
+    first = find_board_port()  # raises a UserError naming what was looked for
 
     def provider() -> str | None:
-        found = find_board_port()
-        return str(found) if found else None
+        try:
+            return str(find_board_port())
+        except UserError as exc:
+            log.debug("board not found yet: %s", exc)
+            return None
 
-    if provider() is None:
-        raise LinkError(
-            "no board found: no USB serial device with a known Arduino, CH340, FTDI, CP210x "
-            "or ST-Link VID/PID. Plug the board in or pass --port."
-        )
+    log.info("board found on %s", first)
     return provider
