@@ -265,19 +265,23 @@ void bridge_drain(uart_bridge_t *b, double timeout_s)
      * unread input is lost when the master closes. The slave's input queue is shared by
      * all its descriptors, so our own descriptor can measure it. */
     int s = open(b->path, O_RDWR | O_NOCTTY | O_NONBLOCK);
+    int quiet = 0;
     for (;;) {
         b->avr->cycle += bridge_cycles_per_byte(b) * 64;
         bridge_service(b);
         int pending = 0;
         if (s >= 0 && ioctl(s, FIONREAD, &pending) != 0)
             pending = 0;
-        if (!b->client || (b->tx_tail == b->tx_head && pending == 0))
+        /* Written bytes reach the slave's queue a moment later (the kernel's flip
+         * buffer): only several empty looks in a row mean the client has them all. */
+        quiet = (b->tx_tail == b->tx_head && pending == 0) ? quiet + 1 : 0;
+        if (!b->client || quiet >= 5)
             break;
         clock_gettime(CLOCK_MONOTONIC, &now);
         double dt = (double)(now.tv_sec - t0.tv_sec) + (double)(now.tv_nsec - t0.tv_nsec) * 1e-9;
         if (dt > timeout_s)
             break;
-        usleep(2000);
+        usleep(5000);
     }
     if (s >= 0)
         close(s);
