@@ -67,7 +67,7 @@ def test_a_silent_port_fails_the_handshake_clearly() -> None:
 def test_unopenable_port_fails_clearly() -> None:
     with pytest.raises(LinkError) as info:
         _fast_link("/dev/does-not-exist-obstacle").start(timeout_s=0.5)
-    assert "cannot open /dev/does-not-exist-obstacle" in str(info.value)
+    assert "/dev/does-not-exist-obstacle does not exist" in str(info.value)
 
 
 def test_commands_are_matched_by_seq_and_nack_names_the_reason() -> None:

@@ -14,6 +14,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any
 
 import serial
@@ -162,6 +163,7 @@ class Link:
         serial_factory: SerialFactory = _default_serial,
     ) -> None:
         self._port_provider: PortProvider = port if callable(port) else (lambda: port)
+        self._fixed_port = None if callable(port) else port
         self.baud = baud
         self.reconnect = reconnect
         self.handshake_timeout_s = handshake_timeout_s
@@ -292,7 +294,7 @@ class Link:
                 self._step()
         except LinkError as exc:
             self.error = exc
-            log.error("%s", exc)
+            log.debug("link stopped: %s", exc)
         except Exception as exc:  # never die silently: the app shows it
             self.error = LinkError(f"link thread failed: {exc!r}")
             log.exception("link thread failed")
@@ -310,6 +312,12 @@ class Link:
         except (serial.SerialException, OSError, ValueError) as exc:
             self.last_problem = f"cannot open {port}: {exc}"
             log.debug(self.last_problem)
+            if self.counters.session == 0 and self._fixed_port and not Path(port or "").exists():
+                if "://" not in str(port):  # a device path that is not there: say so now
+                    raise LinkError(
+                        f"serial port {port} does not exist; check the cable and the name "
+                        "(ls /dev/ttyACM* /dev/ttyUSB*), or leave --port out to auto-find"
+                    ) from exc
             return False
         if self.counters.session > 0:
             self.counters.reconnects += 1
