@@ -282,6 +282,12 @@ void hal_idle_until(uint32_t wake_us)
     }
     /* With interrupts masked, WFI still wakes on a pending one: no lost wake-up. */
     uint32_t m = irq_save();
+    /* Hand the UART what it can take right now (one or two bytes on silicon, where the
+     * TXE interrupt does the rest; all of it under QEMU, which models no TXE interrupt). */
+    uint8_t b;
+    while ((USART1->SR & USART_SR_TXE) && of_ring_get(&tx_ring, &b)) {
+        USART1->DR = b;
+    }
     TIM2->CCR3 = (uint16_t)(TIM2->CNT + ((uint32_t)wait << US_SHIFT));
     if (of_ring_count(&rx_ring) == 0u) {
         __asm__ volatile("wfi" : : : "memory");
