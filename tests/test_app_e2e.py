@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+import cv2
 import pytest
 from obstacle_fusion.outputs.mcap_file import (
     TOPIC_EVENT,
@@ -179,14 +180,31 @@ def test_killing_the_emulator_mid_run_loses_nothing_recorded(uno_elf: Path, tmp_
 
 def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
     mcap = tmp_path / "short.mcap"
+    video = tmp_path / "short.mp4"
     run = subprocess.run(
-        _cmd("run", "--duration", "3", "--json", "--quiet", "--record", str(mcap)),
+        _cmd(
+            "run",
+            "--duration",
+            "3",
+            "--json",
+            "--quiet",
+            "--record",
+            str(mcap),
+            "--video",
+            str(video),
+        ),
         capture_output=True,
         text=True,
         timeout=60,
     )
     assert run.returncode == 0, run.stderr
     live = [json.loads(line) for line in run.stdout.splitlines()]
+    cap = cv2.VideoCapture(str(video))
+    n_video = 0
+    while cap.read()[0]:
+        n_video += 1
+    cap.release()
+    assert n_video == len(live)  # one annotated frame per record
     replay = subprocess.run(_cmd("replay", str(mcap)), capture_output=True, text=True, timeout=60)
     assert replay.returncode == 0, replay.stderr
     again = [json.loads(line) for line in replay.stdout.splitlines()]
@@ -207,3 +225,27 @@ def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
     txt.write_text("not a recording")
     bad = subprocess.run(_cmd("replay", str(txt)), capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2 and "not an MCAP file" in bad.stderr
+
+
+def test_sigterm_finishes_the_recording(uno_elf: Path, tmp_path: Path) -> None:
+    mcap = tmp_path / "term.mcap"
+    proc = subprocess.Popen(
+        _cmd("run", "--json", "--quiet", "--record", str(mcap)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout is not None
+    try:
+        first = proc.stdout.readline()  # the first record: everything is running
+        assert first.startswith("{")
+        time.sleep(1.0)
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err
+    rec = read_recording(mcap)
+    assert rec.complete and any(m.topic == TOPIC_OBSTACLE for m in rec.messages)

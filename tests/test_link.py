@@ -133,3 +133,25 @@ def test_no_reconnect_mode_reports_the_unplug() -> None:
         time.sleep(0.3)
         assert link.error is not None and "disconnected" in str(link.error)
         link.close()
+
+
+# ---------------------------------------------------------------------- the real firmware
+from tests import emulator_fixtures  # noqa: E402
+
+uno_elf = emulator_fixtures.uno_elf
+emulator_built = emulator_fixtures.emulator_built
+emulator_factory = emulator_fixtures.emulator_factory
+
+
+def test_commands_against_the_real_firmware(uno_elf: object, emulator_factory: object) -> None:
+    emu = emulator_factory(distance_m=1.0)  # type: ignore[operator]
+    with Link(emu.pty_path) as link:
+        assert link.hello is not None and link.hello.timer_hz == 2_000_000
+        assert isinstance(link.command(Stop()), Ack)
+        with pytest.raises(LinkError, match="bad_cycle"):
+            link.command(SetConfig(10, 1, 23324, 40000, 1000))
+        ack = link.command(SetConfig(100, 1, 23324, 40000, 1000))
+        assert ack.command_id == SetConfig.MSG_ID
+        syncs = [r for r in _collect(link, 0.5) if isinstance(r.msg, TimeSyncReply)]
+        assert syncs and link.config is not None and link.config.cycle_ms == 100
+        assert link.counters.crc_errors == 0 and link.counters.seq_gaps == 0
