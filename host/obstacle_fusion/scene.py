@@ -107,7 +107,7 @@ class SceneSpec:
         the_rig = rig if rig is not None else Rig()
         for _ in range(200):
             spec = _draw(gen, hard, the_rig)
-            if _fits(spec, cam, the_rig, min_px=12.0 if hard else 30.0):
+            if _fits(spec, cam, the_rig, min_px=15.0 if hard else 30.0):
                 return spec
         raise RuntimeError(
             "could not place an obstacle in view; is the camera pointed at the floor?"
@@ -138,10 +138,10 @@ def _contrasting(gen: np.random.Generator, others: list[Color], min_diff: float)
     return (20.0, 20.0, 20.0) if all(_grey(o) > 128 for o in others) else (235.0, 235.0, 235.0)
 
 
-def _near(gen: np.random.Generator, ref: Color, diff: float) -> Color:
-    sign = 1.0 if _grey(ref) < 128 else -1.0
-    step = sign * diff
-    return tuple(float(np.clip(c + step + gen.normal(0, 3), 0, 255)) for c in ref)  # type: ignore[return-value]
+def _scaled(ref: Color, grey: float) -> Color:
+    """``ref``'s hue at the given grey level (clipped to 8 bit)."""
+    k = grey / max(_grey(ref), 1.0)
+    return tuple(float(np.clip(c * k, 0, 255)) for c in ref)  # type: ignore[return-value]
 
 
 def _draw(gen: np.random.Generator, hard: bool, rig: Rig) -> SceneSpec:
@@ -189,8 +189,15 @@ def _draw(gen: np.random.Generator, hard: bool, rig: Rig) -> SceneSpec:
         )
         kw["hard"] = True
         if "contrast" in traits:
-            kw["box_color"] = _near(gen, floor, float(gen.uniform(10, 20)))
-            kw["wall_color"] = _near(gen, kw["box_color"], float(gen.uniform(12, 25)))
+            # low, not zero: the lit front face 10-20 grey levels from the floor and
+            # 12-25 from the wall, in the floor's hue
+            fg = _grey(floor)
+            lit = fg + (1.0 if fg < 128 else -1.0) * float(gen.uniform(10, 20))
+            kw["box_color"] = _scaled(floor, lit / shade)
+            wall_lit = lit + float(gen.choice([-1.0, 1.0])) * float(gen.uniform(12, 25))
+            if not 5.0 <= wall_lit <= 250.0:
+                wall_lit = lit - (wall_lit - lit)
+            kw["wall_color"] = _scaled(_color(gen, 60, 200), wall_lit)
         if "lines" in traits:
             kw["skirting_m"] = float(gen.uniform(0.05, 0.15))
             kw["shelves"] = int(gen.integers(1, 4))

@@ -232,7 +232,7 @@ class FusedMethod:
         rows = np.arange(top_limit)
         span = (rb - rows).astype(np.float64)
         cov = 0.5 * (cl[:top_limit] + cr[:top_limit]) / span
-        s = np.maximum(3, (rb - rows) // 6)
+        s = np.maximum(3, (rb - rows) // 2)
         above_start = np.maximum(rows - s, 0)
         ext = np.concatenate([[0.0], np.cumsum(0.5 * (el + er))])
         above = (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
