@@ -10,10 +10,9 @@
 #include <string.h>
 #include <strings.h>
 
-static keyframe_t g_tmp[SCENE_MAX_KEYFRAMES];
-
 void scene_init(scene_t *s, double distance_m, int none, double temperature_c)
 {
+    s->kf = NULL;
     s->n = 0;
     s->t0 = 0.0;
     s->constant = distance_m;
@@ -45,7 +44,8 @@ int scene_load(scene_t *s, const char *path, double t0, char *err, size_t errlen
         return -1;
     }
     char line[512];
-    size_t n = 0;
+    keyframe_t *kf = NULL;
+    size_t n = 0, cap = 0;
     int lineno = 0;
     int have_temp = 0;
     double temp = s->temperature_c;
@@ -96,19 +96,24 @@ int scene_load(scene_t *s, const char *path, double t0, char *err, size_t errlen
             rc = -1;
             break;
         }
-        if (n > 0 && k.t < g_tmp[n - 1].t) {
+        if (n > 0 && k.t < kf[n - 1].t) {
             snprintf(err, errlen, "%s:%d: time %g goes backwards (previous keyframe %g)",
-                     path, lineno, k.t, g_tmp[n - 1].t);
+                     path, lineno, k.t, kf[n - 1].t);
             rc = -1;
             break;
         }
-        if (n == SCENE_MAX_KEYFRAMES) {
-            snprintf(err, errlen, "%s:%d: more than %d keyframes", path, lineno,
-                     SCENE_MAX_KEYFRAMES);
-            rc = -1;
-            break;
+        if (n == cap) {
+            size_t ncap = cap ? cap * 2 : 256;
+            keyframe_t *grown = realloc(kf, ncap * sizeof *kf);
+            if (!grown) {
+                snprintf(err, errlen, "%s:%d: out of memory", path, lineno);
+                rc = -1;
+                break;
+            }
+            kf = grown;
+            cap = ncap;
         }
-        g_tmp[n++] = k;
+        kf[n++] = k;
     }
     if (rc == 0 && ferror(f)) {
         snprintf(err, errlen, "error reading %s", path);
@@ -120,10 +125,13 @@ int scene_load(scene_t *s, const char *path, double t0, char *err, size_t errlen
                  path);
         rc = -1;
     }
-    if (rc)
+    if (rc) {
+        free(kf);
         return rc;
+    }
     if (n > 0) {
-        memcpy(s->kf, g_tmp, n * sizeof g_tmp[0]);
+        free(s->kf);
+        s->kf = kf;
         s->n = n;
         s->t0 = t0;
     }

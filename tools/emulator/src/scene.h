@@ -4,8 +4,6 @@
 
 #include <stddef.h>
 
-#define SCENE_MAX_KEYFRAMES 4096
-
 typedef struct {
     double t;      /* seconds, scene time */
     double d;      /* metres; ignored when none */
@@ -13,7 +11,7 @@ typedef struct {
 } keyframe_t;
 
 typedef struct {
-    keyframe_t kf[SCENE_MAX_KEYFRAMES];
+    keyframe_t *kf;    /* heap array of n keyframes (no limit on a scene's length) */
     size_t n;          /* 0: constant distance below */
     double t0;         /* simulated true time at which scene time 0 starts */
     double constant;   /* used when n == 0 */

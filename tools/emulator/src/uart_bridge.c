@@ -264,6 +264,12 @@ void bridge_drain(uart_bridge_t *b, double timeout_s)
     /* Everything still queued goes out now, then we wait for the client to read it:
      * unread input is lost when the master closes. The slave's input queue is shared by
      * all its descriptors, so our own descriptor can measure it. */
+    bridge_service(b);
+    if (!b->client) {
+        b->st.tx_no_client += b->tx_head - b->tx_tail;
+        b->tx_tail = b->tx_head;
+        return;
+    }
     int s = open(b->path, O_RDWR | O_NOCTTY | O_NONBLOCK);
     int quiet = 0;
     for (;;) {
@@ -275,7 +281,7 @@ void bridge_drain(uart_bridge_t *b, double timeout_s)
         /* Written bytes reach the slave's queue a moment later (the kernel's flip
          * buffer): only several empty looks in a row mean the client has them all. */
         quiet = (b->tx_tail == b->tx_head && pending == 0) ? quiet + 1 : 0;
-        if (!b->client || quiet >= 5)
+        if (quiet >= 5)
             break;
         clock_gettime(CLOCK_MONOTONIC, &now);
         double dt = (double)(now.tv_sec - t0.tv_sec) + (double)(now.tv_nsec - t0.tv_nsec) * 1e-9;
