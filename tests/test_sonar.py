@@ -109,3 +109,14 @@ def test_bad_settings_are_refused() -> None:
         SonarConverter(timer_hz=0)
     with pytest.raises(ValueError):
         SonarConverter(median_window=0)
+
+
+def test_a_fast_crystal_is_corrected_by_the_clock_models_scale() -> None:
+    conv = SonarConverter(half_spacing_m=0.0)
+    v = speed_of_sound(20.0)
+    true_echo_s = 2 * 1.0 / v
+    ticks = round(true_echo_s * 2_000_000 * 1.005)  # the MCU's timer runs 5000 ppm fast
+    naive = conv.convert(_range(ticks)).distance_m
+    fixed = conv.convert(_range(ticks), time_scale=1 / 1.005).distance_m
+    assert naive == pytest.approx(1.005, rel=1e-4)
+    assert fixed == pytest.approx(1.0, rel=1e-4)

@@ -191,7 +191,9 @@ class App:
             msg = item.msg
             assert isinstance(msg, Range)
             t_trig = self.clock.to_host(msg.trigger_us)
-            reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host)
+            est = self.clock.estimate()
+            scale = est.slope if est is not None and est.source != "none" else 1.0
+            reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
             if self.recorder is not None:
                 self.recorder.write_range(reading, self.timer_hz, item.session, log_t=item.t_host)

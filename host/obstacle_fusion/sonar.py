@@ -62,6 +62,7 @@ class SonarReading:
     raw_distance_m: float | None  # before the median filter
     slant_m: float | None  # formula (7): v t / 2
     t_receipt: float | None = None  # host monotonic s when the frame was read
+    time_scale: float = 1.0  # true seconds per MCU second used (the crystal's error removed)
 
     @property
     def ok(self) -> bool:
@@ -105,8 +106,11 @@ class SonarConverter:
         msg: Range,
         t_trigger_host: float | None = None,
         t_receipt: float | None = None,
+        time_scale: float = 1.0,
     ) -> SonarReading:
-        echo_s = msg.echo_ticks / self.timer_hz
+        """``time_scale`` is the clock model's host seconds per MCU second: a crystal 0.5%
+        fast counts 0.5% too many ticks, and the distance would be 0.5% long without it."""
+        echo_s = msg.echo_ticks / self.timer_hz * time_scale
         status = SonarStatus.from_wire(msg.status)
         distance: float | None = None
         raw: float | None = None
@@ -131,6 +135,7 @@ class SonarConverter:
             raw_distance_m=raw,
             slant_m=slant,
             t_receipt=t_receipt,
+            time_scale=time_scale,
         )
 
     def reset(self) -> None:

@@ -120,9 +120,14 @@ def run(args: argparse.Namespace) -> int:
                 d["echo_ticks"],
                 _STATUS_CODES.get(d["status"], 255),
             )
-            records = fusion.add_reading(
-                conv.convert(raw, d.get("t_trigger_host"), d.get("t_receipt"))
+            reading = conv.convert(
+                raw,
+                d.get("t_trigger_host"),
+                d.get("t_receipt"),
+                time_scale=float(d.get("time_scale") or 1.0),
             )
+            records = fusion.add_reading(reading)
+
         else:
             image = decode_image(d)
             if image is None:

@@ -84,6 +84,7 @@ RANGE_SCHEMA = {
         "distance_m": _NUM,
         "raw_distance_m": _NUM,
         "slant_m": _NUM,
+        "time_scale": {"type": "number"},
         "session": {"type": "integer"},
     },
 }
@@ -160,6 +161,7 @@ def reading_to_dict(r: SonarReading, timer_hz: int, session: int) -> dict[str, A
         "distance_m": r.distance_m,
         "raw_distance_m": r.raw_distance_m,
         "slant_m": r.slant_m,
+        "time_scale": r.time_scale,
         "session": session,
     }
 
