@@ -63,7 +63,9 @@ class PrerenderedScenario(FrameSource):
         now = time.monotonic()
         if self._next > now:
             time.sleep(self._next - now)
-        t = max(self._next, now - 1.0 / self.fps)
+        elif now - self._next > 1.0 / self.fps:
+            self._next = now  # behind (the host could not take more): no burst
+        t = self._next
         self._next = t + 1.0 / self.fps
         scene_t = self.robot.scene_time(t) or 0.0
         k = min(max(int(round(scene_t / self.step)), 0), len(self.images) - 1)
