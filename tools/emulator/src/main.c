@@ -304,6 +304,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         case O_NOQUIRK:
             e->quirks.sei_fix = 0;
             e->quirks.tifr_fix = 0;
+            e->quirks.flag_fix = 0;
             e->sp.exact_edges = 0;
             e->model_rx_overrun = 0;
             break;
@@ -342,7 +343,8 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              "ok sim_s=%.6f cycle=%llu measurements=%llu ignored_triggers=%llu "
              "short_triggers=%llu tx_bytes=%llu tx_written=%llu tx_no_client=%llu "
              "tx_overflow=%llu rx_bytes=%llu rx_fed=%llu rx_overruns=%llu dropped=%llu "
-             "corrupted=%llu inserted=%llu resets=%llu tifr_restored=%llu client=%d "
+             "corrupted=%llu inserted=%llu resets=%llu tifr_restored=%llu flags_cleared=%llu "
+             "level_polls_cancelled=%llu client=%d "
              "max_lag_s=%.6f",
              sim_seconds(e), (unsigned long long)e->avr->cycle,
              (unsigned long long)e->sonar.measurements,
@@ -353,7 +355,9 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              (unsigned long long)b->rx_fed, (unsigned long long)b->rx_overruns,
              (unsigned long long)b->dropped, (unsigned long long)b->corrupted,
              (unsigned long long)b->inserted, (unsigned long long)e->resets,
-             (unsigned long long)e->quirks.tifr_restored, e->bridge.client, e->max_lag_s);
+             (unsigned long long)e->quirks.tifr_restored,
+             (unsigned long long)e->quirks.flags_cleared,
+             (unsigned long long)e->quirks.level_polls_cancelled, e->bridge.client, e->max_lag_s);
 }
 
 static void handle_command(void *ctx, char *line, char *reply, size_t n)
@@ -634,6 +638,7 @@ int main(int argc, char **argv)
     e->faults.dirs = FAULT_TX;
     e->quirks.sei_fix = 1;
     e->quirks.tifr_fix = 1;
+    e->quirks.flag_fix = 1;
     e->model_rx_overrun = 1;
     parse_args(e, argc, argv);
     if (e->service_us <= 0.0)

@@ -7,13 +7,26 @@
  *
  * TIFR: the timer's flag-register write handler loses flags that were pending and not
  * written as one. We remember the flags before the write and raise again any that the
- * write should not have cleared. */
+ * write should not have cleared.
+ *
+ * EIFR/PCIFR: writing one to a flag does not cancel the pending interrupt. We take over
+ * those registers' writes: a one clears the flag and its pending interrupt, as on the
+ * chip.
+ *
+ * INT0/INT1 low level: when the pin goes low in low-level mode (the reset default),
+ * simavr 1.6 starts a poll that raises the interrupt every cycle while the pin stays low,
+ * and never checks the mode again, so it goes on after EICRA selects an edge. On each
+ * EICRA write we cancel the polls of interrupts that are no longer level-triggered. */
 #include "quirks.h"
 
 #include <string.h>
 
+#include "avr_extint.h"
+#include "avr_ioport.h"
 #include "avr_timer.h"
 #include "sim_core.h"
+#include "sim_cycle_timers.h"
+#include "sim_regbit.h"
 #include "sim_interrupts.h"
 #include "sim_io.h"
 
@@ -76,9 +89,144 @@ static void tifr_write(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
         restore_if_lost(avr, &t->comp[i].interrupt, addr, lost);
 }
 
+#define MAX_FLAGREGS 4
+
+typedef struct {
+    avr_io_addr_t addr;
+    avr_io_write_t orig;
+    void *orig_param;
+    avr_int_vector_t *vec[8];
+    int nvec;
+} flagreg_wrap_t;
+
+static flagreg_wrap_t g_flagregs[MAX_FLAGREGS];
+static int g_nflagregs;
+
+static void flagreg_write(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
+{
+    flagreg_wrap_t *w = param;
+    if (w->orig)
+        w->orig(avr, addr, v, w->orig_param);
+    /* Flags are cleared by writing one; a zero leaves them. */
+    avr->data[addr] = (uint8_t)(avr->data[addr] & ~v);
+    for (int i = 0; i < w->nvec; i++) {
+        avr_int_vector_t *vec = w->vec[i];
+        if (!(v & (vec->raised.mask << vec->raised.bit)))
+            continue;
+        if (vec->pending || avr_regbit_get(avr, vec->raised)) {
+            avr_clear_interrupt(avr, vec);
+            if (quirks_active)
+                quirks_active->flags_cleared++;
+        }
+    }
+}
+
+static void add_flag_vector(avr_t *avr, avr_int_vector_t *vec)
+{
+    avr_io_addr_t addr = vec->raised.reg;
+    if (!vec->vector || !addr || AVR_DATA_TO_IO(addr) >= MAX_IOs)
+        return;
+    flagreg_wrap_t *w = NULL;
+    for (int i = 0; i < g_nflagregs; i++)
+        if (g_flagregs[i].addr == addr)
+            w = &g_flagregs[i];
+    if (!w) {
+        if (g_nflagregs == MAX_FLAGREGS)
+            return;
+        int slot = AVR_DATA_TO_IO(addr);
+        w = &g_flagregs[g_nflagregs++];
+        w->addr = addr;
+        w->orig = avr->io[slot].w.c;
+        w->orig_param = avr->io[slot].w.param;
+        w->nvec = 0;
+        avr->io[slot].w.c = flagreg_write;
+        avr->io[slot].w.param = w;
+    }
+    if (w->nvec < 8)
+        w->vec[w->nvec++] = vec;
+}
+
+static void install_flagregs(avr_t *avr)
+{
+    for (avr_io_t *io = avr->io_port; io; io = io->next) {
+        if (!io->kind)
+            continue;
+        if (!strcmp(io->kind, "extint")) {
+            avr_extint_t *x = (avr_extint_t *)io;
+            for (int i = 0; i < EXTINT_COUNT; i++)
+                add_flag_vector(avr, &x->eint[i].vector);
+        } else if (!strcmp(io->kind, "port")) {
+            add_flag_vector(avr, &((avr_ioport_t *)io)->pcint);
+        }
+    }
+}
+
+/* Layout of simavr 1.6's private poll context (avr_extint.c), to recognise its timers. */
+typedef struct {
+    uint32_t eint_no;
+    avr_extint_t *extint;
+} extint_poll_t;
+
+typedef struct {
+    avr_extint_t *extint;
+    avr_io_addr_t addr;
+    avr_io_write_t orig;
+    void *orig_param;
+} eicra_wrap_t;
+
+static eicra_wrap_t g_eicra;
+
+static void eicra_write(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
+{
+    eicra_wrap_t *w = param;
+    if (w->orig)
+        w->orig(avr, addr, v, w->orig_param);
+    else
+        avr->data[addr] = v;
+    avr_extint_t *x = w->extint;
+    avr_cycle_timer_slot_p stale[16];
+    int n = 0;
+    for (avr_cycle_timer_slot_p t = avr->cycle_timers.timer; t && n < 16; t = t->next) {
+        extint_poll_t *poll = t->param;
+        if (!poll || poll->extint != x || poll->eint_no >= EXTINT_COUNT)
+            continue;
+        if (avr_regbit_get_array(avr, x->eint[poll->eint_no].isc, 2) != 0)
+            stale[n++] = t;
+    }
+    for (int i = 0; i < n; i++) {
+        avr_cycle_timer_cancel(avr, stale[i]->timer, stale[i]->param);
+        if (quirks_active)
+            quirks_active->level_polls_cancelled++;
+    }
+}
+
+static void install_eicra(avr_t *avr)
+{
+    for (avr_io_t *io = avr->io_port; io; io = io->next) {
+        if (!io->kind || strcmp(io->kind, "extint") != 0)
+            continue;
+        avr_extint_t *x = (avr_extint_t *)io;
+        avr_io_addr_t addr = x->eint[0].isc[0].reg;
+        if (!addr || !x->eint[0].isc[1].reg || AVR_DATA_TO_IO(addr) >= MAX_IOs)
+            return;
+        int slot = AVR_DATA_TO_IO(addr);
+        g_eicra.extint = x;
+        g_eicra.addr = addr;
+        g_eicra.orig = avr->io[slot].w.c;
+        g_eicra.orig_param = avr->io[slot].w.param;
+        avr->io[slot].w.c = eicra_write;
+        avr->io[slot].w.param = &g_eicra;
+        return;
+    }
+}
+
 int quirks_install(avr_t *avr, quirks_t *q)
 {
     quirks_active = q;
+    if (q->flag_fix) {
+        install_flagregs(avr);
+        install_eicra(avr);
+    }
     if (!q->tifr_fix)
         return 0;
     int n = 0;

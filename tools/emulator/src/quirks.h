@@ -9,7 +9,11 @@
 typedef struct {
     int sei_fix;          /* one instruction after SEI/RETI before an interrupt, not two */
     int tifr_fix;         /* writing TIFRn clears only the flags written as one */
+    int flag_fix;         /* EIFR/PCIFR writes cancel interrupts; INTn level polls end with
+                           * level mode */
     uint64_t tifr_restored;
+    uint64_t flags_cleared;
+    uint64_t level_polls_cancelled;
 } quirks_t;
 
 /* The run callback we install instead of avr_callback_run_raw: the same steps, with the

@@ -1,13 +1,23 @@
 /* Probes two simavr 1.6 quirks and prints what the emulated chip did:
  *   "SEI ok" if a pending interrupt is taken after the one instruction following SEI,
- *   "TIFR ok" if writing TIFR1 = _BV(ICF1) keeps a pending TOV1 flag. */
+ *   "TIFR ok" if writing TIFR1 = _BV(ICF1) keeps a pending TOV1 flag,
+ *   "PCIFR ok" / "EIFR ok" if writing one to a pin-change / external interrupt flag
+ *   cancels the pending interrupt,
+ *   "INT ok" if INT1, its pin low while in (default) low-level mode, stays quiet once
+ *   EICRA selects the rising edge. */
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <stdint.h>
 
 static volatile uint8_t hits;
+static volatile uint8_t pc_hits;
+static volatile uint8_t int0_hits;
+static volatile uint16_t int1_hits;
 
 ISR(TIMER1_OVF_vect) { hits++; }
+ISR(PCINT0_vect) { pc_hits++; }
+ISR(INT0_vect) { int0_hits++; }
+ISR(INT1_vect) { int1_hits++; }
 
 static void put(const char *s)
 {
@@ -42,6 +52,42 @@ int main(void)
     hits = 0;
     __asm__ __volatile__("sei\n\tnop\n\tcli\n\t" ::: "memory");
     put(hits ? "SEI ok\n" : "SEI bad\n");
+
+    /* PCIFR: a pin change on PB5 (an output: the pin follows PORTB) makes PCIF0 pending;
+     * writing one to PCIF0 must cancel it. */
+    DDRB |= _BV(PB5);
+    PCMSK0 = _BV(PCINT5);
+    PCICR = _BV(PCIE0);
+    PORTB |= _BV(PB5);
+    PCIFR = _BV(PCIF0);
+    pc_hits = 0;
+    __asm__ __volatile__("sei\n\tnop\n\tnop\n\tcli\n\t" ::: "memory");
+    put(pc_hits ? "PCIFR bad\n" : "PCIFR ok\n");
+
+    /* EIFR: a rising edge on INT0 (PD2, an output) makes INTF0 pending; clear it. */
+    DDRD |= _BV(PD2);
+    EICRA = _BV(ISC01) | _BV(ISC00);
+    EIFR = _BV(INTF0);
+    EIMSK = _BV(INT0);
+    PORTD |= _BV(PD2);
+    EIFR = _BV(INTF0);
+    int0_hits = 0;
+    __asm__ __volatile__("sei\n\tnop\n\tnop\n\tcli\n\t" ::: "memory");
+    put(int0_hits ? "EIFR bad\n" : "EIFR ok\n");
+
+    /* INT1 on PD3 (an output) goes low while INT1 is in low-level mode, then EICRA selects
+     * the rising edge: no edge follows, so no interrupt may fire. */
+    DDRD |= _BV(PD3);
+    PORTD |= _BV(PD3);
+    PORTD &= (uint8_t)~_BV(PD3);
+    EICRA |= _BV(ISC11) | _BV(ISC10);
+    EIMSK |= _BV(INT1);
+    int1_hits = 0;
+    sei();
+    for (volatile uint8_t i = 0; i < 100; i++) {
+    }
+    cli();
+    put(int1_hits ? "INT bad\n" : "INT ok\n");
     put("DONE\n");
     for (;;) {
     }
