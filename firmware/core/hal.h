@@ -52,6 +52,9 @@ bool hal_uart_write(const uint8_t *data, uint8_t n);
 /* Sleeps until an interrupt, or until about wake_us (the board may wake earlier). */
 void hal_idle_until(uint32_t wake_us);
 
+/* Whether the last reset was the watchdog's (the main loop hung). */
+bool hal_reset_by_watchdog(void);
+
 /* Tells the watchdog the main loop is alive. */
 void hal_watchdog_kick(void);
 

@@ -77,6 +77,19 @@ static void send_heartbeat(of_app_t *app)
     send(app, OF_MSG_HEARTBEAT, p, of_heartbeat_pack(&m, p));
 }
 
+static void send_log(of_app_t *app, uint8_t level, const char *text)
+{
+    of_log_t m;
+    uint8_t p[OF_MSG_LOG_MAX_LEN];
+    m.level = level;
+    m.text_len = 0;
+    while (text[m.text_len] != '\0' && m.text_len < sizeof m.text) {
+        m.text[m.text_len] = text[m.text_len];
+        m.text_len++;
+    }
+    send(app, OF_MSG_LOG, p, of_log_pack(&m, p));
+}
+
 static void ranger_config(const of_set_config_t *c, of_ranger_config_t *rc)
 {
     rc->cycle_us = (uint32_t)c->cycle_ms * 1000u;
@@ -196,6 +209,10 @@ void of_app_init(of_app_t *app)
     of_ranger_start(&app->ranger, now);
     send_hello(app);
     send_config(app);
+    if (hal_reset_by_watchdog()) {
+        /* The host learns the firmware hung, not just that it restarted. */
+        send_log(app, OF_LOG_LEVEL_WARNING, "watchdog reset");
+    }
 }
 
 static void poll_rx(of_app_t *app)

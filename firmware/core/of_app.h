@@ -31,7 +31,8 @@ typedef struct {
     uint32_t next_heartbeat_us;
 } of_app_t;
 
-/* Sends HELLO then CONFIG and starts ranging with the default configuration. */
+/* Sends HELLO then CONFIG (then a LOG warning after a watchdog reset) and starts ranging
+ * with the default configuration. */
 void of_app_init(of_app_t *app);
 
 /* Does all pending work; returns the time by which it wants to be called again. */

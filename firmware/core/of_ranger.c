@@ -125,36 +125,33 @@ bool of_ranger_poll(of_ranger_t *r, const of_ranger_config_t *cfg, of_range_t *o
     }
     uint32_t rise = 0;
     uint32_t fall = 0;
+    uint32_t ticks = 0;
     uint8_t edges = hal_echo_edges(&rise, &fall);
-    if (edges >= 2u) {
-        uint32_t ticks = fall - rise;
-        return finish(r, out, ticks, of_ranger_classify(ticks, cfg->max_echo_us,
-                                                        HAL_TICKS_PER_US), now);
-    }
     if (edges == 1u) {
         r->state = OF_RANGER_WAIT_FALL;
         r->rise_ticks = rise;
         uint32_t limit = cfg->echo_timeout_us * HAL_TICKS_PER_US;
-        uint32_t elapsed = hal_ticks() - rise;
-        if (elapsed <= limit) {
-            *wake_us = now + (limit - elapsed) / HAL_TICKS_PER_US + 1u;
+        ticks = hal_ticks() - rise;
+        if (ticks <= limit) {
+            *wake_us = now + (limit - ticks) / HAL_TICKS_PER_US + 1u;
             return false;
         }
         /* Timed out, unless the fall slipped in after the first look. */
-        if (hal_echo_edges(&rise, &fall) >= 2u) {
-            uint32_t ticks = fall - rise;
-            return finish(r, out, ticks, of_ranger_classify(ticks, cfg->max_echo_us,
-                                                            HAL_TICKS_PER_US), now);
+        edges = hal_echo_edges(&rise, &fall);
+    } else if (edges == 0u) {
+        if (now - r->trigger_us <= cfg->echo_timeout_us) {
+            *wake_us = r->trigger_us + cfg->echo_timeout_us + 1u;
+            return false;
         }
-        return finish(r, out, elapsed, OF_RANGE_STATUS_TIMEOUT, now);
+        if (hal_echo_edges(&rise, &fall) > 0u) {
+            *wake_us = now; /* an edge arrived just now: judge it on the next poll */
+            return false;
+        }
     }
-    if (now - r->trigger_us <= cfg->echo_timeout_us) {
-        *wake_us = r->trigger_us + cfg->echo_timeout_us + 1u;
-        return false;
+    uint8_t status = OF_RANGE_STATUS_TIMEOUT; /* no rise: 0 ticks; no fall: ticks so far */
+    if (edges >= 2u) {
+        ticks = fall - rise;
+        status = of_ranger_classify(ticks, cfg->max_echo_us, HAL_TICKS_PER_US);
     }
-    if (hal_echo_edges(&rise, &fall) > 0u) {
-        *wake_us = now; /* an edge arrived just now: judge it on the next poll */
-        return false;
-    }
-    return finish(r, out, 0, OF_RANGE_STATUS_TIMEOUT, now);
+    return finish(r, out, ticks, status, now);
 }

@@ -263,6 +263,11 @@ void hal_idle_until(uint32_t wake_us)
     fake.idle_calls++;
 }
 
+bool hal_reset_by_watchdog(void)
+{
+    return fake.watchdog_reset;
+}
+
 void hal_watchdog_kick(void)
 {
 }

@@ -46,6 +46,7 @@ typedef struct {
     uint8_t tx[4096];
     uint16_t tx_len;
     uint32_t idle_calls;
+    bool watchdog_reset;        /* what hal_reset_by_watchdog() reports */
 } fake_board_t;
 
 extern fake_board_t fake;

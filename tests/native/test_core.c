@@ -196,6 +196,24 @@ static void test_power_up(void)
     CHECK_EQ(fake.triggers, 0); /* the guard: ECHO low for 2 ms first */
     run_us(2000);
     CHECK_EQ(fake.triggers, 1);
+    CHECK_EQ(count_id(OF_MSG_LOG), 0);
+
+    /* After a watchdog reset the board says so, after HELLO and CONFIG. */
+    fake_reset(0);
+    fake.watchdog_reset = true;
+    memset(&app, 0, sizeof app);
+    of_app_init(&app);
+    nframes = 0;
+    run_us(1000);
+    take();
+    CHECK_EQ(frames[0].msg_id, OF_MSG_HELLO);
+    CHECK_EQ(frames[1].msg_id, OF_MSG_CONFIG);
+    CHECK_EQ(frames[2].msg_id, OF_MSG_LOG);
+    of_log_t lg;
+    CHECK(of_log_unpack(&lg, frames[2].payload, frames[2].len));
+    CHECK_EQ(lg.level, OF_LOG_LEVEL_WARNING);
+    CHECK_EQ(lg.text_len, 14);
+    CHECK(memcmp(lg.text, "watchdog reset", 14) == 0);
 }
 
 static void test_normal_echo(void)

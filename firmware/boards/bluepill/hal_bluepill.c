@@ -30,6 +30,7 @@ static volatile uint8_t echo_state;
 static volatile uint32_t echo_rise;
 static volatile uint32_t echo_fall;
 static uint32_t cpu_hz = HSI_HZ;
+static bool reset_by_watchdog;
 
 static volatile uint8_t rx_buf[128];
 static volatile uint8_t tx_buf[128];
@@ -135,6 +136,8 @@ void hal_init(void)
 {
     of_ring_init(&rx_ring, rx_buf, sizeof rx_buf);
     of_ring_init(&tx_ring, tx_buf, sizeof tx_buf);
+    reset_by_watchdog = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0;
+    RCC->CSR |= RCC_CSR_RMVF; /* clear the reset flags for next time */
     clock_init();
     uint32_t apb1_hz = cpu_hz == HSI_HZ ? cpu_hz : cpu_hz / 2u;
     uint32_t tim2_hz = apb1_hz == cpu_hz ? apb1_hz : apb1_hz * 2u; /* x2 when APB1 divides */
@@ -293,6 +296,11 @@ void hal_idle_until(uint32_t wake_us)
         __asm__ volatile("wfi" : : : "memory");
     }
     irq_restore(m);
+}
+
+bool hal_reset_by_watchdog(void)
+{
+    return reset_by_watchdog;
 }
 
 void hal_watchdog_kick(void)

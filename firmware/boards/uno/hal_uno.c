@@ -39,10 +39,14 @@ static volatile uint8_t tx_buf[128];
 static of_ring_t rx_ring;
 static of_ring_t tx_ring;
 
+/* MCUSR as it was at reset; .noinit, since it is saved before RAM is initialised. */
+static uint8_t reset_cause __attribute__((section(".noinit")));
+
 /* The watchdog stays on across a watchdog reset: turn it off before main runs. */
 void wdt_init(void) __attribute__((naked, used, section(".init3")));
 void wdt_init(void)
 {
+    reset_cause = MCUSR;
     MCUSR = 0;
     wdt_disable();
 }
@@ -254,6 +258,11 @@ void hal_idle_until(uint32_t wake_us)
     sleep_enable();
     sleep_cpu();
     sleep_disable();
+}
+
+bool hal_reset_by_watchdog(void)
+{
+    return (reset_cause & _BV(WDRF)) != 0;
 }
 
 void hal_watchdog_kick(void)
