@@ -91,7 +91,7 @@ static bool decode_frame(const of_frame_decoder_t *d, of_frame_t *out)
     }
     int extra = of_crc_extra(body[0]);
     uint8_t len = (uint8_t)(n - 4u);
-    if (extra < 0 || !of_payload_len_ok(body[0], len)) {
+    if (extra < 0 || len > OF_MAX_PAYLOAD) {
         return false;
     }
     uint16_t crc = of_crc16_update(OF_CRC_INIT, (uint8_t)extra);

@@ -42,8 +42,11 @@ size_t of_frame_encode(uint8_t *out, size_t cap, uint8_t msg_id, uint8_t seq,
 
 void of_frame_decoder_init(of_frame_decoder_t *d);
 
-/* Feeds one received byte. Returns OF_FEED_FRAME when a valid frame completed
- * (copied into *out), OF_FEED_ERROR when a bad frame was dropped, else OF_FEED_NONE. */
+/* Feeds one received byte. Returns OF_FEED_FRAME when a frame with a known id and a good
+ * CRC completed (copied into *out), OF_FEED_ERROR when a bad frame was dropped, else
+ * OF_FEED_NONE. The payload length is NOT checked here: a frame whose CRC is good but whose
+ * length does not fit its message reaches the caller, whose of_<name>_unpack() refuses it,
+ * so that the device can answer NACK(bad_length) instead of staying silent. */
 of_feed_result_t of_frame_decoder_feed(of_frame_decoder_t *d, uint8_t byte, of_frame_t *out);
 
 #endif /* OF_FRAME_H */

@@ -70,6 +70,16 @@ int main(void)
     CHECK(back.echo_timeout_us == 40000u && back.cycle_ms == 60u, "fields");
     CHECK(!of_set_config_unpack(&back, fr.payload, (uint8_t)(fr.len - 1u)), "short payload");
 
+    /* A good CRC on a wrong length reaches the caller, whose unpack refuses it (NACK). */
+    size_t m = of_frame_encode(stream, sizeof stream, OF_MSG_SET_CONFIG, 4, payload, 3);
+    of_frame_decoder_init(&d);
+    int frames = 0;
+    for (size_t i = 0; i < m; i++) {
+        if (of_frame_decoder_feed(&d, stream[i], &fr) == OF_FEED_FRAME) frames++;
+    }
+    CHECK(frames == 1 && fr.len == 3u, "short frame passed up");
+    CHECK(!of_set_config_unpack(&back, fr.payload, fr.len), "short frame refused by unpack");
+
     printf("stream test: %d failures\n", failures);
     return failures ? 1 : 0;
 }
