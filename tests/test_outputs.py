@@ -235,3 +235,14 @@ def test_annotated_video_is_written(tmp_path: Path) -> None:
 
 def test_status_values_are_strings() -> None:
     assert str(SonarStatus.NO_ECHO) == "no_echo"
+
+
+def test_console_degrades_to_plain_lines_without_rich(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "rich.live", None)  # as if rich were not installed
+    buf = io.StringIO()
+    view = ConsoleView(buf, live=True, plain_interval_s=0.0)
+    assert view.plain
+    view.update(Status(mode="robot", latest=_record()))
+    assert "d=1.200 m" in buf.getvalue()
