@@ -477,9 +477,9 @@ static int collect_fds(emu_t *e, struct pollfd *pfd, int max)
     return n;
 }
 
-static void service_io(emu_t *e)
+static void service_io(emu_t *e, int deliver_tx)
 {
-    int opened = bridge_service(&e->bridge);
+    int opened = bridge_service_ex(&e->bridge, deliver_tx);
     if (opened && e->reset_on_open)
         e->reset_requested = 1;
     if (e->have_control)
@@ -510,7 +510,7 @@ static void pace_to(emu_t *e, avr_cycle_count_t cycle)
         struct timespec ts = {(time_t)left, (long)((left - floor(left)) * 1e9)};
         int r = ppoll(pfd, (nfds_t)n, &ts, NULL);
         if (r > 0)
-            service_io(e);
+            service_io(e, 0);   /* simulated time is ahead: no TX bytes yet */
         if (g_signal || e->quit_requested || e->reset_requested)
             return;
     }
@@ -520,9 +520,11 @@ static avr_cycle_count_t service_tick(avr_t *avr, avr_cycle_count_t when, void *
 {
     emu_t *e = param;
     (void)avr;
-    service_io(e);
+    /* Real time: first wait for the wall clock, then hand over the bytes due by now, so
+     * a byte reaches the host at most one service interval late and never early. */
     if (!e->fast)
         pace_to(e, when);
+    service_io(e, 1);
     if (e->duration_s > 0.0 && sim_seconds(e) >= e->duration_s)
         e->quit_requested = 1;
     return when + e->service_cycles;

@@ -241,6 +241,11 @@ static void rx_read(uart_bridge_t *b)
 
 int bridge_service(uart_bridge_t *b)
 {
+    return bridge_service_ex(b, 1);
+}
+
+int bridge_service_ex(uart_bridge_t *b, int deliver_tx)
+{
     struct pollfd p = {b->master, POLLIN, 0};
     int opened = 0;
     if (poll(&p, 1, 0) >= 0) {
@@ -251,7 +256,8 @@ int bridge_service(uart_bridge_t *b)
         }
         b->client = present;
     }
-    tx_flush(b);
+    if (deliver_tx)
+        tx_flush(b);
     if (b->client && (p.revents & POLLIN))
         rx_read(b);
     return opened;

@@ -60,6 +60,9 @@ int bridge_attach(uart_bridge_t *b, avr_t *avr, rng_t *rng, const uart_faults_t 
                   int model_rx_overrun);
 /* Poll the pty: deliver due TX bytes, take RX bytes. Returns 1 if a client just opened. */
 int bridge_service(uart_bridge_t *b);
+/* The same; deliver_tx = 0 only takes host bytes (used while simulated time is ahead of
+ * the wall clock, so that no byte reaches the host before its time). */
+int bridge_service_ex(uart_bridge_t *b, int deliver_tx);
 /* Whether a client has the pty open right now. */
 int bridge_client_present(uart_bridge_t *b);
 /* At exit: send what is queued and wait (up to timeout_s) until the client has read it.
