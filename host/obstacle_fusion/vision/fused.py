@@ -19,6 +19,7 @@ geometry correct a few degrees of yaw).
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import Any
 
@@ -27,6 +28,8 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.measure import Line, Measurement, Timer, View
+
+log = logging.getLogger(__name__)
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 
@@ -76,16 +79,36 @@ def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
     return rb - 1 - n
 
 
+class _Side:
+    """One candidate vertical edge column at one floor-contact row: its per-row presence."""
+
+    __slots__ = ("on", "below", "upto", "run_top")
+
+    def __init__(self, column: npt.NDArray[Any], threshold: float, rb: int) -> None:
+        self.on = (column > threshold).astype(np.float64)
+        self.below = np.cumsum(self.on[::-1])[::-1]  # edge rows in r..rb-1
+        self.upto = np.concatenate([[0.0], np.cumsum(self.on)])  # edge rows in 0..r-1
+        self.run_top = _run_top(self.on, rb)
+
+
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
     """y = a + b x, least squares with one round of outlier rejection."""
     if x.size < 2:
         return (float(np.median(y)) if y.size else 0.0, 0.0)
-    b, a = np.polyfit(x, y, 1)
+    a, b = _lsq(x, y)
     res = np.abs(y - (a + b * x))
     keep = res <= max(0.75, 2.5 * float(np.median(res)))
-    if 2 <= keep.sum() < x.size:
-        b, a = np.polyfit(x[keep], y[keep], 1)
-    return float(a), float(b)
+    if 2 <= int(keep.sum()) < x.size:
+        a, b = _lsq(x[keep], y[keep])
+    return a, b
+
+
+def _lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
+    xm, ym = float(x.mean()), float(y.mean())
+    dx = x - xm
+    sxx = float(dx @ dx)
+    b = float(dx @ (y - ym)) / sxx if sxx > 1e-12 else 0.0
+    return ym - b * xm, b
 
 
 class FusedMethod:
@@ -97,6 +120,7 @@ class FusedMethod:
         self._kernel3 = np.ones((1, 3), np.uint8)
         self._h, self._w = h, w
         self._depth = 1.0
+        self._rows = np.arange(h)
 
     # ------------------------------------------------------------------ per frame
     def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
@@ -149,27 +173,36 @@ class FusedMethod:
         bottoms = [(int(rows_b[pk[i]]), float(prior_b[pk[i]])) for i in order]
 
         best: tuple[float, int, int, int, int, float] | None = None  # score, rb, ul, ur, vt, conf
-        cs = np.cumsum(ay, axis=1, dtype=np.float64)
         min_w = max(4.0, v.fx * MIN_SIZE_M / depth)
         for rb, pb in bottoms:
             k = int(np.clip(round(v.fy * 0.05 / depth), 3, 25))
             top_strip = max(0, rb - 1 - k)
             if rb - 2 <= top_strip:
                 continue
+            # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
+            # bottom: a side may lack contrast against the floor yet not against the wall
             prof_v = ax[top_strip : rb - 1].mean(axis=0)
+            tall = max(0, rb - 1 - int(np.clip(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
+            if tall < top_strip:
+                prof_v = np.maximum(prof_v, ax[tall : rb - 1].mean(axis=0))
             base = float(np.median(prof_v)) + 0.5
-            peaks = _local_maxima(prof_v, max(3.0 * base, 1.5 * noise))
+            peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
                 continue
             left = self._rank_sides(ax3, prof_v, peaks[peaks <= u_hi], rb, noise)
             right = self._rank_sides(ax3, prof_v, peaks[peaks >= u_lo], rb, noise)
+            cols: dict[int, _Side] = {}
+            for c in {*left, *right}:
+                cols[c] = _Side(ax3[:rb, c], max(0.25 * float(prof_v[c]), 2.5 * noise), rb)
             for ul in left:
                 for ur in right:
                     if ur - ul < min_w:
                         continue
-                    cand = self._score_pair(ax3, ay, cs, prof_v, noise, rb, int(ul), int(ur), pb)
+                    cand = self._score_pair(ax3, ay, cols[ul], cols[ur], noise, rb, ul, ur, pb)
                     if cand is not None and (best is None or cand[0] > best[0]):
                         best = cand
+            if best is not None and best[5] > 0.95:
+                break  # a clear face at the most likely floor-contact row
         timer.lap("search")
         if best is None:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
@@ -203,8 +236,8 @@ class FusedMethod:
         self,
         ax3: F32,
         ay: F32,
-        cs: npt.NDArray[np.float64],
-        prof_v: F32,
+        side_l: _Side,
+        side_r: _Side,
         noise: float,
         rb: int,
         ul: int,
@@ -221,27 +254,23 @@ class FusedMethod:
         if top_limit < 3:
             return None
         snr_b = float(ay[rb - 1 : rb + 2, c0:c1].max(axis=0).mean()) / noise
-        prof_t = (cs[:top_limit, c1 - 1] - cs[:top_limit, c0 - 1]) / (c1 - c0)
-        tv_l = max(0.25 * float(prof_v[ul]), 2.5 * noise)
-        tv_r = max(0.25 * float(prof_v[ur]), 2.5 * noise)
-        el = (ax3[:rb, ul] > tv_l).astype(np.float64)
-        er = (ax3[:rb, ur] > tv_r).astype(np.float64)
+        prof_t = ay[:top_limit, c0:c1].mean(axis=1)
+        el, er = side_l.on, side_r.on
         # coverage of each side from row r down to the bottom, and just above r
-        cl = np.cumsum(el[::-1])[::-1]  # rows r..rb-1
-        cr = np.cumsum(er[::-1])[::-1]
-        rows = np.arange(top_limit)
+        rows = self._rows[:top_limit]
         span = (rb - rows).astype(np.float64)
-        cov = 0.5 * (cl[:top_limit] + cr[:top_limit]) / span
-        s = np.maximum(3, (rb - rows) // 2)
-        above_start = np.maximum(rows - s, 0)
-        ext = np.concatenate([[0.0], np.cumsum(0.5 * (el + er))])
-        above = (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
+        cov = 0.5 * (side_l.below[:top_limit] + side_r.below[:top_limit]) / span
+        # vertical edges above the top (half as high again as the face): a stripe across
+        # the face leaves them there
+        above_start = np.maximum(rows - np.maximum(3, (rb - rows) // 2), 0)
+        ext = side_l.upto + side_r.upto
+        above = 0.5 * (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
         stop = 1.0 - above
         snr_t = prof_t / noise
         tops = _local_maxima(snr_t.astype(np.float32), 1.2)
         # where each vertical edge ends is a top candidate too: the front top edge of a
         # box can be nearly invisible (front and top faces alike) while its sides are not
-        ends = [_run_top(el, rb), _run_top(er, rb)]
+        ends = [side_l.run_top, side_r.run_top]
         extra = [r for e in ends for r in (e - 1, e) if 0 < r < top_limit]
         if extra:
             tops = np.unique(np.concatenate([tops, np.array(extra, dtype=np.intp)]))
@@ -257,7 +286,10 @@ class FusedMethod:
         snr_r = float(ax3[vt:rb, ur].mean()) / noise
         side = min(snr_l, snr_r, 30.0)
         horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[vt])), snr_b, 30.0)
-        if side < 2.0 or horiz < 2.0:
+        if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
+            log.debug(
+                "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
+            )
             return None
         score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
         conf = float(fit[i]) * (1.0 - math.exp(-min(side, horiz) / 6.0)) * (0.5 + 0.5 * prior_b)
@@ -320,6 +352,16 @@ class FusedMethod:
         rows = np.arange(vt + mv, rb - mv + 1)
         left_a, left_b = self._fit_vertical(ax, rows, ul, w_img)
         right_a, right_b = self._fit_vertical(ax, rows, ur, w_img)
+
+        # A side face (yaw, or a box off the axis) shows beside the front face: the front
+        # face's bottom edge is straight, the side face's rises towards the horizon.
+        # Where the straight part ends is the front corner.
+        left_a, left_b = self._side_face(
+            ax, ay, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b
+        )
+        right_a, right_b = self._side_face(
+            ax, ay, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b
+        )
 
         def corner(
             ha: float, hb: float, va: float, vb: float
@@ -395,6 +437,89 @@ class FusedMethod:
             height_px=float(h_px),
             width_px=float(ur_f - ul_f),
         )
+
+    def _side_face(
+        self,
+        ax: F32,
+        ay: F32,
+        ba: float,
+        bb: float,
+        ul: int,
+        ur: int,
+        vt: int,
+        rb: int,
+        direction: int,
+        va: float,
+        vb: float,
+    ) -> tuple[float, float]:
+        """The front face's vertical edge on one side, moved inwards past a side face.
+
+        ``direction`` -1 for the left side, +1 for the right; (va, vb) is the fitted edge
+        u = va + vb v, returned unchanged when no side face is seen.
+        """
+        h, w = ay.shape
+        c_lo, c_hi = max(ul - 2, 2), min(ur + 3, w - 2)
+        cols = np.arange(c_lo, c_hi)
+        if cols.size < 8:
+            return va, vb
+        pred = ba + bb * cols
+        r0 = np.clip(np.round(pred).astype(np.intp), 3, h - 4)
+        win = ay[r0[None, :] + np.arange(-3, 4)[:, None], cols[None, :]]  # 7 x n
+        peak = np.clip(np.argmax(win[1:-1], axis=0) + 1, 1, 5)
+        strength = win[peak, np.arange(cols.size)]
+        pos = r0 - 3 + peak + _subpixel(win, peak)
+        dev = pos - pred
+        m = max(1, (ur - ul) // 4)
+        centre = (cols >= ul + m) & (cols <= ur - m)
+        if centre.sum() < 3:
+            return va, vb
+        ref = float(np.median(strength[centre]))
+        on = (np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)
+        mid = int(np.searchsorted(cols, (ul + ur) // 2))
+        order = range(mid, -1, -1) if direction < 0 else range(mid, cols.size)
+        end = mid
+        off_run = 0
+        for i in order:
+            if on[i]:
+                end, off_run = i, 0
+            else:
+                off_run += 1
+                if off_run >= 2:
+                    break
+        edge_u = va + vb * rb
+        end_u = float(cols[end])
+        if (end_u - edge_u) * -direction < 1.5:  # the straight bottom reaches the edge
+            return va, vb
+        # the side face's bottom: strong, above the line, between the end and the edge
+        if direction < 0:
+            seg = (cols < end_u) & (cols >= edge_u - 0.5)
+        else:
+            seg = (cols > end_u) & (cols <= edge_u + 0.5)
+        seg &= (strength >= 0.3 * ref) & (dev < -0.5)
+        # the two columns just past the end must rise, and the rise must be a slope
+        nxt = [end + direction, end + 2 * direction]
+        if not all(0 <= i < cols.size and seg[i] for i in nxt):
+            return va, vb
+        sa, sb = _lsq(cols[seg].astype(np.float64), pos[seg])
+        if (sb - bb) * direction <= -0.15:  # rising outwards: meets the front bottom there
+            corner_u = (sa - ba) / (bb - sb)
+        elif float(dev[nxt].mean()) < -1.0:  # a step up (blur merges the short slope)
+            corner_u = end_u + 0.5 * direction
+        else:
+            return va, vb
+        if not (min(end_u, edge_u) - 1.0 <= corner_u <= max(end_u, edge_u) + 1.0):
+            return va, vb
+        # a vertical edge (front/side shading) near the corner gives the slope; else vertical
+        mv = max(1, (rb - vt) // 10)
+        rows = np.arange(vt + mv, rb - mv + 1)
+        c = int(round(corner_u))
+        if rows.size >= 3 and 3 <= c < w - 3:
+            strip = ax[rows, c - 1 : c + 2].mean(axis=0)
+            if float(strip.max()) >= 0.25 * float(ax[rows, int(round(edge_u))].mean()):
+                a2, b2 = self._fit_vertical(ax, rows, c, w)
+                if abs((a2 + b2 * rb) - corner_u) <= 1.0:
+                    return a2, b2
+        return corner_u - vb * rb, vb
 
     @staticmethod
     def _edge_end(ax: F32, a: float, b: float, vt: int, rb: int) -> float | None:
