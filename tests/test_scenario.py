@@ -55,3 +55,31 @@ def test_bad_scenarios_and_files_are_refused() -> None:
         Scenario((Segment(0.0, 2.0, box, 1, 1), Segment(1.0, 3.0, box, 1, 1)))
     with pytest.raises(ValueError, match="line 1"):
         parse_keyframes("1.0 2.0 3.0\n")
+
+
+def test_a_scenario_file_loads_and_bad_ones_are_named(tmp_path: Path) -> None:
+    from obstacle_fusion.errors import UserError
+    from obstacle_fusion.scenario import load_scenario
+
+    good = tmp_path / "s.toml"
+    good.write_text(
+        'name = "hall"\ntemperature_c = 25\n'
+        "[[segment]]\nt0 = 0\nt1 = 4\nd0 = 2.0\nd1 = 1.0\nheight_m = 0.3\nwidth_m = 0.6\n"
+        "[[segment]]\nt0 = 4\nt1 = 6\n"
+    )
+    s = load_scenario(good)
+    assert s.name == "hall" and s.temperature_c == 25
+    assert s.distance_at(2.0) == pytest.approx(1.5)
+    assert s.obstacle_at(5.0) is None
+    for text, words in (
+        ("[[segment]]\nt0 = 0\nt1 = 4\nd0 = 9\nheight_m = 0.3\nwidth_m = 0.6\n", "0.02..4 m"),
+        ("[[segment]]\nt0 = 3\nt1 = 1\n", "before t0"),
+        ("name = 1\n", "no [[segment]]"),
+        ("[[segment]\n", "not readable TOML"),
+    ):
+        bad = tmp_path / "bad.toml"
+        bad.write_text(text)
+        with pytest.raises(UserError, match=words.replace("[", r"\[").replace(".", r"\.")):
+            load_scenario(bad)
+    with pytest.raises(UserError, match="does not exist"):
+        load_scenario(tmp_path / "nope.toml")

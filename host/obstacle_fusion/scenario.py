@@ -9,8 +9,12 @@ emulator's simulated time 0 (the firmware's power-up).
 from __future__ import annotations
 
 import math
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
+
+from obstacle_fusion.errors import UserError
 
 STEP_S = 0.001  # how long a keyframe step takes in the emulator's scene
 
@@ -159,6 +163,84 @@ def keyframe_distance(frames: list[tuple[float, float | None]], t: float) -> flo
                 return d0
             return d0 + (t - t0) / (t1 - t0) * (d1 - d0)
     return frames[-1][1]
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """A scenario from a TOML file, for runs on scenes other than the demo::
+
+    name = "corridor"
+    temperature_c = 22.0
+    [[segment]]            # a 0.4 m x 0.5 m box approaching from 2 m to 1 m
+    t0 = 0.0
+    t1 = 8.0
+    d0 = 2.0
+    d1 = 1.0
+    height_m = 0.4
+    width_m = 0.5
+    [[segment]]            # nothing in front (no height/width)
+    t0 = 8.0
+    t1 = 10.0
+    """
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UserError(f"scenario file {p} does not exist") from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise UserError(f"scenario file {p} is not readable TOML: {exc}") from None
+    raw = data.get("segment")
+    if not isinstance(raw, list) or not raw:
+        raise UserError(f"scenario file {p} has no [[segment]] tables")
+    segments = []
+    for i, seg in enumerate(raw, 1):
+        segments.append(_segment(seg, i, p))
+    try:
+        return Scenario(
+            tuple(segments),
+            temperature_c=float(data.get("temperature_c", 20.0)),
+            name=str(data.get("name", p.stem)),
+        )
+    except ValueError as exc:
+        raise UserError(f"scenario file {p}: {exc}") from None
+
+
+def _segment(seg: Any, i: int, p: Path) -> Segment:
+    def num(key: str, default: float | None = None) -> float:
+        value = seg.get(key, default)
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+        ):
+            raise UserError(
+                f"scenario file {p}, segment {i}: {key} must be a number, got {value!r}"
+            )
+        return float(value)
+
+    if not isinstance(seg, dict):
+        raise UserError(f"scenario file {p}, segment {i} is not a table")
+    t0, t1 = num("t0"), num("t1")
+    if t1 < t0:
+        raise UserError(f"scenario file {p}, segment {i}: t1 {t1} is before t0 {t0}")
+    if "height_m" not in seg and "width_m" not in seg:
+        return Segment(t0, t1, None, 0.0, 0.0)
+    height, width = num("height_m"), num("width_m")
+    d0 = num("d0")
+    d1 = num("d1", d0)
+    if min(height, width) <= 0 or not 0.02 <= min(d0, d1) <= max(d0, d1) <= 4.0:
+        raise UserError(
+            f"scenario file {p}, segment {i}: sizes must be positive and distances within "
+            "0.02..4 m (the HC-SR04's range)"
+        )
+    color = seg.get("color_bgr", (60, 90, 170))
+    obstacle = Obstacle(
+        str(seg.get("name", f"obstacle-{i}")),
+        height_m=height,
+        width_m=width,
+        depth_m=num("depth_m", 0.3),
+        color_bgr=(int(color[0]), int(color[1]), int(color[2])),
+    )
+    return Segment(t0, t1, obstacle, d0, d1)
 
 
 BOX_A = Obstacle("box-a", height_m=0.40, width_m=0.50, color_bgr=(50, 80, 160))

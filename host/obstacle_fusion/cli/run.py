@@ -75,6 +75,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     out.add_argument("--quiet", action="store_true", help="no live console view")
     emu = p.add_argument_group("emulated robot")
     emu.add_argument("--clock-ppm", type=float, default=0.0, help="emulated crystal error")
+    emu.add_argument(
+        "--scenario", type=Path, help="TOML scenario for the emulated robot (default: the demo)"
+    )
     p.set_defaults(func=run)
 
 
@@ -129,6 +132,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--median must be at least 1, got {args.median}")
     if args.exit_on_alert is not None and args.stop_distance is None:
         raise UserError("--exit-on-alert needs --stop-distance M (the alert's threshold)")
+    if args.scenario is not None and (args.port or args.camera):
+        raise UserError("--scenario is for the emulated robot; leave out --port and --camera")
     if args.record is not None and args.record.suffix.lower() != ".mcap":
         raise UserError(f"--record {args.record}: the recording must be a .mcap file")
     rig = Rig.load(args.rig) if args.rig else Rig()
@@ -151,10 +156,10 @@ def run(args: argparse.Namespace) -> int:
         extra = None
         if demo:
             from obstacle_fusion.emulated_robot import EmulatedRobot
-            from obstacle_fusion.scenario import demo_scenario
+            from obstacle_fusion.scenario import demo_scenario, load_scenario
             from obstacle_fusion.synthetic_camera import SyntheticCamera, synthetic_camera_model
 
-            scenario = demo_scenario()
+            scenario = load_scenario(args.scenario) if args.scenario else demo_scenario()
             print(
                 "obstacle-fusion run: no --port or --camera given: running the emulated robot "
                 "(the real Uno firmware under simavr, a virtual HC-SR04 and a synthetic camera "
