@@ -262,3 +262,21 @@ def test_sigterm_finishes_the_recording(uno_elf: Path, tmp_path: Path) -> None:
     assert "Traceback" not in err
     rec = read_recording(mcap)
     assert rec.complete and any(m.topic == TOPIC_OBSTACLE for m in rec.messages)
+
+
+def test_a_json_reader_that_goes_away_ends_the_run(uno_elf: Path) -> None:
+    proc = subprocess.Popen(
+        _cmd("run", "--json", "--quiet"),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stdout is not None
+    try:
+        assert proc.stdout.readline().startswith("{")
+        proc.stdout.close()  # like `| head -1`
+        _, err = proc.communicate(timeout=15)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0 and "Traceback" not in err

@@ -319,6 +319,9 @@ class App:
                     exit_code = self.s.exit_on_alert
                     self._event("alert_exit", {"code": exit_code})
                     break
+                if self.jsonl is not None and self.jsonl.broken:
+                    log.info("the JSON reader went away (closed pipe); stopping")
+                    break
                 if self.grabber.error is not None:
                     raise self.grabber.error
                 if self.grabber.finished.is_set() and self.grabber.queue.empty():
