@@ -300,3 +300,27 @@ def test_real_time_mode_looks_like_a_board(emulator_factory: Factory, open_port:
     assert isinstance(reply, TimeSyncReply) and reply.token == 7
     # Request and reply are ~20 bytes each at 115200 baud: a few ms, as on a board.
     assert 0.003 < time.monotonic() - t0 < 0.2
+
+
+def test_round_robin_over_sensors_sharing_the_echo_pin(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+    # Three virtual sensors on D9, D10, D11, their ECHOs OR-ed onto D8 (firmware README).
+    emu, port, hello, _ = boot(emulator_factory, open_port, uno_elf, distance_m=1.0, sensors=3)
+    assert hello.sensor_count >= 3
+    emu.control.set_distance(2.0, sensor=1)
+    emu.control.set_distance(None, sensor=2)
+    reply, _ = command(port, SetConfig(**dict(DEFAULTS, sensor_mask=0b111)))
+    assert isinstance(reply, Ack)
+    port.read_until(lambda m: isinstance(m, Config), 5.0)
+    port.read_until(lambda m: isinstance(m, Range), 5.0)  # may still be the old round
+    _, seen = port.read_until(lambda m: isinstance(m, Range) and m.measurement % 50 == 0, 10.0)
+    rs = ranges(seen)[-30:]
+    assert len(rs) >= 12
+    assert wait_for(lambda: len(emu.truth.read()) > rs[-1].measurement, 5.0)
+    truth = {t.index: t for t in emu.truth.read()}
+    for a, b in zip(rs, rs[1:], strict=False):
+        assert b.sensor_id == (a.sensor_id + 1) % 3
+    for r in rs:
+        t = truth[r.measurement]
+        assert t.sensor_id == r.sensor_id
+        assert abs(r.echo_ticks - t.echo_ticks) <= 1
+        assert r.status == (RangeStatus.NO_ECHO if r.sensor_id == 2 else RangeStatus.OK)

@@ -82,7 +82,8 @@ class EmulatorConfig:
     burst_us: float | None = None
     no_echo_us: float | None = None
     max_range_m: float | None = None
-    trig_pin: str | None = None  # "D9", "PB1"
+    sensors: int = 1  # 1..4, TRIG on D9.. D12, ECHO lines OR-ed onto one pin (firmware README)
+    trig_pin: str | None = None  # sensor 0's TRIG: "D9", "PB1"
     echo_pin: str | None = None
     uart_drop: float = 0.0
     uart_corrupt: float = 0.0
@@ -126,6 +127,8 @@ class EmulatorConfig:
         opt("--burst-us", self.burst_us)
         opt("--no-echo-us", self.no_echo_us)
         opt("--max-range", self.max_range_m)
+        if self.sensors != 1:
+            opt("--sensors", self.sensors)
         opt("--trig", self.trig_pin)
         opt("--echo", self.echo_pin)
         opt("--uart-drop", self.uart_drop or None)
@@ -164,6 +167,7 @@ class TruthRecord:
     trigger_cycle: int
     rise_cycle: int
     echo_cycles: int
+    sensor_id: int = 0  # which sensor was triggered
 
     @property
     def has_echo(self) -> bool:
@@ -181,8 +185,8 @@ def parse_truth_line(line: str) -> TruthRecord | None:
     if not line or line.startswith("#"):
         return None
     f = line.split()
-    if len(f) != 11:
-        raise ValueError(f"truth log line has {len(f)} fields, expected 11: {line!r}")
+    if len(f) not in (11, 12):
+        raise ValueError(f"truth log line has {len(f)} fields, expected 12: {line!r}")
     return TruthRecord(
         index=int(f[0]),
         trigger_s=float(f[1]),
@@ -195,6 +199,7 @@ def parse_truth_line(line: str) -> TruthRecord | None:
         trigger_cycle=int(f[8]),
         rise_cycle=int(f[9]),
         echo_cycles=int(f[10]),
+        sensor_id=int(f[11]) if len(f) > 11 else 0,
     )
 
 
@@ -269,9 +274,11 @@ class EmulatorControl:
             return text[3:]
         raise EmulatorError(f"emulator refused {line!r}: {text.removeprefix('error ')}")
 
-    def set_distance(self, distance_m: float | None) -> None:
-        """A constant distance from now on (None: no obstacle); replaces any scene."""
-        self.command("distance none" if distance_m is None else f"distance {distance_m!r}")
+    def set_distance(self, distance_m: float | None, sensor: int | None = None) -> None:
+        """A constant distance from now on (None: no obstacle) for one sensor or all;
+        replaces its scene."""
+        text = "none" if distance_m is None else repr(distance_m)
+        self.command(f"distance {text}" + ("" if sensor is None else f" {sensor}"))
 
     def set_temperature(self, celsius: float) -> None:
         self.command(f"temperature {celsius!r}")
@@ -289,9 +296,9 @@ class EmulatorControl:
         """kind: drop, corrupt or insert; applies in the configured fault direction."""
         self.command(f"uart {kind} {probability!r}")
 
-    def load_scene(self, path: Path) -> None:
+    def load_scene(self, path: Path, sensor: int | None = None) -> None:
         """Keyframes from a file; their time 0 is the moment the command is applied."""
-        self.command(f"scene {path}")
+        self.command(f"scene {path}" + ("" if sensor is None else f" {sensor}"))
 
     def reset(self) -> None:
         """Reset the MCU, like pressing the board's reset button."""

@@ -46,10 +46,15 @@ typedef struct {
     int verbose;
     /* state */
     avr_t *avr;
-    scene_t scene;
+    int nsensors;
+    int ntrig;                      /* --trig options given */
+    char trig_port[SONAR_MAX];
+    int trig_pin[SONAR_MAX];
+    scene_t scene[SONAR_MAX];       /* what each sensor faces */
     rng_t rng_sonar;
     rng_t rng_uart;
-    sonar_t sonar;
+    echo_line_t echo_line;
+    sonar_t sonar[SONAR_MAX];
     sonar_params_t sp;
     uart_bridge_t bridge;
     uart_faults_t faults;
@@ -176,7 +181,9 @@ static void usage(FILE *f)
         "  --dropout P           probability of a no-echo pulse (default 0)\n"
         "  --spike P             probability of an echo from a random distance (default 0)\n"
         "sensor:\n"
-        "  --trig PIN --echo PIN pins (default D9 = PB1 and D8 = PB0)\n"
+        "  --sensors N           sensors 1..4 sharing ECHO through an OR gate (default 1)\n"
+        "  --trig PIN            TRIG of the next sensor (default D9, D10, D11, D12)\n"
+        "  --echo PIN            the shared ECHO pin (default D8 = PB0, ICP1)\n"
         "  --burst-us US         trigger fall to ECHO rise (default 450)\n"
         "  --no-echo-us US       ECHO pulse when nothing answers (default 38000)\n"
         "  --max-range M         farther obstacles give no echo (default 4.0)\n"
@@ -210,7 +217,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         O_DIST = 256, O_SCENE, O_TEMP, O_NOISE, O_DROPOUT, O_SPIKE, O_TRIG, O_ECHO, O_BURST,
         O_NOECHO, O_MAXR, O_MINTRIG, O_FAST, O_PPM, O_DUR, O_SERVICE, O_UDROP, O_UCORR,
         O_UINS, O_FDIR, O_WAIT, O_GRACE, O_RESETOPEN, O_TRUTH, O_PTYFILE, O_CONTROL, O_MCU,
-        O_FREQ, O_SEED, O_NOQUIRK, O_ELF
+        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS
     };
     static const struct option opts[] = {
         {"distance", required_argument, 0, O_DIST},
@@ -220,6 +227,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         {"dropout", required_argument, 0, O_DROPOUT},
         {"spike", required_argument, 0, O_SPIKE},
         {"trig", required_argument, 0, O_TRIG},
+        {"sensors", required_argument, 0, O_SENSORS},
         {"echo", required_argument, 0, O_ECHO},
         {"burst-us", required_argument, 0, O_BURST},
         {"no-echo-us", required_argument, 0, O_NOECHO},
@@ -265,7 +273,15 @@ static void parse_args(emu_t *e, int argc, char **argv)
         case O_NOISE: e->sp.noise_mm = parse_num("--noise-mm", optarg, 0, 10000); break;
         case O_DROPOUT: e->sp.dropout_p = parse_num("--dropout", optarg, 0, 1); break;
         case O_SPIKE: e->sp.spike_p = parse_num("--spike", optarg, 0, 1); break;
-        case O_TRIG: parse_pin("--trig", optarg, &e->sp.trig_port, &e->sp.trig_pin); break;
+        case O_TRIG:
+            if (e->ntrig == SONAR_MAX)
+                die("--trig: at most %d sensors", SONAR_MAX);
+            parse_pin("--trig", optarg, &e->trig_port[e->ntrig], &e->trig_pin[e->ntrig]);
+            e->ntrig++;
+            break;
+        case O_SENSORS:
+            e->nsensors = (int)parse_num("--sensors", optarg, 1, SONAR_MAX);
+            break;
         case O_ECHO: parse_pin("--echo", optarg, &e->sp.echo_port, &e->sp.echo_pin); break;
         case O_BURST: e->sp.burst_us = parse_num("--burst-us", optarg, 0, 100000); break;
         case O_NOECHO: e->sp.no_echo_us = parse_num("--no-echo-us", optarg, 1, 1e6); break;
@@ -321,7 +337,17 @@ static void parse_args(emu_t *e, int argc, char **argv)
     if (!e->elf)
         die("no firmware ELF given (usage: of-emulator [options] FIRMWARE.elf)");
     e->sp.clock_ppm = e->clock_ppm;
-    scene_init(&e->scene, distance, none, temperature);
+    if (e->nsensors == 0)
+        e->nsensors = e->ntrig > 0 ? e->ntrig : 1;
+    if (e->ntrig > e->nsensors)
+        die("%d --trig pins given for --sensors %d", e->ntrig, e->nsensors);
+    for (int k = e->ntrig; k < e->nsensors; k++) {
+        /* Uno wiring (firmware/README.md): sensor k's TRIG on D9 + k. */
+        e->trig_port[k] = 'B';
+        e->trig_pin[k] = 1 + k;
+    }
+    for (int k = 0; k < SONAR_MAX; k++)
+        scene_init(&e->scene[k], distance, none, temperature);
 }
 
 /* ------------------------------------------------------------------ control commands */
@@ -339,6 +365,12 @@ static int parse_prob(const char *s, double *out)
 static void cmd_stats(emu_t *e, char *reply, size_t n)
 {
     const bridge_stats_t *b = &e->bridge.st;
+    unsigned long long meas = 0, ignored = 0, shorts = 0;
+    for (int k = 0; k < e->nsensors; k++) {
+        meas += e->sonar[k].measurements;
+        ignored += e->sonar[k].ignored_triggers;
+        shorts += e->sonar[k].short_triggers;
+    }
     snprintf(reply, n,
              "ok sim_s=%.6f cycle=%llu measurements=%llu ignored_triggers=%llu "
              "short_triggers=%llu tx_bytes=%llu tx_written=%llu tx_no_client=%llu "
@@ -347,9 +379,7 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              "level_polls_cancelled=%llu client=%d "
              "max_lag_s=%.6f",
              sim_seconds(e), (unsigned long long)e->avr->cycle,
-             (unsigned long long)e->sonar.measurements,
-             (unsigned long long)e->sonar.ignored_triggers,
-             (unsigned long long)e->sonar.short_triggers, (unsigned long long)b->tx_bytes,
+             meas, ignored, shorts, (unsigned long long)b->tx_bytes,
              (unsigned long long)b->tx_written, (unsigned long long)b->tx_no_client,
              (unsigned long long)b->tx_overflow, (unsigned long long)b->rx_bytes,
              (unsigned long long)b->rx_fed, (unsigned long long)b->rx_overruns,
@@ -374,19 +404,31 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
     const char *cmd = argv[0];
     double v;
     char *end;
+    /* An optional last argument picks one sensor; without it, all of them. */
+    int first = 0, last = e->nsensors - 1;
+    if ((!strcmp(cmd, "distance") || !strcmp(cmd, "scene")) && argc == 3) {
+        long k = strtol(argv[2], &end, 10);
+        if (end == argv[2] || *end || k < 0 || k >= e->nsensors) {
+            snprintf(reply, n, "error %s: no sensor '%s' (0..%d)", cmd, argv[2], e->nsensors - 1);
+            return;
+        }
+        first = last = (int)k;
+        argc = 2;
+    }
     if (!strcmp(cmd, "distance") && argc == 2) {
-        if (!strcasecmp(argv[1], "none")) {
-            e->scene.n = 0;
-            e->scene.constant_none = 1;
-        } else {
+        int none = !strcasecmp(argv[1], "none");
+        v = 0.0;
+        if (!none) {
             v = strtod(argv[1], &end);
             if (end == argv[1] || *end || !(v >= 0.0 && v < 1000.0)) {
                 snprintf(reply, n, "error distance: '%s' is not metres >= 0 or none", argv[1]);
                 return;
             }
-            e->scene.n = 0;
-            e->scene.constant_none = 0;
-            e->scene.constant = v;
+        }
+        for (int k = first; k <= last; k++) {
+            e->scene[k].n = 0;
+            e->scene[k].constant_none = none;
+            e->scene[k].constant = v;
         }
     } else if (!strcmp(cmd, "temperature") && argc == 2) {
         v = strtod(argv[1], &end);
@@ -394,23 +436,27 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
             snprintf(reply, n, "error temperature: '%s' is not celsius in -100..100", argv[1]);
             return;
         }
-        e->scene.temperature_c = v;
+        for (int k = 0; k < SONAR_MAX; k++)
+            e->scene[k].temperature_c = v;
     } else if (!strcmp(cmd, "noise") && argc == 2) {
         v = strtod(argv[1], &end);
         if (end == argv[1] || *end || !(v >= 0.0 && v <= 10000.0)) {
             snprintf(reply, n, "error noise: '%s' is not millimetres >= 0", argv[1]);
             return;
         }
-        e->sonar.p.noise_mm = v;
+        for (int k = 0; k < SONAR_MAX; k++)
+            e->sonar[k].p.noise_mm = v;
     } else if ((!strcmp(cmd, "dropout") || !strcmp(cmd, "spike")) && argc == 2) {
         if (parse_prob(argv[1], &v)) {
             snprintf(reply, n, "error %s: '%s' is not a probability 0..1", cmd, argv[1]);
             return;
         }
-        if (cmd[0] == 'd')
-            e->sonar.p.dropout_p = v;
-        else
-            e->sonar.p.spike_p = v;
+        for (int k = 0; k < SONAR_MAX; k++) {
+            if (cmd[0] == 'd')
+                e->sonar[k].p.dropout_p = v;
+            else
+                e->sonar[k].p.spike_p = v;
+        }
     } else if (!strcmp(cmd, "uart") && argc == 3) {
         if (parse_prob(argv[2], &v)) {
             snprintf(reply, n, "error uart: '%s' is not a probability 0..1", argv[2]);
@@ -428,10 +474,12 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
         }
     } else if (!strcmp(cmd, "scene") && argc == 2) {
         char err[512];
-        double t0 = sonar_true_time(&e->sonar, e->avr->cycle);
-        if (scene_load(&e->scene, argv[1], t0, err, sizeof err)) {
-            snprintf(reply, n, "error %s", err);
-            return;
+        double t0 = sonar_true_time(&e->sonar[0], e->avr->cycle);
+        for (int k = first; k <= last; k++) {
+            if (scene_load(&e->scene[k], argv[1], t0, err, sizeof err)) {
+                snprintf(reply, n, "error %s", err);
+                return;
+            }
         }
     } else if (!strcmp(cmd, "reset") && argc == 1) {
         e->reset_requested = 1;
@@ -444,9 +492,9 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
     } else if (!strcmp(cmd, "quit") && argc == 1) {
         e->quit_requested = 1;
     } else if (!strcmp(cmd, "help")) {
-        snprintf(reply, n, "ok commands: distance M|none, temperature C, noise MM, dropout P, "
-                           "spike P, uart drop|corrupt|insert P, scene FILE, reset, time, "
-                           "stats, quit");
+        snprintf(reply, n, "ok commands: distance M|none [SENSOR], temperature C, noise MM, "
+                           "dropout P, spike P, uart drop|corrupt|insert P, scene FILE [SENSOR], "
+                           "reset, time, stats, quit");
         return;
     } else {
         snprintf(reply, n, "error unknown command or wrong arguments: '%s' (try help)", cmd);
@@ -545,7 +593,8 @@ static void after_reset(emu_t *e)
     e->resets++;
     e->bridge.rx_scheduled = 0;
     avr_cycle_timer_register(e->avr, e->service_cycles, service_tick, e);
-    sonar_rearm(&e->sonar);
+    for (int k = 0; k < e->nsensors; k++)
+        sonar_rearm(&e->sonar[k]);
     note(e, "MCU reset at %.6f s", sim_seconds(e));
 }
 
@@ -649,8 +698,9 @@ int main(int argc, char **argv)
     avr_global_logger_set(simavr_logger);
     if (e->scene_path) {
         char err[512];
-        if (scene_load(&e->scene, e->scene_path, 0.0, err, sizeof err))
-            die("%s", err);
+        for (int k = 0; k < SONAR_MAX; k++)
+            if (scene_load(&e->scene[k], e->scene_path, 0.0, err, sizeof err))
+                die("%s", err);
     }
     if (e->truth_path) {
         e->truth = fopen(e->truth_path, "w");
@@ -671,9 +721,17 @@ int main(int argc, char **argv)
     int wrapped = quirks_install(avr, &e->quirks);
     note(e, "%s at %u Hz; %d timer flag registers wrapped", avr->mmcu, avr->frequency, wrapped);
 
-    if (sonar_attach(&e->sonar, avr, &e->sp, &e->scene, &e->rng_sonar, e->truth))
-        die("the MCU has no pin P%c%d or P%c%d for the sensor", e->sp.trig_port,
-            e->sp.trig_pin, e->sp.echo_port, e->sp.echo_pin);
+    if (e->truth)
+        sonar_truth_header(e->truth);
+    for (int k = 0; k < e->nsensors; k++) {
+        sonar_params_t sp = e->sp;
+        sp.trig_port = e->trig_port[k];
+        sp.trig_pin = e->trig_pin[k];
+        if (sonar_attach(&e->sonar[k], k, &e->echo_line, avr, &sp, &e->scene[k], &e->rng_sonar,
+                         e->truth))
+            die("the MCU has no pin P%c%d or P%c%d for sensor %d", sp.trig_port, sp.trig_pin,
+                sp.echo_port, sp.echo_pin, k);
+    }
     if (bridge_open_pty(&e->bridge))
         die("cannot create a pseudo-terminal: %s", strerror(errno));
     if (bridge_attach(&e->bridge, avr, &e->rng_uart, &e->faults, e->model_rx_overrun))

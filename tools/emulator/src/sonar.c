@@ -40,11 +40,19 @@ double sonar_true_time(const sonar_t *s, avr_cycle_count_t cycle)
  * cycle counter, so we present the scheduled cycle for the duration of the edge. */
 static void drive_echo(sonar_t *s, avr_cycle_count_t when, int level)
 {
+    echo_line_t *line = s->line;
+    if (level) {
+        if (line->high++ > 0)
+            return;   /* another sensor already holds the line high */
+    } else {
+        if (line->high == 0 || --line->high > 0)
+            return;
+    }
     avr_t *avr = s->avr;
     avr_cycle_count_t now = avr->cycle;
     if (s->p.exact_edges && when <= now)
         avr->cycle = when;
-    avr_raise_irq(s->echo_irq, (uint32_t)level);
+    avr_raise_irq(line->irq, (uint32_t)level);
     avr->cycle = now;
 }
 
@@ -54,8 +62,8 @@ static void write_truth(sonar_t *s)
         return;
     double f = (double)s->avr->frequency;
     double echo_true_s = (double)s->m_echo_cycles / mcu_rate(s);
-    fprintf(s->truth, "%llu %.9f %.9f %.3f %.6f %.6f %.2f %s %llu %llu %llu\n",
-            (unsigned long long)s->measurements,
+    fprintf(s->truth, "%llu %.9f %.9f %.3f %.6f %.6f %.2f %s %llu %llu %llu %d\n",
+            (unsigned long long)s->m_index,
             (double)s->m_trig_cycle / f,
             echo_true_s,
             (double)s->m_echo_cycles * 2e6 / f,
@@ -65,7 +73,8 @@ static void write_truth(sonar_t *s)
             s->m_kind,
             (unsigned long long)s->m_trig_cycle,
             (unsigned long long)s->m_rise_cycle,
-            (unsigned long long)s->m_echo_cycles);
+            (unsigned long long)s->m_echo_cycles,
+            s->id);
     fflush(s->truth);
 }
 
@@ -127,6 +136,7 @@ static void start_measurement(sonar_t *s, avr_cycle_count_t trig_cycle)
     avr_cycle_count_t width = (avr_cycle_count_t)llround(echo_s * rate);
     if (width < 1)
         width = 1;
+    s->m_index = s->line->started++;
     s->m_trig_cycle = trig_cycle;
     s->m_rise_cycle = s->avr->cycle + burst;
     s->m_echo_cycles = width;
@@ -158,10 +168,20 @@ static void trig_changed(avr_irq_t *irq, uint32_t value, void *param)
     }
 }
 
-int sonar_attach(sonar_t *s, avr_t *avr, const sonar_params_t *p, scene_t *scene, rng_t *rng,
-                 FILE *truth)
+void sonar_truth_header(FILE *truth)
+{
+    fprintf(truth, "# of-emulator truth log v1: one line per measurement, at ECHO fall\n"
+                   "# index trigger_s echo_s echo_ticks distance_m echo_distance_m "
+                   "temperature_c kind trigger_cycle rise_cycle echo_cycles sensor\n");
+    fflush(truth);
+}
+
+int sonar_attach(sonar_t *s, int id, echo_line_t *line, avr_t *avr, const sonar_params_t *p,
+                 scene_t *scene, rng_t *rng, FILE *truth)
 {
     s->avr = avr;
+    s->id = id;
+    s->line = line;
     s->p = *p;
     s->scene = scene;
     s->rng = rng;
@@ -172,16 +192,14 @@ int sonar_attach(sonar_t *s, avr_t *avr, const sonar_params_t *p, scene_t *scene
     s->ignored_triggers = 0;
     s->short_triggers = 0;
     avr_irq_t *trig = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(p->trig_port), p->trig_pin);
-    s->echo_irq = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(p->echo_port), p->echo_pin);
-    if (!trig || !s->echo_irq)
+    if (!line->irq) {
+        line->irq = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(p->echo_port), p->echo_pin);
+        line->high = 0;
+        line->started = 0;
+    }
+    if (!trig || !line->irq)
         return -1;
     avr_irq_register_notify(trig, trig_changed, s);
-    if (truth) {
-        fprintf(truth, "# of-emulator truth log v1: one line per measurement, at ECHO fall\n"
-                       "# index trigger_s echo_s echo_ticks distance_m echo_distance_m "
-                       "temperature_c kind trigger_cycle rise_cycle echo_cycles\n");
-        fflush(truth);
-    }
     return 0;
 }
 
@@ -197,7 +215,7 @@ void sonar_rearm(sonar_t *s)
         avr_cycle_timer_register(avr, rise - now, echo_rise, s);
         avr_cycle_timer_register(avr, fall - now, echo_fall, s);
     } else if (now < fall) {
-        avr_raise_irq(s->echo_irq, 1);
+        avr_raise_irq(s->line->irq, s->line->high > 0);
         avr_cycle_timer_register(avr, fall - now, echo_fall, s);
     } else {
         echo_fall(avr, now, s);

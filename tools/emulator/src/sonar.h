@@ -27,18 +27,30 @@ typedef struct {
     int exact_edges;      /* present edges to the timers at their scheduled cycle */
 } sonar_params_t;
 
+#define SONAR_MAX 4
+
+/* Several sensors share one ECHO pin through an OR gate (firmware/README.md): the line is
+ * high while any sensor drives it high. */
+typedef struct {
+    avr_irq_t *irq;
+    int high;           /* sensors driving it high */
+    uint64_t started;   /* measurements started by all sensors: the truth log's index */
+} echo_line_t;
+
 typedef struct {
     avr_t *avr;
+    int id;             /* sensor number, 0..SONAR_MAX-1 */
+    echo_line_t *line;
     sonar_params_t p;
     scene_t *scene;
     rng_t *rng;
     FILE *truth;
-    avr_irq_t *echo_irq;
     /* trigger */
     int trig_high;
     avr_cycle_count_t trig_rise;
     /* measurement in flight */
     int busy;
+    uint64_t m_index;
     avr_cycle_count_t m_trig_cycle;
     avr_cycle_count_t m_rise_cycle;
     avr_cycle_count_t m_echo_cycles;
@@ -53,9 +65,12 @@ typedef struct {
 } sonar_t;
 
 void sonar_default_params(sonar_params_t *p);
-/* Attach to the MCU's pins; truth may be NULL. Returns -1 if a pin does not exist. */
-int sonar_attach(sonar_t *s, avr_t *avr, const sonar_params_t *p, scene_t *scene, rng_t *rng,
-                 FILE *truth);
+/* Attach sensor `id` to the MCU's pins (its TRIG from p, ECHO onto the shared line, set up
+ * on first use); truth may be NULL. Returns -1 if a pin does not exist. */
+int sonar_attach(sonar_t *s, int id, echo_line_t *line, avr_t *avr, const sonar_params_t *p,
+                 scene_t *scene, rng_t *rng, FILE *truth);
+/* The truth log's header lines. */
+void sonar_truth_header(FILE *truth);
 /* After an MCU reset (simavr drops all cycle timers): the sensor is outside the MCU, so
  * a pulse in flight goes on; schedule its remaining edges again. */
 void sonar_rearm(sonar_t *s);
