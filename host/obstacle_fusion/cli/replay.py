@@ -71,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
         if args.temperature is not None
         else float(meta.get("temperature_c", "20") or 20)
     )
+    half_spacing = float(meta.get("half_spacing_m", "0.013") or 0.013)
     method = args.method or meta.get("method") or "fused"
     if args.rig is not None:
         rig = Rig.load(args.rig)
@@ -111,7 +112,10 @@ def run(args: argparse.Namespace) -> int:
             conv = converters.get(hz)
             if conv is None:
                 conv = converters[hz] = SonarConverter(
-                    timer_hz=hz, temperature_c=temperature, median_window=args.median
+                    timer_hz=hz,
+                    temperature_c=temperature,
+                    median_window=args.median,
+                    half_spacing_m=half_spacing,
                 )
             raw = Range(
                 d["measurement"],

@@ -58,6 +58,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--median", type=int, default=1, help="median filter over N ranges (1 = none)"
     )
     proc.add_argument(
+        "--half-spacing-mm",
+        type=float,
+        default=13.0,
+        help="half the transducer spacing for formula (6); 0 = formula (7) only",
+    )
+    proc.add_argument(
         "--pair-tolerance-ms",
         type=_positive,
         default=50.0,
@@ -130,6 +136,8 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.median < 1:
         raise UserError(f"--median must be at least 1, got {args.median}")
+    if not 0.0 <= args.half_spacing_mm <= 50.0:
+        raise UserError(f"--half-spacing-mm must be within 0..50, got {args.half_spacing_mm}")
     if args.exit_on_alert is not None and args.stop_distance is None:
         raise UserError("--exit-on-alert needs --stop-distance M (the alert's threshold)")
     if args.scenario is not None and (args.port or args.camera):
@@ -145,6 +153,7 @@ def run(args: argparse.Namespace) -> int:
         exit_on_alert=args.exit_on_alert,
         temperature_c=args.temperature,
         median_window=args.median,
+        half_spacing_m=args.half_spacing_mm / 1e3,
         pair_tolerance_s=args.pair_tolerance_ms / 1e3,
         method=args.method,
         mode="emulator" if demo else "robot",
@@ -211,6 +220,7 @@ def run(args: argparse.Namespace) -> int:
                         "mode": settings.mode,
                         "method": args.method,
                         "temperature_c": str(settings.temperature_c),
+                        "half_spacing_m": str(settings.half_spacing_m),
                         "stop_distance_m": str(args.stop_distance),
                         "rig": json.dumps(dataclasses.asdict(rig)),
                         "camera": json.dumps(_camera_dict(camera)),
