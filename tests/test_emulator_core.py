@@ -303,3 +303,26 @@ def test_uart_faults_towards_the_mcu(emulator_factory: Factory) -> None:
     assert len(got) == 8
     assert all(bin(v ^ 0x41).count("1") == 1 for v in got)  # one flipped bit each
     assert emu.control.stats()["corrupted"] == 8
+
+
+def test_no_orphan_when_the_starting_process_dies(emulator_built: Path) -> None:
+    script = (
+        "import sys\n"
+        "from pathlib import Path\n"
+        "from obstacle_fusion.emulator import Emulator, EmulatorConfig\n"
+        f"emu = Emulator(EmulatorConfig(elf=Path({str(firmware_for_tests('echo_test'))!r})),"
+        f" binary=Path({str(emulator_built)!r})).start()\n"
+        "print(emu.pid, flush=True)\n"
+    )
+    proc = subprocess.run([".venv/bin/python", "-c", script], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    pid = int(proc.stdout.split()[0])
+
+    def gone() -> bool:
+        try:
+            with open(f"/proc/{pid}/stat") as fh:
+                return fh.read().split()[2] == "Z"
+        except FileNotFoundError:
+            return True
+
+    assert wait_for(gone, 5.0), f"emulator {pid} outlived its parent"

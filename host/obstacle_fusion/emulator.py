@@ -92,6 +92,7 @@ class EmulatorConfig:
     wait_client: bool = True  # hold the MCU in reset until the pty is opened
     client_grace_ms: float | None = None
     reset_on_open: bool = False
+    exit_with_parent: bool = True  # no orphans when the starting process dies
     seed: int = 1
     quirk_fixes: bool = True
     verbose: int = 0
@@ -140,6 +141,8 @@ class EmulatorConfig:
         opt("--client-grace-ms", self.client_grace_ms)
         if self.reset_on_open:
             args.append("--reset-on-open")
+        if self.exit_with_parent:
+            args.append("--exit-with-parent")
         opt("--seed", self.seed)
         if not self.quirk_fixes:
             args.append("--no-quirk-fixes")

@@ -38,6 +38,8 @@ typedef struct {
     int wait_client;
     double client_grace_ms;
     int reset_on_open;
+    int exit_with_parent;
+    pid_t parent;
     const char *truth_path;
     const char *pty_file;
     const char *control_path;
@@ -72,6 +74,7 @@ typedef struct {
     int reset_requested;
     int quit_requested;
     uint64_t resets;
+    uint64_t ticks;
 } emu_t;
 
 static emu_t g_emu;
@@ -199,6 +202,7 @@ static void usage(FILE *f)
         "  --wait-client         hold the MCU in reset until a client opens the pty\n"
         "  --client-grace-ms MS  then wait this long before starting (default 100)\n"
         "  --reset-on-open       reset the MCU whenever a client opens the pty (like DTR)\n"
+        "  --exit-with-parent    stop when the process that started us goes away\n"
         "files:\n"
         "  --truth FILE          truth log, one line per measurement\n"
         "  --pty-file FILE       also write the pty path here\n"
@@ -217,7 +221,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         O_DIST = 256, O_SCENE, O_TEMP, O_NOISE, O_DROPOUT, O_SPIKE, O_TRIG, O_ECHO, O_BURST,
         O_NOECHO, O_MAXR, O_MINTRIG, O_FAST, O_PPM, O_DUR, O_SERVICE, O_UDROP, O_UCORR,
         O_UINS, O_FDIR, O_WAIT, O_GRACE, O_RESETOPEN, O_TRUTH, O_PTYFILE, O_CONTROL, O_MCU,
-        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS
+        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT
     };
     static const struct option opts[] = {
         {"distance", required_argument, 0, O_DIST},
@@ -228,6 +232,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         {"spike", required_argument, 0, O_SPIKE},
         {"trig", required_argument, 0, O_TRIG},
         {"sensors", required_argument, 0, O_SENSORS},
+        {"exit-with-parent", no_argument, 0, O_PARENT},
         {"echo", required_argument, 0, O_ECHO},
         {"burst-us", required_argument, 0, O_BURST},
         {"no-echo-us", required_argument, 0, O_NOECHO},
@@ -311,6 +316,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
             e->client_grace_ms = parse_num("--client-grace-ms", optarg, 0, 60000);
             break;
         case O_RESETOPEN: e->reset_on_open = 1; break;
+        case O_PARENT: e->exit_with_parent = 1; break;
         case O_TRUTH: e->truth_path = optarg; break;
         case O_PTYFILE: e->pty_file = optarg; break;
         case O_CONTROL: e->control_path = optarg; break;
@@ -525,6 +531,13 @@ static int collect_fds(emu_t *e, struct pollfd *pfd, int max)
     return n;
 }
 
+/* A test runner killed mid-test must not leave emulators behind. */
+static void check_parent(emu_t *e)
+{
+    if (e->exit_with_parent && getppid() != e->parent)
+        e->quit_requested = 1;
+}
+
 static void service_io(emu_t *e, int deliver_tx)
 {
     int opened = bridge_service_ex(&e->bridge, deliver_tx);
@@ -575,6 +588,9 @@ static avr_cycle_count_t service_tick(avr_t *avr, avr_cycle_count_t when, void *
     service_io(e, 1);
     if (e->duration_s > 0.0 && sim_seconds(e) >= e->duration_s)
         e->quit_requested = 1;
+    /* About every 50 ms of simulated time. */
+    if (++e->ticks % (1 + (uint64_t)(0.05 / (e->service_us * 1e-6))) == 0)
+        check_parent(e);
     return when + e->service_cycles;
 }
 
@@ -602,6 +618,7 @@ static void wait_for_client(emu_t *e)
 {
     note(e, "waiting for a client to open %s", e->bridge.path);
     while (!bridge_client_present(&e->bridge)) {
+        check_parent(e);
         if (g_signal || e->quit_requested)
             return;
         struct pollfd pfd[CONTROL_MAX_CLIENTS + 2];
@@ -691,6 +708,7 @@ int main(int argc, char **argv)
     e->quirks.tifr_fix = 1;
     e->quirks.flag_fix = 1;
     e->model_rx_overrun = 1;
+    e->parent = getppid();
     parse_args(e, argc, argv);
     if (e->service_us <= 0.0)
         e->service_us = e->fast ? 1000.0 : 200.0;
