@@ -71,6 +71,13 @@ class FakeBoard:
         self._t0 = time.monotonic()  # a replugged Uno resets: its clock restarts
         self.measurement = 0
 
+    def reboot(self) -> None:
+        """A reset on the same port: the clock restarts and HELLO comes unasked."""
+        self._t0 = time.monotonic()
+        self.measurement = 0
+        self.send(self.hello())
+        self.send(self.config())
+
     def unplug(self) -> None:
         with self._lock:
             os.close(self.master)

@@ -125,6 +125,18 @@ def test_reconnect_after_unplug_keeps_everything() -> None:
     assert link.counters.frames > len(before)
 
 
+def test_a_board_reset_on_the_same_port_starts_a_new_session() -> None:
+    with FakeBoard() as board, _fast_link(board.path) as link:
+        time.sleep(1.2)  # well after the handshake's GET_INFO
+        _collect(link, 0.1)
+        board.reboot()
+        after = _collect(link, 0.4)
+    hellos = [r for r in after if isinstance(r.msg, Hello)]
+    assert hellos and hellos[0].session == 2
+    assert all(r.session == 2 for r in after[after.index(hellos[0]) :])
+    assert link.counters.board_restarts == 1 and link.counters.reconnects == 0
+
+
 def test_no_reconnect_mode_reports_the_unplug() -> None:
     with FakeBoard() as board:
         link = Link(board.port, reconnect=False, handshake_timeout_s=1.5, get_info_after_s=0.05)
@@ -155,3 +167,17 @@ def test_commands_against_the_real_firmware(uno_elf: object, emulator_factory: o
         syncs = [r for r in _collect(link, 0.5) if isinstance(r.msg, TimeSyncReply)]
         assert syncs and link.config is not None and link.config.cycle_ms == 100
         assert link.counters.crc_errors == 0 and link.counters.seq_gaps == 0
+
+
+def test_a_reset_of_the_real_firmware_is_a_new_session(
+    uno_elf: object, emulator_factory: object
+) -> None:
+    emu = emulator_factory(distance_m=1.0)  # type: ignore[operator]
+    with Link(emu.pty_path) as link:
+        time.sleep(1.2)
+        _collect(link, 0.1)
+        emu.control.reset()  # the reset button
+        after = _collect(link, 0.6)
+    assert link.counters.board_restarts == 1
+    assert any(isinstance(r.msg, Hello) and r.session == 2 for r in after)
+    assert any(isinstance(r.msg, Range) and r.session == 2 for r in after)

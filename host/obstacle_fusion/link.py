@@ -76,6 +76,7 @@ class LinkCounters:
     seq_gaps: int = 0
     resyncs: int = 0
     reconnects: int = 0
+    board_restarts: int = 0  # HELLOs nobody asked for: the MCU rebooted on the same port
     queue_drops: int = 0  # messages lost because the consumer fell behind
     time_syncs_sent: int = 0
     time_syncs_answered: int = 0
@@ -436,6 +437,15 @@ class Link:
                     self._held.clear()
                     self._ready.set()
                     continue
+                if now - self._last_get_info > 1.0:
+                    # Unasked: the board restarted (reset button, watchdog, brown-out). Its
+                    # clock restarted too, so this is a new session for the clock model.
+                    self.counters.session += 1
+                    self.counters.board_restarts += 1
+                    self._session_start = now
+                    self._next_sync = now
+                    self._sync_sent.clear()
+                    log.warning("%s: the board restarted (unasked HELLO)", self.counters.port)
             if not self._handshake_done:
                 if len(self._held) < 1000:
                     self._held.append((msg, now))
