@@ -165,3 +165,21 @@ def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
         # crystal at a fixed rate, which is what the target is about. Say so, don't guess.
         pytest.skip(f"the emulator fell {max_lag_s * 1e3:.0f} ms behind real time (CPU busy)")
     assert percentile(errors, 0.95) < 0.5e-3, f"p95 {percentile(errors, 0.95) * 1e3:.3f} ms"
+
+
+def test_an_mcu_reboot_without_hello_is_detected_and_relearned() -> None:
+    model = ClockModel()
+    for k in range(20):  # MCU at 100 s, host at 1000 s
+        t = 1000.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 100_000_000 + k * 200_000, 100_000_100 + k * 200_000)
+    assert model.to_host(100_000_000) == pytest.approx(1000.0015, abs=1e-3)
+    # A single stray old stamp is ignored, not taken for a reboot.
+    model.add_oneway(1004.0, 1_000_000)
+    assert model.jumps == 0 and model.estimate() is not None
+    assert model.estimate().n_oneway == 0  # type: ignore[union-attr]
+    # The MCU restarts: its counter is back near zero while the host goes on.
+    for k in range(5):
+        t = 1010.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 500_000 + k * 200_000, 500_100 + k * 200_000)
+    assert model.jumps == 1
+    assert model.to_host(500_000 + 4 * 200_000) == pytest.approx(1010.8015, abs=1e-3)

@@ -145,6 +145,8 @@ class ClockModel:
         self.range_wire_s = frame_bytes(Range) * self.byte_s
         self.unwrap = Unwrapper()
         self.resets = 0
+        self.jumps = 0
+        self._backjumps = 0
         self.fast_round_trips = 0
         self._ref_us: int | None = None
         self._syncs: deque[_Sync] = deque()
@@ -152,7 +154,10 @@ class ClockModel:
         self._estimate: ClockEstimate | None = None
         self._dirty = False
 
+    BACKJUMPS_TO_RESET = 3
+
     def reset(self) -> None:
+        self._backjumps = 0
         self.unwrap.reset()
         self._ref_us = None
         self._syncs.clear()
@@ -162,6 +167,24 @@ class ClockModel:
         self.resets += 1
 
     # ------------------------------------------------------------------ evidence
+    def _behind(self, x: float) -> bool:
+        """True for a stamp seconds older than the newest one: a stray, or a rebooted MCU
+        whose HELLO was lost; a few in a row mean the latter."""
+        newest = max(
+            self._oneway[-1][0] if self._oneway else -math.inf,
+            self._syncs[-1].x if self._syncs else -math.inf,
+        )
+        if x < newest - 2.0:
+            self._backjumps += 1
+            return True
+        self._backjumps = 0
+        return False
+
+    def _restart_after_jump(self) -> None:
+        log.warning("the MCU clock went back in time (a reset without HELLO?): starting over")
+        self.jumps += 1
+        self.reset()
+
     def _x(self, raw_us: int) -> float:
         value = self.unwrap(raw_us)
         if self._ref_us is None:
@@ -171,6 +194,11 @@ class ClockModel:
     def add_sync(self, t_send: float, t_recv: float, rx_us: int, tx_us: int) -> None:
         """One TIME_SYNC round trip: host send/receive instants and the MCU's two stamps."""
         x_rx = self._x(rx_us)
+        if self._behind(x_rx):
+            if self._backjumps < self.BACKJUMPS_TO_RESET:
+                return
+            self._restart_after_jump()
+            x_rx = self._x(rx_us)
         x_tx = self._x(tx_us)
         if x_tx < x_rx or t_recv < t_send:
             log.debug("discarding inconsistent round trip")
@@ -189,9 +217,11 @@ class ClockModel:
     def add_oneway(self, t_arrival: float, event_us: int) -> None:
         """A frame read at t_arrival that the MCU sent just after event_us (an echo's end)."""
         x = self._x(event_us)
-        if self._oneway and x < self._oneway[-1][0] - 1.0:
-            log.debug("one-way sample out of order by more than 1 s; ignored")
-            return
+        if self._behind(x):
+            if self._backjumps < self.BACKJUMPS_TO_RESET:
+                return
+            self._restart_after_jump()
+            x = self._x(event_us)
         self._oneway.append((x, t_arrival))
         while self._oneway[0][0] < x - self.window_s:
             self._oneway.popleft()
