@@ -69,6 +69,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         default=50.0,
         help="nearest-range pairing tolerance when no interpolation is possible",
     )
+    proc.add_argument(
+        "--max-wait-ms",
+        type=float,
+        default=250.0,
+        help="longest a frame waits for the range after it (0: nearest range at once, lower "
+        "latency, fewer frames paired)",
+    )
     out = p.add_argument_group("outputs")
     out.add_argument("--duration", type=_positive, help="seconds to run (demo: the scene's)")
     out.add_argument("--json", action="store_true", help="JSON lines on standard output")
@@ -136,6 +143,8 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.median < 1:
         raise UserError(f"--median must be at least 1, got {args.median}")
+    if not 0.0 <= args.max_wait_ms <= 5000.0:
+        raise UserError(f"--max-wait-ms must be within 0..5000, got {args.max_wait_ms}")
     if not 0.0 <= args.half_spacing_mm <= 50.0:
         raise UserError(f"--half-spacing-mm must be within 0..50, got {args.half_spacing_mm}")
     if args.exit_on_alert is not None and args.stop_distance is None:
@@ -155,6 +164,7 @@ def run(args: argparse.Namespace) -> int:
         median_window=args.median,
         half_spacing_m=args.half_spacing_mm / 1e3,
         pair_tolerance_s=args.pair_tolerance_ms / 1e3,
+        max_wait_s=args.max_wait_ms / 1e3,
         method=args.method,
         mode="emulator" if demo else "robot",
     )
