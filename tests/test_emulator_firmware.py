@@ -101,8 +101,9 @@ def test_ranging_starts_with_the_default_cycle(emulator_factory: Factory, open_p
     assert len(rs) >= 10, f"only {len(rs)} RANGE frames"
     # From the second measurement on the cycle is exact (the first follows the boot).
     gaps = [(b.trigger_us - a.trigger_us) & 0xFFFFFFFF for a, b in zip(rs[1:], rs[2:], strict=False)]
-    # TRIG may go up to ~0.3 ms late (main loop busy, e.g. a HEARTBEAT); the mean is exact.
-    assert all(abs(g - 60_000) <= 500 for g in gaps), gaps
+    # The main loop polls TRIG, so an edge may be a few tens of us late (a HEARTBEAT waits
+    # for a due trigger, so it never pushes one by its few hundred us); the mean is exact.
+    assert all(abs(g - 60_000) <= 100 for g in gaps), gaps
     assert sum(gaps) / len(gaps) == pytest.approx(60_000, abs=5)
     assert all(r.status == RangeStatus.OK for r in rs)
 
@@ -137,8 +138,8 @@ def test_set_config_changes_the_rate(emulator_factory: Factory, open_port: Opene
     rs = ranges(port.collect(0.5))
     assert len(rs) >= 5
     gaps = [(b.trigger_us - a.trigger_us) & 0xFFFFFFFF for a, b in zip(rs, rs[1:], strict=False)]
-    # TRIG may go up to ~0.3 ms late (main loop busy, e.g. a HEARTBEAT); the mean is exact.
-    assert all(abs(g - 100_000) <= 500 for g in gaps), gaps
+    # As above: a few tens of us of polling jitter, never a HEARTBEAT's delay.
+    assert all(abs(g - 100_000) <= 100 for g in gaps), gaps
     assert sum(gaps) / len(gaps) == pytest.approx(100_000, abs=5)
 
 
@@ -324,3 +325,25 @@ def test_round_robin_over_sensors_sharing_the_echo_pin(emulator_factory: Factory
         assert t.sensor_id == r.sensor_id
         assert abs(r.echo_ticks - t.echo_ticks) <= 1
         assert r.status == (RangeStatus.NO_ECHO if r.sensor_id == 2 else RangeStatus.OK)
+
+
+def test_good_crc_with_a_wrong_length_gets_nack_bad_length(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
+    """A SET_CONFIG one byte short (CRC right) is refused by name, and changes nothing."""
+    import binascii
+
+    from cobs import cobs
+
+    from obstacle_fusion.protocol.codec import CRC_SEEDS, pack_payload
+
+    _, port, _, before = boot(emulator_factory, open_port, uno_elf, distance_m=1.0)
+    payload = pack_payload(SetConfig(**dict(DEFAULTS, cycle_ms=200)))[:-1]
+    seq = 0x33
+    body = bytes((SetConfig.MSG_ID, seq)) + payload
+    crc = binascii.crc_hqx(body, CRC_SEEDS[SetConfig.MSG_ID])
+    port.write_raw(bytes(cobs.encode(body + crc.to_bytes(2, "big"))) + b"\x00")
+    reply, _ = port.read_until(lambda m: isinstance(m, Nack | Ack) and m.command_seq == seq, 5.0)
+    assert isinstance(reply, Nack), reply
+    assert reply.error == Error.BAD_LENGTH
+    assert get_config(port) == before

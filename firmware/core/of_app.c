@@ -4,6 +4,9 @@
 #include "hal.h"
 #include "of_ticks.h"
 
+/* How close a due trigger must be for a heartbeat to wait until after it. */
+#define OF_HEARTBEAT_DEFER_US 1000UL
+
 /* Encodes one message and queues it whole; a frame that does not fit is dropped and
  * counted, never sent in part and never waited for. */
 static void send(of_app_t *app, uint8_t msg_id, const uint8_t *payload, uint8_t len)
@@ -256,8 +259,12 @@ uint32_t of_app_poll(of_app_t *app)
         app->uptime_ms++;
         app->uptime_mark_us += 1000u;
     }
+    /* Encoding a HEARTBEAT takes a few hundred microseconds on an AVR; when a trigger is
+     * about due, the heartbeat waits for it so that triggers keep their period. */
+    bool trigger_soon = app->ranger.running && app->ranger.state == OF_RANGER_IDLE
+        && (int32_t)(app->ranger.next_due_us - now) < (int32_t)OF_HEARTBEAT_DEFER_US;
     if (app->cfg.heartbeat_ms != 0u) {
-        if (of_time_reached(now, app->next_heartbeat_us)) {
+        if (!trigger_soon && of_time_reached(now, app->next_heartbeat_us)) {
             uint32_t period = (uint32_t)app->cfg.heartbeat_ms * 1000u;
             send_heartbeat(app);
             app->next_heartbeat_us += period;
@@ -265,7 +272,9 @@ uint32_t of_app_poll(of_app_t *app)
                 app->next_heartbeat_us = now + period;
             }
         }
-        wake = earlier(wake, app->next_heartbeat_us);
+        if (!trigger_soon) {
+            wake = earlier(wake, app->next_heartbeat_us);
+        }
     }
     return wake;
 }
