@@ -334,7 +334,6 @@ def test_good_crc_with_a_wrong_length_gets_nack_bad_length(
     import binascii
 
     from cobs import cobs
-
     from obstacle_fusion.protocol.codec import CRC_SEEDS, pack_payload
 
     _, port, _, before = boot(emulator_factory, open_port, uno_elf, distance_m=1.0)
