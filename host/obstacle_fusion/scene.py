@@ -32,6 +32,7 @@ _NEAR_Z = 0.02  # metres: polygons are clipped to z_cam >= this
 _SHIFT = 4  # fractional bits for cv2.fillPoly
 
 FLOOR_STYLES = ("tiles", "planks", "plain")
+HARD_TRAITS = ("contrast", "lines", "busy", "low", "yaw", "far", "label", "rough")
 
 
 # ---------------------------------------------------------------------- the scene description
@@ -67,6 +68,7 @@ class SceneSpec:
     light_x: float = 0.2  # light direction (x, 1 = downwards, z) shading the box faces
     light_z: float = 0.6
     hard: bool = False  # a label for statistics only
+    traits: tuple[str, ...] = ()  # which hard-case traits SceneSpec.random mixed in
 
     def __post_init__(self) -> None:
         for name in ("width_m", "height_m", "length_m", "distance_m", "tile_m"):
@@ -85,6 +87,8 @@ class SceneSpec:
         for key in ("box_color", "floor_color", "seam_color", "wall_color", "skirting_color"):
             if key in clean:
                 clean[key] = tuple(float(c) for c in clean[key])
+        if "traits" in clean:
+            clean["traits"] = tuple(str(t) for t in clean["traits"])
         return cls(**clean)
 
     @classmethod
@@ -94,19 +98,27 @@ class SceneSpec:
         hard: bool = False,
         camera: CameraModel | None = None,
         rig: Rig | None = None,
+        traits: tuple[str, ...] | None = None,
     ) -> SceneSpec:
         """A varied scene whose obstacle's front face lies wholly inside the image.
 
         Ordinary scenes: a clearly contrasting box at 0.4-3 m, face at least ~30 px.
-        Hard scenes mix two to four of: low contrast, distractor lines (skirting, shelves,
-        strong seams), busy walls and other boxes, a low box whose top shows, yaw of a few
-        degrees, small/far boxes, a stripe across the face, heavy noise/blur/light gradient.
+        Hard scenes mix one to three (or exactly ``traits``) of HARD_TRAITS: "contrast"
+        (low contrast), "lines" (skirting, shelves, strong seams), "busy" (cluttered wall,
+        other boxes), "low" (a low box whose top shows), "yaw" (2-6 degrees), "far"
+        (small boxes at 2.5-4.8 m), "label" (a stripe across the face), "rough" (heavy
+        noise, blur, light gradient).
         """
+        if traits is not None:
+            unknown = set(traits) - set(HARD_TRAITS)
+            if unknown:
+                raise ValueError(f"unknown traits {sorted(unknown)}; known: {HARD_TRAITS}")
+            hard = hard or bool(traits)
         gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
         cam = camera if camera is not None else CameraModel.paper()
         the_rig = rig if rig is not None else Rig()
         for _ in range(200):
-            spec = _draw(gen, hard, the_rig)
+            spec = _draw(gen, hard, the_rig, traits)
             if _fits(spec, cam, the_rig, min_px=15.0 if hard else 30.0):
                 return spec
         raise RuntimeError(
@@ -144,7 +156,9 @@ def _scaled(ref: Color, grey: float) -> Color:
     return tuple(float(np.clip(c * k, 0, 255)) for c in ref)  # type: ignore[return-value]
 
 
-def _draw(gen: np.random.Generator, hard: bool, rig: Rig) -> SceneSpec:
+def _draw(
+    gen: np.random.Generator, hard: bool, rig: Rig, chosen: tuple[str, ...] | None
+) -> SceneSpec:
     floor = _color(gen, 60, 200)
     wall = _color(gen, 80, 235)
     seam_delta = gen.uniform(15, 40) * gen.choice([-1.0, 1.0])
@@ -182,12 +196,13 @@ def _draw(gen: np.random.Generator, hard: bool, rig: Rig) -> SceneSpec:
     half_beam = kw["distance_m"] * math.tan(rig.beam_half_rad)
     kw["lateral_m"] = float(gen.uniform(-0.5, 0.5) * half_beam)
     if hard:
-        traits = gen.choice(
-            ["contrast", "lines", "busy", "low", "yaw", "far", "label", "rough"],
-            size=int(gen.integers(2, 5)),
-            replace=False,
-        )
+        if chosen is None:
+            picked = gen.choice(HARD_TRAITS, size=int(gen.integers(1, 4)), replace=False)
+            traits = tuple(str(t) for t in picked)
+        else:
+            traits = tuple(chosen)
         kw["hard"] = True
+        kw["traits"] = tuple(sorted(traits))
         if "contrast" in traits:
             # low, not zero: the lit front face 10-20 grey levels from the floor and
             # 12-25 from the wall, in the floor's hue

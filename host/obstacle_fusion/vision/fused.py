@@ -152,6 +152,7 @@ class FusedMethod:
         ax = np.abs(gx)
         ay = np.abs(gy)
         ax3 = cv2.dilate(ax, self._kernel3)  # tolerate a column of drift on vertical edges
+        axs = ax3
         noise = float(np.median(ay[::3, ::3])) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -189,11 +190,11 @@ class FusedMethod:
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
                 continue
-            left = self._rank_sides(ax3, prof_v, peaks[peaks <= u_hi], rb, noise)
-            right = self._rank_sides(ax3, prof_v, peaks[peaks >= u_lo], rb, noise)
+            left = self._rank_sides(axs, prof_v, peaks[peaks <= u_hi], rb, noise)
+            right = self._rank_sides(axs, prof_v, peaks[peaks >= u_lo], rb, noise)
             cols: dict[int, _Side] = {}
             for c in {*left, *right}:
-                cols[c] = _Side(ax3[:rb, c], max(0.25 * float(prof_v[c]), 2.5 * noise), rb)
+                cols[c] = _Side(axs[:rb, c], max(0.25 * float(prof_v[c]), 2.5 * noise), rb)
             for ul in left:
                 for ur in right:
                     if ur - ul < min_w:
@@ -278,9 +279,51 @@ class FusedMethod:
             return None
         # rows just below a top candidate with no vertical edge: the top face of a low box
         hole = 0.5 * (_hole_below(el, tops) + _hole_below(er, tops))
-        fit = np.exp(-hole / 2.0) * cov[tops] ** 2 * stop[tops] ** 2
-        score_t = np.minimum(np.maximum(snr_t[tops], 0.5), 20.0) ** 0.25 * fit
+        # the box's top edge stops at its sides; a shelf or skirting line runs on
+        wo = max(3, (ur - ul) // 5)
+        h_ay, w_ay = ay.shape
+        o_l = ay[tops, max(0, ul - 1 - wo) : max(1, ul - 1)].mean(axis=1)
+        o_r = ay[tops, min(w_ay - 1, ur + 2) : min(w_ay, ur + 2 + wo)].mean(axis=1)
+        inside = np.maximum(prof_t[tops], 1e-3)
+        contained = np.clip(1.0 - np.maximum(o_l, o_r) / inside, 0.0, 1.0)
+        # texture inside the face (books on a shelf behind a box's top) is not the face
+        tex_rows = (ax3[:rb, c0:c1].mean(axis=1) > 3.0 * noise).astype(np.float64)
+        tex_below = np.cumsum(tex_rows[::-1])[::-1]
+        textured = tex_below[tops] / np.maximum(rb - tops, 1)
+        # A hole is a top face only if one fits there: a top face shows below the horizon
+        # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
+        # a side losing contrast against the background, a milder fault.
+        hole_max = np.maximum(0.0, (tops - self.view.cy) * 2.0 / self._depth) + 1.0
+        soft = np.exp(-hole / np.maximum(4.0, 0.5 * (rb - tops)))
+        hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
+        feats = {
+            "snr": snr_t[tops],
+            "hole": hole,
+            "hole_fit": hole_fit,
+            "cov": cov[tops],
+            "stop": stop[tops],
+            "contained": contained,
+            "textured": textured,
+        }
+        score_t, fit = self._top_score(feats, tops, rb, ul, ur)
         i = int(np.argmax(score_t))
+        if log.isEnabledFor(logging.DEBUG):
+            for j in np.argsort(-score_t)[:5]:
+                log.debug(
+                    "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
+                    "stop %.2f contained %.2f textured %.2f",
+                    ul,
+                    ur,
+                    rb,
+                    tops[j],
+                    score_t[j],
+                    snr_t[tops[j]],
+                    hole[j],
+                    cov[tops[j]],
+                    stop[tops[j]],
+                    contained[j],
+                    textured[j],
+                )
         vt = int(tops[i])
         snr_l = float(ax3[vt:rb, ul].mean()) / noise
         snr_r = float(ax3[vt:rb, ur].mean()) / noise
@@ -294,6 +337,20 @@ class FusedMethod:
         score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
         conf = float(fit[i]) * (1.0 - math.exp(-min(side, horiz) / 6.0)) * (0.5 + 0.5 * prior_b)
         return (score, rb, ul, ur, vt, float(np.clip(conf, 0.0, 1.0)))
+
+    def _top_score(
+        self, f: dict[str, npt.NDArray[Any]], tops: npt.NDArray[np.intp], rb: int, ul: int, ur: int
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Score of each top candidate and its shape fit (0..1) from the edge evidence."""
+        fit = (
+            f["hole_fit"]
+            * f["cov"] ** 2
+            * f["stop"] ** 2
+            * (0.3 + 0.7 * f["contained"])
+            * (1.0 - f["textured"])
+        )
+        score = np.minimum(np.maximum(f["snr"], 0.5), 20.0) ** 0.25 * fit
+        return score, fit
 
     def _front_top(
         self, gy: F32, rb: int, ul: int, ur: int, vt: int, noise: float
