@@ -25,7 +25,14 @@ from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
 from obstacle_fusion.outputs.video import AnnotatedVideoWriter
-from obstacle_fusion.protocol.generated import Config, Hello, Log, Range, TimeSyncReply
+from obstacle_fusion.protocol.generated import (
+    Config,
+    Hello,
+    Log,
+    Range,
+    RangeStatus,
+    TimeSyncReply,
+)
 from obstacle_fusion.sonar import SonarConverter
 from obstacle_fusion.sources import Frame, FrameSource
 
@@ -166,7 +173,7 @@ class App:
             self.clock.add_sync(item.t_send, item.t_host, msg.rx_us, msg.tx_us)
         elif isinstance(msg, Range):
             echo_us = msg.echo_ticks * 1_000_000 // max(self.timer_hz, 1)
-            if msg.status != 2 or msg.echo_ticks:  # a timeout's echo end is unknown
+            if msg.status != RangeStatus.TIMEOUT:  # a timeout's frame leaves at the timeout
                 self.clock.add_oneway(item.t_host, (msg.trigger_us + echo_us) & 0xFFFFFFFF)
             self.rates["ranges"].tick(item.t_host)
             self._unmapped.append(item)
