@@ -172,6 +172,11 @@ class FusedMethod:
             pk = np.array([int(np.argmax(prof_b))])
         order = np.argsort(-(prof_b[pk] * prior_b[pk]))[:_MAX_BOTTOM_CANDIDATES]
         bottoms = [(int(rows_b[pk[i]]), float(prior_b[pk[i]])) for i in order]
+        # the row the range predicts is always a candidate: a dark box on a dark floor
+        # can leave its floor-contact edge too faint to peak
+        predicted = int(round(vb0))
+        if r0b <= predicted <= r1b and all(abs(rb - predicted) > 1 for rb, _ in bottoms):
+            bottoms.append((predicted, 1.0))
 
         best: tuple[float, int, int, int, int, float] | None = None  # score, rb, ul, ur, vt, conf
         min_w = max(4.0, v.fx * MIN_SIZE_M / depth)
@@ -182,19 +187,22 @@ class FusedMethod:
                 continue
             # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
             # bottom: a side may lack contrast against the floor yet not against the wall
-            prof_v = ax[top_strip : rb - 1].mean(axis=0)
+            prof_short = ax[top_strip : rb - 1].mean(axis=0)
+            prof_v = prof_short
             tall = max(0, rb - 1 - int(np.clip(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
             if tall < top_strip:
-                prof_v = np.maximum(prof_v, ax[tall : rb - 1].mean(axis=0))
+                prof_v = np.maximum(prof_short, ax[tall : rb - 1].mean(axis=0))
             base = float(np.median(prof_v)) + 0.5
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
                 continue
-            left = self._rank_sides(axs, prof_v, peaks[peaks <= u_hi], rb, noise)
-            right = self._rank_sides(axs, prof_v, peaks[peaks >= u_lo], rb, noise)
+            # presence thresholds from the strip nearest the floor, where the side may be
+            # faint (a dark box on a dark floor) while its upper part is not
+            left = self._rank_sides(axs, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
+            right = self._rank_sides(axs, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
             cols: dict[int, _Side] = {}
             for c in {*left, *right}:
-                cols[c] = _Side(axs[:rb, c], max(0.25 * float(prof_v[c]), 2.5 * noise), rb)
+                cols[c] = _Side(axs[:rb, c], max(0.25 * float(prof_short[c]), 2.5 * noise), rb)
             for ul in left:
                 for ur in right:
                     if ur - ul < min_w:
@@ -215,14 +223,19 @@ class FusedMethod:
 
     @staticmethod
     def _rank_sides(
-        ax3: F32, prof_v: F32, cols: npt.NDArray[np.intp], rb: int, noise: float
+        ax3: F32,
+        prof_v: F32,
+        prof_short: F32,
+        cols: npt.NDArray[np.intp],
+        rb: int,
+        noise: float,
     ) -> list[int]:
         """Strongest columns whose edge runs straight up from the floor-contact row."""
         if cols.size == 0:
             return []
         cols = cols[np.argsort(-prof_v[cols])][: 3 * _MAX_SIDE_CANDIDATES]
         col_vals = ax3[: rb - 1, cols][::-1]  # rows going up from the bottom
-        tv = np.maximum(0.25 * prof_v[cols], 2.5 * noise)
+        tv = np.maximum(0.25 * prof_short[cols], 2.5 * noise)
         on = col_vals > tv
         # run length: rows up to the first gap of 3 consecutive misses
         miss = ~on
