@@ -377,6 +377,27 @@ def _shrink(poly: FloatArray) -> FloatArray | None:
     return out
 
 
+def _shrink_quads(pix: FloatArray) -> tuple[FloatArray, npt.NDArray[np.bool_]]:
+    """_shrink for N convex quads at once; also which survived (thicker than a pixel)."""
+    a = pix
+    b = np.roll(pix, -1, axis=1)
+    area2 = np.sum(a[:, :, 0] * b[:, :, 1] - b[:, :, 0] * a[:, :, 1], axis=1)
+    orient = np.where(area2 > 0, 1.0, -1.0)[:, None]
+    d = b - a
+    length = np.maximum(np.hypot(d[:, :, 0], d[:, :, 1]), 1e-9)
+    nx = orient * d[:, :, 1] / length
+    ny = -orient * d[:, :, 0] / length
+    c = nx * a[:, :, 0] + ny * a[:, :, 1] - 0.5 * (np.abs(nx) + np.abs(ny))
+    n1x, n1y, c1 = np.roll(nx, 1, axis=1), np.roll(ny, 1, axis=1), np.roll(c, 1, axis=1)
+    det = n1x * ny - n1y * nx
+    safe = np.where(np.abs(det) < 1e-9, 1e-9, det)
+    out = np.stack([(c1 * ny - c * n1y) / safe, (n1x * c - nx * c1) / safe], axis=2)
+    b2 = np.roll(out, -1, axis=1)
+    area2b = np.sum(out[:, :, 0] * b2[:, :, 1] - b2[:, :, 0] * out[:, :, 1], axis=1)
+    good = (np.abs(area2) > 1e-9) & (area2b * area2 > 0) & np.all(np.abs(det) >= 1e-9, axis=1)
+    return out, good
+
+
 def _face_bounds(
     corners: FloatArray, camera: CameraModel, rig: Rig
 ) -> tuple[float, float, float, float]:
@@ -423,6 +444,7 @@ class SceneRenderer:
         self._xx = (xx / max(w - 1, 1) - 0.5).astype(np.float32)
         self._yy = (yy / max(h - 1, 1) - 0.5).astype(np.float32)
         self._r_world_to_cam = np.ascontiguousarray(rig.camera_to_robot)  # p_c = p_r @ R
+        self._noise: npt.NDArray[np.float32] | None = None
 
     # -- projection onto the supersampled ideal canvas
     def _to_canvas(self, cam_pts: FloatArray) -> FloatArray:
@@ -507,41 +529,59 @@ class SceneRenderer:
         t = spec.tile_m
         gap = 0.004 + 0.004 * gen.random()
         fc = np.array(spec.floor_color)
+        rects: list[tuple[float, float, float, float]] = []  # x0, x1, z0, z1
         if spec.floor_style == "tiles":
             xs = np.arange(-half, half, t) + gen.uniform(0, t)
             zs = np.arange(z_near - gen.uniform(0, t), wall_z, t)
             for z0 in zs:
                 for x0 in xs:
-                    col = tuple(np.clip(fc + gen.normal(0, 4), 0, 255))
-                    self._fill(
-                        _quad_y(
-                            x0 + gap,
-                            x0 + t - gap,
-                            max(z0 + gap, z_near),
-                            min(z0 + t - gap, wall_z),
-                            y,
-                        ),
-                        _shade(col, light),
+                    rects.append(
+                        (x0 + gap, x0 + t - gap, max(z0 + gap, z_near), min(z0 + t - gap, wall_z))
                     )
+            jitter = 4.0
         else:  # planks run forward, staggered ends
             pw = t / 3.0
-            xs = np.arange(-half, half, pw)
-            for x0 in xs:
+            for x0 in np.arange(-half, half, pw):
                 z0 = z_near - gen.uniform(0, 1.2)
                 while z0 < wall_z:
                     ln = gen.uniform(0.8, 1.5)
-                    col = tuple(np.clip(fc + gen.normal(0, 8), 0, 255))
-                    self._fill(
-                        _quad_y(
-                            x0 + gap,
-                            x0 + pw - gap,
-                            max(z0 + gap, z_near),
-                            min(z0 + ln - gap, wall_z),
-                            y,
-                        ),
-                        _shade(col, light),
+                    rects.append(
+                        (x0 + gap, x0 + pw - gap, max(z0 + gap, z_near), min(z0 + ln - gap, wall_z))
                     )
                     z0 += ln
+            jitter = 8.0
+        r = np.array(rects)
+        r = r[r[:, 3] > r[:, 2]]
+        colors = np.clip(fc + gen.normal(0, jitter, (len(r), 3)), 0, 255) * light
+        quads = np.empty((len(r), 4, 3))
+        quads[:, :, 1] = y
+        quads[:, 0, 0] = quads[:, 3, 0] = r[:, 0]
+        quads[:, 1, 0] = quads[:, 2, 0] = r[:, 1]
+        quads[:, 0, 2] = quads[:, 1, 2] = r[:, 2]
+        quads[:, 2, 2] = quads[:, 3, 2] = r[:, 3]
+        self._fill_many(quads, colors)
+
+    def _fill_many(self, quads: FloatArray, colors: FloatArray) -> None:
+        """Many convex quads at once: projection, culling and the half-pixel inset vectorised."""
+        cam = quads @ self._r_world_to_cam
+        ok = cam[:, :, 2] >= _NEAR_Z
+        for i in np.nonzero(ok.any(axis=1) & ~ok.all(axis=1))[0]:  # cross the near plane
+            self._fill(quads[i], tuple(colors[i]))  # type: ignore[arg-type]
+        keep = ok.all(axis=1)
+        cam, colors = cam[keep], colors[keep]
+        if len(cam) == 0:
+            return
+        pix = self._to_canvas(cam.reshape(-1, 3)).reshape(-1, 4, 2)
+        h, w = self._canvas.shape[:2]
+        lo, hi = pix.min(axis=1), pix.max(axis=1)
+        vis = (hi[:, 0] >= -1) & (hi[:, 1] >= -1) & (lo[:, 0] <= w) & (lo[:, 1] <= h)
+        pix, colors = np.clip(pix[vis], -4 * w, 4 * w), colors[vis]
+        if len(pix) == 0:
+            return
+        shrunk, good = _shrink_quads(pix)
+        pts = np.round(shrunk * (1 << _SHIFT)).astype(np.int32)
+        for i in np.nonzero(good)[0]:
+            cv2.fillConvexPoly(self._canvas, pts[i], tuple(colors[i]), cv2.LINE_8, _SHIFT)
 
     def _box(
         self, corners: FloatArray, color: Color, light_dir: FloatArray, label: Color | None
@@ -649,13 +689,24 @@ class SceneRenderer:
         if spec.blur_sigma > 0.05:
             img = cv2.GaussianBlur(img, (0, 0), spec.blur_sigma)
         angle = gen.uniform(0, 2 * math.pi)
-        gain = spec.light_gain * (
-            1.0 + spec.light_gradient * (math.cos(angle) * self._xx + math.sin(angle) * self._yy)
+        gain = np.float32(spec.light_gain) * (
+            1.0
+            + np.float32(spec.light_gradient)
+            * (np.float32(math.cos(angle)) * self._xx + np.float32(math.sin(angle)) * self._yy)
         )
-        f = img.astype(np.float32) * gain[:, :, None]
+        f = img.astype(np.float32)
+        f *= gain[:, :, None]
         if spec.noise_sigma > 0:
-            f += gen.standard_normal(f.shape, dtype=np.float32) * np.float32(spec.noise_sigma)
-        return np.clip(f, 0, 255).astype(np.uint8)
+            # unit Gaussian noise drawn once per renderer; each frame takes a random window
+            h, w = img.shape[:2]
+            if self._noise is None:
+                self._noise = np.random.default_rng(12345).standard_normal(
+                    (2 * h, 2 * w, 3), dtype=np.float32
+                )
+            oy, ox = int(gen.integers(0, h)), int(gen.integers(0, w))
+            f += self._noise[oy : oy + h, ox : ox + w] * np.float32(spec.noise_sigma)
+        np.clip(f, 0, 255, out=f)
+        return f.astype(np.uint8)
 
 
 def _shade(color: Color | tuple[Any, ...], k: float) -> Color:

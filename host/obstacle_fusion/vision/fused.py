@@ -38,6 +38,25 @@ _MAX_BOTTOM_CANDIDATES = 3
 MIN_SIZE_M = 0.03  # smallest face side the method looks for
 
 
+def _clamp(x: float, lo: float, hi: float) -> float:
+    return lo if x < lo else hi if x > hi else x
+
+
+def _median(a: npt.NDArray[Any]) -> float:
+    """Median by partition: np.median's wrapper costs more than the work on small arrays."""
+    flat = a.ravel()
+    if flat.size == 0:
+        return 0.0
+    k = flat.size // 2
+    return float(np.partition(flat, k)[k])
+
+
+def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
+    """Mean via sum (np.mean's Python-level wrapper dominates on small arrays)."""
+    n = a.size if axis is None else a.shape[axis]
+    return a.sum(axis=axis) * (1.0 / max(n, 1))
+
+
 def _local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
     if p.size < 3:
         return np.zeros(0, np.intp)
@@ -54,7 +73,7 @@ def _subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.floa
     den = y0 - 2.0 * y1 + y2
     with np.errstate(divide="ignore", invalid="ignore"):
         off = np.where(den < 0, 0.5 * (y0 - y2) / den, 0.0)
-    return np.clip(off, -0.5, 0.5).astype(np.float64)
+    return np.minimum(np.maximum(off, -0.5), 0.5).astype(np.float64)
 
 
 def _hole_below(on: npt.NDArray[np.float64], tops: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
@@ -94,10 +113,10 @@ class _Side:
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
     """y = a + b x, least squares with one round of outlier rejection."""
     if x.size < 2:
-        return (float(np.median(y)) if y.size else 0.0, 0.0)
+        return (_median(y) if y.size else 0.0, 0.0)
     a, b = _lsq(x, y)
     res = np.abs(y - (a + b * x))
-    keep = res <= max(0.75, 2.5 * float(np.median(res)))
+    keep = res <= max(0.75, 2.5 * _median(res))
     if 2 <= int(keep.sum()) < x.size:
         a, b = _lsq(x[keep], y[keep])
     return a, b
@@ -127,8 +146,6 @@ class FusedMethod:
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
-        grey = v.warp(image)
-        timer.lap("undistort")
         depth = rig.face_depth(range_m)
         self._depth = depth
         if depth <= 0.05:
@@ -146,24 +163,25 @@ class FusedMethod:
             )
             return fail
         roi_end = min(h_img, r1b + 4)
-        roi = grey[:roi_end]
+        roi = v.warp(image, roi_end)  # only the rows above the floor-contact band
+        timer.lap("undistort")
         gx = cv2.Sobel(roi, cv2.CV_32F, 1, 0, ksize=3)
         gy = cv2.Sobel(roi, cv2.CV_32F, 0, 1, ksize=3)
         ax = np.abs(gx)
         ay = np.abs(gy)
         ax3 = cv2.dilate(ax, self._kernel3)  # tolerate a column of drift on vertical edges
         axs = ax3
-        noise = float(np.median(ay[::3, ::3])) / 0.6745 + 1.0
+        noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
         xb0, xb1 = rig.beam_x_bounds(range_m)
-        u_lo = int(np.clip(math.floor(v.cx + v.fx * xb0 / depth), 2, w_img - 3))
-        u_hi = int(np.clip(math.ceil(v.cx + v.fx * xb1 / depth), 2, w_img - 3))
+        u_lo = int(_clamp(math.floor(v.cx + v.fx * xb0 / depth), 2, w_img - 3))
+        u_hi = int(_clamp(math.ceil(v.cx + v.fx * xb1 / depth), 2, w_img - 3))
         if u_hi - u_lo < 4:
             mid = (u_lo + u_hi) // 2
             u_lo, u_hi = max(2, mid - 2), min(w_img - 3, mid + 2)
 
-        prof_b = ay[r0b : r1b + 1, u_lo : u_hi + 1].mean(axis=1)
+        prof_b = _mean(ay[r0b : r1b + 1, u_lo : u_hi + 1], 1)
         rows_b = np.arange(r0b, r1b + 1)
         prior_b = 0.5 + 0.5 * np.exp(-0.5 * ((rows_b - vb0) / max(tol / 2.0, 1.0)) ** 2)
         pk = _local_maxima(np.pad(prof_b, 1), 0.0) - 1
@@ -181,18 +199,18 @@ class FusedMethod:
         best: tuple[float, int, int, int, int, float] | None = None  # score, rb, ul, ur, vt, conf
         min_w = max(4.0, v.fx * MIN_SIZE_M / depth)
         for rb, pb in bottoms:
-            k = int(np.clip(round(v.fy * 0.05 / depth), 3, 25))
+            k = int(_clamp(round(v.fy * 0.05 / depth), 3, 25))
             top_strip = max(0, rb - 1 - k)
             if rb - 2 <= top_strip:
                 continue
             # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
             # bottom: a side may lack contrast against the floor yet not against the wall
-            prof_short = ax[top_strip : rb - 1].mean(axis=0)
+            prof_short = _mean(ax[top_strip : rb - 1], 0)
             prof_v = prof_short
-            tall = max(0, rb - 1 - int(np.clip(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
+            tall = max(0, rb - 1 - int(_clamp(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
             if tall < top_strip:
-                prof_v = np.maximum(prof_short, ax[tall : rb - 1].mean(axis=0))
-            base = float(np.median(prof_v)) + 0.5
+                prof_v = np.maximum(prof_short, _mean(ax[tall : rb - 1], 0))
+            base = _median(prof_v) + 0.5
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
                 continue
@@ -267,8 +285,8 @@ class FusedMethod:
         top_limit = rb - min_h
         if top_limit < 3:
             return None
-        snr_b = float(ay[rb - 1 : rb + 2, c0:c1].max(axis=0).mean()) / noise
-        prof_t = ay[:top_limit, c0:c1].mean(axis=1)
+        snr_b = float(_mean(ay[rb - 1 : rb + 2, c0:c1].max(axis=0))) / noise
+        prof_t = _mean(ay[:top_limit, c0:c1], 1)
         el, er = side_l.on, side_r.on
         # coverage of each side from row r down to the bottom, and just above r
         rows = self._rows[:top_limit]
@@ -295,12 +313,12 @@ class FusedMethod:
         # the box's top edge stops at its sides; a shelf or skirting line runs on
         wo = max(3, (ur - ul) // 5)
         h_ay, w_ay = ay.shape
-        o_l = ay[tops, max(0, ul - 1 - wo) : max(1, ul - 1)].mean(axis=1)
-        o_r = ay[tops, min(w_ay - 1, ur + 2) : min(w_ay, ur + 2 + wo)].mean(axis=1)
+        o_l = _mean(ay[tops, max(0, ul - 1 - wo) : max(1, ul - 1)], 1)
+        o_r = _mean(ay[tops, min(w_ay - 1, ur + 2) : min(w_ay, ur + 2 + wo)], 1)
         inside = np.maximum(prof_t[tops], 1e-3)
-        contained = np.clip(1.0 - np.maximum(o_l, o_r) / inside, 0.0, 1.0)
+        contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
         # texture inside the face (books on a shelf behind a box's top) is not the face
-        tex_rows = (ax3[:rb, c0:c1].mean(axis=1) > 3.0 * noise).astype(np.float64)
+        tex_rows = (_mean(ax3[:rb, c0:c1], 1) > 3.0 * noise).astype(np.float64)
         tex_below = np.cumsum(tex_rows[::-1])[::-1]
         textured = tex_below[tops] / np.maximum(rb - tops, 1)
         # A hole is a top face only if one fits there: a top face shows below the horizon
@@ -338,8 +356,8 @@ class FusedMethod:
                     textured[j],
                 )
         vt = int(tops[i])
-        snr_l = float(ax3[vt:rb, ul].mean()) / noise
-        snr_r = float(ax3[vt:rb, ur].mean()) / noise
+        snr_l = float(_mean(ax3[vt:rb, ul])) / noise
+        snr_r = float(_mean(ax3[vt:rb, ur])) / noise
         side = min(snr_l, snr_r, 30.0)
         horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[vt])), snr_b, 30.0)
         if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
@@ -349,7 +367,7 @@ class FusedMethod:
             return None
         score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
         conf = float(fit[i]) * (1.0 - math.exp(-min(side, horiz) / 6.0)) * (0.5 + 0.5 * prior_b)
-        return (score, rb, ul, ur, vt, float(np.clip(conf, 0.0, 1.0)))
+        return (score, rb, ul, ur, vt, _clamp(conf, 0.0, 1.0))
 
     def _top_score(
         self, f: dict[str, npt.NDArray[Any]], tops: npt.NDArray[np.intp], rb: int, ul: int, ur: int
@@ -379,7 +397,7 @@ class FusedMethod:
         """
         v = self.view
         m = max(1, (ur - ul) // 8)
-        prof = gy[:rb, ul + m : ur - m].mean(axis=1)
+        prof = _mean(gy[:rb, ul + m : ur - m], 1)
         sign_vt = 1.0 if prof[vt] >= 0 else -1.0
         below_horizon = vt - v.cy
         reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
@@ -468,8 +486,8 @@ class FusedMethod:
             rl = vb_mid / max(bl[1] - v.cy, 1e-6)
             rr = vb_mid / max(br[1] - v.cy, 1e-6)
             if abs(rl - 1.0) > 0.01 or abs(rr - 1.0) > 0.01:
-                z_l = depth * float(np.clip(rl, 0.8, 1.25))
-                z_r = depth * float(np.clip(rr, 0.8, 1.25))
+                z_l = depth * _clamp(rl, 0.8, 1.25)
+                z_r = depth * _clamp(rr, 0.8, 1.25)
         ul_f = 0.5 * (bl[0] + tl[0])
         ur_f = 0.5 * (br[0] + tr[0])
         x_l = (ul_f - v.cx) * z_l / v.fx
@@ -543,7 +561,7 @@ class FusedMethod:
         centre = (cols >= ul + m) & (cols <= ur - m)
         if centre.sum() < 3:
             return va, vb
-        ref = float(np.median(strength[centre]))
+        ref = _median(strength[centre])
         on = (np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)
         mid = int(np.searchsorted(cols, (ul + ur) // 2))
         order = range(mid, -1, -1) if direction < 0 else range(mid, cols.size)
@@ -606,7 +624,7 @@ class FusedMethod:
         ref_rows = strength[rows >= mid0]
         if ref_rows.size < 3:
             return None
-        half = 0.5 * float(np.median(ref_rows))
+        half = 0.5 * _median(ref_rows)
         # going up from the reference part, the first row below half strength
         for i in range(int(np.searchsorted(rows, mid0)) - 1, 0, -1):
             if strength[i] < half <= strength[i + 1]:
@@ -618,7 +636,7 @@ class FusedMethod:
     def _fit_horizontal(
         ay: F32, cols: npt.NDArray[np.intp], row: int, h: int
     ) -> tuple[float, float]:
-        r0 = int(np.clip(row - 3, 0, h - 7))
+        r0 = int(_clamp(row - 3, 0, h - 7))
         win = ay[r0 : r0 + 7, cols]  # 7 rows around the edge; the peak within +-1 row
         lo = max(1, row - 1 - r0)
         peak = np.clip(np.argmax(win[lo : lo + 3], axis=0) + lo, 1, 5)
@@ -627,7 +645,7 @@ class FusedMethod:
 
     @staticmethod
     def _fit_vertical(ax: F32, rows: npt.NDArray[np.intp], col: int, w: int) -> tuple[float, float]:
-        c0 = int(np.clip(col - 3, 0, w - 7))
+        c0 = int(_clamp(col - 3, 0, w - 7))
         win = np.ascontiguousarray(ax[rows, c0 : c0 + 7].T)
         lo = max(1, col - 1 - c0)
         peak = np.clip(np.argmax(win[lo : lo + 3], axis=0) + lo, 1, 5)

@@ -95,21 +95,25 @@ class View:
         self.grey = np.empty((camera.height, camera.width), np.uint8)
         self.out = np.empty((camera.height, camera.width), np.uint8)
 
-    def warp(self, image: npt.NDArray[Any]) -> npt.NDArray[np.uint8]:
-        """Input frame (BGR or grey) to this view's grey image (a reused buffer)."""
+    def warp(self, image: npt.NDArray[Any], rows: int | None = None) -> npt.NDArray[np.uint8]:
+        """Input frame (BGR or grey) to this view's grey image (a reused buffer).
+
+        ``rows`` limits the work to the view's top rows when only they are needed.
+        """
         if image.ndim == 3:
             src = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY, dst=self.grey)
         else:
             src = image
+        n = self.out.shape[0] if rows is None else max(1, min(int(rows), self.out.shape[0]))
         cv2.remap(
             src,
-            self.map1,
-            self.map2,
+            self.map1[:n],
+            self.map2[:n],
             cv2.INTER_LINEAR,
-            dst=self.out,
+            dst=self.out[:n],
             borderMode=cv2.BORDER_REPLICATE,
         )
-        return self.out
+        return self.out[:n]
 
     def to_input(self, pts: npt.ArrayLike) -> FloatArray:
         """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""
