@@ -159,3 +159,34 @@ def test_scaled_resolution_and_json() -> None:
         "timings_ms",
     ):
         assert key in d
+
+
+def test_odd_frames_never_raise() -> None:
+    """Noise, blank, binary and tiny frames with odd rigs: an answer or detected=false."""
+    rng = np.random.default_rng(fresh_seed())
+    for i in range(40):
+        w = int(rng.choice([40, 64, 320, 500]))
+        h = w * 3 // 4
+        cam = CameraModel.paper(w, h)
+        rig = Rig(camera_height_m=float(rng.uniform(0.02, 1.5)),
+                  camera_pitch_deg=float(rng.uniform(-30, 30)))
+        kind = i % 4
+        if kind == 0:
+            img = rng.integers(0, 256, (h, w, 3)).astype(np.uint8)
+        elif kind == 1:
+            img = np.zeros((h, w), np.uint8)
+        elif kind == 2:
+            img = np.full((h, w, 3), 200, np.uint8)
+            y0, y1 = sorted(rng.integers(0, h, 2))
+            x0, x1 = sorted(rng.integers(0, w, 2))
+            img[y0:y1, x0:x1] = 30
+        else:
+            img = (rng.integers(0, 2, (h, w)) * 255).astype(np.uint8)
+        for method in ("fused", "paper"):
+            res = Measurer(cam, rig, method).measure(img, float(rng.uniform(0.02, 5.0)))
+            d = res.to_dict()
+            assert d["detected"] in (True, False)
+            if res.detected:
+                assert res.height_m is not None and np.isfinite(res.height_m)
+            else:
+                assert res.reason
