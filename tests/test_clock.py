@@ -111,10 +111,8 @@ def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
     ppm: float, uno_elf: object, emulator_factory: object
 ) -> None:
     """The real firmware under simavr with its crystal `ppm` off, the host's link and clock
-    model as the app runs them; the truth is the emulator's own timeline: the host instant
-    of simulated time 0 (measured through the control channel, median of many queries)
-    plus the truth log's trigger time on the true (wall) clock."""
-    import statistics
+    model as the app runs them; the truth is the emulator's own timeline: its pacing anchor
+    (wall0_s, cycle0) puts every trigger cycle of the truth log at an exact host instant."""
     import time
 
     from obstacle_fusion.link import Link
@@ -125,9 +123,7 @@ def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
     link.start()
     model = ClockModel()
     online: list[tuple[float, Range, float | None]] = []
-    wall0: list[float] = []
     t_start = time.monotonic()
-    next_query = 0.0
     try:
         while time.monotonic() - t_start < 12.0:
             for item in link.drain():
@@ -138,25 +134,20 @@ def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
                     end_us = msg.trigger_us + msg.echo_ticks // 2  # 2 MHz ticks -> us
                     model.add_oneway(item.t_host, end_us & 0xFFFFFFFF)
                     online.append((item.t_host, msg, model.to_host(msg.trigger_us)))
-            now = time.monotonic()
-            if now >= next_query:
-                next_query = now + 0.2
-                t_a = time.monotonic()
-                sim = emu.control.sim_time()
-                t_b = time.monotonic()
-                if t_b - t_a < 2e-3:
-                    wall0.append((t_a + t_b) / 2 - sim / (1 + ppm * 1e-6))
             time.sleep(0.005)
     finally:
         link.close()
-    max_lag_s = emu.control.stats()["max_lag_s"]
-    origin = statistics.median(wall0)
+    stats = emu.control.stats()
+    max_lag_s = stats["max_lag_s"]
+    # The emulator's pacing anchor gives the exact host instant of every simulated cycle.
+    rate = stats["freq_hz"] * (1 + ppm * 1e-6)
     truth = {r.index: r for r in emu.truth.read()}
     errors = []
     for t_arrival, msg, mapped in online:
         rec = truth.get(msg.measurement)
         if t_arrival - t_start >= 10.0 and mapped is not None and rec is not None:
-            errors.append(abs(mapped - (origin + rec.trigger_s / (1 + ppm * 1e-6))))
+            true_host = stats["wall0_s"] + (rec.trigger_cycle - stats["cycle0"]) / rate
+            errors.append(abs(mapped - true_host))
     assert len(errors) >= 20
     est = model.estimate()
     assert est is not None and est.drift_ppm == pytest.approx(ppm, abs=50)

@@ -62,6 +62,8 @@ typedef struct {
     uart_faults_t faults;
     quirks_t quirks;
     int model_rx_overrun;
+    int uart_rate_fix;
+    int tx_timer_armed;
     control_t control;
     int have_control;
     FILE *truth;
@@ -329,6 +331,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
             e->quirks.flag_fix = 0;
             e->sp.exact_edges = 0;
             e->model_rx_overrun = 0;
+            e->uart_rate_fix = 0;
             break;
         case O_ELF: e->elf = optarg; break;
         case 'v': e->verbose++; break;
@@ -383,7 +386,7 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              "tx_overflow=%llu rx_bytes=%llu rx_fed=%llu rx_overruns=%llu dropped=%llu "
              "corrupted=%llu inserted=%llu resets=%llu tifr_restored=%llu flags_cleared=%llu "
              "level_polls_cancelled=%llu client=%d "
-             "max_lag_s=%.6f",
+             "max_lag_s=%.6f wall0_s=%.9f cycle0=%llu freq_hz=%lu uart_cycles_per_byte=%llu",
              sim_seconds(e), (unsigned long long)e->avr->cycle,
              meas, ignored, shorts, (unsigned long long)b->tx_bytes,
              (unsigned long long)b->tx_written, (unsigned long long)b->tx_no_client,
@@ -393,7 +396,11 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              (unsigned long long)b->inserted, (unsigned long long)e->resets,
              (unsigned long long)e->quirks.tifr_restored,
              (unsigned long long)e->quirks.flags_cleared,
-             (unsigned long long)e->quirks.level_polls_cancelled, e->bridge.client, e->max_lag_s);
+             (unsigned long long)e->quirks.level_polls_cancelled, e->bridge.client, e->max_lag_s,
+             /* The pacing anchor: cycle c runs at CLOCK_MONOTONIC wall0_s + (c - cycle0) /
+              * (freq_hz * (1 + ppm/1e6)), the exact host time of any MCU event. */
+             now_s(&e->wall0), (unsigned long long)e->cycle0, (unsigned long)e->avr->frequency,
+             (unsigned long long)bridge_cycles_per_byte(&e->bridge));
 }
 
 static void handle_command(void *ctx, char *line, char *reply, size_t n)
@@ -577,12 +584,33 @@ static void pace_to(emu_t *e, avr_cycle_count_t cycle)
     }
 }
 
+/* simavr 1.6 times every byte as 11 bits at UBRR, ignoring U2X0: with U2X0 set (how
+ * Arduino runs 115200 at 16 MHz) the emulated line ran at half speed, twice as long one
+ * way as the other for unequal frames, which skews a host's round-trip clock estimate.
+ * Keep the USART's byte time at the chip's: (UBRR + 1) * (U2X ? 8 : 16) cycles per bit,
+ * times start + data + parity + stop bits. simavr reads this field for UDRE, TXC and RXC. */
+static void uart_rate_fix(emu_t *e)
+{
+    avr_uart_t *u = e->bridge.uart;
+    if (!e->uart_rate_fix || !u)
+        return;
+    avr_t *avr = e->avr;
+    uint32_t ubrr = avr_regbit_get(avr, u->ubrrl) | ((uint32_t)avr_regbit_get(avr, u->ubrrh) << 8);
+    uint32_t per_bit = (ubrr + 1u) * (avr_regbit_get(avr, u->u2x) ? 8u : 16u);
+    uint32_t ucsz = avr_regbit_get(avr, u->ucsz);
+    uint32_t data = (ucsz == 3u && avr_regbit_get(avr, u->ucsz2)) ? 9u : 5u + ucsz;
+    uint32_t parity = ((avr->data[u->r_ucsrc] >> 4) & 3u) ? 1u : 0u;
+    uint32_t bits = 1u + data + parity + 1u + (avr_regbit_get(avr, u->usbs) ? 1u : 0u);
+    u->cycles_per_byte = (avr_cycle_count_t)per_bit * bits;
+}
+
 static avr_cycle_count_t service_tick(avr_t *avr, avr_cycle_count_t when, void *param)
 {
     emu_t *e = param;
     (void)avr;
     /* Real time: first wait for the wall clock, then hand over the bytes due by now, so
      * a byte reaches the host at most one service interval late and never early. */
+    uart_rate_fix(e);
     if (!e->fast)
         pace_to(e, when);
     service_io(e, 1);
@@ -592,6 +620,36 @@ static avr_cycle_count_t service_tick(avr_t *avr, avr_cycle_count_t when, void *
     if (++e->ticks % (1 + (uint64_t)(0.05 / (e->service_us * 1e-6))) == 0)
         check_parent(e);
     return when + e->service_cycles;
+}
+
+/* Real time: a byte goes to the host at its own due cycle, not at the next service tick,
+ * so MCU-to-host latency is the line's alone (host-to-MCU bytes already enter as they
+ * come); a round-trip clock estimate then sees both directions alike. */
+static avr_cycle_count_t tx_due_tick(avr_t *avr, avr_cycle_count_t when, void *param)
+{
+    emu_t *e = param;
+    (void)avr;
+    pace_to(e, when);
+    service_io(e, 1);
+    uart_bridge_t *b = &e->bridge;
+    if (b->tx_tail == b->tx_head) {
+        e->tx_timer_armed = 0;
+        return 0;
+    }
+    avr_cycle_count_t due = b->tx_due[b->tx_tail & (BRIDGE_TX_SIZE - 1)];
+    /* Still due but not written (the host is not reading): look again a byte later. */
+    return due > when ? due : when + bridge_cycles_per_byte(b);
+}
+
+static void on_tx_byte(avr_irq_t *irq, uint32_t value, void *param)
+{
+    emu_t *e = param;
+    (void)irq;
+    (void)value;
+    if (e->fast || e->tx_timer_armed)
+        return;
+    e->tx_timer_armed = 1;
+    avr_cycle_timer_register(e->avr, bridge_cycles_per_byte(&e->bridge), tx_due_tick, e);
 }
 
 static void core_reset_hook(avr_t *avr)
@@ -608,6 +666,7 @@ static void after_reset(emu_t *e)
     g_core_was_reset = 0;
     e->resets++;
     e->bridge.rx_scheduled = 0;
+    e->tx_timer_armed = 0;
     avr_cycle_timer_register(e->avr, e->service_cycles, service_tick, e);
     for (int k = 0; k < e->nsensors; k++)
         sonar_rearm(&e->sonar[k]);
@@ -708,6 +767,7 @@ int main(int argc, char **argv)
     e->quirks.tifr_fix = 1;
     e->quirks.flag_fix = 1;
     e->model_rx_overrun = 1;
+    e->uart_rate_fix = 1;
     e->parent = getppid();
     parse_args(e, argc, argv);
     if (e->service_us <= 0.0)
@@ -754,6 +814,8 @@ int main(int argc, char **argv)
         die("cannot create a pseudo-terminal: %s", strerror(errno));
     if (bridge_attach(&e->bridge, avr, &e->rng_uart, &e->faults, e->model_rx_overrun))
         die("the MCU %s has no USART0", avr->mmcu);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT),
+                            on_tx_byte, e);
     if (e->control_path) {
         char err[512];
         if (control_open(&e->control, e->control_path, handle_command, e, err, sizeof err))
