@@ -326,3 +326,49 @@ def test_no_orphan_when_the_starting_process_dies(emulator_built: Path) -> None:
             return True
 
     assert wait_for(gone, 5.0), f"emulator {pid} outlived its parent"
+
+
+def test_control_path_never_deletes_a_users_file(emulator_built: Path, tmp_path: Path) -> None:
+    """A mistyped --control naming an existing file is refused, and the file is kept."""
+    precious = tmp_path / "notes.txt"
+    precious.write_text("keep me\n")
+    proc = subprocess.run(
+        [".venv/bin/obstacle-fusion", "emulate", "--elf", str(firmware_for_tests("echo_test")),
+         "--fast", "--duration", "0.5", "--control", str(precious)],
+        capture_output=True, text=True, timeout=60,
+    )
+    assert proc.returncode == 2
+    assert "not a socket" in proc.stderr and "Traceback" not in proc.stderr
+    assert precious.read_text() == "keep me\n"
+
+
+def test_control_socket_of_a_running_emulator_is_not_stolen(
+    emulator_factory: Factory, emulator_built: Path
+) -> None:
+    first = emulator_factory(elf=firmware_for_tests("echo_test"), fast=True)
+    assert first.workdir is not None
+    sock = first.workdir / "control.sock"
+    proc = subprocess.run(
+        [str(emulator_built), "--fast", "--duration", "0.2", "--control", str(sock),
+         str(firmware_for_tests("echo_test"))],
+        capture_output=True, text=True, timeout=60,
+    )
+    assert proc.returncode == 2 and "another emulator is listening" in proc.stderr
+    assert first.control.stats()["measurements"] >= 0  # the first one still answers
+
+
+def test_emulate_cli_names_folders_and_bad_durations(emulator_built: Path, tmp_path: Path) -> None:
+    def emulate(*args: str) -> str:
+        proc = subprocess.run(
+            [".venv/bin/obstacle-fusion", "emulate", *args],
+            capture_output=True, text=True, timeout=60,
+        )
+        assert proc.returncode == 2 and "Traceback" not in proc.stderr
+        return proc.stderr
+
+    assert "is a folder" in emulate("--elf", str(tmp_path))
+    assert "scene file" in emulate("--scene", str(tmp_path)) and "is a folder" in emulate(
+        "--scene", str(tmp_path)
+    )
+    assert "--duration" in emulate("--duration", "nan")
+    assert "--duration" in emulate("--duration", "inf")

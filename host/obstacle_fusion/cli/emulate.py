@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import signal
 import subprocess
 import sys
@@ -77,12 +78,24 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.set_defaults(func=run)
 
 
+def _check_given_file(path: Path | None, what: str, hint: str = "") -> None:
+    """A path the user typed: say plainly when it is missing or a folder."""
+    if path is None:
+        return
+    if path.is_dir():
+        raise UserError(f"{what} {path} is a folder; give the file itself")
+    if not path.is_file():
+        raise UserError(f"no such {what}: {path}{hint}")
+
+
 def run(args: argparse.Namespace) -> int:
+    _check_given_file(
+        args.elf, "firmware ELF", " (`make setup` builds firmware/build/uno/obstacle-fusion.elf)"
+    )
+    _check_given_file(args.scene, "scene file")
     elf, binary = check_built(args.elf, emulator_binary())
-    if args.scene is not None and not args.scene.is_file():
-        raise UserError(f"no such scene file: {args.scene}")
-    if args.duration is not None and args.duration <= 0:
-        raise UserError("--duration must be > 0 seconds")
+    if args.duration is not None and not (0 < args.duration < math.inf):
+        raise UserError(f"--duration must be a number of seconds > 0, got {args.duration}")
     config = EmulatorConfig(
         elf=elf,
         distance_m=args.distance,

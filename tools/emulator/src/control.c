@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -35,7 +36,34 @@ int control_open(control_t *c, const char *path, control_handler_t h, void *ctx,
         snprintf(err, errlen, "socket: %s", strerror(errno));
         return -1;
     }
-    unlink(path);
+    /* Only a stale socket of ours is replaced: never a user's file (a mistyped --control
+     * must not delete it), nor the socket of an emulator that is still running. */
+    struct stat st;
+    if (lstat(path, &st) == 0) {
+        if (!S_ISSOCK(st.st_mode)) {
+            snprintf(err, errlen,
+                     "cannot listen on %s: it exists and is not a socket; give a new path "
+                     "for --control (the file is left as it is)",
+                     path);
+            close(fd);
+            return -1;
+        }
+        if (connect(fd, (struct sockaddr *)&a, sizeof a) == 0) {
+            snprintf(err, errlen,
+                     "cannot listen on %s: another emulator is listening there; give another "
+                     "path for --control",
+                     path);
+            close(fd);
+            return -1;
+        }
+        close(fd);
+        fd = socket(AF_UNIX, SOCK_STREAM, 0); /* a failed connect leaves fd unusable */
+        if (fd < 0) {
+            snprintf(err, errlen, "socket: %s", strerror(errno));
+            return -1;
+        }
+        unlink(path);
+    }
     if (bind(fd, (struct sockaddr *)&a, sizeof a) || listen(fd, 4)) {
         snprintf(err, errlen, "cannot listen on %s: %s", path, strerror(errno));
         close(fd);

@@ -20,7 +20,8 @@ typedef struct {
     void *ctx;
 } control_t;
 
-/* Listen on path (replaced if it exists); returns -1 with a message in err. */
+/* Listen on path; a stale socket there is replaced, anything else (a file, a live
+ * emulator's socket) is refused. Returns -1 with a message in err. */
 int control_open(control_t *c, const char *path, control_handler_t h, void *ctx, char *err,
                  size_t errlen);
 /* Accept clients and run complete command lines; never blocks. */
