@@ -182,8 +182,39 @@ def test_open_source_dispatches(folder: Path, video: Path) -> None:
         assert isinstance(src, VideoFileSource)
     with pytest.raises(SourceError, match="cannot open camera 98"):
         open_source("98")
-    with pytest.raises(SourceError, match="not a camera index"):
+    with pytest.raises(SourceError, match=r"no_such_thing\.mp4 does not exist.*not a camera index"):
         open_source("no_such_thing.mp4")
+    with pytest.raises(SourceError, match="not a camera index") as info:
+        open_source("webcam")
+    assert "does not exist" not in str(info.value)
+
+
+def test_a_single_image_is_not_taken_for_a_video(folder: Path) -> None:
+    """OpenCV opens one PNG as a one-frame "video"; a corrupt one gives none, silently."""
+    with pytest.raises(SourceError, match=r"single image.*folder.*measure"):
+        open_source(str(folder / "img1.png"))
+    with pytest.raises(SourceError, match="single image"):
+        open_source(str(folder / "img4.jpg"))
+
+
+def test_video_that_opens_but_never_decodes_says_so(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    broken = tmp_path / "frame.png"  # OpenCV opens it as an image sequence, then cannot read
+    broken.write_bytes(b"\x89PNG\r\n\x1a\nBROKEN")
+    with caplog.at_level(logging.ERROR):
+        with VideoFileSource(broken, fps=10.0) as src:
+            assert src.read() is None
+    assert src.end_reason is not None and "could be decoded" in src.end_reason
+    assert "could be decoded" in caplog.text
+
+
+def test_missing_camera_device_message_reads_once() -> None:
+    with pytest.raises(SourceError) as info:
+        CameraSource("/dev/video-none")
+    text = str(info.value)
+    assert text.startswith("camera device /dev/video-none does not exist. Try:")
+    assert "cannot open camera" not in text
 
 
 def test_closed_source_refuses_reads(folder: Path) -> None:

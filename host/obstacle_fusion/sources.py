@@ -180,9 +180,10 @@ class _QuietOpenCV:
         cv2.utils.logging.setLogLevel(self._level)
 
 
-def _camera_help(device: int | str) -> str:
+def _camera_help(device: int | str, problem: str | None = None) -> str:
+    lead = problem or f"cannot open camera {device!r}"
     return (
-        f"cannot open camera {device!r}. Try: `ls /dev/video*` or `v4l2-ctl --list-devices` "
+        f"{lead}. Try: `ls /dev/video*` or `v4l2-ctl --list-devices` "
         "to see which cameras exist; another index (0 is usually the built-in one); close "
         "other programs using the camera; on Linux, check you may read it (the 'video' group)"
     )
@@ -221,7 +222,7 @@ class CameraSource(FrameSource):
         if isinstance(device, int) and device < 0:
             raise SourceError(f"camera index must be >= 0, got {device}")
         if isinstance(device, str) and device.startswith("/dev/") and not Path(device).exists():
-            raise SourceError(f"camera device {device} does not exist. " + _camera_help(device))
+            raise SourceError(_camera_help(device, f"camera device {device} does not exist"))
         self.device = device
         self.latency_s = float(latency_s)
         self._consecutive_failures = 0
@@ -398,6 +399,10 @@ class VideoFileSource(FrameSource):
                 return self._frame(image, self._timeline.stamp(position), position)
             more = self.frame_count is not None and position < self.frame_count - 1
             if not more:
+                if self.stats.delivered == 0:
+                    # Opened but nothing decodes (a lone image, a broken file): say so.
+                    self.end_reason = f"no frame of {self.path} could be decoded"
+                    log.error("%s: %s", self.name, self.end_reason)
                 return None
             bad += 1
             self._skip(f"frame {position}", "could not be decoded")
@@ -505,7 +510,15 @@ def open_source(
     if path.is_dir():
         return ImageFolderSource(path, fps=fps or 10.0, realtime=realtime, clock=clock)
     if path.is_file():
+        if path.suffix.lower() in IMAGE_EXTENSIONS:
+            raise SourceError(
+                f"{path} is a single image, not a stream: put the images in a folder and "
+                "give the folder (they play in name order), or measure one photo with "
+                "`obstacle-fusion measure`"
+            )
         return VideoFileSource(path, fps=fps, realtime=realtime, clock=clock)
+    missing = f"{text} does not exist; " if (path.suffix or "/" in text) else ""
     raise SourceError(
-        f"{text!r} is not a camera index, a /dev/video device, a video file or an image folder"
+        f"{missing}{text!r} is not a camera index, a /dev/video device, a video file or an "
+        "image folder"
     )
