@@ -93,14 +93,18 @@ def test_uno_build_and_flash_through_make(tmp_path: Path, monkeypatch: pytest.Mo
     fake_tool(bindir, "avrdude", calls)
     monkeypatch.setenv("PATH", f"{bindir}{os.pathsep}{os.environ['PATH']}")
     build = tmp_path / "build"
-    assert (
-        main(["flash", "--board", "uno", "--port", "/dev/ttyFAKE0", "--build-dir", str(build)]) == 0
-    )
+    controller, device = os.openpty()  # a real character device stands in for the board
+    tty = os.ttyname(device)
+    try:
+        assert main(["flash", "--board", "uno", "--port", tty, "--build-dir", str(build)]) == 0
+    finally:
+        os.close(controller)
+        os.close(device)
     hexfile = build / "uno" / "obstacle-fusion.hex"
     assert hexfile.is_file() and hexfile.read_text().startswith(":")
     line = calls.read_text().strip()
     assert line.startswith("avrdude ")
-    assert "-p atmega328p" in line and "-c arduino" in line and "-P /dev/ttyFAKE0" in line
+    assert "-p atmega328p" in line and "-c arduino" in line and f"-P {tty}" in line
     assert f"flash:w:{hexfile}:i" in line
 
 
@@ -119,3 +123,71 @@ def test_uno_port_found_by_vid_pid(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     )
     assert main(["flash", "--board", "uno", "--build-dir", str(tmp_path / "build")]) == 0
     assert "-P /dev/ttyACM3" in calls.read_text()
+
+
+@pytest.mark.parametrize(
+    ("make_port", "expected"),
+    [
+        (lambda d: str(d / "ttyNOPE"), "does not exist"),
+        (lambda d: str(d), "is a folder, not a serial port"),
+        (lambda d: str(d / "notes.txt"), "is a file, not a serial port"),
+    ],
+)
+def test_a_port_that_cannot_be_a_board_is_refused_before_flashing(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    make_port,  # type: ignore[no-untyped-def]
+    expected: str,
+) -> None:
+    bindir = tmp_path / "bin"
+    bindir.mkdir()
+    calls = tmp_path / "calls.log"
+    fake_tool(bindir, "avrdude", calls)
+    monkeypatch.setenv("PATH", f"{bindir}{os.pathsep}{os.environ['PATH']}")
+    monkeypatch.setattr(flash_cli.shutil, "which", lambda name, *a, **k: f"/usr/bin/{name}")
+    (tmp_path / "notes.txt").write_text("not a port")
+    assert main(["flash", "--board", "uno", "--port", make_port(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert expected in err and "Traceback" not in err
+    assert not calls.exists()  # nothing was run
+
+
+def test_board_name_is_case_insensitive_and_build_dir_must_be_a_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    afile = tmp_path / "build.txt"
+    afile.write_text("")
+    assert main(["flash", "--board", "UNO", "--build-dir", str(afile)]) == 2
+    assert "is a file; give a folder" in capsys.readouterr().err
+
+
+def test_bluepill_port_without_stm32flash_is_not_ignored_silently(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    monkeypatch.setattr(
+        flash_cli.shutil,
+        "which",
+        lambda name, *a, **k: None if name in ("stm32flash", "openocd") else f"/usr/bin/{name}",
+    )
+    ran: list[list[str]] = []
+    monkeypatch.setattr(
+        flash_cli.subprocess, "run", lambda cmd: ran.append(cmd) or subprocess_ok()
+    )
+    controller, device = os.openpty()
+    try:
+        with caplog.at_level("WARNING"):
+            assert main(["flash", "--board", "bluepill", "--port", os.ttyname(device)]) == 0
+    finally:
+        os.close(controller)
+        os.close(device)
+    assert "stm32flash" in caplog.text and "ST-Link" in caplog.text
+    assert ran and ran[0][-1].startswith("PORT=")
+
+
+def subprocess_ok():  # type: ignore[no-untyped-def]
+    import subprocess
+
+    return subprocess.CompletedProcess([], 0)

@@ -9,8 +9,11 @@ port. Exactly one candidate is needed; none or several is a UserError that says 
 from __future__ import annotations
 
 import logging
+import os
+import stat
 from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Protocol
 
 from obstacle_fusion.errors import UserError
@@ -118,3 +121,26 @@ def find_board_port(ports: Iterable[PortInfo] | None = None) -> str:
         )
     log.info("using board port %s", found[0])
     return found[0].device
+
+
+def check_port(device: str) -> str:
+    """A port the user named, refused early when it cannot be a serial port.
+
+    Tools such as avrdude otherwise fail later with a message about something else. Only
+    POSIX device paths are checked: COM3 and pyserial URLs (socket://...) pass as given.
+    """
+    if os.name != "posix" or "://" in device:
+        return device
+    path = Path(device)
+    if not path.exists():
+        raise UserError(
+            f"serial port {device} does not exist; plug the board in and check the name "
+            "(ls /dev/ttyACM* /dev/ttyUSB*), or leave out --port to find the board by USB VID:PID"
+        )
+    if not stat.S_ISCHR(path.stat().st_mode):
+        kind = "a folder" if path.is_dir() else "a file"
+        raise UserError(
+            f"{device} is {kind}, not a serial port; give the board's device, e.g. "
+            "/dev/ttyACM0, or leave out --port to find the board by USB VID:PID"
+        )
+    return device

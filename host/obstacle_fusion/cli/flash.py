@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from obstacle_fusion.errors import UserError
-from obstacle_fusion.ports import find_board_port
+from obstacle_fusion.ports import check_port, find_board_port
 
 log = logging.getLogger(__name__)
 
@@ -60,7 +60,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "bootloader with avrdude, the blue pill with an ST-Link (st-flash or openocd) or "
         "through its serial bootloader with stm32flash when --port is given.",
     )
-    parser.add_argument("--board", required=True, choices=sorted(BOARDS), help="target board")
+    parser.add_argument(
+        "--board", required=True, type=str.lower, choices=sorted(BOARDS), help="target board"
+    )
     parser.add_argument("--port", help="serial port (default: the one board found by USB VID:PID)")
     parser.add_argument(
         "--firmware-dir", type=Path, default=FIRMWARE_DIR, help="firmware sources (Makefile)"
@@ -105,10 +107,18 @@ def run(args: argparse.Namespace) -> int:
             f"firmware sources not found in {firmware_dir}: run from a clone of the "
             "repository or pass --firmware-dir"
         )
+    if args.build_dir is not None and args.build_dir.exists() and not args.build_dir.is_dir():
+        raise UserError(f"--build-dir {args.build_dir} is a file; give a folder to build in")
     make = check_tools(board)
-    port = args.port
+    port = None if args.port is None else check_port(args.port)
     if port is None and BOARDS[board].needs_port:
         port = find_board_port()
+    if port is not None and not BOARDS[board].needs_port and shutil.which("stm32flash") is None:
+        log.warning(
+            "--port %s is used only by stm32flash (serial bootloader), which is not installed: "
+            "flashing through the ST-Link instead",
+            port,
+        )
     cmd = make_command(make, firmware_dir, board, port, args.build_dir)
     log.info("running %s", " ".join(cmd))
     result = subprocess.run(cmd)
