@@ -178,8 +178,10 @@ def test_cli_unreadable_and_mixed_images(
         cv2.imwrite(str(paths[-1]), img)
     corrupt = tmp_path / "corrupt.jpg"
     corrupt.write_bytes(b"\xff\xd8\xff\xe0 this is not really a jpeg")
-    assert main(["calibrate", *map(str, paths), str(corrupt), "-o", str(tmp_path / "c.yaml")]) == 2
-    assert "corrupt.jpg is not a readable image" in capsys.readouterr().err
+    # Too few boards once the corrupt file is set aside: both reasons are named.
+    assert main(["calibrate", *map(str, paths[:2]), str(corrupt), "-o", str(tmp_path / "c.yaml")]) == 2
+    err = capsys.readouterr().err
+    assert "only 2 of 3" in err and "Unreadable images: " in err and "corrupt.jpg" in err
     small = tmp_path / "small.png"
     cv2.imwrite(str(small), cv2.resize(views[3], (320, 240)))
     assert main(["calibrate", *map(str, paths), str(small), "-o", str(tmp_path / "c.yaml")]) == 2
@@ -197,3 +199,30 @@ def test_cli_missing_file_in_a_real_process(tmp_path: Path) -> None:
     assert proc.returncode != 0
     assert "nothere.jpg does not exist" in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_cli_corrupt_photo_is_named_and_skipped_not_fatal(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], caplog: pytest.LogCaptureFixture
+) -> None:
+    """One truncated file among good photos must not throw the session away."""
+    paths = []
+    for i, img in enumerate(rendered_boards(640, 480)[:4]):
+        paths.append(tmp_path / f"v{i}.png")
+        cv2.imwrite(str(paths[-1]), img)
+    corrupt = tmp_path / "truncated.png"
+    corrupt.write_bytes(paths[0].read_bytes()[:200])
+    out = tmp_path / "c.yaml"
+    with caplog.at_level(logging.WARNING):
+        code = main(["calibrate", str(corrupt), *map(str, paths), "--no-progress", "-o", str(out)])
+    assert code == 0 and out.is_file()
+    text = capsys.readouterr().out
+    assert "from 4 of 5 images" in text
+    assert "truncated.png" in text and "unreadable image (skipped)" in text
+    assert "truncated.png" in caplog.text
+
+
+def test_enough_boards_but_too_few_photos_says_so() -> None:
+    views = rendered_boards(640, 480)
+    with pytest.raises(UserError, match=r"only 2 of 2.*Every image had its board.*at least 3") as info:
+        calibrate_images([("a", views[0]), ("b", views[1])], BOARD, progress=False)
+    assert "No board in" not in str(info.value)

@@ -110,6 +110,9 @@ def _print_summary(result: object, out: Path) -> None:
     median = statistics.median(errors) if errors else 0.0
     width = max(len(r.name) for r in result.images)
     for r in result.images:
+        if r.problem is not None:
+            lines.append(f"  {r.name:<{width}}  unreadable image (skipped)")
+            continue
         if not r.found:
             lines.append(f"  {r.name:<{width}}  no board found (skipped)")
             continue

@@ -42,6 +42,7 @@ class ImageResult:
     rms_px: float | None = None  # this view's reprojection RMS after calibration
     corners: FloatArray | None = field(default=None, repr=False, compare=False)
     detector: str | None = None  # "classic" or "sector-based"
+    problem: str | None = None  # why it was skipped, when it was not even readable
 
 
 @dataclass(frozen=True)
@@ -172,7 +173,14 @@ def _calibrate(
     results: list[ImageResult] = []
     with progress_reporter(len(items), progress) as report:
         for i, (name, load) in enumerate(items):
-            gray = _to_gray(load())
+            try:
+                gray = _to_gray(load())
+            except UserError as exc:
+                # A truncated or foreign file among good photos: name it and go on.
+                log.warning("skipping %s: %s", name, exc)
+                results.append(ImageResult(name, False, problem=str(exc)))
+                report(i + 1, len(items), name)
+                continue
             this = (int(gray.shape[1]), int(gray.shape[0]))
             if size is None:
                 size, first_name = this, name
@@ -189,16 +197,27 @@ def _calibrate(
             else:
                 results.append(ImageResult(name, True, None, corners, detector))
             report(i + 1, len(items), name)
-    assert size is not None
     used = [r for r in results if r.found]
-    if len(used) < min_boards:
-        missing = [r.name for r in results if not r.found]
-        raise UserError(
+    if len(used) < min_boards or size is None:
+        unreadable = [r.name for r in results if r.problem is not None]
+        boardless = [r.name for r in results if not r.found and r.problem is None]
+        parts = [
             f"a board ({board.cols}x{board.rows} inner corners) was found in only "
-            f"{len(used)} of {len(items)} images; calibration needs at least {min_boards}. "
-            f"No board in: {', '.join(missing) or 'none'}. Check --board counts INNER corners "
-            "(a board of 10x7 squares is 9x6) and that the whole board is in view"
-        )
+            f"{len(used)} of {len(items)} images; calibration needs at least {min_boards}."
+        ]
+        if unreadable:
+            parts.append(f"Unreadable images: {', '.join(unreadable)}.")
+        if boardless:
+            parts.append(
+                f"No board in: {', '.join(boardless)}. Check --board counts INNER corners "
+                "(a board of 10x7 squares is 9x6) and that the whole board is in view."
+            )
+        if not unreadable and not boardless:
+            parts.append(
+                f"Every image had its board: give at least {min_boards} photos, the board "
+                "at different angles and places in the view (10-20 is typical)."
+            )
+        raise UserError(" ".join(parts))
     object_points = [obj for _ in used]
     image_points = [np.asarray(r.corners, np.float32).reshape(-1, 1, 2) for r in used]
     solve: Any = cv2.calibrateCameraExtended  # the stubs reject None for the outputs
