@@ -154,6 +154,32 @@ def test_load_bad_files(tmp_path: Path) -> None:
         CameraModel.load(wrong)
 
 
+def test_load_damaged_files_never_escape_as_opencv_errors(tmp_path: Path) -> None:
+    """Files that parse but hold nonsense used to raise cv2.error (a traceback in the CLI)."""
+    good = tmp_path / "good.yaml"
+    known_camera().save(good)
+    text = good.read_text()
+    rows = tmp_path / "rows.yaml"  # distortion says 2 rows but holds 5 numbers
+    rows.write_text(text.replace("rows: 5", "rows: 2"))
+    with pytest.raises(CameraModelError, match=r"rows\.yaml is damaged: .*calibrate"):
+        CameraModel.load(rows)
+    top = tmp_path / "top.json"  # a JSON node where a map is needed
+    top.write_text('{"camera_matrix": 3}')
+    with pytest.raises(CameraModelError, match=r"top\.json"):
+        CameraModel.load(top)
+    nan = tmp_path / "nan.yaml"
+    nan.write_text(text.replace("image_width: 640", "image_width: .nan"))
+    with pytest.raises(CameraModelError, match=r"nan\.yaml: image size must be finite"):
+        CameraModel.load(nan)
+    empty = tmp_path / "empty.yaml"
+    empty.write_text("")
+    with pytest.raises(CameraModelError, match=r"empty\.yaml is empty"):
+        CameraModel.load(empty)
+    with pytest.raises(CameraModelError) as info:
+        CameraModel.load(rows)
+    assert "/io/opencv" not in str(info.value)  # no build paths in a user's message
+
+
 def test_validation_and_immutability() -> None:
     with pytest.raises(CameraModelError, match="3x3"):
         CameraModel(np.eye(2), np.zeros(5), 10, 10)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
@@ -45,6 +46,17 @@ def _readonly(array: npt.ArrayLike, shape_ok: bool, what: str) -> FloatArray:
         raise CameraModelError(f"{what} has the wrong shape {out.shape}")
     out.setflags(write=False)
     return out
+
+
+def _opencv_detail(exc: BaseException) -> str:
+    """The readable part of an OpenCV error ("Parsing error: ... line 17 ..."), no paths."""
+    # Some OpenCV builds wrap the cv2.error in a SystemError.
+    cause = exc.__cause__ if isinstance(exc, SystemError) and exc.__cause__ else exc
+    text = str(cause).strip()
+    match = re.search(r"error: \(-?\d+:([^)]*)\) (.*)", text, re.S)
+    if match:
+        return f"{match.group(1)}: {' '.join(match.group(2).split())}"
+    return text.splitlines()[-1] if text else "parse error"
 
 
 @dataclass(frozen=True)
@@ -189,44 +201,58 @@ class CameraModel:
             raise CameraModelError(
                 f"camera file {p} {what}; make one with `obstacle-fusion calibrate`"
             )
+        if p.stat().st_size == 0:
+            raise CameraModelError(
+                f"camera file {p} is empty; make one with `obstacle-fusion calibrate`"
+            )
         try:
             fs = cv2.FileStorage(str(p), cv2.FILE_STORAGE_READ)
         except (cv2.error, SystemError) as exc:
-            # Some OpenCV builds wrap the parse error in a SystemError.
-            cause = exc.__cause__ if isinstance(exc, SystemError) and exc.__cause__ else exc
-            detail = str(cause).strip().splitlines()[-1] if str(cause).strip() else "parse error"
             raise CameraModelError(
                 f"camera file {p} is not a readable OpenCV FileStorage file "
-                f"(YAML/XML/JSON): {detail}"
+                f"(YAML/XML/JSON): {_opencv_detail(exc)}"
             ) from None
         try:
-            if not fs.isOpened():
-                raise CameraModelError(f"camera file {p} could not be opened by OpenCV")
-
-            def need(key: str) -> Any:
-                node = fs.getNode(key)
-                if node.empty() or node.isNone():
-                    raise CameraModelError(
-                        f"camera file {p} has no '{key}' (needs camera_matrix, "
-                        "distortion_coefficients, image_width, image_height)"
-                    )
-                return node
-
-            k = need("camera_matrix").mat()
-            d = need("distortion_coefficients").mat()
-            width = need("image_width").real()
-            height = need("image_height").real()
-            if k is None or d is None:
-                bad = "camera_matrix" if k is None else "distortion_coefficients"
-                raise CameraModelError(f"camera file {p}: '{bad}' is not an OpenCV matrix")
-            rms: float | None = None
-            for key in ("rms", "avg_reprojection_error"):
-                node = fs.getNode(key)
-                if not node.empty() and node.isReal():
-                    rms = float(node.real())
-                    break
+            return cls._read(fs, p)
+        except (cv2.error, SystemError) as exc:
+            # Well-formed YAML with a malformed matrix (rows x cols != data) lands here.
+            raise CameraModelError(
+                f"camera file {p} is damaged: {_opencv_detail(exc)}; write it again with "
+                "`obstacle-fusion calibrate`"
+            ) from None
         finally:
             fs.release()
+
+    @classmethod
+    def _read(cls, fs: cv2.FileStorage, p: Path) -> CameraModel:
+        """The model from an open FileStorage; CameraModelError naming what is missing."""
+        if not fs.isOpened():
+            raise CameraModelError(f"camera file {p} could not be opened by OpenCV")
+
+        def need(key: str) -> Any:
+            node = fs.getNode(key)
+            if node.empty() or node.isNone():
+                raise CameraModelError(
+                    f"camera file {p} has no '{key}' (needs camera_matrix, "
+                    "distortion_coefficients, image_width, image_height)"
+                )
+            return node
+
+        k = need("camera_matrix").mat()
+        d = need("distortion_coefficients").mat()
+        width = need("image_width").real()
+        height = need("image_height").real()
+        if k is None or d is None:
+            bad = "camera_matrix" if k is None else "distortion_coefficients"
+            raise CameraModelError(f"camera file {p}: '{bad}' is not an OpenCV matrix")
+        rms: float | None = None
+        for key in ("rms", "avg_reprojection_error"):
+            node = fs.getNode(key)
+            if not node.empty() and node.isReal():
+                rms = float(node.real())
+                break
+        if not (math.isfinite(width) and math.isfinite(height)):
+            raise CameraModelError(f"camera file {p}: image size must be finite numbers")
         try:
             return cls(np.asarray(k), np.asarray(d).reshape(-1), int(width), int(height), rms)
         except CameraModelError as exc:
