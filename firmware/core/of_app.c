@@ -86,7 +86,8 @@ static void send_log(of_app_t *app, uint8_t level, const char *text)
     uint8_t p[OF_MSG_LOG_MAX_LEN];
     m.level = level;
     m.text_len = 0;
-    while (text[m.text_len] != '\0' && m.text_len < sizeof m.text) {
+    /* The bound first: a 40-character text without a terminator is never read past. */
+    while (m.text_len < sizeof m.text && text[m.text_len] != '\0') {
         m.text[m.text_len] = text[m.text_len];
         m.text_len++;
     }
