@@ -179,9 +179,11 @@ def test_cli_unreadable_and_mixed_images(
     corrupt = tmp_path / "corrupt.jpg"
     corrupt.write_bytes(b"\xff\xd8\xff\xe0 this is not really a jpeg")
     # Too few boards once the corrupt file is set aside: both reasons are named.
-    assert main(["calibrate", *map(str, paths[:2]), str(corrupt), "-o", str(tmp_path / "c.yaml")]) == 2
+    assert (
+        main(["calibrate", *map(str, paths[:2]), str(corrupt), "-o", str(tmp_path / "c.yaml")]) == 2
+    )
     err = capsys.readouterr().err
-    assert "only 2 of 3" in err and "Unreadable images: " in err and "corrupt.jpg" in err
+    assert "only 2 of 3" in err and "Set aside: " in err and "corrupt.jpg (unreadable" in err
     small = tmp_path / "small.png"
     cv2.imwrite(str(small), cv2.resize(views[3], (320, 240)))
     assert main(["calibrate", *map(str, paths), str(small), "-o", str(tmp_path / "c.yaml")]) == 2
@@ -223,6 +225,44 @@ def test_cli_corrupt_photo_is_named_and_skipped_not_fatal(
 
 def test_enough_boards_but_too_few_photos_says_so() -> None:
     views = rendered_boards(640, 480)
-    with pytest.raises(UserError, match=r"only 2 of 2.*Every image had its board.*at least 3") as info:
+    with pytest.raises(
+        UserError, match=r"only 2 of 2.*Every image had its board.*at least 3"
+    ) as info:
         calibrate_images([("a", views[0]), ("b", views[1])], BOARD, progress=False)
     assert "No board in" not in str(info.value)
+
+
+def test_copies_of_one_photo_are_set_aside_not_solved() -> None:
+    """Three copies of one view once gave fx 70000 px (fov 1 degree), written as a success."""
+    view = rendered_boards(640, 480)[0]
+    with pytest.raises(UserError, match=r"Set aside: b \(same view as a\), c \(same view as a\)"):
+        calibrate_images([("a", view), ("b", view.copy()), ("c", view)], BOARD, progress=False)
+
+
+def test_views_too_alike_give_a_clear_error_not_a_wild_camera() -> None:
+    view = rendered_boards(640, 480)[0]
+    shifted = [
+        cv2.warpAffine(
+            view, np.float32([[1, 0, d], [0, 1, d]]), (640, 480), borderMode=cv2.BORDER_REPLICATE
+        )
+        for d in (2, 4)
+    ]
+    images = [("a", view), ("b", shifted[0]), ("c", shifted[1])]
+    with pytest.raises(UserError, match=r"not usable: .*too alike.*tilted"):
+        calibrate_images(images, BOARD, progress=False)
+
+
+@pytest.mark.parametrize("square", ["1e-300", "1e300", "0", "nan"])
+def test_cli_absurd_square_sizes_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], square: str
+) -> None:
+    paths = []
+    for i, img in enumerate(rendered_boards(640, 480)[:3]):
+        paths.append(tmp_path / f"v{i}.png")
+        cv2.imwrite(str(paths[-1]), img)
+    code = main(
+        ["calibrate", *map(str, paths), "--square-mm", square, "-o", str(tmp_path / "c.yaml")]
+    )
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "--square-mm must be" in err and "Traceback" not in err

@@ -9,6 +9,10 @@ from pathlib import Path
 
 from obstacle_fusion.errors import UserError
 
+#: Printed boards: millimetre squares on a phone screen up to squares a metre wide.
+MIN_SQUARE_MM = 0.5
+MAX_SQUARE_MM = 1000.0
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     parser = subparsers.add_parser(
@@ -58,8 +62,11 @@ def run(args: argparse.Namespace) -> int:
 
     if args.min_boards < 1:
         raise UserError("--min-boards must be at least 1")
-    if not math.isfinite(args.square_mm) or args.square_mm <= 0:
-        raise UserError(f"--square-mm must be a positive size in mm, got {args.square_mm}")
+    if not (MIN_SQUARE_MM <= args.square_mm <= MAX_SQUARE_MM):  # also refuses NaN
+        raise UserError(
+            f"--square-mm must be a positive size in mm, {MIN_SQUARE_MM:g} to "
+            f"{MAX_SQUARE_MM:g}, got {args.square_mm}"
+        )
     board = BoardSpec.parse(args.board, args.square_mm / 1000.0)
     out = Path(args.output)
     if out.is_dir():
@@ -111,7 +118,7 @@ def _print_summary(result: object, out: Path) -> None:
     width = max(len(r.name) for r in result.images)
     for r in result.images:
         if r.problem is not None:
-            lines.append(f"  {r.name:<{width}}  unreadable image (skipped)")
+            lines.append(f"  {r.name:<{width}}  {r.problem} (skipped)")
             continue
         if not r.found:
             lines.append(f"  {r.name:<{width}}  no board found (skipped)")

@@ -42,7 +42,7 @@ class ImageResult:
     rms_px: float | None = None  # this view's reprojection RMS after calibration
     corners: FloatArray | None = field(default=None, repr=False, compare=False)
     detector: str | None = None  # "classic" or "sector-based"
-    problem: str | None = None  # why it was skipped, when it was not even readable
+    problem: str | None = None  # why it was set aside despite a board (or not even read)
 
 
 @dataclass(frozen=True)
@@ -178,7 +178,7 @@ def _calibrate(
             except UserError as exc:
                 # A truncated or foreign file among good photos: name it and go on.
                 log.warning("skipping %s: %s", name, exc)
-                results.append(ImageResult(name, False, problem=str(exc)))
+                results.append(ImageResult(name, False, problem="unreadable image"))
                 report(i + 1, len(items), name)
                 continue
             this = (int(gray.shape[1]), int(gray.shape[0]))
@@ -191,28 +191,33 @@ def _calibrate(
                     "to one resolution, so calibrate each resolution separately"
                 )
             corners, detector = find_corners(gray, board)
+            twin = None if corners is None else _same_view(corners, results)
             if corners is None:
                 log.warning("no %dx%d board found in %s; skipping it", *board.pattern_size, name)
                 results.append(ImageResult(name, False))
+            elif twin is not None:
+                # A copy adds no information but weighs the solve towards one pose.
+                log.warning("%s shows the board exactly as %s does; skipping it", name, twin)
+                results.append(ImageResult(name, False, problem=f"same view as {twin}"))
             else:
                 results.append(ImageResult(name, True, None, corners, detector))
             report(i + 1, len(items), name)
     used = [r for r in results if r.found]
     if len(used) < min_boards or size is None:
-        unreadable = [r.name for r in results if r.problem is not None]
+        aside = [f"{r.name} ({r.problem})" for r in results if r.problem is not None]
         boardless = [r.name for r in results if not r.found and r.problem is None]
         parts = [
             f"a board ({board.cols}x{board.rows} inner corners) was found in only "
             f"{len(used)} of {len(items)} images; calibration needs at least {min_boards}."
         ]
-        if unreadable:
-            parts.append(f"Unreadable images: {', '.join(unreadable)}.")
+        if aside:
+            parts.append(f"Set aside: {', '.join(aside)}.")
         if boardless:
             parts.append(
                 f"No board in: {', '.join(boardless)}. Check --board counts INNER corners "
                 "(a board of 10x7 squares is 9x6) and that the whole board is in view."
             )
-        if not unreadable and not boardless:
+        if not aside and not boardless:
             parts.append(
                 f"Every image had its board: give at least {min_boards} photos, the board "
                 "at different angles and places in the view (10-20 is typical)."
@@ -221,15 +226,19 @@ def _calibrate(
     object_points = [obj for _ in used]
     image_points = [np.asarray(r.corners, np.float32).reshape(-1, 1, 2) for r in used]
     solve: Any = cv2.calibrateCameraExtended  # the stubs reject None for the outputs
-    rms, k, d, _rvecs, _tvecs, std_intr, _std_extr, per_view = solve(
-        object_points, image_points, size, None, None, flags=flags
-    )
+    try:
+        rms, k, d, _rvecs, _tvecs, std_intr, _std_extr, per_view = solve(
+            object_points, image_points, size, None, None, flags=flags
+        )
+    except cv2.error:
+        raise UserError(_degenerate("the solver failed", len(used))) from None
+    std = np.asarray(std_intr, np.float64).reshape(-1)
+    _check_plausible(np.asarray(k, np.float64), np.asarray(d, np.float64), std, size, len(used))
     view = iter(np.asarray(per_view, np.float64).reshape(-1))
     final = [
         ImageResult(r.name, True, float(next(view)), r.corners, r.detector) if r.found else r
         for r in results
     ]
-    std = np.asarray(std_intr, np.float64).reshape(-1)
     camera = CameraModel(np.asarray(k), np.asarray(d).reshape(-1), size[0], size[1], float(rms))
     log.info("calibrated %s from %d views", camera, len(used))
     return CalibrationResult(
@@ -238,6 +247,61 @@ def _calibrate(
         tuple(final),
         {"fx": float(std[0]), "fy": float(std[1]), "cx": float(std[2]), "cy": float(std[3])},
     )
+
+
+def _same_view(corners: FloatArray, earlier: Sequence[ImageResult]) -> str | None:
+    """The name of an earlier view with the board at the same place (a copied photo)."""
+    for r in earlier:
+        if r.found and r.corners is not None and np.abs(r.corners - corners).max() < 0.5:
+            return r.name
+    return None
+
+
+def _degenerate(what: str, views: int) -> str:
+    return (
+        f"calibration from {views} views is not usable: {what}. The views are too alike: "
+        "take 10-20 photos with the board tilted in different directions (about 20-45 "
+        "degrees) and placed across the whole image, corners included"
+    )
+
+
+#: 1-sigma of fx or fy, relative, above which a calibration is refused (heights and widths
+#: scale with 1/f) or, above the lower figure, warned about. Good sessions reach 0.1-0.3 %.
+MAX_FOCAL_SIGMA = 0.05
+WARN_FOCAL_SIGMA = 0.01
+
+
+def _check_plausible(
+    k: npt.NDArray[np.float64],
+    d: npt.NDArray[np.float64],
+    std: npt.NDArray[np.float64],
+    size: tuple[int, int],
+    views: int,
+) -> None:
+    """Refuse a solution no lens has rather than write it for `measure` to trust."""
+    fx, fy, cx, cy = float(k[0, 0]), float(k[1, 1]), float(k[0, 2]), float(k[1, 2])
+    w, h = size
+    if not (np.all(np.isfinite(k)) and np.all(np.isfinite(d)) and fx > 0 and fy > 0):
+        raise UserError(_degenerate("the solution is not finite", views))
+    if not 0.5 <= fx / fy <= 2.0:
+        raise UserError(
+            _degenerate(f"fx {fx:.0f} px and fy {fy:.0f} px differ by more than 2x", views)
+        )
+    if not (0 < cx < w and 0 < cy < h):
+        raise UserError(
+            _degenerate(f"the principal point ({cx:.0f}, {cy:.0f}) lies outside the image", views)
+        )
+    sigma = max(float(std[0]) / fx, float(std[1]) / fy)
+    if not sigma <= MAX_FOCAL_SIGMA:  # NaN included
+        raise UserError(
+            _degenerate(f"the focal length is uncertain to {100 * sigma:.1f} % (1 sigma)", views)
+        )
+    if sigma > WARN_FOCAL_SIGMA:
+        log.warning(
+            "the focal length is uncertain to %.1f %% (1 sigma): sizes will be as uncertain; "
+            "more photos at varied tilts would pin it down",
+            100 * sigma,
+        )
 
 
 def _check_path(p: Path) -> None:
