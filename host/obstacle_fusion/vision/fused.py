@@ -139,6 +139,7 @@ class FusedMethod:
         self._kernel3 = np.ones((1, 3), np.uint8)
         self._h, self._w = h, w
         self._depth = 1.0
+        self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         self._rows = np.arange(h)
 
     # ------------------------------------------------------------------ per frame
@@ -164,6 +165,7 @@ class FusedMethod:
             return fail
         roi_end = min(h_img, r1b + 4)
         roi = v.warp(image, roi_end)  # only the rows above the floor-contact band
+        self._grey = roi
         timer.lap("undistort")
         gx = cv2.Sobel(roi, cv2.CV_32F, 1, 0, ksize=3)
         gy = cv2.Sobel(roi, cv2.CV_32F, 0, 1, ksize=3)
@@ -228,7 +230,7 @@ class FusedMethod:
                     cand = self._score_pair(ax3, ay, cols[ul], cols[ur], noise, rb, ul, ur, pb)
                     if cand is not None and (best is None or cand[0] > best[0]):
                         best = cand
-            if best is not None and best[5] > 0.95:
+            if best is not None and best[5] > 0.8:
                 break  # a clear face at the most likely floor-contact row
         timer.lap("search")
         if best is None:
@@ -327,6 +329,23 @@ class FusedMethod:
         hole_max = np.maximum(0.0, (tops - self.view.cy) * 2.0 / self._depth) + 1.0
         soft = np.exp(-hole / np.maximum(4.0, 0.5 * (rb - tops)))
         hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
+        # rows whose inside has the face's own shade (measured just above the floor): a
+        # shelf of books or a poster over the box does not, a box's face does (but for a
+        # stripe across it, or its top face)
+        row_mean = self._grey[:rb, c0:c1].sum(axis=1, dtype=np.float32) * (1.0 / (c1 - c0))
+        kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
+        face = _median(row_mean[rb - 1 - kf : rb - 1])
+        match = (np.abs(row_mean - face) <= max(8.0, 0.08 * face)).astype(np.float64)
+        match_below = np.cumsum(match[::-1])[::-1]
+        face_frac = match_below[tops] / np.maximum(rb - tops, 1)
+        # ...and the face's shade coming back above a band of another shade right above
+        # a top means the top was a stripe across the face (a top face of the same shade
+        # as the front starts right at the top, with no band)
+        match_upto = np.concatenate([[0.0], np.cumsum(match)])
+        a0 = np.maximum(tops - np.maximum(3, rb - tops), 0)
+        face_above = (match_upto[tops] - match_upto[a0]) / np.maximum(tops - a0, 1)
+        band = (match[np.maximum(tops - 1, 0)] == 0) & (match[np.maximum(tops - 2, 0)] == 0)
+        face_above = np.where(band, face_above, 0.0)
         feats = {
             "snr": snr_t[tops],
             "hole": hole,
@@ -335,6 +354,8 @@ class FusedMethod:
             "stop": stop[tops],
             "contained": contained,
             "textured": textured,
+            "face": face_frac,
+            "face_above": face_above,
         }
         score_t, fit = self._top_score(feats, tops, rb, ul, ur)
         i = int(np.argmax(score_t))
@@ -379,6 +400,8 @@ class FusedMethod:
             * f["stop"] ** 2
             * (0.3 + 0.7 * f["contained"])
             * (1.0 - f["textured"])
+            * f["face"] ** 4
+            * (1.0 - f["face_above"])
         )
         score = np.minimum(np.maximum(f["snr"], 0.5), 20.0) ** 0.25 * fit
         return score, fit
