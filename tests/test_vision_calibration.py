@@ -101,6 +101,11 @@ def test_board_spec_parsing() -> None:
     for bad in ("9", "9x", "nine by six", "9x6x2", "1x6"):
         with pytest.raises(UserError):
             BoardSpec.parse(bad)
+    # OpenCV's detector raises below 3 a side; a huge grid once asked numpy for 112 GiB.
+    for bad in ("2x2", "2x6", "100000x100000", "9x51"):
+        with pytest.raises(UserError, match="3 to 50 inner corners"):
+            BoardSpec.parse(bad)
+    assert BoardSpec.parse("3x3").n_corners == 9
 
 
 def test_progress_bar_does_not_break_calibration() -> None:

@@ -29,10 +29,17 @@ class BoardSpec:
     rows: int
     square_m: float = 0.025
 
+    #: OpenCV's detector needs more than 2 inner corners a side; past 50 no printed board
+    #: is seen whole by a camera, and the grid arrays would only eat memory.
+    MIN_CORNERS = 3
+    MAX_CORNERS = 50
+
     def __post_init__(self) -> None:
-        if self.cols < 2 or self.rows < 2:
+        lo, hi = self.MIN_CORNERS, self.MAX_CORNERS
+        if not (lo <= self.cols <= hi and lo <= self.rows <= hi):
             raise UserError(
-                f"a board needs at least 2x2 inner corners, got {self.cols}x{self.rows}"
+                f"a board needs {lo} to {hi} inner corners a side, got {self.cols}x{self.rows} "
+                "(count the INNER corners: a board of 10x7 squares is 9x6)"
             )
         if not (math.isfinite(self.square_m) and self.square_m > 0):
             raise UserError(f"square size must be positive, got {self.square_m} m")
