@@ -9,7 +9,8 @@ depth z sits on row cy + fy * camera_height / z. From the range L (face depth D)
    the beam's columns at depth D;
 3. the face's vertical edges stand on that floor-contact edge and run straight up to the
    front top edge, where they stop (top-face edges slant away, background lines do not
-   stop at the box's sides, a stripe on the face does not end the vertical edges).
+   stop at the box's sides, a stripe on the face does not end the vertical edges), and
+   the face keeps its own shade between them (books on a shelf behind it do not).
 
 Candidates for each edge come from gradient profiles; every (bottom, left, right) triple
 is scored with its best top; the winner's four edges are refined to sub-pixel lines, and
@@ -172,7 +173,6 @@ class FusedMethod:
         ax = np.abs(gx)
         ay = np.abs(gy)
         ax3 = cv2.dilate(ax, self._kernel3)  # tolerate a column of drift on vertical edges
-        axs = ax3
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -218,11 +218,11 @@ class FusedMethod:
                 continue
             # presence thresholds from the strip nearest the floor, where the side may be
             # faint (a dark box on a dark floor) while its upper part is not
-            left = self._rank_sides(axs, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
-            right = self._rank_sides(axs, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
+            left = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
+            right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
             cols: dict[int, _Side] = {}
             for c in {*left, *right}:
-                cols[c] = _Side(axs[:rb, c], max(0.25 * float(prof_short[c]), 2.5 * noise), rb)
+                cols[c] = _Side(ax3[:rb, c], max(0.25 * float(prof_short[c]), 2.5 * noise), rb)
             for ul in left:
                 for ur in right:
                     if ur - ul < min_w:
@@ -363,7 +363,7 @@ class FusedMethod:
             for j in np.argsort(-score_t)[:5]:
                 log.debug(
                     "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
-                    "stop %.2f contained %.2f textured %.2f",
+                    "stop %.2f contained %.2f textured %.2f face %.2f above %.2f",
                     ul,
                     ur,
                     rb,
@@ -375,6 +375,8 @@ class FusedMethod:
                     stop[tops[j]],
                     contained[j],
                     textured[j],
+                    face_frac[j],
+                    face_above[j],
                 )
         vt = int(tops[i])
         snr_l = float(_mean(ax3[vt:rb, ul])) / noise
