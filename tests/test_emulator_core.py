@@ -371,5 +371,6 @@ def test_emulate_cli_names_folders_and_bad_durations(emulator_built: Path, tmp_p
     assert "scene file" in emulate("--scene", str(tmp_path)) and "is a folder" in emulate(
         "--scene", str(tmp_path)
     )
+    assert "not a regular file" in emulate("--scene", "/dev/null")
     assert "--duration" in emulate("--duration", "nan")
     assert "--duration" in emulate("--duration", "inf")

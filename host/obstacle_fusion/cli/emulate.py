@@ -84,8 +84,10 @@ def _check_given_file(path: Path | None, what: str, hint: str = "") -> None:
         return
     if path.is_dir():
         raise UserError(f"{what} {path} is a folder; give the file itself")
-    if not path.is_file():
+    if not path.exists():
         raise UserError(f"no such {what}: {path}{hint}")
+    if not path.is_file():
+        raise UserError(f"{what} {path} is not a regular file; give the file itself")
 
 
 def run(args: argparse.Namespace) -> int:
