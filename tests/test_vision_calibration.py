@@ -271,3 +271,15 @@ def test_cli_absurd_square_sizes_are_refused(
     assert code == 2
     err = capsys.readouterr().err
     assert "--square-mm must be" in err and "Traceback" not in err
+
+
+def test_a_corrupt_photo_is_named_once_without_opencvs_own_log_lines(
+    tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    from obstacle_fusion.vision.calibration import read_image
+
+    bad = tmp_path / "bad.png"
+    bad.write_bytes(b"\x89PNG\r\n\x1a\nBROKEN")
+    with pytest.raises(UserError, match=r"bad\.png is not a readable image"):
+        read_image(bad)
+    assert "grfmt" not in capfd.readouterr().err  # OpenCV's "[ERROR:0@...] grfmt_png.cpp"

@@ -170,11 +170,12 @@ class FrameSource(ABC):
 
 
 class _QuietOpenCV:
-    """Silence OpenCV's own warnings while probing a device; we report our own error."""
+    """Silence OpenCV's own log lines while probing a device or decoding a file; we report
+    our own, clearer error (a corrupt PNG otherwise prints OpenCV's ERROR line first)."""
 
     def __enter__(self) -> None:
         self._level = cv2.utils.logging.getLogLevel()
-        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_ERROR)
+        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
 
     def __exit__(self, *exc: object) -> None:
         cv2.utils.logging.setLogLevel(self._level)
@@ -475,7 +476,8 @@ class ImageFolderSource(FrameSource):
             except OSError as exc:
                 self._skip(path.name, f"cannot read it ({exc.strerror or exc})")
                 continue
-            image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+            with _QuietOpenCV():
+                image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
             if image is None:
                 self._skip(path.name, "not a readable image (empty, corrupt or unknown format)")
                 continue

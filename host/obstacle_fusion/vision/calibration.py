@@ -319,7 +319,12 @@ def read_image(path: str | os.PathLike[str]) -> npt.NDArray[np.uint8]:
         data = np.fromfile(p, dtype=np.uint8)
     except OSError as exc:
         raise UserError(f"cannot read image {p}: {exc.strerror or exc}") from None
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    level = cv2.utils.logging.getLogLevel()
+    cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)  # we name the file
+    try:
+        image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    finally:
+        cv2.utils.logging.setLogLevel(level)
     if image is None:
         raise UserError(f"{p} is not a readable image (empty, corrupt or an unknown format)")
     return np.asarray(image, np.uint8)
