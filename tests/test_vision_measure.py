@@ -107,6 +107,41 @@ def test_paper_method_on_a_clean_scene_and_its_formula() -> None:
     assert res.width_m == pytest.approx(0.5, rel=0.05)
 
 
+def test_paper_method_takes_the_lines_around_the_centre_not_the_seams() -> None:
+    """Floor seams and the skirting line lie outside the centred box: they are not its edges.
+
+    With Ymin/Ymax over every horizontal line in the image the seams below and the skirting
+    above would set the height; the paper's centred obstacle is bounded by the lines
+    nearest the image centre, above and below it.
+    """
+    rig = Rig(camera_height_m=0.2)
+    bright = (240.0, 240.0, 240.0)
+    spec = clean_room(
+        height_m=0.4,
+        width_m=0.5,
+        distance_m=1.2,
+        noise_sigma=1.0,
+        floor_style="tiles",
+        floor_color=bright,
+        seam_color=(40.0, 40.0, 40.0),
+        wall_color=bright,
+        skirting_m=0.3,
+        skirting_color=(30.0, 30.0, 30.0),
+        box_color=(100.0, 110.0, 120.0),
+    )
+    sc = render_scene(spec, CAM, rig, 5)
+    res = Measurer(CAM, rig, "paper").measure(sc.image, spec.distance_m)
+    assert res.detected
+    assert res.height_m == pytest.approx(0.4, rel=0.08)
+    # the boundary lines are the box's own (the seams and the skirting span the view);
+    # the width is short where Hough splits the bottom edge at the tile seams (the paper's
+    # pipeline, kept as it is)
+    x0, _, x1, _ = sc.truth.box_px
+    assert res.box_px is not None
+    assert x0 - 5 <= res.box_px[0] and res.box_px[2] <= x1 + 5
+    assert res.width_m is not None and 0.25 <= res.width_m <= 0.52
+
+
 def test_formula8_threshold_is_the_mean_interval() -> None:
     rng = np.random.default_rng(0)
     img = rng.integers(0, 256, (200, 300)).astype(np.uint8)

@@ -25,6 +25,7 @@ SOBEL_V = np.array([[-1, 0, 1], [-2, 0, 2], [-1, 0, 1]], np.float32)
 GREY_RANGE = (70, 210)  # "the gray scale distribution of obstacles is 70 - 210"
 U_ALPHA_2 = 2.807033768  # two-sided normal quantile for 1 - alpha = 99.5 %
 MAX_LINE_ANGLE_DEG = 10.0  # "horizontal" lines: within this of the image rows
+CENTRE_BAND = 0.05  # half-width of the centre column band, share of the image width
 
 
 def formula8_threshold(grey: npt.NDArray[Any]) -> tuple[int, int]:
@@ -51,6 +52,27 @@ class PaperMethod:
         self._gy = np.empty((h, w), np.float32)
         self._binary = np.empty((h, w), np.uint8)
         self.min_line = max(10, int(round(0.05 * w)))
+        self.centre_band = max(2.0, CENTRE_BAND * w)  # half-width of the centre column band
+
+    @staticmethod
+    def _extent(
+        x_lo: npt.NDArray[Any],
+        x_hi: npt.NDArray[Any],
+        ymid: npt.NDArray[Any],
+        central: npt.NDArray[Any],
+        y: float,
+    ) -> tuple[float, float]:
+        """The boundary line on row ``y`` through the centre band, its Hough pieces chained."""
+        on_row = np.abs(ymid - y) <= 1.5
+        lo = float(x_lo[on_row & central].min())
+        hi = float(x_hi[on_row & central].max())
+        grown = True
+        while grown:  # Hough splits a line at gaps: chain the pieces on the same row
+            touch = on_row & (x_hi >= lo - 3.0) & (x_lo <= hi + 3.0)
+            new_lo, new_hi = float(x_lo[touch].min()), float(x_hi[touch].max())
+            grown = new_lo < lo or new_hi > hi
+            lo, hi = new_lo, new_hi
+        return lo, hi
 
     def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
         v = self.view
@@ -92,19 +114,29 @@ class PaperMethod:
             fail.reason = "fewer than two horizontal lines found"
             return fail
         ymid = 0.5 * (segs[:, 1] + segs[:, 3])
-        y_top, y_bot = float(ymid.min()), float(ymid.max())
-        h_px = y_bot - y_top
-        if h_px < 2.0:
-            fail.reason = "the horizontal lines found do not bound any height"
+        x_lo = np.minimum(segs[:, 0], segs[:, 2])
+        x_hi = np.maximum(segs[:, 0], segs[:, 2])
+        # The paper's obstacle stands in front of the robot, centred, filling the middle of
+        # the frame (its Figs. 8-10): its boundary lines are the horizontal lines crossing
+        # the image's centre column band, the upper one the nearest above the image centre,
+        # the lower one the nearest below. Ymin/Ymax over the whole image would take floor
+        # seams below and wall lines above the obstacle instead.
+        xc, yc = 0.5 * (v.camera.width - 1), 0.5 * (v.camera.height - 1)
+        band = self.centre_band
+        central = (x_lo <= xc + band) & (x_hi >= xc - band)
+        above = central & (ymid < yc)
+        below = central & (ymid >= yc)
+        if not above.any() or not below.any():
+            fail.reason = (
+                "no pair of horizontal lines encloses the image centre (the paper assumes "
+                "the obstacle stands centred in front of the camera)"
+            )
             return fail
-
-        def extent(y: float) -> tuple[float, float]:
-            near = segs[np.abs(ymid - y) <= 2.0]
-            xs = np.concatenate([near[:, 0], near[:, 2]])
-            return float(xs.min()), float(xs.max())
-
-        a1, a2 = extent(y_top)
-        b1, b2 = extent(y_bot)
+        y_top = float(ymid[above].max())
+        y_bot = float(ymid[below].min())
+        h_px = y_bot - y_top
+        a1, a2 = self._extent(x_lo, x_hi, ymid, central, y_top)
+        b1, b2 = self._extent(x_lo, x_hi, ymid, central, y_bot)
         w_px = 0.5 * ((a2 - a1) + (b2 - b1))
         depth = v.rig.face_depth(range_m)
         cam = v.camera
