@@ -102,9 +102,10 @@ def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
 class _Side:
     """One candidate vertical edge column at one floor-contact row: its per-row presence."""
 
-    __slots__ = ("on", "below", "upto", "run_top")
+    __slots__ = ("on", "below", "upto", "run_top", "threshold")
 
     def __init__(self, column: npt.NDArray[Any], threshold: float, rb: int) -> None:
+        self.threshold = threshold
         self.on = (column > threshold).astype(np.float64)
         self.below = np.cumsum(self.on[::-1])[::-1]  # edge rows in r..rb-1
         self.upto = np.concatenate([[0.0], np.cumsum(self.on)])  # edge rows in 0..r-1
@@ -299,6 +300,20 @@ class FusedMethod:
         above_start = np.maximum(rows - np.maximum(3, (rb - rows) // 2), 0)
         ext = side_l.upto + side_r.upto
         above = 0.5 * (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
+        # ...but textured background (books, posters) gives vertical edges everywhere: only
+        # what the side columns have beyond the columns just outside them counts
+        w_ax = ax3.shape[1]
+        bg = [
+            _Side(ax3[:rb, c], t, rb).upto
+            for c, t in ((ul - 4, side_l.threshold), (ur + 4, side_r.threshold))
+            if 0 <= c < w_ax
+        ]
+        if bg:
+            ext_bg: npt.NDArray[np.float64] = np.sum(bg, axis=0) * (2.0 / len(bg))
+            above_bg = 0.5 * (ext_bg[rows] - ext_bg[above_start]) / np.maximum(
+                rows - above_start, 1
+            )
+            above = np.maximum(above - above_bg, 0.0)
         stop = 1.0 - above
         snr_t = prof_t / noise
         tops = _local_maxima(snr_t.astype(np.float32), 1.2)
