@@ -374,3 +374,9 @@ def test_emulate_cli_names_folders_and_bad_durations(emulator_built: Path, tmp_p
     assert "not a regular file" in emulate("--scene", "/dev/null")
     assert "--duration" in emulate("--duration", "nan")
     assert "--duration" in emulate("--duration", "inf")
+
+
+def test_control_scene_that_is_a_folder_says_why(emulator_factory: Factory, tmp_path: Path) -> None:
+    emu = emulator_factory(elf=firmware_for_tests("echo_test"), fast=True)
+    with pytest.raises(EmulatorError, match=r"cannot read scene file .*: Is a directory"):
+        emu.control.load_scene(tmp_path)

@@ -116,7 +116,8 @@ int scene_load(scene_t *s, const char *path, double t0, char *err, size_t errlen
         kf[n++] = k;
     }
     if (rc == 0 && ferror(f)) {
-        snprintf(err, errlen, "error reading %s", path);
+        /* A folder opens but cannot be read (EISDIR): say why, as for a missing file. */
+        snprintf(err, errlen, "cannot read scene file %s: %s", path, strerror(errno));
         rc = -1;
     }
     fclose(f);
