@@ -417,7 +417,7 @@ class FusedMethod:
             * f["stop"] ** 2
             * (0.3 + 0.7 * f["contained"])
             * (1.0 - f["textured"])
-            * f["face"] ** 4
+            * f["face"] ** 2
             * (1.0 - f["face_above"])
         )
         score = np.minimum(np.maximum(f["snr"], 0.5), 20.0) ** 0.25 * fit
