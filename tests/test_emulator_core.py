@@ -27,6 +27,7 @@ from tests.emulator_fixtures import firmware_for_tests
 # Fixtures from the shared module (pytest finds them as module attributes).
 emulator_built = emulator_fixtures.emulator_built
 emulator_factory = emulator_fixtures.emulator_factory
+uno_elf = emulator_fixtures.uno_elf
 
 Factory = Callable[..., Emulator]
 
@@ -380,3 +381,38 @@ def test_control_scene_that_is_a_folder_says_why(emulator_factory: Factory, tmp_
     emu = emulator_factory(elf=firmware_for_tests("echo_test"), fast=True)
     with pytest.raises(EmulatorError, match=r"cannot read scene file .*: Is a directory"):
         emu.control.load_scene(tmp_path)
+
+
+def test_emulate_cli_sensors_option_wires_a_second_sensor(uno_elf: Path, tmp_path: Path) -> None:
+    """README lists `emulate --sensors N`; the real firmware then ranges on both (mask 3)."""
+    from obstacle_fusion.protocol.generated import Ack, SetConfig
+
+    from tests.emulator_fixtures import FirmwarePort
+
+    bad = subprocess.run(
+        [".venv/bin/obstacle-fusion", "emulate", "--sensors", "5"],
+        capture_output=True, text=True, timeout=60,
+    )
+    assert bad.returncode == 2 and "1 to 4 sensors" in bad.stderr
+    truth = tmp_path / "truth.log"
+    proc = subprocess.Popen(
+        [".venv/bin/obstacle-fusion", "emulate", "--elf", str(uno_elf), "--sensors", "2",
+         "--distance", "1.5", "--truth", str(truth)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    try:
+        assert proc.stdout is not None
+        port = FirmwarePort(proc.stdout.readline().strip())
+        try:
+            seq = port.send(SetConfig(cycle_ms=60, sensor_mask=3, max_echo_us=23324,
+                                      echo_timeout_us=40000, heartbeat_ms=1000))
+            ack, _ = port.read_until(lambda m: isinstance(m, Ack) and m.command_seq == seq)
+            assert ack is not None
+            port.collect(0.6)
+        finally:
+            port.close()
+    finally:
+        proc.terminate()
+        proc.wait(10)
+    records = [r for r in map(parse_truth_line, truth.read_text().splitlines()) if r]
+    assert {r.sensor_id for r in records} == {0, 1}

@@ -36,6 +36,16 @@ def _probability(text: str) -> float:
     return value
 
 
+def _sensor_count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if not 1 <= value <= 4:
+        raise argparse.ArgumentTypeError(f"the emulator has 1 to 4 sensors, got {value}")
+    return value
+
+
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = subparsers.add_parser(
         "emulate",
@@ -54,6 +64,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     world.add_argument("--noise-mm", type=float, default=0.0, help="distance noise sigma")
     world.add_argument("--dropout", type=_probability, default=0.0, help="P(no echo)")
     world.add_argument("--spike", type=_probability, default=0.0, help="P(random echo)")
+    world.add_argument(
+        "--sensors",
+        type=_sensor_count,
+        default=1,
+        help="HC-SR04s 1..4: TRIG on D9, D10..., ECHOs OR-ed onto D8 (firmware README)",
+    )
     timing = p.add_argument_group("time")
     timing.add_argument("--fast", action="store_true", help="as fast as possible")
     timing.add_argument(
@@ -108,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
         noise_mm=args.noise_mm,
         dropout=args.dropout,
         spike=args.spike,
+        sensors=args.sensors,
         uart_drop=args.uart_drop,
         uart_corrupt=args.uart_corrupt,
         uart_insert=args.uart_insert,
