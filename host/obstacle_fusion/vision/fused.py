@@ -99,13 +99,24 @@ def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
     return rb - 1 - n
 
 
+def _upto(column: npt.NDArray[Any], threshold: float) -> npt.NDArray[np.float64]:
+    """Edge rows in 0..r-1 for every r (a leading zero)."""
+    out = np.zeros(column.size + 1)
+    np.cumsum(column > threshold, out=out[1:])
+    return out
+
+
 class _Side:
     """One candidate vertical edge column at one floor-contact row: its per-row presence."""
 
-    __slots__ = ("on", "below", "upto", "run_top", "threshold")
+    __slots__ = ("on", "below", "upto", "run_top", "outside_left", "outside_right")
 
-    def __init__(self, column: npt.NDArray[Any], threshold: float, rb: int) -> None:
-        self.threshold = threshold
+    def __init__(self, ax3: F32, c: int, threshold: float, rb: int) -> None:
+        column = ax3[:rb, c]
+        # the same count for the columns just outside (4 px) as the left or right side:
+        # background texture there says the edges above a top are not the side's own
+        self.outside_left = _upto(ax3[:rb, c - 4], threshold) if c >= 4 else None
+        self.outside_right = _upto(ax3[:rb, c + 4], threshold) if c + 4 < ax3.shape[1] else None
         self.on = (column > threshold).astype(np.float64)
         self.below = np.cumsum(self.on[::-1])[::-1]  # edge rows in r..rb-1
         self.upto = np.concatenate([[0.0], np.cumsum(self.on)])  # edge rows in 0..r-1
@@ -143,6 +154,9 @@ class FusedMethod:
         self._depth = 1.0
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         self._rows = np.arange(h)
+        # gradient buffers reused every frame: fresh large arrays cost more in page faults
+        # than the filters themselves
+        self._buf = np.empty((6, h, w), np.float32)
 
     # ------------------------------------------------------------------ per frame
     def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
@@ -169,11 +183,13 @@ class FusedMethod:
         roi = v.warp(image, roi_end)  # only the rows above the floor-contact band
         self._grey = roi
         timer.lap("undistort")
-        gx = cv2.Sobel(roi, cv2.CV_32F, 1, 0, ksize=3)
-        gy = cv2.Sobel(roi, cv2.CV_32F, 0, 1, ksize=3)
-        ax = np.abs(gx)
-        ay = np.abs(gy)
-        ax3 = cv2.dilate(ax, self._kernel3)  # tolerate a column of drift on vertical edges
+        n = roi.shape[0]
+        gx, gy, ax, ay, ax3 = (b[:n] for b in self._buf[:5])
+        cv2.Sobel(roi, cv2.CV_32F, 1, 0, dst=gx, ksize=3)
+        cv2.Sobel(roi, cv2.CV_32F, 0, 1, dst=gy, ksize=3)
+        np.abs(gx, out=ax)
+        np.abs(gy, out=ay)
+        cv2.dilate(ax, self._kernel3, dst=ax3)  # tolerate a column of drift on vertical edges
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -223,7 +239,7 @@ class FusedMethod:
             right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
             cols: dict[int, _Side] = {}
             for c in {*left, *right}:
-                cols[c] = _Side(ax3[:rb, c], max(0.25 * float(prof_short[c]), 2.5 * noise), rb)
+                cols[c] = _Side(ax3, c, max(0.25 * float(prof_short[c]), 2.5 * noise), rb)
             for ul in left:
                 for ur in right:
                     if ur - ul < min_w:
@@ -239,7 +255,9 @@ class FusedMethod:
             return fail
         _, rb, ul, ur, vt, conf = best
         vt, sign = self._front_top(gy, rb, ul, ur, vt, noise)
-        top_edge = np.maximum(gy * np.float32(sign), 0.0)
+        top_edge = self._buf[5, : gy.shape[0]]
+        np.multiply(gy, np.float32(sign), out=top_edge)
+        np.maximum(top_edge, 0.0, out=top_edge)
         return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
     @staticmethod
@@ -302,14 +320,9 @@ class FusedMethod:
         above = 0.5 * (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
         # ...but textured background (books, posters) gives vertical edges everywhere: only
         # what the side columns have beyond the columns just outside them counts
-        w_ax = ax3.shape[1]
-        bg = [
-            _Side(ax3[:rb, c], t, rb).upto
-            for c, t in ((ul - 4, side_l.threshold), (ur + 4, side_r.threshold))
-            if 0 <= c < w_ax
-        ]
+        bg = [u for u in (side_l.outside_left, side_r.outside_right) if u is not None]
         if bg:
-            ext_bg: npt.NDArray[np.float64] = np.sum(bg, axis=0) * (2.0 / len(bg))
+            ext_bg = bg[0] + bg[1] if len(bg) == 2 else 2.0 * bg[0]
             above_bg = 0.5 * (ext_bg[rows] - ext_bg[above_start]) / np.maximum(
                 rows - above_start, 1
             )
