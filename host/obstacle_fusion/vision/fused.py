@@ -34,7 +34,7 @@ log = logging.getLogger(__name__)
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 
-_MAX_SIDE_CANDIDATES = 4
+_MAX_SIDE_CANDIDATES = 3
 _MAX_BOTTOM_CANDIDATES = 3
 MIN_SIZE_M = 0.03  # smallest face side the method looks for
 
@@ -641,6 +641,14 @@ class FusedMethod:
         nxt = [end + direction, end + 2 * direction]
         if not all(0 <= i < cols.size and seg[i] for i in nxt):
             return va, vb
+        # a side face's bottom runs on unbroken to the outer edge and ends clearly above
+        # the front bottom line; noise on a low-contrast bottom edge does neither
+        between = (cols - end_u) * direction > 0
+        between &= (cols - edge_u) * direction <= 0.5
+        if float(seg[between].mean()) < 0.6:
+            return va, vb
+        outer = np.nonzero(seg)[0][-3:] if direction > 0 else np.nonzero(seg)[0][:3]
+        clear_rise = float(dev[outer].mean()) <= -1.5
         sa, sb = _lsq(cols[seg].astype(np.float64), pos[seg])
         if (sb - bb) * direction <= -0.15:  # rising outwards: meets the front bottom there
             corner_u = (sa - ba) / (bb - sb)
@@ -660,6 +668,8 @@ class FusedMethod:
                 a2, b2 = self._fit_vertical(ax, rows, c, w)
                 if abs((a2 + b2 * rb) - corner_u) <= 1.0:
                     return a2, b2
+        if not clear_rise:  # no shading edge at the corner and only a slight rise
+            return va, vb
         return corner_u - vb * rb, vb
 
     @staticmethod
