@@ -64,3 +64,20 @@ def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
     assert result.returncode != 0
     assert b"no such capture file" in result.stderr
     assert b"Traceback" not in result.stderr
+
+
+def test_mcap_file_points_to_replay(tmp_path: Path) -> None:
+    rec = tmp_path / "run.mcap"
+    rec.write_bytes(b"\x89MCAP0\r\n" + b"\x00" * 64)
+    result = run_cli(str(rec))
+    assert result.returncode == 2
+    assert b"replay" in result.stderr and b"Traceback" not in result.stderr
+
+
+def test_garbage_warns_no_frame(tmp_path: Path) -> None:
+    junk = tmp_path / "notes.txt"
+    junk.write_text("hello, this is not a capture\n" * 10)
+    result = run_cli(str(junk))
+    assert result.returncode == 0
+    assert json.loads(result.stdout.decode().splitlines()[-1])["stats"]["frames"] == 0
+    assert b"no frame found" in result.stderr

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from functools import lru_cache
 from pathlib import Path
 
@@ -11,7 +12,9 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.chessboard import BoardRenderer, BoardSpec, default_poses
 
 REPO = Path(__file__).resolve().parents[1]
-SHARED_DATA = REPO.parent / "shared" / "data"
+# The project's shared data sits beside the checkout (as CI lays it out); a clone elsewhere
+# points at it with OBSTACLE_FUSION_SHARED_DATA.
+SHARED_DATA = Path(os.environ.get("OBSTACLE_FUSION_SHARED_DATA", REPO.parent / "shared" / "data"))
 CHESSBOARD_DIR = SHARED_DATA / "opencv-chessboard"
 
 BOARD = BoardSpec(9, 6, 0.025)
@@ -20,7 +23,10 @@ BOARD = BoardSpec(9, 6, 0.025)
 def real_chessboard_photos() -> list[Path]:
     """The six real OpenCV sample photos; skip only when the shared data is truly absent."""
     if not SHARED_DATA.is_dir():
-        pytest.skip(f"shared data folder {SHARED_DATA} is absent")
+        pytest.skip(
+            f"shared data folder {SHARED_DATA} is absent "
+            "(set OBSTACLE_FUSION_SHARED_DATA to the folder holding opencv-chessboard/)"
+        )
     photos = sorted(CHESSBOARD_DIR.glob("*.jpg"))
     assert len(photos) == 6, f"expected six photos in {CHESSBOARD_DIR}, found {len(photos)}"
     return photos

@@ -96,7 +96,7 @@ def run_once(width: int, height: int, fps: float, seconds: float, max_wait_s: fl
                 records.extend(batch)
                 publish(batch)
 
-            app._publish = keep  # type: ignore[method-assign]
+            app._publish = keep  # type: ignore[method-assign,assignment]
             t0 = time.monotonic()
             result = app.run()
             wall = time.monotonic() - t0

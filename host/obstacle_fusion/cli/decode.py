@@ -38,12 +38,22 @@ def _open(path: str) -> BinaryIO:
         raise UserError(f"cannot read {path}: permission denied") from None
 
 
+MCAP_MAGIC = b"\x89MCAP"
+
+
 def run(args: argparse.Namespace) -> int:
     decoder = StreamDecoder()
     stream = _open(args.capture)
     out = sys.stdout
     try:
+        first = True
         while chunk := stream.read(CHUNK):
+            if first and chunk.startswith(MCAP_MAGIC):
+                raise UserError(
+                    f"{args.capture} is an MCAP recording, not a raw serial capture: "
+                    f"use `obstacle-fusion replay {args.capture}`"
+                )
+            first = False
             for msg in decoder.feed(chunk):
                 out.write(json.dumps(message_to_dict(msg)) + "\n")
     finally:
@@ -52,4 +62,10 @@ def run(args: argparse.Namespace) -> int:
     stats = decoder.stats.as_dict()
     stats["pending_bytes"] = decoder.pending_bytes
     out.write(json.dumps({"stats": stats}) + "\n")
+    if stats["frames"] == 0 and stats["bytes"] > 0:
+        print(
+            f"obstacle-fusion decode: warning: no frame found in {stats['bytes']} bytes; "
+            "is this a raw capture of the board's serial port (115200 8N1)?",
+            file=sys.stderr,
+        )
     return 0
