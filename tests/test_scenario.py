@@ -5,12 +5,14 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from obstacle_fusion.errors import UserError
 from obstacle_fusion.scenario import (
     Obstacle,
     Scenario,
     Segment,
     demo_scenario,
     keyframe_distance,
+    load_scenario,
     parse_keyframes,
 )
 
@@ -83,3 +85,17 @@ def test_a_scenario_file_loads_and_bad_ones_are_named(tmp_path: Path) -> None:
             load_scenario(bad)
     with pytest.raises(UserError, match="does not exist"):
         load_scenario(tmp_path / "nope.toml")
+
+
+@pytest.mark.parametrize("value", ["500.0", "nan", "-273.0", '"warm"', "true"])
+def test_a_bad_scenario_temperature_names_the_file_and_key(tmp_path: Path, value: str) -> None:
+    path = tmp_path / "hot.toml"
+    path.write_text(
+        f"temperature_c = {value}\n[[segment]]\nt0 = 0.0\nt1 = 2.0\nd0 = 1.0\n"
+        "height_m = 0.4\nwidth_m = 0.5\n"
+    )
+    with pytest.raises(UserError, match=r"hot\.toml: temperature_c must be .*-50\.\.80") as err:
+        load_scenario(path)
+    assert "--temperature" not in str(err.value) and "convert" not in str(err.value)
+    path.write_text(path.read_text().replace(f"temperature_c = {value}", "temperature_c = -5"))
+    assert load_scenario(path).temperature_c == -5.0

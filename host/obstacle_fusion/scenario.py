@@ -17,6 +17,7 @@ from typing import Any
 from obstacle_fusion.errors import UserError
 
 STEP_S = 0.001  # how long a keyframe step takes in the emulator's scene
+TEMPERATURE_C = (-50.0, 80.0)  # the span `run --temperature` accepts too
 
 
 @dataclass(frozen=True, slots=True)
@@ -194,10 +195,22 @@ def load_scenario(path: str | Path) -> Scenario:
     segments = []
     for i, seg in enumerate(raw, 1):
         segments.append(_segment(seg, i, p))
+    temperature = data.get("temperature_c", 20.0)
+    lo, hi = TEMPERATURE_C
+    if (
+        isinstance(temperature, bool)
+        or not isinstance(temperature, int | float)
+        or not math.isfinite(temperature)
+        or not lo <= temperature <= hi
+    ):
+        raise UserError(
+            f"scenario file {p}: temperature_c must be a number of degrees celsius within "
+            f"{lo:g}..{hi:g}, got {temperature!r}"
+        )
     try:
         return Scenario(
             tuple(segments),
-            temperature_c=float(data.get("temperature_c", 20.0)),
+            temperature_c=float(temperature),
             name=str(data.get("name", p.stem)),
         )
     except ValueError as exc:
