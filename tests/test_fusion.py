@@ -223,5 +223,7 @@ def test_a_vision_refusal_or_crash_is_a_record_not_an_exception() -> None:
         f.add_reading(_reading(1.00, 1.0))
         f.add_frame(_frame(1.01))
         rec = f.add_reading(_reading(1.06, 1.0))[0]
-        assert rec.status == "not_detected" and text in (rec.reason or "")
-        assert rec.distance_m == pytest.approx(1.0)
+        # Not "not_detected": a robot would read that as "nothing there" and drive on.
+        assert rec.status == "vision_error" and text in (rec.reason or "")
+        assert rec.distance_m == pytest.approx(1.0) and rec.height_m is None
+        assert f.stats.vision_errors == 1 and f.stats.not_detected == 0

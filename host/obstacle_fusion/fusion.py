@@ -41,6 +41,7 @@ class ObstacleStatus(StrEnum):
     CLEAR = "clear"  # the sonar hears nothing in range (no echo / out of range)
     SONAR_ERROR = "sonar_error"  # the nearest reading failed (timeout, too close)
     UNPAIRED = "unpaired"  # no reading near enough in time: nothing claimed
+    VISION_ERROR = "vision_error"  # paired, but the vision refused or failed: nothing claimed
 
 
 @dataclass(frozen=True, slots=True)
@@ -186,6 +187,7 @@ class FusionStats:
     not_detected: int = 0
     clear: int = 0
     sonar_errors: int = 0
+    vision_errors: int = 0
     alerts: int = 0
     forced: int = 0  # frames decided before the reading after them arrived (wait expired)
     readings: int = 0
@@ -287,10 +289,11 @@ class Fusion:
             else:
                 t0 = time.perf_counter()
                 m: Any = None
+                # A refusal or a crash is not "nothing there": a robot must not drive on it.
                 try:
                     m = self.measurer.measure(frame.image, pairing.distance_m)
                 except UserError as exc:  # e.g. a range outside what the vision accepts
-                    reason = str(exc)
+                    reason = f"vision refused: {exc}"
                 except Exception as exc:  # one bad frame must not end a robot's run
                     self.vision_errors += 1
                     if self.vision_errors <= 3:
@@ -299,8 +302,8 @@ class Fusion:
                 vision_ms = (time.perf_counter() - t0) * 1e3
                 method = getattr(m, "method", method)
                 if m is None:
-                    status = ObstacleStatus.NOT_DETECTED
-                    stats.not_detected += 1
+                    status = ObstacleStatus.VISION_ERROR
+                    stats.vision_errors += 1
                 elif getattr(m, "detected", False):
                     status = ObstacleStatus.OK
                     stats.detected += 1
