@@ -246,3 +246,34 @@ def test_console_degrades_to_plain_lines_without_rich(monkeypatch: pytest.Monkey
     assert view.plain
     view.update(Status(mode="robot", latest=_record()))
     assert "d=1.200 m" in buf.getvalue()
+
+
+def test_an_existing_recording_or_video_is_not_overwritten_unless_asked(tmp_path: Path) -> None:
+    mcap = tmp_path / "rec.mcap"
+    with McapRecorder(mcap) as rec:
+        rec.write_frame(_frame(1.0, 0), log_t=1.0)
+    before = mcap.read_bytes()
+    with pytest.raises(UserError, match=r"rec\.mcap already exists.*--overwrite"):
+        McapRecorder(mcap)
+    assert mcap.read_bytes() == before  # not truncated by the refusal
+    McapRecorder(mcap, overwrite=True).close()
+    assert mcap.read_bytes() != before
+    video = tmp_path / "out.avi"
+    video.write_bytes(b"earlier video")
+    with pytest.raises(UserError, match=r"out\.avi already exists.*--overwrite"):
+        AnnotatedVideoWriter(video)
+    assert video.read_bytes() == b"earlier video"
+    AnnotatedVideoWriter(video, overwrite=True).close()
+
+
+def test_console_says_emulated_and_ends_the_table_with_a_newline() -> None:
+    buf = io.StringIO()
+    view = ConsoleView(buf, live=True, refresh_hz=1000)
+    view.update(Status(mode="emulator", latest=_record()), force=True)
+    view.close()
+    out = buf.getvalue()
+    assert "EMULATED" in out
+    assert out.endswith("┘\n")  # a summary printed next starts on its own line
+    plain = io.StringIO()
+    ConsoleView(plain, plain_interval_s=0.0).update(Status(mode="emulator"), force=True)
+    assert plain.getvalue().startswith("[EMULATED")

@@ -56,6 +56,11 @@ def _fmt(v: float | None, unit: str = "m", digits: int = 3) -> str:
     return "-" if v is None else f"{v:.{digits}f} {unit}"
 
 
+def mode_label(mode: str) -> str:
+    """The emulated robot says so plainly: nobody should mistake its numbers for a robot's."""
+    return "EMULATED robot" if mode == "emulator" else mode
+
+
 def status_line(s: Status) -> str:
     r = s.latest
     obst = (
@@ -68,7 +73,7 @@ def status_line(s: Status) -> str:
     )
     link = s.link
     return (
-        f"[{s.mode}] {obst} | fps {s.rates.get('frames', 0):.1f} ranges/s "
+        f"[{mode_label(s.mode)}] {obst} | fps {s.rates.get('frames', 0):.1f} ranges/s "
         f"{s.rates.get('ranges', 0):.1f} | link {'up' if link.get('connected') else 'DOWN'} "
         f"frames {link.get('frames', 0)} crc {link.get('crc_errors', 0)} gaps "
         f"{link.get('seq_gaps', 0)} overruns {link.get('device_tx_overruns', 0)} reconnects "
@@ -126,7 +131,7 @@ class ConsoleView:
     def _table(self, s: Status) -> Any:
         from rich.table import Table
 
-        t = Table(title=f"obstacle-fusion  [{s.mode}]", show_header=False, expand=False)
+        t = Table(title=f"obstacle-fusion  [{mode_label(s.mode)}]", show_header=False, expand=False)
         t.add_column("what", style="bold")
         t.add_column("value")
         r = s.latest
@@ -173,3 +178,5 @@ class ConsoleView:
         if self._live is not None:
             self._live.stop()
             self._live = None
+            self.stream.write("\n")  # the table's border ends without one
+            self.stream.flush()

@@ -178,14 +178,20 @@ class McapRecorder:
         flush_interval_s: float = 1.0,
         chunk_size: int = 1 << 20,
         metadata: dict[str, dict[str, str]] | None = None,
+        overwrite: bool = False,
     ) -> None:
         from mcap.writer import CompressionType, Writer
 
         if image_format not in ("jpeg", "png"):
             raise UserError(f"image format must be jpeg or png, got {image_format!r}")
         self.path = Path(path)
-        try:
-            self._file: IO[bytes] = open(self.path, "wb")  # noqa: SIM115 (closed in close())
+        try:  # "x": an earlier recording is never truncated unless asked
+            self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115
+        except FileExistsError:
+            raise UserError(
+                f"the recording {self.path} already exists; give another name, or --overwrite "
+                "to replace it"
+            ) from None
         except OSError as exc:
             raise UserError(f"cannot write the recording {self.path}: {exc.strerror}") from exc
         self.image_format = image_format

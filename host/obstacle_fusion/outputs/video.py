@@ -47,8 +47,13 @@ class AnnotatedVideoWriter:
     """Opens on the first frame (its size decides the video's); frames of another size are
     resized so one odd frame never ends the video."""
 
-    def __init__(self, path: str | Path, fps: float = 15.0) -> None:
+    def __init__(self, path: str | Path, fps: float = 15.0, *, overwrite: bool = False) -> None:
         self.path = Path(path)
+        if self.path.exists() and not overwrite:
+            raise UserError(
+                f"video output {self.path} already exists; give another name, or --overwrite "
+                "to replace it"
+            )
         fourcc = _FOURCC.get(self.path.suffix.lower())
         if fourcc is None:
             raise UserError(
