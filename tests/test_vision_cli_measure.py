@@ -97,3 +97,17 @@ def test_no_obstacle_exits_1(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     cv2.imwrite(str(path), render_scene(spec, CameraModel.paper(), Rig(), 2).image)
     assert main(["measure", str(path), "--range-m", "1.5", "--json"]) == 1
     assert json.loads(capsys.readouterr().out)["detected"] is False
+
+
+def test_a_folder_and_a_wide_photo_without_calib_are_explained(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["measure", str(tmp_path), "--range-m", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "is a folder, not an image" in err and "does not exist" not in err
+    wide = tmp_path / "wide.png"
+    cv2.imwrite(str(wide), np.full((360, 640, 3), 90, np.uint8))
+    assert main(["measure", str(wide), "--range-m", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "no --calib given" in err and "640x360" in err and "pass --calib" in err
+    assert "calibration is for" not in err  # the user gave none

@@ -37,12 +37,17 @@ def run(args: argparse.Namespace) -> int:
     import cv2
 
     from obstacle_fusion.vision.annotate import annotate
-    from obstacle_fusion.vision.camera import CameraModel
+    from obstacle_fusion.vision.camera import CameraModel, CameraModelError
     from obstacle_fusion.vision.measure import Measurer
     from obstacle_fusion.vision.rig import Rig, check_range
 
     check_range(args.range_m)
     path = Path(args.image)
+    if path.is_dir():
+        raise UserError(
+            f"{path} is a folder, not an image: give one photo (a folder of frames plays with "
+            "`obstacle-fusion run --camera FOLDER`)"
+        )
     if not path.is_file():
         raise UserError(f"image {path} does not exist")
     image = cv2.imread(str(path), cv2.IMREAD_COLOR)
@@ -54,8 +59,18 @@ def run(args: argparse.Namespace) -> int:
             raise UserError(f"cannot write {out}: folder {out.parent} does not exist")
         if out.suffix.lower() not in (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"):
             raise UserError(f"--annotate {out}: use a .png or .jpg file name")
-    camera = CameraModel.load(args.calib) if args.calib else CameraModel.paper()
-    camera = camera.for_image(image)  # scales, or explains the aspect mismatch
+    if args.calib:
+        camera = CameraModel.load(args.calib).for_image(image)  # scales, or explains the aspect
+    else:
+        try:
+            camera = CameraModel.paper().for_image(image)
+        except CameraModelError:
+            h, w = image.shape[:2]
+            raise UserError(
+                f"no --calib given, and {path.name} is {w}x{h}: the default camera is the "
+                "paper's 4:3 one, which cannot measure another aspect; calibrate this camera "
+                "(obstacle-fusion calibrate) and pass --calib FILE"
+            ) from None
     rig = Rig.load(args.rig) if args.rig else Rig()
     result = Measurer(camera, rig, args.method).measure(image, args.range_m)
     if args.annotate:
