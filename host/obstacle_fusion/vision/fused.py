@@ -255,6 +255,9 @@ class FusedMethod:
             return fail
         _, rb, ul, ur, vt, conf = best
         vt, sign = self._front_top(gy, rb, ul, ur, vt, noise)
+        front = self._front_from_back(ay, gy, rb, ul, ur, vt)
+        if front is not None:
+            vt, sign = front
         top_edge = self._buf[5, : gy.shape[0]]
         np.multiply(gy, np.float32(sign), out=top_edge)
         np.maximum(top_edge, 0.0, out=top_edge)
@@ -323,8 +326,8 @@ class FusedMethod:
         bg = [u for u in (side_l.outside_left, side_r.outside_right) if u is not None]
         if bg:
             ext_bg = bg[0] + bg[1] if len(bg) == 2 else 2.0 * bg[0]
-            above_bg = 0.5 * (ext_bg[rows] - ext_bg[above_start]) / np.maximum(
-                rows - above_start, 1
+            above_bg = (
+                0.5 * (ext_bg[rows] - ext_bg[above_start]) / np.maximum(rows - above_start, 1)
             )
             above = np.maximum(above - above_bg, 0.0)
         stop = 1.0 - above
@@ -465,6 +468,61 @@ class FusedMethod:
             elif a >= thr and prof[r] * prof[r - 1] < 0 and a > abs(float(prof[r + 1])):
                 best = r
         return best, (1.0 if prof[best] >= 0 else -1.0)
+
+    def _front_from_back(
+        self, ay: F32, gy: F32, rb: int, ul: int, ur: int, vt: int
+    ) -> tuple[int, float] | None:
+        """A top edge narrower than the face, shrunk towards the centre: the top face's back.
+
+        A top face recedes: its back edge at depth D + l spans the face's columns scaled
+        by s = D / (D + l) about the principal point, and lies on row cy + s (vf - cy) for
+        a front top edge on row vf. So a top edge that ends inside both vertical edges,
+        by the amounts that one scale s explains, is the back edge, and the front edge is
+        on row cy + (vt - cy) / s: taken there, or at the signed-gradient extremum within
+        a pixel or two of it (the front edge itself may be too faint to be picked).
+        """
+        v = self.view
+        if vt - v.cy < 3.0 or ur - ul < 12:
+            return None
+        h, w = ay.shape
+        c0, c1 = max(1, ul - 4), min(w - 1, ur + 5)
+        prof = ay[max(0, vt - 1) : vt + 2, c0:c1].max(axis=0)
+        m = max(2, (ur - ul) // 4)
+        level = _median(ay[max(0, vt - 1) : vt + 2, ul + m : ur - m].max(axis=0))
+        if level <= 0.0:
+            return None
+        half = 0.5 * level
+        on = np.nonzero(prof >= half)[0]
+        if on.size < 4:
+            return None
+        a, b = float(c0 + on[0]), float(c0 + on[-1])
+        # the front top edge spans the face (the edge ends within a pixel of each side)
+        if a - ul < 2.0 and ur - b < 2.0:
+            return None
+        scale = (b - a) / float(ur - ul)
+        if not 0.4 <= scale <= 0.97:
+            return None
+        pred_a = v.cx + scale * (ul - v.cx)
+        pred_b = v.cx + scale * (ur - v.cx)
+        if abs(pred_a - a) > 1.5 or abs(pred_b - b) > 1.5:
+            return None  # not a shrink about the principal point: not a receding top face
+        vf = v.cy + (vt - v.cy) / scale
+        min_h = max(3, int(v.fy * MIN_SIZE_M / self._depth))
+        if vf <= vt + 1.0 or vf >= rb - min_h:
+            return None
+        mc = max(1, (ur - ul) // 8)
+        col = _mean(gy[:rb, ul + mc : ur - mc], 1)
+        r0, r1 = max(vt + 1, int(math.floor(vf)) - 2), min(rb - min_h, int(math.ceil(vf)) + 2)
+        if r1 < r0:
+            return None
+        seg = np.abs(col[r0 : r1 + 1])
+        r = r0 + int(np.argmax(seg))
+        if float(seg.max()) < 0.15 * abs(float(col[vt])):
+            r = int(round(vf))
+        log.debug(
+            "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
+        )
+        return r, (1.0 if col[r] >= 0 else -1.0)
 
     # ------------------------------------------------------------------ refinement
     def _refine(
