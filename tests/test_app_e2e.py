@@ -243,7 +243,7 @@ def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
 def test_sigterm_finishes_the_recording(uno_elf: Path, tmp_path: Path) -> None:
     mcap = tmp_path / "term.mcap"
     proc = subprocess.Popen(
-        _cmd("run", "--json", "--quiet", "--record", str(mcap)),
+        _cmd("run", "--json", "--quiet", "--record", str(mcap), "--temperature", "35"),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -258,10 +258,18 @@ def test_sigterm_finishes_the_recording(uno_elf: Path, tmp_path: Path) -> None:
     finally:
         if proc.poll() is None:
             proc.kill()
-    assert proc.returncode == 130, err
+    assert proc.returncode == 143, err  # 128 + SIGTERM, as a service manager expects
     assert "Traceback" not in err
     rec = read_recording(mcap)
     assert rec.complete and any(m.topic == TOPIC_OBSTACLE for m in rec.messages)
+    # The demo applies --temperature to the emulated air and the conversion, and says so.
+    assert "--temperature 35 C replaces the scenario's 20 C" in err
+    assert rec.metadata["run"]["temperature_c"] == "35.0"
+    truth = demo_scenario()
+    for r in (json.loads(line) for line in [first]):
+        if r["distance_m"] is not None and r.get("scene_t_s") is not None:
+            expected = truth.distance_at(r["scene_t_s"])
+            assert expected is not None and r["distance_m"] == pytest.approx(expected, rel=0.01)
 
 
 def test_a_json_reader_that_goes_away_ends_the_run(uno_elf: Path) -> None:

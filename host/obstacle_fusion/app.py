@@ -154,6 +154,7 @@ class App:
         self.ranges_mapped = 0
         self.ranges_unmapped_dropped = 0
         self._was_connected = False
+        self._prepared = False
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -215,6 +216,13 @@ class App:
 
     # ------------------------------------------------------------------ frames and records
     def _on_frame(self, frame: Frame) -> list[ObstacleRecord]:
+        if not self._prepared:
+            # The measurer checks its calibration against the first frame's size: a camera it
+            # cannot measure ends the run (UserError, exit 2) before anything is published.
+            prepare = getattr(self.fusion.measurer, "prepare", None)
+            if prepare is not None:
+                prepare(frame.image)
+            self._prepared = True
         self.rates["frames"].tick()
         if self.recorder is not None:
             self.recorder.write_frame(frame, log_t=time.monotonic())

@@ -10,12 +10,17 @@ set to each message's receipt time, so frames wait for their ranges exactly as t
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
+import logging
 import sys
 from pathlib import Path
 from typing import Any
 
+from obstacle_fusion.cli import _args
 from obstacle_fusion.errors import UserError
+
+log = logging.getLogger(__name__)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -27,12 +32,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     p.add_argument("recording", type=Path, help="FILE.mcap")
     p.add_argument("--method", choices=("fused", "paper"), help="default: the recorded one")
-    p.add_argument("--temperature", type=float, help="re-convert ranges at this air temperature")
-    p.add_argument("--median", type=int, default=1, help="median filter over N ranges")
+    p.add_argument(
+        "--temperature",
+        type=_args.temperature_c,
+        help="re-convert ranges at this air temperature, celsius (-50..80)",
+    )
+    _args.add_processing_args(p)
     p.add_argument("--calib", type=Path, help="camera calibration (default: the recorded one)")
     p.add_argument("--rig", type=Path, help="rig file (default: the recorded one)")
-    p.add_argument("--stop-distance", type=float, metavar="M", help="alert below this")
-    p.add_argument("--pair-tolerance-ms", type=float, default=50.0)
+    p.add_argument(
+        "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
+    )
     p.set_defaults(func=run)
 
 
@@ -53,12 +63,10 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.protocol.generated import Range
     from obstacle_fusion.sonar import SonarConverter
     from obstacle_fusion.sources import Frame
-    from obstacle_fusion.vision.camera import CameraModel
+    from obstacle_fusion.vision.camera import CameraModel, CameraModelError
     from obstacle_fusion.vision.measure import Measurer
     from obstacle_fusion.vision.rig import Rig
 
-    if args.median < 1:
-        raise UserError(f"--median must be at least 1, got {args.median}")
     rec = read_recording(args.recording)
     meta = rec.metadata.get("run", {})
     msgs = [m for m in rec.messages if m.topic in (TOPIC_IMAGE, TOPIC_RANGE)]
@@ -76,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     if args.rig is not None:
         rig = Rig.load(args.rig)
     elif meta.get("rig"):
-        rig = Rig(**json.loads(meta["rig"]))
+        rig = rig_from_metadata(meta["rig"], args.recording)
     else:
         rig = Rig()
     camera: Any = None
@@ -87,6 +95,17 @@ def run(args: argparse.Namespace) -> int:
         camera = CameraModel(
             np.array(c["camera_matrix"]), np.array(c["dist_coeffs"]), c["width"], c["height"]
         )
+    first_image = next(
+        (img for m in msgs if m.topic == TOPIC_IMAGE and (img := decode_image(m.data)) is not None),
+        None,
+    )
+    if camera is not None and first_image is not None:
+        h, w = first_image.shape[:2]
+        try:
+            camera.scaled_to(w, h)
+        except CameraModelError as exc:
+            which = f"--calib {args.calib}" if args.calib is not None else "the recorded camera"
+            raise UserError(f"{which} does not fit the recording's {w}x{h} frames: {exc}") from None
     stop = args.stop_distance
     if stop is None and meta.get("stop_distance_m") not in (None, "None", ""):
         stop = float(meta["stop_distance_m"])
@@ -165,3 +184,31 @@ def run(args: argparse.Namespace) -> int:
             "replayed above; anything after it is lost"
         )
     return 0
+
+
+def rig_from_metadata(text: str, recording: Path) -> Any:
+    """The recorded rig; keys a newer version added are skipped with a warning."""
+    from obstacle_fusion.vision.rig import Rig
+
+    try:
+        values = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise UserError(
+            f"{recording}: the recorded rig is not valid JSON ({exc}); pass --rig FILE"
+        ) from None
+    if not isinstance(values, dict):
+        raise UserError(f"{recording}: the recorded rig is not a JSON object; pass --rig FILE")
+    known = {f.name for f in dataclasses.fields(Rig)}
+    unknown = sorted(set(values) - known)
+    if unknown:
+        log.warning(
+            "%s: ignoring rig values this version does not know: %s",
+            recording,
+            ", ".join(unknown),
+        )
+    try:
+        return Rig(**{k: v for k, v in values.items() if k in known})
+    except UserError as exc:
+        raise UserError(
+            f"{recording}: the recorded rig is unusable: {exc}; pass --rig FILE"
+        ) from None
