@@ -174,7 +174,8 @@ def run(args: argparse.Namespace) -> int:
     s = fusion.stats
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
-        f"ranges; {s.paired} paired, {s.unpaired} unpaired, {s.detected} measured"
+        f"ranges; {s.paired} paired, {s.unpaired} unpaired, {s.detected} measured, "
+        f"{s.vision_errors} vision errors"
         + (f", {bad_images} undecodable frames" if bad_images else ""),
         file=sys.stderr,
     )

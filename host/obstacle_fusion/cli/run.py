@@ -203,7 +203,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         return _run(args, settings, rig, camera, demo)
     except KeyboardInterrupt as exc:
-        print("\nobstacle-fusion run: stopped; outputs closed", file=sys.stderr)
+        print("obstacle-fusion run: stopped; outputs closed", file=sys.stderr)
         return 143 if isinstance(exc, _Terminated) else 130
 
 
