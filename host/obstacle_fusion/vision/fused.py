@@ -596,7 +596,10 @@ class FusedMethod:
         if vb_mid > 5.0:
             rl = vb_mid / max(bl[1] - v.cy, 1e-6)
             rr = vb_mid / max(br[1] - v.cy, 1e-6)
-            if abs(rl - 1.0) > 0.01 or abs(rr - 1.0) > 0.01:
+            # only a difference the bottom line resolves (over a pixel between the two
+            # corners): on a far box a sub-pixel slope from noise would add a depth
+            # difference of several cm to the width
+            if abs(bl[1] - br[1]) > 1.0 and (abs(rl - 1.0) > 0.01 or abs(rr - 1.0) > 0.01):
                 z_l = depth * _clamp(rl, 0.8, 1.25)
                 z_r = depth * _clamp(rr, 0.8, 1.25)
         ul_f = 0.5 * (bl[0] + tl[0])
