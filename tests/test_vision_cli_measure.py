@@ -78,6 +78,7 @@ def test_errors_exit_2_without_traceback(
         (["measure", str(tmp_path / "missing.png"), "--range-m", "1"], "does not exist"),
         (["measure", str(photo), "--range-m", "0.01"], "outside"),
         (["measure", str(photo), "--range-m", "9"], "outside"),
+        (["measure", str(photo), "--range-m", "1", "--min-confidence", "2"], "within 0..1"),
         (["measure", str(photo), "--range-m", "1", "--calib", str(wrong)], "aspect"),
         (["measure", str(photo), "--range-m", "1", "--rig", str(tmp_path / "no.toml")], "rig file"),
         (

@@ -85,6 +85,48 @@ def test_fused_skips_the_top_face_of_a_low_box() -> None:
     assert res.height_m == pytest.approx(0.12, rel=0.03)
 
 
+@pytest.mark.parametrize(
+    ("height", "distance", "cam_h"), [(0.14, 0.9, 0.3), (0.2, 1.3, 0.38), (0.1, 0.6, 0.25)]
+)
+def test_fused_low_box_whose_top_face_has_the_front_face_shade(
+    height: float, distance: float, cam_h: float
+) -> None:
+    """Light from straight ahead-above shades top and front alike: no front top edge shows.
+
+    The top is where the vertical sides end, not a noise ripple inside the face.
+    """
+    rig = Rig(camera_height_m=cam_h, camera_pitch_deg=3.0)
+    spec = clean_room(
+        height_m=height,
+        width_m=0.45,
+        length_m=0.5,
+        distance_m=distance,
+        light_x=0.0,
+        light_z=1.0,
+        noise_sigma=2.5,
+        box_color=(50.0, 80.0, 60.0),
+        floor_color=(190.0, 170.0, 200.0),
+    )
+    sc = render_scene(spec, CAM, rig, 5)
+    res = Measurer(CAM, rig).measure(sc.image, distance)
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(height, rel=0.03)
+    assert res.width_m == pytest.approx(0.45, rel=0.03)
+
+
+def test_fused_confidence_floor_turns_a_weak_answer_into_no_detection() -> None:
+    rig = Rig(camera_height_m=0.3)
+    spec = clean_room(width_m=0.4, height_m=0.3, distance_m=1.5)
+    image = render_scene(spec, CAM, rig, 3).image
+    every = Measurer(CAM, rig, min_confidence=0.0).measure(image, 1.5)
+    assert every.detected and 0.0 < (every.confidence or 0.0) < 1.0
+    strict = Measurer(CAM, rig, min_confidence=1.0).measure(image, 1.5)
+    assert not strict.detected and strict.height_m is None
+    assert "confidence" in strict.reason and strict.confidence == every.confidence
+    with pytest.raises(UserError, match="min_confidence"):
+        Measurer(CAM, rig, min_confidence=1.5)
+
+
 def test_paper_method_on_a_clean_scene_and_its_formula() -> None:
     """The paper assumes obstacles grey 70..210 in front of a background outside that span."""
     rig = Rig(camera_height_m=0.2)
@@ -203,8 +245,10 @@ def test_odd_frames_never_raise() -> None:
         w = int(rng.choice([40, 64, 320, 500]))
         h = w * 3 // 4
         cam = CameraModel.paper(w, h)
-        rig = Rig(camera_height_m=float(rng.uniform(0.02, 1.5)),
-                  camera_pitch_deg=float(rng.uniform(-30, 30)))
+        rig = Rig(
+            camera_height_m=float(rng.uniform(0.02, 1.5)),
+            camera_pitch_deg=float(rng.uniform(-30, 30)),
+        )
         kind = i % 4
         if kind == 0:
             img = rng.integers(0, 256, (h, w, 3)).astype(np.uint8)

@@ -28,6 +28,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument("--calib", help="camera file from `obstacle-fusion calibrate`")
     parser.add_argument("--rig", help="rig TOML (camera height/pitch, sonar offset, beam)")
     parser.add_argument("--method", choices=("fused", "paper"), default="fused")
+    parser.add_argument(
+        "--min-confidence",
+        type=float,
+        default=None,
+        metavar="C",
+        help="fused: report no detection below this confidence, 0..1 (default 0.05; 0 reports "
+        "every best guess)",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--annotate", metavar="OUT.png", help="write the photo with the result")
     parser.set_defaults(func=run)
@@ -42,6 +50,8 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.vision.rig import Rig, check_range
 
     check_range(args.range_m)
+    if args.min_confidence is not None and not 0.0 <= args.min_confidence <= 1.0:
+        raise UserError(f"--min-confidence {args.min_confidence}: give a value within 0..1")
     path = Path(args.image)
     if path.is_dir():
         raise UserError(
@@ -72,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
                 "(obstacle-fusion calibrate) and pass --calib FILE"
             ) from None
     rig = Rig.load(args.rig) if args.rig else Rig()
-    result = Measurer(camera, rig, args.method).measure(image, args.range_m)
+    result = Measurer(camera, rig, args.method, args.min_confidence).measure(image, args.range_m)
     if args.annotate:
         if not cv2.imwrite(str(args.annotate), annotate(image, result)):
             raise UserError(f"could not write {args.annotate}")

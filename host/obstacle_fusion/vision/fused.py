@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import logging
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import cv2
@@ -37,6 +38,14 @@ F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed 
 _MAX_SIDE_CANDIDATES = 3
 _MAX_BOTTOM_CANDIDATES = 3
 MIN_SIZE_M = 0.03  # smallest face side the method looks for
+# a side's edge rows count from a quarter of its contrast near the floor, but never need
+# more than this many noise levels (see _presence)
+_PRESENCE_CAP = 5.0
+_HOLE_SHARE = 0.2  # a gap in the sides longer than this share of the face is no top face
+_FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a row mean
+# below this confidence the fused method reports no detection rather than a likely wrong
+# size (chosen on generated hard scenes: it turns most gross errors into misses)
+DEFAULT_MIN_CONFIDENCE = 0.05
 
 
 def _clamp(x: float, lo: float, hi: float) -> float:
@@ -99,6 +108,15 @@ def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
     return rb - 1 - n
 
 
+def _presence(strength: Any, noise: float) -> Any:
+    """Threshold for a side's edge rows: a quarter of its strength near the floor, capped.
+
+    The cap matters where the background changes along the side (floor, then another box,
+    then the wall): the side's contrast there can be a fraction of that near the floor.
+    """
+    return np.maximum(np.minimum(0.25 * strength, _PRESENCE_CAP * noise), 2.5 * noise)
+
+
 def _upto(column: npt.NDArray[Any], threshold: float) -> npt.NDArray[np.float64]:
     """Edge rows in 0..r-1 for every r (a leading zero)."""
     out = np.zeros(column.size + 1)
@@ -143,11 +161,36 @@ def _lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float,
     return ym - b * xm, b
 
 
+@dataclass(frozen=True)
+class _Candidate:
+    """A face hypothesis: floor-contact row, side columns, top row, and its scores."""
+
+    score: float  # for choosing among candidates
+    rb: int
+    ul: int
+    ur: int
+    vt: int
+    evidence: float  # 0..1: shape fit and edge strength, before ambiguity
+
+    def overlap(self, other: _Candidate) -> float:
+        """Intersection over union of the two face rectangles."""
+        iw = min(self.ur, other.ur) - max(self.ul, other.ul)
+        ih = min(self.rb, other.rb) - max(self.vt, other.vt)
+        if iw <= 0 or ih <= 0:
+            return 0.0
+        inter = float(iw * ih)
+        union = (self.ur - self.ul) * (self.rb - self.vt) + (other.ur - other.ul) * (
+            other.rb - other.vt
+        )
+        return inter / max(union - inter, 1.0)
+
+
 class FusedMethod:
     name = "fused"
 
-    def __init__(self, view: View) -> None:
+    def __init__(self, view: View, min_confidence: float = DEFAULT_MIN_CONFIDENCE) -> None:
         self.view = view
+        self.min_confidence = min_confidence
         h, w = view.camera.height, view.camera.width
         self._kernel3 = np.ones((1, 3), np.uint8)
         self._h, self._w = h, w
@@ -215,7 +258,8 @@ class FusedMethod:
         if r0b <= predicted <= r1b and all(abs(rb - predicted) > 1 for rb, _ in bottoms):
             bottoms.append((predicted, 1.0))
 
-        best: tuple[float, int, int, int, int, float] | None = None  # score, rb, ul, ur, vt, conf
+        best: _Candidate | None = None
+        cands: list[_Candidate] = []
         min_w = max(4.0, v.fx * MIN_SIZE_M / depth)
         for rb, pb in bottoms:
             k = int(_clamp(round(v.fy * 0.05 / depth), 3, 25))
@@ -239,21 +283,43 @@ class FusedMethod:
             right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
             cols: dict[int, _Side] = {}
             for c in {*left, *right}:
-                cols[c] = _Side(ax3, c, max(0.25 * float(prof_short[c]), 2.5 * noise), rb)
+                cols[c] = _Side(ax3, c, _presence(float(prof_short[c]), noise), rb)
             for ul in left:
                 for ur in right:
                     if ur - ul < min_w:
                         continue
                     cand = self._score_pair(ax3, ay, cols[ul], cols[ur], noise, rb, ul, ur, pb)
-                    if cand is not None and (best is None or cand[0] > best[0]):
-                        best = cand
-            if best is not None and best[5] > 0.8:
+                    if cand is not None:
+                        cands.append(cand)
+                        if best is None or cand.score > best.score:
+                            best = cand
+            if best is not None and best.evidence > 0.8:
                 break  # a clear face at the most likely floor-contact row
         timer.lap("search")
         if best is None:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
-        _, rb, ul, ur, vt, conf = best
+        rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
+        # a different face (little overlap) scoring nearly as well makes the choice a guess
+        rival = max((c.score for c in cands if c.overlap(best) < 0.5), default=0.0)
+        ambiguity = min(1.0, rival / best.score) if best.score > 0.0 else 1.0
+        conf = best.evidence * (1.0 - ambiguity)
+        log.debug(
+            "face %d-%d x %d-%d: evidence %.3f, ambiguity %.2f",
+            ul,
+            ur,
+            vt,
+            rb,
+            best.evidence,
+            ambiguity,
+        )
+        if conf < self.min_confidence:
+            fail.confidence = round(conf, 3)
+            fail.reason = (
+                f"no clear face: the best candidate's confidence {conf:.3f} is under "
+                f"{self.min_confidence:g} (weak edges, or another face almost as likely)"
+            )
+            return fail
         vt, sign = self._front_top(gy, rb, ul, ur, vt, noise)
         front = self._front_from_back(ay, gy, rb, ul, ur, vt)
         if front is not None:
@@ -277,7 +343,7 @@ class FusedMethod:
             return []
         cols = cols[np.argsort(-prof_v[cols])][: 3 * _MAX_SIDE_CANDIDATES]
         col_vals = ax3[: rb - 1, cols][::-1]  # rows going up from the bottom
-        tv = np.maximum(0.25 * prof_short[cols], 2.5 * noise)
+        tv = _presence(prof_short[cols], noise)
         on = col_vals > tv
         # run length: rows up to the first gap of 3 consecutive misses
         miss = ~on
@@ -299,7 +365,7 @@ class FusedMethod:
         ul: int,
         ur: int,
         prior_b: float,
-    ) -> tuple[float, int, int, int, int, float] | None:
+    ) -> _Candidate | None:
         width = ur - ul
         m = max(1, width // 8)
         c0, c1 = ul + m, ur - m
@@ -358,7 +424,7 @@ class FusedMethod:
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
         hole_max = np.maximum(0.0, (tops - self.view.cy) * 2.0 / self._depth) + 1.0
-        soft = np.exp(-hole / np.maximum(4.0, 0.5 * (rb - tops)))
+        soft = np.exp(-hole / np.maximum(4.0, _HOLE_SHARE * (rb - tops)))
         hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
         # rows whose inside has the face's own shade (measured just above the floor): a
         # shelf of books or a poster over the box does not, a box's face does (but for a
@@ -420,8 +486,13 @@ class FusedMethod:
             )
             return None
         score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
-        conf = float(fit[i]) * (1.0 - math.exp(-min(side, horiz) / 6.0)) * (0.5 + 0.5 * prior_b)
-        return (score, rb, ul, ur, vt, _clamp(conf, 0.0, 1.0))
+        # evidence: how well the edges fit a face (shape) times how clearly they stand out
+        evidence = (
+            math.sqrt(min(1.0, 2.0 * float(fit[i])))
+            * (1.0 - math.exp(-min(side, horiz) / 4.0))
+            * (0.5 + 0.5 * prior_b)
+        )
+        return _Candidate(score, rb, ul, ur, vt, _clamp(evidence, 0.0, 1.0))
 
     def _top_score(
         self, f: dict[str, npt.NDArray[Any]], tops: npt.NDArray[np.intp], rb: int, ul: int, ur: int
@@ -459,7 +530,9 @@ class FusedMethod:
         reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
         if below_horizon <= 1.0 or reach < 1:
             return vt, sign_vt
-        thr = 3.0 * noise / math.sqrt(max(1, ur - ul - 2 * m)) + 0.1 * abs(float(prof[vt]))
+        thr = _FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m)) + 0.1 * abs(
+            float(prof[vt])
+        )
         best = vt
         for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
             a = abs(float(prof[r]))

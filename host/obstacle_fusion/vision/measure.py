@@ -134,12 +134,21 @@ class Method(Protocol):
 class Measurer:
     """Measure an obstacle's height and width from one frame and the sonar's range."""
 
-    def __init__(self, camera: CameraModel, rig: Rig | None = None, method: str = "fused") -> None:
+    def __init__(
+        self,
+        camera: CameraModel,
+        rig: Rig | None = None,
+        method: str = "fused",
+        min_confidence: float | None = None,
+    ) -> None:
         if method not in METHODS:
             raise UserError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+        if min_confidence is not None and not 0.0 <= min_confidence <= 1.0:
+            raise UserError(f"min_confidence must be within 0..1, got {min_confidence}")
         self.camera = camera
         self.rig = rig if rig is not None else Rig()
         self.method = method
+        self.min_confidence = min_confidence  # None: the method's default (fused only)
         self._per_size: dict[tuple[int, int], Method] = {}
 
     def _method_for(self, width: int, height: int) -> Method:
@@ -154,7 +163,10 @@ class Measurer:
             else:
                 from obstacle_fusion.vision.fused import FusedMethod
 
-                impl = FusedMethod(View(cam, self.rig, "level"))
+                fused = FusedMethod(View(cam, self.rig, "level"))
+                if self.min_confidence is not None:
+                    fused.min_confidence = self.min_confidence
+                impl = fused
             self._per_size[key] = impl
         return impl
 
