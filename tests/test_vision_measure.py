@@ -114,6 +114,33 @@ def test_fused_low_box_whose_top_face_has_the_front_face_shade(
     assert res.width_m == pytest.approx(0.45, rel=0.03)
 
 
+@pytest.mark.parametrize(("distance", "lateral"), [(2.6, 0.0), (3.2, 0.1), (2.2, -0.08)])
+def test_fused_far_box_top_face_with_a_faint_front_edge(distance: float, lateral: float) -> None:
+    """A far box below the lens shows a top face a few pixels tall, lit almost like its front.
+
+    Its front edge is faint and several rows below the strong back edge; the back edge's
+    own blur must not hide it.
+    """
+    rig = Rig(camera_height_m=0.38, camera_pitch_deg=2.0)
+    spec = clean_room(
+        height_m=0.17,
+        width_m=0.3,
+        length_m=0.6,
+        distance_m=distance,
+        lateral_m=lateral,
+        light_x=0.0,
+        light_z=0.9,
+        noise_sigma=2.0,
+        box_color=(235.0, 215.0, 230.0),
+        floor_color=(110.0, 120.0, 100.0),
+        wall_color=(245.0, 250.0, 240.0),
+    )
+    sc = render_scene(spec, CAM, rig, 9)
+    res = Measurer(CAM, rig).measure(sc.image, distance)
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(0.17, rel=0.05)
+
+
 def test_fused_confidence_floor_turns_a_weak_answer_into_no_detection() -> None:
     rig = Rig(camera_height_m=0.3)
     spec = clean_room(width_m=0.4, height_m=0.3, distance_m=1.5)

@@ -42,6 +42,8 @@ MIN_SIZE_M = 0.03  # smallest face side the method looks for
 # more than this many noise levels (see _presence)
 _PRESENCE_CAP = 5.0
 _HOLE_SHARE = 0.2  # a gap in the sides longer than this share of the face is no top face
+_TAIL_SHARE = 0.1  # a top edge's blur tail, as a share of the edge, within _TAIL_ROWS
+_TAIL_ROWS = 2
 _FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a row mean
 # below this confidence the fused method reports no detection rather than a likely wrong
 # size (chosen on generated hard scenes: it turns most gross errors into misses)
@@ -530,12 +532,14 @@ class FusedMethod:
         reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
         if below_horizon <= 1.0 or reach < 1:
             return vt, sign_vt
-        thr = _FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m)) + 0.1 * abs(
-            float(prof[vt])
-        )
+        # noise of a mean over the face's columns (Sobel smooths ~3 columns together); next
+        # to the top edge also its own blur tail, further up only noise
+        thr_noise = _FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
+        thr_near = thr_noise + _TAIL_SHARE * abs(float(prof[vt]))
         best = vt
         for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
             a = abs(float(prof[r]))
+            thr = thr_near if r - vt <= _TAIL_ROWS else thr_noise
             if a >= thr and a >= abs(float(prof[r - 1])) and a >= abs(float(prof[r + 1])):
                 best = r
             elif a >= thr and prof[r] * prof[r - 1] < 0 and a > abs(float(prof[r + 1])):
@@ -822,9 +826,12 @@ class FusedMethod:
         if ref_rows.size < 3:
             return None
         half = 0.5 * _median(ref_rows)
-        # going up from the reference part, the first row below half strength
+        # going up from the reference part, the first row below half strength that stays
+        # below for two more rows (a dip where the background behind the side changes, from
+        # floor to wall, is not the end)
+        weak = strength < half
         for i in range(int(np.searchsorted(rows, mid0)) - 1, 0, -1):
-            if strength[i] < half <= strength[i + 1]:
+            if weak[i] and not weak[i + 1] and weak[max(0, i - 2) : i].all():
                 frac = (half - strength[i]) / max(float(strength[i + 1] - strength[i]), 1e-6)
                 return float(rows[i] + frac)
         return None
