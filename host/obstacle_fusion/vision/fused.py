@@ -48,6 +48,8 @@ _FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a 
 # below this confidence the fused method reports no detection rather than a likely wrong
 # size (chosen on generated hard scenes: it turns most gross errors into misses)
 DEFAULT_MIN_CONFIDENCE = 0.05
+_WIN7 = np.arange(-3, 4)[:, None]  # row offsets of a 7-row window around an edge
+_T5 = np.linspace(0.0, 1.0, 5)[:, None]  # outline samples along each face edge
 
 
 def _clamp(x: float, lo: float, hi: float) -> float:
@@ -78,14 +80,21 @@ def _local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
 
 
 def _subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
-    """Parabolic peak offsets at integer peaks (vectorised); profile rows are samples."""
-    y0 = profile[centre - 1, np.arange(profile.shape[1])]
-    y1 = profile[centre, np.arange(profile.shape[1])]
-    y2 = profile[centre + 1, np.arange(profile.shape[1])]
+    """Parabolic peak offsets at integer peaks (vectorised); profile rows are samples.
+
+    Flat indexing and a masked divide: on these few-dozen-sample windows the per-call
+    overhead of fancy 2-D indexing and np.errstate is most of the cost.
+    """
+    n = profile.shape[1]
+    flat = profile.ravel()
+    idx = centre * n + np.arange(n)
+    y0, y1, y2 = flat[idx - n], flat[idx], flat[idx + n]
     den = y0 - 2.0 * y1 + y2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        off = np.where(den < 0, 0.5 * (y0 - y2) / den, 0.0)
-    return np.minimum(np.maximum(off, -0.5), 0.5).astype(np.float64)
+    off = np.zeros(n, den.dtype)
+    np.divide(0.5 * (y0 - y2), den, out=off, where=den < 0)
+    np.maximum(off, -0.5, out=off)
+    np.minimum(off, 0.5, out=off)
+    return off.astype(np.float64)
 
 
 def _hole_below(on: npt.NDArray[np.float64], tops: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
@@ -150,13 +159,14 @@ def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[f
     a, b = _lsq(x, y)
     res = np.abs(y - (a + b * x))
     keep = res <= max(0.75, 2.5 * _median(res))
-    if 2 <= int(keep.sum()) < x.size:
+    if 2 <= np.count_nonzero(keep) < x.size:
         a, b = _lsq(x[keep], y[keep])
     return a, b
 
 
 def _lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
-    xm, ym = float(x.mean()), float(y.mean())
+    # sum / n is exactly what .mean() computes, without its Python-level wrapper
+    xm, ym = float(np.add.reduce(x)) / x.size, float(np.add.reduce(y)) / y.size
     dx = x - xm
     sxx = float(dx @ dx)
     b = float(dx @ (y - ym)) / sxx if sxx > 1e-12 else 0.0
@@ -202,6 +212,8 @@ class FusedMethod:
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
         self._buf = np.empty((6, h, w), np.float32)
+        self._dx = np.empty((h, w), np.int16)
+        self._dy = np.empty((h, w), np.int16)
 
     # ------------------------------------------------------------------ per frame
     def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
@@ -229,10 +241,13 @@ class FusedMethod:
         self._grey = roi
         timer.lap("undistort")
         n = roi.shape[0]
-        gx, gy, ax, ay, ax3 = (b[:n] for b in self._buf[:5])
-        cv2.Sobel(roi, cv2.CV_32F, 1, 0, dst=gx, ksize=3)
-        cv2.Sobel(roi, cv2.CV_32F, 0, 1, dst=gy, ksize=3)
-        np.abs(gx, out=ax)
+        gy, ax, ay, ax3 = (b[:n] for b in self._buf[1:5])
+        # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); the float copies are
+        # the same values the float Sobels give, for less than one of them costs
+        dx, dy = self._dx[:n], self._dy[:n]
+        cv2.spatialGradient(roi, dx, dy)
+        np.abs(dx, out=ax)
+        np.copyto(gy, dy)
         np.abs(gy, out=ay)
         cv2.dilate(ax, self._kernel3, dst=ax3)  # tolerate a column of drift on vertical edges
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
@@ -687,18 +702,13 @@ class FusedMethod:
         height_m = h_px * depth / v.fy
         timer.lap("refine")
         corners = np.array([bl, br, tr, tl])
-        t = np.linspace(0.0, 1.0, 5)[:, None]
-        outline = np.concatenate(
-            [corners[i] + t * (corners[(i + 1) % 4] - corners[i]) for i in range(4)]
-        )
+        step = corners[[1, 2, 3, 0]] - corners
+        outline = (corners[:, None, :] + _T5[None] * step[:, None, :]).reshape(-1, 2)
+        # one projection for both: each edge's first sample (t = 0) is its corner
         pix = v.to_input(outline)
-        box = (
-            float(pix[:, 0].min()),
-            float(pix[:, 1].min()),
-            float(pix[:, 0].max()),
-            float(pix[:, 1].max()),
-        )
-        ends = v.to_input(corners)
+        lo_px, hi_px = pix.min(axis=0), pix.max(axis=0)
+        box = (float(lo_px[0]), float(lo_px[1]), float(hi_px[0]), float(hi_px[1]))
+        ends = pix[::5]
         lines: list[Line] = [
             (float(ends[a, 0]), float(ends[a, 1]), float(ends[b, 0]), float(ends[b, 1]))
             for a, b in ((0, 1), (3, 2), (0, 3), (1, 2))
@@ -742,18 +752,21 @@ class FusedMethod:
         if cols.size < 8:
             return va, vb
         pred = ba + bb * cols
-        r0 = np.clip(np.round(pred).astype(np.intp), 3, h - 4)
-        win = ay[r0[None, :] + np.arange(-3, 4)[:, None], cols[None, :]]  # 7 x n
-        peak = np.clip(np.argmax(win[1:-1], axis=0) + 1, 1, 5)
-        strength = win[peak, np.arange(cols.size)]
+        r0 = np.round(pred).astype(np.intp)
+        np.maximum(r0, 3, out=r0)
+        np.minimum(r0, h - 4, out=r0)
+        win = ay[r0[None, :] + _WIN7, cols[None, :]]  # 7 x n
+        peak = np.argmax(win[1:-1], axis=0) + 1  # 1..5
+        strength = win.ravel()[peak * cols.size + np.arange(cols.size)]
         pos = r0 - 3 + peak + _subpixel(win, peak)
         dev = pos - pred
         m = max(1, (ur - ul) // 4)
-        centre = (cols >= ul + m) & (cols <= ur - m)
-        if centre.sum() < 3:
+        # cols is consecutive: the centre columns are a slice
+        centre = slice(max(0, ul + m - c_lo), max(0, ur - m - c_lo + 1))
+        if strength[centre].size < 3:
             return va, vb
         ref = _median(strength[centre])
-        on = (np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)
+        on = ((np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)).tolist()
         mid = int(np.searchsorted(cols, (ul + ur) // 2))
         order = range(mid, -1, -1) if direction < 0 else range(mid, cols.size)
         end = mid
@@ -783,14 +796,16 @@ class FusedMethod:
         # the front bottom line; noise on a low-contrast bottom edge does neither
         between = (cols - end_u) * direction > 0
         between &= (cols - edge_u) * direction <= 0.5
-        if float(seg[between].mean()) < 0.6:
+        n_between = np.count_nonzero(between)  # seg[between].mean() without the wrapper
+        if n_between and np.count_nonzero(seg & between) / n_between < 0.6:
             return va, vb
-        outer = np.nonzero(seg)[0][-3:] if direction > 0 else np.nonzero(seg)[0][:3]
-        clear_rise = float(dev[outer].mean()) <= -1.5
+        on_seg = np.nonzero(seg)[0]
+        outer = on_seg[-3:] if direction > 0 else on_seg[:3]
+        clear_rise = float(np.add.reduce(dev[outer])) / outer.size <= -1.5
         sa, sb = _lsq(cols[seg].astype(np.float64), pos[seg])
         if (sb - bb) * direction <= -0.15:  # rising outwards: meets the front bottom there
             corner_u = (sa - ba) / (bb - sb)
-        elif float(dev[nxt].mean()) < -1.0:  # a step up (blur merges the short slope)
+        elif float(dev[nxt[0]] + dev[nxt[1]]) / 2 < -1.0:  # a step up (blur merges the slope)
             corner_u = end_u + 0.5 * direction
         else:
             return va, vb
@@ -801,8 +816,9 @@ class FusedMethod:
         rows = np.arange(vt + mv, rb - mv + 1)
         c = int(round(corner_u))
         if rows.size >= 3 and 3 <= c < w - 3:
-            strip = ax[rows, c - 1 : c + 2].mean(axis=0)
-            if float(strip.max()) >= 0.25 * float(ax[rows, int(round(edge_u))].mean()):
+            strip = np.add.reduce(ax[rows, c - 1 : c + 2], 0) / rows.size  # .mean(axis=0)
+            edge_mean = np.add.reduce(ax[rows, int(round(edge_u))]) / rows.size
+            if float(strip.max()) >= 0.25 * float(edge_mean):
                 a2, b2 = self._fit_vertical(ax, rows, c, w)
                 if abs((a2 + b2 * rb) - corner_u) <= 1.0:
                     return a2, b2
@@ -828,10 +844,10 @@ class FusedMethod:
         half = 0.5 * _median(ref_rows)
         # going up from the reference part, the first row below half strength that stays
         # below for two more rows (a dip where the background behind the side changes, from
-        # floor to wall, is not the end)
-        weak = strength < half
+        # floor to wall, is not the end); the scan in Python bools
+        weak = (strength < half).tolist()
         for i in range(int(np.searchsorted(rows, mid0)) - 1, 0, -1):
-            if weak[i] and not weak[i + 1] and weak[max(0, i - 2) : i].all():
+            if weak[i] and not weak[i + 1] and all(weak[max(0, i - 2) : i]):
                 frac = (half - strength[i]) / max(float(strength[i + 1] - strength[i]), 1e-6)
                 return float(rows[i] + frac)
         return None
@@ -841,17 +857,23 @@ class FusedMethod:
         ay: F32, cols: npt.NDArray[np.intp], row: int, h: int
     ) -> tuple[float, float]:
         r0 = int(_clamp(row - 3, 0, h - 7))
-        win = ay[r0 : r0 + 7, cols]  # 7 rows around the edge; the peak within +-1 row
+        # 7 rows around the edge; the peak within +-1 row (cols are consecutive: a slice)
+        u0 = int(cols[0]) if cols.size else 0
+        win = np.ascontiguousarray(ay[r0 : r0 + 7, u0 : u0 + cols.size])
         lo = max(1, row - 1 - r0)
-        peak = np.clip(np.argmax(win[lo : lo + 3], axis=0) + lo, 1, 5)
+        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        np.minimum(peak, 5, out=peak)
         pos = r0 + peak + _subpixel(win, peak)
         return _fit_line(cols.astype(np.float64), pos)
 
     @staticmethod
     def _fit_vertical(ax: F32, rows: npt.NDArray[np.intp], col: int, w: int) -> tuple[float, float]:
         c0 = int(_clamp(col - 3, 0, w - 7))
-        win = np.ascontiguousarray(ax[rows, c0 : c0 + 7].T)
+        # rows are consecutive: a slice, not a gather
+        v0 = int(rows[0]) if rows.size else 0
+        win = np.ascontiguousarray(ax[v0 : v0 + rows.size, c0 : c0 + 7].T)
         lo = max(1, col - 1 - c0)
-        peak = np.clip(np.argmax(win[lo : lo + 3], axis=0) + lo, 1, 5)
+        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        np.minimum(peak, 5, out=peak)
         pos = c0 + peak + _subpixel(win, peak)
         return _fit_line(rows.astype(np.float64), pos)

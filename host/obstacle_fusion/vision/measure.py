@@ -92,6 +92,10 @@ class View:
         self.map1, self.map2 = cv2.initUndistortRectifyMap(
             camera.camera_matrix, camera.dist_coeffs, self.rotation, k, camera.size, cv2.CV_16SC2
         )
+        # input rows the first n view rows read (bilinear: the row below the lowest too),
+        # so a colour frame is converted to grey only as far down as the remap looks
+        lowest = np.maximum.accumulate(self.map1[:, :, 1].max(axis=1).astype(np.int64))
+        self._src_rows = np.clip(lowest + 2, 1, camera.height).tolist()
         self.grey = np.empty((camera.height, camera.width), np.uint8)
         self.out = np.empty((camera.height, camera.width), np.uint8)
 
@@ -100,11 +104,12 @@ class View:
 
         ``rows`` limits the work to the view's top rows when only they are needed.
         """
+        n = self.out.shape[0] if rows is None else max(1, min(int(rows), self.out.shape[0]))
         if image.ndim == 3:
-            src = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY, dst=self.grey)
+            k = self._src_rows[n - 1]
+            src = cv2.cvtColor(image[:k], cv2.COLOR_BGR2GRAY, dst=self.grey[:k])
         else:
             src = image
-        n = self.out.shape[0] if rows is None else max(1, min(int(rows), self.out.shape[0]))
         cv2.remap(
             src,
             self.map1[:n],
