@@ -7,7 +7,7 @@ errors over the detected scenes; "missed" counts scenes with no detection, "gros
 detected with a height or width error above 25 %. Times: median per frame, in-process,
 one core (cv2.setNumThreads(1)).
 
-    .venv/bin/python tools/bench_vision.py [--ordinary 50] [--hard 50] [--seed 2026]
+    .venv/bin/python tools/bench_vision.py [--ordinary 50] [--hard 100] [--seed 2026]
 """
 
 from __future__ import annotations
