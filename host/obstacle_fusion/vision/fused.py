@@ -208,7 +208,6 @@ class FusedMethod:
         self._h, self._w = h, w
         self._depth = 1.0
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
-        self._rows = np.arange(h)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
         self._buf = np.empty((6, h, w), np.float32)
@@ -395,10 +394,20 @@ class FusedMethod:
         snr_b = float(_mean(ay[rb - 1 : rb + 2, c0:c1].max(axis=0))) / noise
         prof_t = _mean(ay[:top_limit, c0:c1], 1)
         el, er = side_l.on, side_r.on
-        # coverage of each side from row r down to the bottom, and just above r
-        rows = self._rows[:top_limit]
+        snr_t = prof_t / noise
+        tops = _local_maxima(snr_t.astype(np.float32), 1.2)
+        # where each vertical edge ends is a top candidate too: the front top edge of a
+        # box can be nearly invisible (front and top faces alike) while its sides are not
+        ends = [side_l.run_top, side_r.run_top]
+        extra = [r for e in ends for r in (e - 1, e) if 0 < r < top_limit]
+        if extra:
+            tops = np.unique(np.concatenate([tops, np.array(extra, dtype=np.intp)]))
+        if tops.size == 0:
+            return None
+        # coverage of each side from each top candidate down to the bottom, and above it
+        rows = tops
         span = (rb - rows).astype(np.float64)
-        cov = 0.5 * (side_l.below[:top_limit] + side_r.below[:top_limit]) / span
+        cov = 0.5 * (side_l.below[rows] + side_r.below[rows]) / span
         # vertical edges above the top (half as high again as the face): a stripe across
         # the face leaves them there
         above_start = np.maximum(rows - np.maximum(3, (rb - rows) // 2), 0)
@@ -414,16 +423,6 @@ class FusedMethod:
             )
             above = np.maximum(above - above_bg, 0.0)
         stop = 1.0 - above
-        snr_t = prof_t / noise
-        tops = _local_maxima(snr_t.astype(np.float32), 1.2)
-        # where each vertical edge ends is a top candidate too: the front top edge of a
-        # box can be nearly invisible (front and top faces alike) while its sides are not
-        ends = [side_l.run_top, side_r.run_top]
-        extra = [r for e in ends for r in (e - 1, e) if 0 < r < top_limit]
-        if extra:
-            tops = np.unique(np.concatenate([tops, np.array(extra, dtype=np.intp)]))
-        if tops.size == 0:
-            return None
         # rows just below a top candidate with no vertical edge: the top face of a low box
         hole = 0.5 * (_hole_below(el, tops) + _hole_below(er, tops))
         # the box's top edge stops at its sides; a shelf or skirting line runs on
@@ -464,8 +463,8 @@ class FusedMethod:
             "snr": snr_t[tops],
             "hole": hole,
             "hole_fit": hole_fit,
-            "cov": cov[tops],
-            "stop": stop[tops],
+            "cov": cov,
+            "stop": stop,
             "contained": contained,
             "textured": textured,
             "face": face_frac,
@@ -485,8 +484,8 @@ class FusedMethod:
                     score_t[j],
                     snr_t[tops[j]],
                     hole[j],
-                    cov[tops[j]],
-                    stop[tops[j]],
+                    cov[j],
+                    stop[j],
                     contained[j],
                     textured[j],
                     face_frac[j],
@@ -496,7 +495,7 @@ class FusedMethod:
         snr_l = float(_mean(ax3[vt:rb, ul])) / noise
         snr_r = float(_mean(ax3[vt:rb, ur])) / noise
         side = min(snr_l, snr_r, 30.0)
-        horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[vt])), snr_b, 30.0)
+        horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[i])), snr_b, 30.0)
         if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
             log.debug(
                 "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
