@@ -433,9 +433,11 @@ class FusedMethod:
         inside = np.maximum(prof_t[tops], 1e-3)
         contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
         # texture inside the face (books on a shelf behind a box's top) is not the face
-        tex_rows = (_mean(ax3[:rb, c0:c1], 1) > 3.0 * noise).astype(np.float64)
+        # (rows from the highest top candidate down: counts are exact whatever the start)
+        t0 = int(tops.min())
+        tex_rows = (_mean(ax3[t0:rb, c0:c1], 1) > 3.0 * noise).astype(np.float64)
         tex_below = np.cumsum(tex_rows[::-1])[::-1]
-        textured = tex_below[tops] / np.maximum(rb - tops, 1)
+        textured = tex_below[tops - t0] / np.maximum(rb - tops, 1)
         # A hole is a top face only if one fits there: a top face shows below the horizon
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
