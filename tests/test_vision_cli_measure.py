@@ -78,7 +78,6 @@ def test_errors_exit_2_without_traceback(
         (["measure", str(tmp_path / "missing.png"), "--range-m", "1"], "does not exist"),
         (["measure", str(photo), "--range-m", "0.01"], "outside"),
         (["measure", str(photo), "--range-m", "9"], "outside"),
-        (["measure", str(photo), "--range-m", "1", "--min-confidence", "2"], "within 0..1"),
         (["measure", str(photo), "--range-m", "1", "--calib", str(wrong)], "aspect"),
         (["measure", str(photo), "--range-m", "1", "--rig", str(tmp_path / "no.toml")], "rig file"),
         (
@@ -90,6 +89,16 @@ def test_errors_exit_2_without_traceback(
         assert main(argv) == 2, argv
         err = capsys.readouterr().err
         assert message in err and "Traceback" not in err
+
+
+def test_min_confidence_outside_0_1_exits_2(
+    photo: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as stop:
+        main(["measure", str(photo), "--range-m", "1", "--min-confidence", "2"])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "--min-confidence" in err and "within 0..1" in err and "Traceback" not in err
 
 
 def test_no_obstacle_exits_1(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

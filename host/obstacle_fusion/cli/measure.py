@@ -7,6 +7,7 @@ import json
 import math
 from pathlib import Path
 
+from obstacle_fusion.cli._args import float_within
 from obstacle_fusion.errors import UserError
 
 
@@ -30,7 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     parser.add_argument("--method", choices=("fused", "paper"), default="fused")
     parser.add_argument(
         "--min-confidence",
-        type=float,
+        type=float_within(0.0, 1.0),
         default=None,
         metavar="C",
         help="fused: report no detection below this confidence, 0..1 (default 0.05; 0 reports "
@@ -50,8 +51,6 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.vision.rig import Rig, check_range
 
     check_range(args.range_m)
-    if args.min_confidence is not None and not 0.0 <= args.min_confidence <= 1.0:
-        raise UserError(f"--min-confidence {args.min_confidence}: give a value within 0..1")
     path = Path(args.image)
     if path.is_dir():
         raise UserError(
