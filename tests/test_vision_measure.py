@@ -141,6 +141,44 @@ def test_fused_far_box_top_face_with_a_faint_front_edge(distance: float, lateral
     assert res.height_m == pytest.approx(0.17, rel=0.05)
 
 
+@pytest.mark.parametrize(("lateral", "length"), [(-0.1, 0.8), (0.02, 0.4)])
+def test_fused_far_box_front_top_edge_is_not_the_back_edges_blur_tail(
+    lateral: float, length: float
+) -> None:
+    """A far, narrow box below the lens: its top face's back edge is the strongest top edge.
+
+    The front top edge must be taken near the row the back edge's scale predicts, not
+    on the back edge's own blur tail a row below it (that kept most of the top face in
+    the height: +10-15 %).
+    """
+    distance = 3.1
+    rig = Rig(camera_height_m=0.38, camera_pitch_deg=1.5)
+    spec = SceneSpec(
+        floor_style="plain",
+        skirting_m=0.078,
+        skirting_color=(177.0, 141.0, 163.0),
+        shadow=0.1,
+        noise_sigma=1.9,
+        wall_gap_m=1.33,
+        height_m=0.195,
+        width_m=0.205,
+        length_m=length,
+        distance_m=distance,
+        lateral_m=lateral,
+        box_color=(96.0, 79.0, 63.0),
+        floor_color=(130.0, 125.0, 114.0),
+        wall_color=(255.0, 218.0, 255.0),
+        light_x=0.33,
+        light_z=0.87,
+        blur_sigma=0.8,
+    )
+    sc = render_scene(spec, CAM, rig, 3)
+    res = Measurer(CAM, rig).measure(sc.image, distance)
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(0.195, rel=0.06)
+    assert res.width_m == pytest.approx(0.205, rel=0.05)
+
+
 def test_fused_confidence_floor_turns_a_weak_answer_into_no_detection() -> None:
     rig = Rig(camera_height_m=0.3)
     spec = clean_room(width_m=0.4, height_m=0.3, distance_m=1.5)

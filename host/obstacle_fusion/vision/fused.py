@@ -292,11 +292,13 @@ class FusedMethod:
             base = _median(prof_v) + 0.5
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
+                log.debug("bottom %d: fewer than two vertical-edge peaks", rb)
                 continue
             # presence thresholds from the strip nearest the floor, where the side may be
             # faint (a dark box on a dark floor) while its upper part is not
             left = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
             right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
+            log.debug("bottom %d: peaks %s, left %s, right %s", rb, peaks.tolist(), left, right)
             cols: dict[int, _Side] = {}
             for c in {*left, *right}:
                 cols[c] = _Side(ax3, c, _presence(float(prof_short[c]), noise), rb)
@@ -608,10 +610,16 @@ class FusedMethod:
         r0, r1 = max(vt + 1, int(math.floor(vf)) - 2), min(rb - min_h, int(math.ceil(vf)) + 2)
         if r1 < r0:
             return None
-        seg = np.abs(col[r0 : r1 + 1])
-        r = r0 + int(np.argmax(seg))
-        if float(seg.max()) < 0.15 * abs(float(col[vt])):
-            r = int(round(vf))
+        # a local extremum of the signed gradient nearest the predicted row: the largest
+        # value in the window may be the back edge's own blur tail right below it
+        mag = np.abs(col)
+        weakest = 0.15 * abs(float(col[vt]))
+        peaks = [
+            i
+            for i in range(r0, r1 + 1)
+            if mag[i] >= weakest and mag[i] >= mag[i - 1] and mag[i] >= mag[i + 1]
+        ]
+        r = min(peaks, key=lambda i: abs(i - vf)) if peaks else int(round(vf))
         log.debug(
             "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
         )
