@@ -97,28 +97,6 @@ def _subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.floa
     return off.astype(np.float64)
 
 
-def _hole_below(on: npt.NDArray[np.float64], tops: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
-    """Rows directly below each top candidate before the vertical edge begins."""
-    n = on.size
-    idx = np.where(on > 0, np.arange(n), n)
-    nxt = np.minimum.accumulate(idx[::-1])[::-1]  # first edge row at or below r
-    start = np.minimum(tops + 1, n - 1)
-    return (nxt[start] - start).astype(np.float64)
-
-
-def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
-    """Top row of the edge run that starts at the floor-contact row (gaps under ``gap``)."""
-    up = on[: rb - 1][::-1] > 0  # from just above the bottom, going up
-    if up.size < gap:
-        return rb - 1
-    miss = ~up
-    run = miss[: up.size - gap + 1].copy()
-    for k in range(1, gap):
-        run &= miss[k : up.size - gap + 1 + k]
-    n = int(np.argmax(run)) if run.any() else up.size
-    return rb - 1 - n
-
-
 def _presence(strength: Any, noise: float) -> Any:
     """Threshold for a side's edge rows: a quarter of its strength near the floor, capped.
 
@@ -128,28 +106,61 @@ def _presence(strength: Any, noise: float) -> Any:
     return np.maximum(np.minimum(0.25 * strength, _PRESENCE_CAP * noise), 2.5 * noise)
 
 
-def _upto(column: npt.NDArray[Any], threshold: float) -> npt.NDArray[np.float64]:
-    """Edge rows in 0..r-1 for every r (a leading zero)."""
-    out = np.zeros(column.size + 1)
-    np.cumsum(column > threshold, out=out[1:])
-    return out
+class _Sides:
+    """Candidate vertical edge columns at one floor-contact row: per-row presence tables.
 
+    One column of each table per candidate column, built in one pass for all of them
+    (per-column arrays cost more in numpy call overhead than in work). Counts are exact
+    integers in float64, so any summation order gives the same values.
+    """
 
-class _Side:
-    """One candidate vertical edge column at one floor-contact row: its per-row presence."""
+    __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
 
-    __slots__ = ("on", "below", "upto", "run_top", "outside_left", "outside_right")
+    def __init__(
+        self, ax3: F32, cols: list[int], thresholds: npt.NDArray[np.float64], rb: int
+    ) -> None:
+        k = len(cols)
+        w = ax3.shape[1]
+        c = np.array(cols, np.intp)
+        self.index = {col: i for i, col in enumerate(cols)}
+        thr = thresholds[None, :]
+        vals = ax3[:rb, c]  # rb x k
+        on = vals > thr
+        upto = np.zeros((rb + 1, k))
+        np.cumsum(on, axis=0, out=upto[1:])
+        self.upto = upto  # edge rows in 0..r-1
+        self.below = upto[rb] - upto[:rb]  # edge rows in r..rb-1
+        # first edge row at or below r (rb if none): the hole under a top candidate
+        idx = np.where(on, np.arange(rb)[:, None], rb)
+        self.nxt = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
+        # top row of the edge run from the floor-contact row (gaps under 3 rows)
+        if rb - 1 < 3:
+            self.run_top = [rb - 1] * k
+        else:
+            miss = ~on[: rb - 1][::-1]
+            gap = miss[:-2] & miss[1:-1] & miss[2:]
+            n = np.where(gap.any(axis=0), np.argmax(gap, axis=0), rb - 1)
+            self.run_top = (rb - 1 - n).tolist()
+        # the same counts for the columns just outside (4 px) as the left or right side:
+        # background texture there says the edges above a top are not the side's own;
+        # columns 0..k-1 outside left, k..2k-1 outside right, 2k zeros (no such column)
+        outside = ax3[:rb, np.concatenate([np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
+        out = np.zeros((rb + 1, 2 * k + 1))
+        np.cumsum(outside > np.concatenate([thr, thr], axis=1), axis=0, out=out[1:, : 2 * k])
+        self.out = out
+        self.out_left = [i if cols[i] >= 4 else -1 for i in range(k)]
+        self.out_right = [k + i if cols[i] + 4 < w else -1 for i in range(k)]
+        # exact column sums from the top (side strength over a face's rows)
+        self.csum = np.zeros((rb + 1, k))
+        np.cumsum(vals, axis=0, out=self.csum[1:])
 
-    def __init__(self, ax3: F32, c: int, threshold: float, rb: int) -> None:
-        column = ax3[:rb, c]
-        # the same count for the columns just outside (4 px) as the left or right side:
-        # background texture there says the edges above a top are not the side's own
-        self.outside_left = _upto(ax3[:rb, c - 4], threshold) if c >= 4 else None
-        self.outside_right = _upto(ax3[:rb, c + 4], threshold) if c + 4 < ax3.shape[1] else None
-        self.on = (column > threshold).astype(np.float64)
-        self.below = np.cumsum(self.on[::-1])[::-1]  # edge rows in r..rb-1
-        self.upto = np.concatenate([[0.0], np.cumsum(self.on)])  # edge rows in 0..r-1
-        self.run_top = _run_top(self.on, rb)
+    def background(self, il: int, ir: int) -> tuple[int, int]:
+        """Table columns of the outside counts for a pair; one side's twice if only it exists."""
+        a, b = self.out_left[il], self.out_right[ir]
+        zero = self.out.shape[1] - 1
+        if a < 0 and b < 0:
+            return zero, zero
+        return (a if a >= 0 else b), (b if b >= 0 else a)
 
 
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
@@ -297,18 +308,15 @@ class FusedMethod:
             # faint (a dark box on a dark floor) while its upper part is not
             left = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
             right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
-            cols: dict[int, _Side] = {}
-            for c in {*left, *right}:
-                cols[c] = _Side(ax3, c, _presence(float(prof_short[c]), noise), rb)
-            for ul in left:
-                for ur in right:
-                    if ur - ul < min_w:
-                        continue
-                    cand = self._score_pair(ax3, ay, cols[ul], cols[ur], noise, rb, ul, ur, pb)
-                    if cand is not None:
-                        cands.append(cand)
-                        if best is None or cand.score > best.score:
-                            best = cand
+            cols = sorted({*left, *right})
+            if not cols:
+                continue
+            sides = _Sides(ax3, cols, _presence(prof_short[cols].astype(np.float64), noise), rb)
+            pairs = [(ul, ur) for ul in left for ur in right if ur - ul >= min_w]
+            for cand in self._score_pairs(ax3, ay, sides, pairs, noise, rb, pb):
+                cands.append(cand)
+                if best is None or cand.score > best.score:
+                    best = cand
             if best is not None and best.evidence > 0.8:
                 break  # a clear face at the most likely floor-contact row
         timer.lap("search")
@@ -370,74 +378,123 @@ class FusedMethod:
         order = np.argsort(-rank[keep])[:_MAX_SIDE_CANDIDATES]
         return [int(c) for c in cols[keep][order]]
 
-    def _score_pair(
+    def _score_pairs(
         self,
         ax3: F32,
         ay: F32,
-        side_l: _Side,
-        side_r: _Side,
+        sides: _Sides,
+        pairs: list[tuple[int, int]],
         noise: float,
         rb: int,
-        ul: int,
-        ur: int,
         prior_b: float,
-    ) -> _Candidate | None:
-        width = ur - ul
-        m = max(1, width // 8)
-        c0, c1 = ul + m, ur - m
-        if c1 - c0 < 2:
-            return None
+    ) -> list[_Candidate]:
+        """Score every (left, right) pair at one floor-contact row, each with its best top.
+
+        All pairs' top candidates are scored in one flat pass (pair-major, rows ascending:
+        the order a per-pair loop would see them in); the candidates come back in the order
+        of ``pairs``. Row sums of integer gradients are exact in float32, so they are the
+        per-pair values bit for bit.
+        """
         min_h = max(3, int(self.view.fy * MIN_SIZE_M / self._depth))
         top_limit = rb - min_h
         if top_limit < 3:
-            return None
-        snr_b = float(_mean(ay[rb - 1 : rb + 2, c0:c1].max(axis=0))) / noise
-        prof_t = _mean(ay[:top_limit, c0:c1], 1)
-        el, er = side_l.on, side_r.on
-        snr_t = prof_t / noise
-        tops = _local_maxima(snr_t.astype(np.float32), 1.2)
+            return []
+        ps = []
+        for ul, ur in pairs:
+            m = max(1, (ur - ul) // 8)
+            if ur - ul - 2 * m >= 2:
+                ps.append((ul, ur, ul + m, ur - m))
+        if not ps:
+            return []
+        n_p = len(ps)
+        h_ay, w_ay = ay.shape
+        grey = self._grey
+        il = np.array([sides.index[p[0]] for p in ps], np.intp)
+        ir = np.array([sides.index[p[1]] for p in ps], np.intp)
+        inv_n = np.array([1.0 / (p[3] - p[2]) for p in ps], np.float32)
+        # mean |d/dy| between the sides for every row above the smallest face
+        prof = np.empty((top_limit, n_p), np.float32)
+        row_sum = np.empty((rb, n_p), np.float32)
+        for j, (_, _, c0, c1) in enumerate(ps):
+            np.add.reduce(ay[:top_limit, c0:c1], axis=1, out=prof[:, j])
+            np.add.reduce(grey[:rb, c0:c1], axis=1, dtype=np.float32, out=row_sum[:, j])
+        prof *= inv_n
+        snr = prof / noise
+        mask = np.zeros((top_limit, n_p), bool)
+        mid = snr[1:-1]
+        mask[1:-1] = (mid >= snr[:-2]) & (mid > snr[2:]) & (mid > 1.2)
         # where each vertical edge ends is a top candidate too: the front top edge of a
         # box can be nearly invisible (front and top faces alike) while its sides are not
-        ends = [side_l.run_top, side_r.run_top]
-        extra = [r for e in ends for r in (e - 1, e) if 0 < r < top_limit]
-        if extra:
-            tops = np.unique(np.concatenate([tops, np.array(extra, dtype=np.intp)]))
+        run_top = sides.run_top
+        for j in range(n_p):
+            for e in (run_top[il[j]], run_top[ir[j]]):
+                for r in (e - 1, e):
+                    if 0 < r < top_limit:
+                        mask[r, j] = True
+        pp, tops = np.nonzero(mask.T)  # pair-major, rows ascending within a pair
         if tops.size == 0:
-            return None
+            return []
+        tl, tr = il[pp], ir[pp]
         # coverage of each side from each top candidate down to the bottom, and above it
-        rows = tops
-        span = (rb - rows).astype(np.float64)
-        cov = 0.5 * (side_l.below[rows] + side_r.below[rows]) / span
+        span = (rb - tops).astype(np.float64)
+        below, upto = sides.below, sides.upto
+        cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
         # vertical edges above the top (half as high again as the face): a stripe across
         # the face leaves them there
-        above_start = np.maximum(rows - np.maximum(3, (rb - rows) // 2), 0)
-        ext = side_l.upto + side_r.upto
-        above = 0.5 * (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
+        above_start = np.maximum(tops - np.maximum(3, (rb - tops) // 2), 0)
+        n_above = np.maximum(tops - above_start, 1)
+        ext_t = upto[tops, tl] + upto[tops, tr]
+        ext_a = upto[above_start, tl] + upto[above_start, tr]
+        above = 0.5 * (ext_t - ext_a) / n_above
         # ...but textured background (books, posters) gives vertical edges everywhere: only
         # what the side columns have beyond the columns just outside them counts
-        bg = [u for u in (side_l.outside_left, side_r.outside_right) if u is not None]
-        if bg:
-            ext_bg = bg[0] + bg[1] if len(bg) == 2 else 2.0 * bg[0]
-            above_bg = (
-                0.5 * (ext_bg[rows] - ext_bg[above_start]) / np.maximum(rows - above_start, 1)
-            )
-            above = np.maximum(above - above_bg, 0.0)
+        bg = np.array([sides.background(il[j], ir[j]) for j in range(n_p)], np.intp)
+        ba, bb = bg[pp, 0], bg[pp, 1]
+        out = sides.out
+        bg_t = out[tops, ba] + out[tops, bb]
+        bg_a = out[above_start, ba] + out[above_start, bb]
+        above = np.maximum(above - 0.5 * (bg_t - bg_a) / n_above, 0.0)
         stop = 1.0 - above
         # rows just below a top candidate with no vertical edge: the top face of a low box
-        hole = 0.5 * (_hole_below(el, tops) + _hole_below(er, tops))
+        start = np.minimum(tops + 1, rb - 1)
+        nxt = sides.nxt
+        hole = 0.5 * (
+            (nxt[start, tl] - start).astype(np.float64)
+            + (nxt[start, tr] - start).astype(np.float64)
+        )
         # the box's top edge stops at its sides; a shelf or skirting line runs on
-        wo = max(3, (ur - ul) // 5)
-        h_ay, w_ay = ay.shape
-        o_l = _mean(ay[tops, max(0, ul - 1 - wo) : max(1, ul - 1)], 1)
-        o_r = _mean(ay[tops, min(w_ay - 1, ur + 2) : min(w_ay, ur + 2 + wo)], 1)
-        inside = np.maximum(prof_t[tops], 1e-3)
+        rows_u, inv_rows = np.unique(tops, return_inverse=True)
+        csum = np.zeros((rows_u.size, w_ay + 1))
+        np.cumsum(ay[rows_u], axis=1, out=csum[:, 1:])
+        o_lo = np.empty((n_p, 4), np.intp)
+        for j, (ul, ur, _, _) in enumerate(ps):
+            wo = max(3, (ur - ul) // 5)
+            o_lo[j] = (
+                max(0, ul - 1 - wo),
+                max(1, ul - 1),
+                min(w_ay - 1, ur + 2),
+                min(w_ay, ur + 2 + wo),
+            )
+        o = o_lo[pp]
+        ct = csum[inv_rows]
+        k_t = np.arange(tops.size)
+        o_l = (ct[k_t, o[:, 1]] - ct[k_t, o[:, 0]]).astype(np.float32)
+        o_l *= (1.0 / (o[:, 1] - o[:, 0])).astype(np.float32)
+        o_r = (ct[k_t, o[:, 3]] - ct[k_t, o[:, 2]]).astype(np.float32)
+        o_r *= (1.0 / (o[:, 3] - o[:, 2])).astype(np.float32)
+        prof_tops = prof[tops, pp]
+        inside = np.maximum(prof_tops, 1e-3)
         contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
         # texture inside the face (books on a shelf behind a box's top) is not the face
         # (rows from the highest top candidate down: counts are exact whatever the start)
         t0 = int(tops.min())
-        tex_rows = (_mean(ax3[t0:rb, c0:c1], 1) > 3.0 * noise).astype(np.float64)
-        tex_below = np.cumsum(tex_rows[::-1])[::-1]
-        textured = tex_below[tops - t0] / np.maximum(rb - tops, 1)
+        tex = np.empty((rb - t0, n_p), np.float32)
+        for j, (_, _, c0, c1) in enumerate(ps):
+            np.add.reduce(ax3[t0:rb, c0:c1], axis=1, out=tex[:, j])
+        tex *= inv_n
+        tex_rows = tex > 3.0 * noise
+        tex_below = np.cumsum(tex_rows[::-1], axis=0, dtype=np.float64)[::-1]
+        textured = tex_below[tops - t0, pp] / np.maximum(rb - tops, 1)
         # A hole is a top face only if one fits there: a top face shows below the horizon
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
@@ -447,22 +504,25 @@ class FusedMethod:
         # rows whose inside has the face's own shade (measured just above the floor): a
         # shelf of books or a poster over the box does not, a box's face does (but for a
         # stripe across it, or its top face)
-        row_mean = self._grey[:rb, c0:c1].sum(axis=1, dtype=np.float32) * (1.0 / (c1 - c0))
+        row_sum *= inv_n
         kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
-        face = _median(row_mean[rb - 1 - kf : rb - 1])
-        match = (np.abs(row_mean - face) <= max(8.0, 0.08 * face)).astype(np.float64)
-        match_below = np.cumsum(match[::-1])[::-1]
-        face_frac = match_below[tops] / np.maximum(rb - tops, 1)
+        face = np.partition(row_sum[rb - 1 - kf : rb - 1], kf // 2, axis=0)[kf // 2]
+        tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
+        match_b = np.abs(row_sum - face) <= tol
+        match_below = np.cumsum(match_b[::-1], axis=0, dtype=np.float64)[::-1]
+        face_frac = match_below[tops, pp] / np.maximum(rb - tops, 1)
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
-        match_upto = np.concatenate([[0.0], np.cumsum(match)])
+        match_upto = np.zeros((rb + 1, n_p))
+        np.cumsum(match_b, axis=0, out=match_upto[1:])
         a0 = np.maximum(tops - np.maximum(3, rb - tops), 0)
-        face_above = (match_upto[tops] - match_upto[a0]) / np.maximum(tops - a0, 1)
-        band = (match[np.maximum(tops - 1, 0)] == 0) & (match[np.maximum(tops - 2, 0)] == 0)
+        face_above = (match_upto[tops, pp] - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
+        band = ~match_b[np.maximum(tops - 1, 0), pp] & ~match_b[np.maximum(tops - 2, 0), pp]
         face_above = np.where(band, face_above, 0.0)
+        snr_tops = snr[tops, pp]
         feats = {
-            "snr": snr_t[tops],
+            "snr": snr_tops,
             "hole": hole,
             "hole_fit": hole_fit,
             "cov": cov,
@@ -472,48 +532,65 @@ class FusedMethod:
             "face": face_frac,
             "face_above": face_above,
         }
-        score_t, fit = self._top_score(feats, tops, rb, ul, ur)
-        i = int(np.argmax(score_t))
-        if log.isEnabledFor(logging.DEBUG):
-            for j in np.argsort(-score_t)[:5]:
+        score_t, fit = self._top_score(feats)
+        # the bottom edge's strength between the sides (max over +-1 row), per pair
+        m3 = np.zeros(w_ay + 1)
+        np.cumsum(ay[rb - 1 : rb + 2].max(axis=0), out=m3[1:])
+        bounds = np.searchsorted(pp, np.arange(n_p + 1)).tolist()
+        debug = log.isEnabledFor(logging.DEBUG)
+        csum_s = sides.csum
+        cands: list[_Candidate] = []
+        for j, (ul, ur, c0, c1) in enumerate(ps):
+            s0, s1 = bounds[j], bounds[j + 1]
+            if s1 == s0:
+                continue
+            if debug:
+                for k in np.argsort(-score_t[s0:s1])[:5] + s0:
+                    log.debug(
+                        "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
+                        "stop %.2f contained %.2f textured %.2f face %.2f above %.2f",
+                        ul,
+                        ur,
+                        rb,
+                        tops[k],
+                        score_t[k],
+                        snr_tops[k],
+                        hole[k],
+                        cov[k],
+                        stop[k],
+                        contained[k],
+                        textured[k],
+                        face_frac[k],
+                        face_above[k],
+                    )
+            i = s0 + int(np.argmax(score_t[s0:s1]))
+            vt = int(tops[i])
+            snr_b = float(np.float32(m3[c1] - m3[c0]) * (1.0 / (c1 - c0))) / noise
+            inv_h = 1.0 / (rb - vt)
+            a, b = int(il[j]), int(ir[j])
+            snr_l = float(np.float32(csum_s[rb, a] - csum_s[vt, a]) * inv_h) / noise
+            snr_r = float(np.float32(csum_s[rb, b] - csum_s[vt, b]) * inv_h) / noise
+            side = min(snr_l, snr_r, 30.0)
+            horiz = min(max(float(snr_tops[i]), 2.0 * float(stop[i])), snr_b, 30.0)
+            if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
                 log.debug(
-                    "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
-                    "stop %.2f contained %.2f textured %.2f face %.2f above %.2f",
-                    ul,
-                    ur,
-                    rb,
-                    tops[j],
-                    score_t[j],
-                    snr_t[tops[j]],
-                    hole[j],
-                    cov[j],
-                    stop[j],
-                    contained[j],
-                    textured[j],
-                    face_frac[j],
-                    face_above[j],
+                    "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
                 )
-        vt = int(tops[i])
-        snr_l = float(_mean(ax3[vt:rb, ul])) / noise
-        snr_r = float(_mean(ax3[vt:rb, ur])) / noise
-        side = min(snr_l, snr_r, 30.0)
-        horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[i])), snr_b, 30.0)
-        if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
-            log.debug(
-                "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
+                continue
+            fit_i = float(fit[i])
+            score = math.sqrt(side * horiz) * fit_i * prior_b
+            # evidence: how well the edges fit a face (shape) times how clearly they stand out
+            evidence = (
+                math.sqrt(min(1.0, 2.0 * fit_i))
+                * (1.0 - math.exp(-min(side, horiz) / 4.0))
+                * (0.5 + 0.5 * prior_b)
             )
-            return None
-        score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
-        # evidence: how well the edges fit a face (shape) times how clearly they stand out
-        evidence = (
-            math.sqrt(min(1.0, 2.0 * float(fit[i])))
-            * (1.0 - math.exp(-min(side, horiz) / 4.0))
-            * (0.5 + 0.5 * prior_b)
-        )
-        return _Candidate(score, rb, ul, ur, vt, _clamp(evidence, 0.0, 1.0))
+            cands.append(_Candidate(score, rb, ul, ur, vt, _clamp(evidence, 0.0, 1.0)))
+        return cands
 
+    @staticmethod
     def _top_score(
-        self, f: dict[str, npt.NDArray[Any]], tops: npt.NDArray[np.intp], rb: int, ul: int, ur: int
+        f: dict[str, npt.NDArray[Any]],
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """Score of each top candidate and its shape fit (0..1) from the edge evidence."""
         fit = (
