@@ -50,6 +50,7 @@ _FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a 
 DEFAULT_MIN_CONFIDENCE = 0.05
 _WIN7 = np.arange(-3, 4)[:, None]  # row offsets of a 7-row window around an edge
 _T5 = np.linspace(0.0, 1.0, 5)[:, None]  # outline samples along each face edge
+_NO_MATRIX = np.empty((0, 0), np.float32)  # cv2.gemm's optional third matrix, absent
 
 
 def _clamp(x: float, lo: float, hi: float) -> float:
@@ -95,6 +96,16 @@ def _subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.floa
     np.maximum(off, -0.5, out=off)
     np.minimum(off, 0.5, out=off)
     return off.astype(np.float64)
+
+
+def _range_sums(img: npt.NDArray[Any], ranges: F32) -> F32:
+    """Row sums of ``img`` over several column ranges at once: ``img @ ranges`` (0/1 columns).
+
+    OpenCV's gemm, which keeps to one thread under cv2.setNumThreads(1) (numpy's BLAS may
+    not); exact for the integer-valued gradients (every partial sum stays under 2**24).
+    """
+    out: F32 = cv2.gemm(img, ranges, 1.0, _NO_MATRIX, 0.0)
+    return out
 
 
 def _presence(strength: Any, noise: float) -> Any:
@@ -273,7 +284,9 @@ class FusedMethod:
         prof_b = _mean(ay[r0b : r1b + 1, u_lo : u_hi + 1], 1)
         rows_b = np.arange(r0b, r1b + 1)
         prior_b = 0.5 + 0.5 * np.exp(-0.5 * ((rows_b - vb0) / max(tol / 2.0, 1.0)) ** 2)
-        pk = _local_maxima(np.pad(prof_b, 1), 0.0) - 1
+        padded = np.zeros(prof_b.size + 2, prof_b.dtype)  # np.pad costs more than the work
+        padded[1:-1] = prof_b
+        pk = _local_maxima(padded, 0.0) - 1
         pk = pk[(pk >= 0) & (pk < prof_b.size)]
         if pk.size == 0:
             pk = np.array([int(np.argmax(prof_b))])
@@ -348,9 +361,12 @@ class FusedMethod:
         front = self._front_from_back(ay, gy, rb, ul, ur, vt)
         if front is not None:
             vt, sign = front
+        # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[5, : gy.shape[0]]
-        np.multiply(gy, np.float32(sign), out=top_edge)
-        np.maximum(top_edge, 0.0, out=top_edge)
+        r0 = int(_clamp(vt - 3, 0, gy.shape[0] - 7))
+        win = top_edge[r0 : r0 + 7]
+        np.multiply(gy[r0 : r0 + 7], np.float32(sign), out=win)
+        np.maximum(win, 0.0, out=win)
         return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
     @staticmethod
@@ -412,13 +428,24 @@ class FusedMethod:
         il = np.array([sides.index[p[0]] for p in ps], np.intp)
         ir = np.array([sides.index[p[1]] for p in ps], np.intp)
         inv_n = np.array([1.0 / (p[3] - p[2]) for p in ps], np.float32)
-        # mean |d/dy| between the sides for every row above the smallest face
-        prof = np.empty((top_limit, n_p), np.float32)
-        row_sum = np.empty((rb, n_p), np.float32)
+        # mean |d/dy| between the sides for every row above the smallest face: row sums
+        # for all pairs in one product with a 0/1 column-range matrix (exact: integers)
+        lo, hi = min(p[2] for p in ps), max(p[3] for p in ps)
+        ranges = np.zeros((hi - lo, n_p), np.float32)
         for j, (_, _, c0, c1) in enumerate(ps):
-            np.add.reduce(ay[:top_limit, c0:c1], axis=1, out=prof[:, j])
-            np.add.reduce(grey[:rb, c0:c1], axis=1, dtype=np.float32, out=row_sum[:, j])
+            ranges[c0 - lo : c1 - lo, j] = 1.0
+        prof = _range_sums(ay[:top_limit, lo:hi], ranges)
         prof *= inv_n
+        grey_sums = np.empty((n_p, rb), np.float32)
+        for j, (_, _, c0, c1) in enumerate(ps):
+            cv2.reduce(
+                grey[:rb, c0:c1],
+                1,
+                cv2.REDUCE_SUM,
+                dst=grey_sums[j].reshape(rb, 1),
+                dtype=cv2.CV_32F,
+            )
+        row_sum = grey_sums.T
         snr = prof / noise
         mask = np.zeros((top_limit, n_p), bool)
         mid = snr[1:-1]
@@ -463,34 +490,28 @@ class FusedMethod:
             + (nxt[start, tr] - start).astype(np.float64)
         )
         # the box's top edge stops at its sides; a shelf or skirting line runs on
-        rows_u, inv_rows = np.unique(tops, return_inverse=True)
-        csum = np.zeros((rows_u.size, w_ay + 1))
-        np.cumsum(ay[rows_u], axis=1, out=csum[:, 1:])
-        o_lo = np.empty((n_p, 4), np.intp)
-        for j, (ul, ur, _, _) in enumerate(ps):
+        # (means over the columns just outside each side, at the top rows: one product)
+        o_cols = []
+        for ul, ur, _, _ in ps:
             wo = max(3, (ur - ul) // 5)
-            o_lo[j] = (
-                max(0, ul - 1 - wo),
-                max(1, ul - 1),
-                min(w_ay - 1, ur + 2),
-                min(w_ay, ur + 2 + wo),
-            )
-        o = o_lo[pp]
-        ct = csum[inv_rows]
+            o_cols += [(max(0, ul - 1 - wo), max(1, ul - 1))]
+            o_cols += [(min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))]
+        o_lo, o_hi = min(a for a, _ in o_cols), max(b for _, b in o_cols)
+        o_ranges = np.zeros((o_hi - o_lo, 2 * n_p), np.float32)
+        for j, (a, b) in enumerate(o_cols):
+            o_ranges[a - o_lo : b - o_lo, j] = 1.0
+        o_inv = np.array([1.0 / (b - a) for a, b in o_cols], np.float32)
+        o_sums = _range_sums(ay[tops, o_lo:o_hi], o_ranges)
         k_t = np.arange(tops.size)
-        o_l = (ct[k_t, o[:, 1]] - ct[k_t, o[:, 0]]).astype(np.float32)
-        o_l *= (1.0 / (o[:, 1] - o[:, 0])).astype(np.float32)
-        o_r = (ct[k_t, o[:, 3]] - ct[k_t, o[:, 2]]).astype(np.float32)
-        o_r *= (1.0 / (o[:, 3] - o[:, 2])).astype(np.float32)
+        o_l = o_sums[k_t, 2 * pp] * o_inv[2 * pp]
+        o_r = o_sums[k_t, 2 * pp + 1] * o_inv[2 * pp + 1]
         prof_tops = prof[tops, pp]
         inside = np.maximum(prof_tops, 1e-3)
         contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
         # texture inside the face (books on a shelf behind a box's top) is not the face
         # (rows from the highest top candidate down: counts are exact whatever the start)
         t0 = int(tops.min())
-        tex = np.empty((rb - t0, n_p), np.float32)
-        for j, (_, _, c0, c1) in enumerate(ps):
-            np.add.reduce(ax3[t0:rb, c0:c1], axis=1, out=tex[:, j])
+        tex = _range_sums(ax3[t0:rb, lo:hi], ranges)
         tex *= inv_n
         tex_rows = tex > 3.0 * noise
         tex_below = np.cumsum(tex_rows[::-1], axis=0, dtype=np.float64)[::-1]
