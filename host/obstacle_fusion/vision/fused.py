@@ -23,7 +23,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import cv2
 import numpy as np
@@ -193,6 +193,17 @@ def _lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float,
     sxx = float(dx @ dx)
     b = float(dx @ (y - ym)) / sxx if sxx > 1e-12 else 0.0
     return ym - b * xm, b
+
+
+class _BottomProfile(NamedTuple):
+    """Per-column bottom-edge peaks near the fitted bottom line (for the side-face test)."""
+
+    cols: npt.NDArray[np.intp]
+    strength: F32
+    pos: npt.NDArray[np.float64]  # sub-pixel peak row
+    dev: npt.NDArray[np.float64]  # peak row minus the fitted line
+    ref: float  # median strength over the centre columns
+    on: list[bool]  # on the line and strong
 
 
 @dataclass(frozen=True)
@@ -640,25 +651,28 @@ class FusedMethod:
         """
         v = self.view
         m = max(1, (ur - ul) // 8)
-        prof = _mean(gy[:rb, ul + m : ur - m], 1)
-        sign_vt = 1.0 if prof[vt] >= 0 else -1.0
         below_horizon = vt - v.cy
         reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
         if below_horizon <= 1.0 or reach < 1:
-            return vt, sign_vt
+            return vt, (1.0 if float(_mean(gy[vt, ul + m : ur - m])) >= 0 else -1.0)
+        # the row means only where the scan reads them (rows vt..last), as Python floats;
+        # prof[r - vt] is row r
+        last = max(vt, min(vt + reach, rb - 3) + 1)
+        prof = _mean(gy[vt : last + 1, ul + m : ur - m], 1).tolist()
         # noise of a mean over the face's columns (Sobel smooths ~3 columns together); next
         # to the top edge also its own blur tail, further up only noise
         thr_noise = _FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
-        thr_near = thr_noise + _TAIL_SHARE * abs(float(prof[vt]))
+        thr_near = thr_noise + _TAIL_SHARE * abs(prof[0])
         best = vt
         for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
-            a = abs(float(prof[r]))
+            p_prev, p, p_next = prof[r - 1 - vt], prof[r - vt], prof[r + 1 - vt]
+            a = abs(p)
             thr = thr_near if r - vt <= _TAIL_ROWS else thr_noise
-            if a >= thr and a >= abs(float(prof[r - 1])) and a >= abs(float(prof[r + 1])):
+            if a >= thr and a >= abs(p_prev) and a >= abs(p_next):
                 best = r
-            elif a >= thr and prof[r] * prof[r - 1] < 0 and a > abs(float(prof[r + 1])):
+            elif a >= thr and p * p_prev < 0 and a > abs(p_next):
                 best = r
-        return best, (1.0 if prof[best] >= 0 else -1.0)
+        return best, (1.0 if prof[best - vt] >= 0 else -1.0)
 
     def _front_from_back(
         self, ay: F32, gy: F32, rb: int, ul: int, ur: int, vt: int
@@ -702,18 +716,18 @@ class FusedMethod:
         if vf <= vt + 1.0 or vf >= rb - min_h:
             return None
         mc = max(1, (ur - ul) // 8)
-        col = _mean(gy[:rb, ul + mc : ur - mc], 1)
         r0, r1 = max(vt + 1, int(math.floor(vf)) - 2), min(rb - min_h, int(math.ceil(vf)) + 2)
         if r1 < r0:
             return None
-        seg = np.abs(col[r0 : r1 + 1])
+        col = _mean(gy[vt : r1 + 1, ul + mc : ur - mc], 1)  # rows vt..r1: col[r - vt] is row r
+        seg = np.abs(col[r0 - vt :])
         r = r0 + int(np.argmax(seg))
-        if float(seg.max()) < 0.15 * abs(float(col[vt])):
+        if float(seg.max()) < 0.15 * abs(float(col[0])):
             r = int(round(vf))
         log.debug(
             "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
         )
-        return r, (1.0 if col[r] >= 0 else -1.0)
+        return r, (1.0 if col[r - vt] >= 0 else -1.0)
 
     # ------------------------------------------------------------------ refinement
     def _refine(
@@ -746,12 +760,14 @@ class FusedMethod:
         # A side face (yaw, or a box off the axis) shows beside the front face: the front
         # face's bottom edge is straight, the side face's rises towards the horizon.
         # Where the straight part ends is the front corner.
-        left_a, left_b = self._side_face(
-            ax, ay, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b
-        )
-        right_a, right_b = self._side_face(
-            ax, ay, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b
-        )
+        bottom = self._bottom_profile(ay, bottom_a, bottom_b, ul, ur)
+        if bottom is not None:
+            left_a, left_b = self._side_face(
+                ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b
+            )
+            right_a, right_b = self._side_face(
+                ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b
+            )
 
         def corner(
             ha: float, hb: float, va: float, vb: float
@@ -826,10 +842,39 @@ class FusedMethod:
             width_px=float(ur_f - ul_f),
         )
 
+    @staticmethod
+    def _bottom_profile(ay: F32, ba: float, bb: float, ul: int, ur: int) -> _BottomProfile | None:
+        """The bottom edge's per-column peaks near its fitted line (v = ba + bb u).
+
+        Both sides' side-face tests read the same profile: computed once for the two.
+        """
+        h, w = ay.shape
+        c_lo, c_hi = max(ul - 2, 2), min(ur + 3, w - 2)
+        cols = np.arange(c_lo, c_hi)
+        if cols.size < 8:
+            return None
+        pred = ba + bb * cols
+        r0 = np.round(pred).astype(np.intp)
+        np.maximum(r0, 3, out=r0)
+        np.minimum(r0, h - 4, out=r0)
+        win = ay[r0[None, :] + _WIN7, cols[None, :]]  # 7 x n
+        peak = np.argmax(win[1:-1], axis=0) + 1  # 1..5
+        strength = win.ravel()[peak * cols.size + np.arange(cols.size)]
+        pos = r0 - 3 + peak + _subpixel(win, peak)
+        dev = pos - pred
+        m = max(1, (ur - ul) // 4)
+        # cols is consecutive: the centre columns are a slice
+        centre = slice(max(0, ul + m - c_lo), max(0, ur - m - c_lo + 1))
+        if strength[centre].size < 3:
+            return None
+        ref = _median(strength[centre])
+        on = ((np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)).tolist()
+        return _BottomProfile(cols, strength, pos, dev, ref, on)
+
     def _side_face(
         self,
         ax: F32,
-        ay: F32,
+        bottom: _BottomProfile,
         ba: float,
         bb: float,
         ul: int,
@@ -845,27 +890,8 @@ class FusedMethod:
         ``direction`` -1 for the left side, +1 for the right; (va, vb) is the fitted edge
         u = va + vb v, returned unchanged when no side face is seen.
         """
-        h, w = ay.shape
-        c_lo, c_hi = max(ul - 2, 2), min(ur + 3, w - 2)
-        cols = np.arange(c_lo, c_hi)
-        if cols.size < 8:
-            return va, vb
-        pred = ba + bb * cols
-        r0 = np.round(pred).astype(np.intp)
-        np.maximum(r0, 3, out=r0)
-        np.minimum(r0, h - 4, out=r0)
-        win = ay[r0[None, :] + _WIN7, cols[None, :]]  # 7 x n
-        peak = np.argmax(win[1:-1], axis=0) + 1  # 1..5
-        strength = win.ravel()[peak * cols.size + np.arange(cols.size)]
-        pos = r0 - 3 + peak + _subpixel(win, peak)
-        dev = pos - pred
-        m = max(1, (ur - ul) // 4)
-        # cols is consecutive: the centre columns are a slice
-        centre = slice(max(0, ul + m - c_lo), max(0, ur - m - c_lo + 1))
-        if strength[centre].size < 3:
-            return va, vb
-        ref = _median(strength[centre])
-        on = ((np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)).tolist()
+        w = ax.shape[1]
+        cols, strength, pos, dev, ref, on = bottom
         mid = int(np.searchsorted(cols, (ul + ur) // 2))
         order = range(mid, -1, -1) if direction < 0 else range(mid, cols.size)
         end = mid
