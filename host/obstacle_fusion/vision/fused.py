@@ -72,6 +72,11 @@ def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     return a.sum(axis=axis) * (1.0 / max(n, 1))
 
 
+def _row_means(a: npt.NDArray[np.int16]) -> F32:
+    """Row means of an int16 gradient block in float32 (sums exact: integers < 2**24)."""
+    return a.sum(axis=1, dtype=np.float32) * (1.0 / max(a.shape[1], 1))
+
+
 def _local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
     if p.size < 3:
         return np.zeros(0, np.intp)
@@ -243,7 +248,7 @@ class FusedMethod:
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
-        self._buf = np.empty((6, h, w), np.float32)
+        self._buf = np.empty((4, h, w), np.float32)  # |dx|, |dy|, dilated |dx|, top edge
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
 
@@ -273,14 +278,14 @@ class FusedMethod:
         self._grey = roi
         timer.lap("undistort")
         n = roi.shape[0]
-        gy, ax, ay, ax3 = (b[:n] for b in self._buf[1:5])
+        ax, ay, ax3 = (b[:n] for b in self._buf[:3])
         # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); the float copies are
-        # the same values the float Sobels give, for less than one of them costs
+        # the same values the float Sobels give, for less than one of them costs (the
+        # signed d/dy stays int16: its row means are taken in float32 where needed)
         dx, dy = self._dx[:n], self._dy[:n]
         cv2.spatialGradient(roi, dx, dy)
         np.abs(dx, out=ax)
-        np.copyto(gy, dy)
-        np.abs(gy, out=ay)
+        np.abs(dy, out=ay)
         cv2.dilate(ax, self._kernel3, dst=ax3)  # tolerate a column of drift on vertical edges
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
@@ -330,8 +335,9 @@ class FusedMethod:
                 continue
             # presence thresholds from the strip nearest the floor, where the side may be
             # faint (a dark box on a dark floor) while its upper part is not
-            left = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
-            right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
+            left, right = self._rank_sides(
+                ax3, prof_v, prof_short, [peaks[peaks <= u_hi], peaks[peaks >= u_lo]], rb, noise
+            )
             cols = sorted({*left, *right})
             if not cols:
                 continue
@@ -368,15 +374,15 @@ class FusedMethod:
                 f"{self.min_confidence:g} (weak edges, or another face almost as likely)"
             )
             return fail
-        vt, sign = self._front_top(gy, rb, ul, ur, vt, noise)
-        front = self._front_from_back(ay, gy, rb, ul, ur, vt)
+        vt, sign = self._front_top(dy, rb, ul, ur, vt, noise)
+        front = self._front_from_back(ay, dy, rb, ul, ur, vt)
         if front is not None:
             vt, sign = front
         # the top edge's signed gradient, only in the 7-row window its refinement reads
-        top_edge = self._buf[5, : gy.shape[0]]
-        r0 = int(_clamp(vt - 3, 0, gy.shape[0] - 7))
+        top_edge = self._buf[3, :n]
+        r0 = int(_clamp(vt - 3, 0, n - 7))
         win = top_edge[r0 : r0 + 7]
-        np.multiply(gy[r0 : r0 + 7], np.float32(sign), out=win)
+        np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
         np.maximum(win, 0.0, out=win)
         return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
@@ -385,25 +391,36 @@ class FusedMethod:
         ax3: F32,
         prof_v: F32,
         prof_short: F32,
-        cols: npt.NDArray[np.intp],
+        groups: list[npt.NDArray[np.intp]],
         rb: int,
         noise: float,
-    ) -> list[int]:
-        """Strongest columns whose edge runs straight up from the floor-contact row."""
-        if cols.size == 0:
-            return []
-        cols = cols[np.argsort(-prof_v[cols])][: 3 * _MAX_SIDE_CANDIDATES]
-        col_vals = ax3[: rb - 1, cols][::-1]  # rows going up from the bottom
-        tv = _presence(prof_short[cols], noise)
+    ) -> list[list[int]]:
+        """Strongest columns whose edge runs straight up from the floor-contact row.
+
+        One ranking per group of peak columns (the left side's, the right side's); the
+        run lengths of all groups' strongest columns are found in one pass.
+        """
+        chosen = [g[np.argsort(-prof_v[g])][: 3 * _MAX_SIDE_CANDIDATES] for g in groups]
+        cols_all = np.concatenate(chosen)
+        if cols_all.size == 0:
+            return [[] for _ in groups]
+        col_vals = ax3[: rb - 1, cols_all][::-1]  # rows going up from the bottom
+        tv = _presence(prof_short[cols_all], noise)
         on = col_vals > tv
         # run length: rows up to the first gap of 3 consecutive misses
         miss = ~on
         gap = miss[:-2] & miss[1:-1] & miss[2:] if on.shape[0] > 2 else miss
         first_gap = np.where(gap.any(axis=0), np.argmax(gap, axis=0), on.shape[0])
-        rank = prof_v[cols] * np.sqrt(np.maximum(first_gap, 1))
-        keep = first_gap >= 3
-        order = np.argsort(-rank[keep])[:_MAX_SIDE_CANDIDATES]
-        return [int(c) for c in cols[keep][order]]
+        rank_all = prof_v[cols_all] * np.sqrt(np.maximum(first_gap, 1))
+        ranked = []
+        start = 0
+        for cols in chosen:
+            end = start + cols.size
+            keep = first_gap[start:end] >= 3
+            order = np.argsort(-rank_all[start:end][keep])[:_MAX_SIDE_CANDIDATES]
+            ranked.append([int(c) for c in cols[keep][order]])
+            start = end
+        return ranked
 
     def _score_pairs(
         self,
@@ -638,7 +655,7 @@ class FusedMethod:
         return score, fit
 
     def _front_top(
-        self, gy: F32, rb: int, ul: int, ur: int, vt: int, noise: float
+        self, dy: npt.NDArray[np.int16], rb: int, ul: int, ur: int, vt: int, noise: float
     ) -> tuple[int, float]:
         """A box lower than the lens shows its top face: prefer the face's front edge.
 
@@ -654,11 +671,11 @@ class FusedMethod:
         below_horizon = vt - v.cy
         reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
         if below_horizon <= 1.0 or reach < 1:
-            return vt, (1.0 if float(_mean(gy[vt, ul + m : ur - m])) >= 0 else -1.0)
+            return vt, (1.0 if int(dy[vt, ul + m : ur - m].sum()) >= 0 else -1.0)
         # the row means only where the scan reads them (rows vt..last), as Python floats;
         # prof[r - vt] is row r
         last = max(vt, min(vt + reach, rb - 3) + 1)
-        prof = _mean(gy[vt : last + 1, ul + m : ur - m], 1).tolist()
+        prof = _row_means(dy[vt : last + 1, ul + m : ur - m]).tolist()
         # noise of a mean over the face's columns (Sobel smooths ~3 columns together); next
         # to the top edge also its own blur tail, further up only noise
         thr_noise = _FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
@@ -675,7 +692,7 @@ class FusedMethod:
         return best, (1.0 if prof[best - vt] >= 0 else -1.0)
 
     def _front_from_back(
-        self, ay: F32, gy: F32, rb: int, ul: int, ur: int, vt: int
+        self, ay: F32, dy: npt.NDArray[np.int16], rb: int, ul: int, ur: int, vt: int
     ) -> tuple[int, float] | None:
         """A top edge narrower than the face, shrunk towards the centre: the top face's back.
 
@@ -719,7 +736,7 @@ class FusedMethod:
         r0, r1 = max(vt + 1, int(math.floor(vf)) - 2), min(rb - min_h, int(math.ceil(vf)) + 2)
         if r1 < r0:
             return None
-        col = _mean(gy[vt : r1 + 1, ul + mc : ur - mc], 1)  # rows vt..r1: col[r - vt] is row r
+        col = _row_means(dy[vt : r1 + 1, ul + mc : ur - mc])  # col[r - vt] is row r
         seg = np.abs(col[r0 - vt :])
         r = r0 + int(np.argmax(seg))
         if float(seg.max()) < 0.15 * abs(float(col[0])):
