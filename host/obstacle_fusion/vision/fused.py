@@ -34,6 +34,7 @@ from obstacle_fusion.vision.measure import Line, Measurement, Timer, View
 log = logging.getLogger(__name__)
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
+I16 = npt.NDArray[np.int16]  # int16 gradient images
 
 _MAX_SIDE_CANDIDATES = 3
 _MAX_BOTTOM_CANDIDATES = 3
@@ -72,7 +73,7 @@ def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     return a.sum(axis=axis) * (1.0 / max(n, 1))
 
 
-def _row_means(a: npt.NDArray[np.int16]) -> F32:
+def _row_means(a: I16) -> F32:
     """Row means of an int16 gradient block in float32 (sums exact: integers < 2**24)."""
     return a.sum(axis=1, dtype=np.float32) * (1.0 / max(a.shape[1], 1))
 
@@ -133,7 +134,7 @@ class _Sides:
     __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
 
     def __init__(
-        self, ax3: F32, cols: list[int], thresholds: npt.NDArray[np.float64], rb: int
+        self, ax3: I16, cols: list[int], thresholds: npt.NDArray[np.float64], rb: int
     ) -> None:
         k = len(cols)
         w = ax3.shape[1]
@@ -168,7 +169,7 @@ class _Sides:
         self.out_right = [k + i if cols[i] + 4 < w else -1 for i in range(k)]
         # exact column sums from the top (side strength over a face's rows)
         self.csum = np.zeros((rb + 1, k))
-        np.cumsum(vals, axis=0, out=self.csum[1:])
+        np.cumsum(vals, axis=0, dtype=np.float64, out=self.csum[1:])
 
     def background(self, il: int, ir: int) -> tuple[int, int]:
         """Table columns of the outside counts for a pair; one side's twice if only it exists."""
@@ -248,7 +249,8 @@ class FusedMethod:
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
-        self._buf = np.empty((4, h, w), np.float32)  # |dx|, |dy|, dilated |dx|, top edge
+        self._buf = np.empty((3, h, w), np.float32)  # |dx|, |dy|, top edge
+        self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
 
@@ -278,15 +280,19 @@ class FusedMethod:
         self._grey = roi
         timer.lap("undistort")
         n = roi.shape[0]
-        ax, ay, ax3 = (b[:n] for b in self._buf[:3])
+        ax, ay = self._buf[0, :n], self._buf[1, :n]
         # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); the float copies are
         # the same values the float Sobels give, for less than one of them costs (the
         # signed d/dy stays int16: its row means are taken in float32 where needed)
         dx, dy = self._dx[:n], self._dy[:n]
         cv2.spatialGradient(roi, dx, dy)
-        np.abs(dx, out=ax)
+        adx, ax3 = self._adx[0, :n], self._adx[1, :n]
+        np.abs(dx, out=adx)
+        np.copyto(ax, adx)
         np.abs(dy, out=ay)
-        cv2.dilate(ax, self._kernel3, dst=ax3)  # tolerate a column of drift on vertical edges
+        # tolerate a column of drift on vertical edges; kept in int16 (exact, and the
+        # dilation and the reads cost less than in float32)
+        cv2.dilate(adx, self._kernel3, dst=ax3)
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -379,7 +385,7 @@ class FusedMethod:
         if front is not None:
             vt, sign = front
         # the top edge's signed gradient, only in the 7-row window its refinement reads
-        top_edge = self._buf[3, :n]
+        top_edge = self._buf[2, :n]
         r0 = int(_clamp(vt - 3, 0, n - 7))
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
@@ -388,7 +394,7 @@ class FusedMethod:
 
     @staticmethod
     def _rank_sides(
-        ax3: F32,
+        ax3: I16,
         prof_v: F32,
         prof_short: F32,
         groups: list[npt.NDArray[np.intp]],
@@ -424,7 +430,7 @@ class FusedMethod:
 
     def _score_pairs(
         self,
-        ax3: F32,
+        ax3: I16,
         ay: F32,
         sides: _Sides,
         pairs: list[tuple[int, int]],
@@ -539,7 +545,7 @@ class FusedMethod:
         # texture inside the face (books on a shelf behind a box's top) is not the face
         # (rows from the highest top candidate down: counts are exact whatever the start)
         t0 = int(tops.min())
-        tex = _range_sums(ax3[t0:rb, lo:hi], ranges)
+        tex = _range_sums(ax3[t0:rb, lo:hi].astype(np.float32), ranges)
         tex *= inv_n
         tex_rows = tex > 3.0 * noise
         tex_below = np.cumsum(tex_rows[::-1], axis=0, dtype=np.float64)[::-1]
@@ -655,7 +661,7 @@ class FusedMethod:
         return score, fit
 
     def _front_top(
-        self, dy: npt.NDArray[np.int16], rb: int, ul: int, ur: int, vt: int, noise: float
+        self, dy: I16, rb: int, ul: int, ur: int, vt: int, noise: float
     ) -> tuple[int, float]:
         """A box lower than the lens shows its top face: prefer the face's front edge.
 
@@ -692,7 +698,7 @@ class FusedMethod:
         return best, (1.0 if prof[best - vt] >= 0 else -1.0)
 
     def _front_from_back(
-        self, ay: F32, dy: npt.NDArray[np.int16], rb: int, ul: int, ur: int, vt: int
+        self, ay: F32, dy: I16, rb: int, ul: int, ur: int, vt: int
     ) -> tuple[int, float] | None:
         """A top edge narrower than the face, shrunk towards the centre: the top face's back.
 
