@@ -548,8 +548,10 @@ class FusedMethod:
         tex = _range_sums(ax3[t0:rb, lo:hi].astype(np.float32), ranges)
         tex *= inv_n
         tex_rows = tex > 3.0 * noise
-        tex_below = np.cumsum(tex_rows[::-1], axis=0, dtype=np.float64)[::-1]
-        textured = tex_below[tops - t0, pp] / np.maximum(rb - tops, 1)
+        tex_upto = np.zeros((rb - t0 + 1, n_p))  # textured rows in t0..r-1 (exact counts)
+        np.cumsum(tex_rows, axis=0, out=tex_upto[1:])
+        tex_below = tex_upto[rb - t0, pp] - tex_upto[tops - t0, pp]
+        textured = tex_below / np.maximum(rb - tops, 1)
         # A hole is a top face only if one fits there: a top face shows below the horizon
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
@@ -564,15 +566,15 @@ class FusedMethod:
         face = np.partition(row_sum[rb - 1 - kf : rb - 1], kf // 2, axis=0)[kf // 2]
         tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
         match_b = np.abs(row_sum - face) <= tol
-        match_below = np.cumsum(match_b[::-1], axis=0, dtype=np.float64)[::-1]
-        face_frac = match_below[tops, pp] / np.maximum(rb - tops, 1)
+        match_upto = np.zeros((rb + 1, n_p))  # matching rows in 0..r-1 (exact counts)
+        np.cumsum(match_b, axis=0, out=match_upto[1:])
+        match_t = match_upto[tops, pp]
+        face_frac = (match_upto[rb, pp] - match_t) / np.maximum(rb - tops, 1)
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
-        match_upto = np.zeros((rb + 1, n_p))
-        np.cumsum(match_b, axis=0, out=match_upto[1:])
         a0 = np.maximum(tops - np.maximum(3, rb - tops), 0)
-        face_above = (match_upto[tops, pp] - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
+        face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
         band = ~match_b[np.maximum(tops - 1, 0), pp] & ~match_b[np.maximum(tops - 2, 0), pp]
         face_above = np.where(band, face_above, 0.0)
         snr_tops = snr[tops, pp]
@@ -983,7 +985,9 @@ class FusedMethod:
         if hi - lo < 6:
             return None
         rows = np.arange(lo, hi + 1)
-        cols = np.clip(np.round(a + b * rows).astype(np.intp), 1, w - 2)
+        cols = np.round(a + b * rows).astype(np.intp)
+        np.maximum(cols, 1, out=cols)  # np.clip's wrapper costs more than the work here
+        np.minimum(cols, w - 2, out=cols)
         strength = np.maximum(np.maximum(ax[rows, cols - 1], ax[rows, cols]), ax[rows, cols + 1])
         mid0 = vt + max(2, (rb - vt) // 4)
         ref_rows = strength[rows >= mid0]
