@@ -23,7 +23,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import cv2
 import numpy as np
@@ -34,6 +34,7 @@ from obstacle_fusion.vision.measure import Line, Measurement, Timer, View
 log = logging.getLogger(__name__)
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
+I16 = npt.NDArray[np.int16]  # int16 gradient images
 
 _MAX_SIDE_CANDIDATES = 3
 _MAX_BOTTOM_CANDIDATES = 3
@@ -71,6 +72,11 @@ def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     return a.sum(axis=axis) * (1.0 / max(n, 1))
 
 
+def _row_means(a: I16) -> F32:
+    """Row means of an int16 gradient block in float32 (sums exact: integers < 2**24)."""
+    return a.sum(axis=1, dtype=np.float32) * (1.0 / max(a.shape[1], 1))
+
+
 def _local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
     if p.size < 3:
         return np.zeros(0, np.intp)
@@ -97,26 +103,18 @@ def _subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.floa
     return off.astype(np.float64)
 
 
-def _hole_below(on: npt.NDArray[np.float64], tops: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
-    """Rows directly below each top candidate before the vertical edge begins."""
-    n = on.size
-    idx = np.where(on > 0, np.arange(n), n)
-    nxt = np.minimum.accumulate(idx[::-1])[::-1]  # first edge row at or below r
-    start = np.minimum(tops + 1, n - 1)
-    return (nxt[start] - start).astype(np.float64)
+def _range_sums(img: npt.NDArray[Any], ranges: list[tuple[int, int]]) -> F32:
+    """Float32 row sums of ``img`` over each column range [c0, c1): one column per range.
 
-
-def _run_top(on: npt.NDArray[np.float64], rb: int, gap: int = 3) -> int:
-    """Top row of the edge run that starts at the floor-contact row (gaps under ``gap``)."""
-    up = on[: rb - 1][::-1] > 0  # from just above the bottom, going up
-    if up.size < gap:
-        return rb - 1
-    miss = ~up
-    run = miss[: up.size - gap + 1].copy()
-    for k in range(1, gap):
-        run &= miss[k : up.size - gap + 1 + k]
-    n = int(np.argmax(run)) if run.any() else up.size
-    return rb - 1 - n
+    cv2.reduce costs about half of numpy's sum on these strided blocks and keeps to one
+    thread (a matrix product would go through a multi-threaded BLAS); the sums are exact
+    for integer-valued images (every partial sum stays under 2**24).
+    """
+    rows = img.shape[0]
+    out = np.empty((len(ranges), rows), np.float32)
+    for j, (c0, c1) in enumerate(ranges):
+        cv2.reduce(img[:, c0:c1], 1, cv2.REDUCE_SUM, dst=out[j].reshape(rows, 1), dtype=cv2.CV_32F)
+    return out.T
 
 
 def _presence(strength: Any, noise: float) -> Any:
@@ -128,28 +126,61 @@ def _presence(strength: Any, noise: float) -> Any:
     return np.maximum(np.minimum(0.25 * strength, _PRESENCE_CAP * noise), 2.5 * noise)
 
 
-def _upto(column: npt.NDArray[Any], threshold: float) -> npt.NDArray[np.float64]:
-    """Edge rows in 0..r-1 for every r (a leading zero)."""
-    out = np.zeros(column.size + 1)
-    np.cumsum(column > threshold, out=out[1:])
-    return out
+class _Sides:
+    """Candidate vertical edge columns at one floor-contact row: per-row presence tables.
 
+    One column of each table per candidate column, built in one pass for all of them
+    (per-column arrays cost more in numpy call overhead than in work). Counts are exact
+    integers in float64, so any summation order gives the same values.
+    """
 
-class _Side:
-    """One candidate vertical edge column at one floor-contact row: its per-row presence."""
+    __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
 
-    __slots__ = ("on", "below", "upto", "run_top", "outside_left", "outside_right")
+    def __init__(
+        self, ax3: I16, cols: list[int], thresholds: npt.NDArray[np.float64], rb: int
+    ) -> None:
+        k = len(cols)
+        w = ax3.shape[1]
+        c = np.array(cols, np.intp)
+        self.index = {col: i for i, col in enumerate(cols)}
+        thr = thresholds[None, :]
+        vals = ax3[:rb, c]  # rb x k
+        on = vals > thr
+        upto = np.zeros((rb + 1, k))
+        np.cumsum(on, axis=0, out=upto[1:])
+        self.upto = upto  # edge rows in 0..r-1
+        self.below = upto[rb] - upto[:rb]  # edge rows in r..rb-1
+        # first edge row at or below r (rb if none): the hole under a top candidate
+        idx = np.where(on, np.arange(rb)[:, None], rb)
+        self.nxt = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
+        # top row of the edge run from the floor-contact row (gaps under 3 rows)
+        if rb - 1 < 3:
+            self.run_top = [rb - 1] * k
+        else:
+            miss = ~on[: rb - 1][::-1]
+            gap = miss[:-2] & miss[1:-1] & miss[2:]
+            n = np.where(gap.any(axis=0), np.argmax(gap, axis=0), rb - 1)
+            self.run_top = (rb - 1 - n).tolist()
+        # the same counts for the columns just outside (4 px) as the left or right side:
+        # background texture there says the edges above a top are not the side's own;
+        # columns 0..k-1 outside left, k..2k-1 outside right, 2k zeros (no such column)
+        outside = ax3[:rb, np.concatenate([np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
+        out = np.zeros((rb + 1, 2 * k + 1))
+        np.cumsum(outside > np.concatenate([thr, thr], axis=1), axis=0, out=out[1:, : 2 * k])
+        self.out = out
+        self.out_left = [i if cols[i] >= 4 else -1 for i in range(k)]
+        self.out_right = [k + i if cols[i] + 4 < w else -1 for i in range(k)]
+        # exact column sums from the top (side strength over a face's rows)
+        self.csum = np.zeros((rb + 1, k))
+        np.cumsum(vals, axis=0, dtype=np.float64, out=self.csum[1:])
 
-    def __init__(self, ax3: F32, c: int, threshold: float, rb: int) -> None:
-        column = ax3[:rb, c]
-        # the same count for the columns just outside (4 px) as the left or right side:
-        # background texture there says the edges above a top are not the side's own
-        self.outside_left = _upto(ax3[:rb, c - 4], threshold) if c >= 4 else None
-        self.outside_right = _upto(ax3[:rb, c + 4], threshold) if c + 4 < ax3.shape[1] else None
-        self.on = (column > threshold).astype(np.float64)
-        self.below = np.cumsum(self.on[::-1])[::-1]  # edge rows in r..rb-1
-        self.upto = np.concatenate([[0.0], np.cumsum(self.on)])  # edge rows in 0..r-1
-        self.run_top = _run_top(self.on, rb)
+    def background(self, il: int, ir: int) -> tuple[int, int]:
+        """Table columns of the outside counts for a pair; one side's twice if only it exists."""
+        a, b = self.out_left[il], self.out_right[ir]
+        zero = self.out.shape[1] - 1
+        if a < 0 and b < 0:
+            return zero, zero
+        return (a if a >= 0 else b), (b if b >= 0 else a)
 
 
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
@@ -171,6 +202,17 @@ def _lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float,
     sxx = float(dx @ dx)
     b = float(dx @ (y - ym)) / sxx if sxx > 1e-12 else 0.0
     return ym - b * xm, b
+
+
+class _BottomProfile(NamedTuple):
+    """Per-column bottom-edge peaks near the fitted bottom line (for the side-face test)."""
+
+    cols: npt.NDArray[np.intp]
+    strength: F32
+    pos: npt.NDArray[np.float64]  # sub-pixel peak row
+    dev: npt.NDArray[np.float64]  # peak row minus the fitted line
+    ref: float  # median strength over the centre columns
+    on: list[bool]  # on the line and strong
 
 
 @dataclass(frozen=True)
@@ -210,7 +252,8 @@ class FusedMethod:
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
-        self._buf = np.empty((6, h, w), np.float32)
+        self._buf = np.empty((3, h, w), np.float32)  # |dx|, |dy|, top edge
+        self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
 
@@ -240,15 +283,19 @@ class FusedMethod:
         self._grey = roi
         timer.lap("undistort")
         n = roi.shape[0]
-        gy, ax, ay, ax3 = (b[:n] for b in self._buf[1:5])
+        ax, ay = self._buf[0, :n], self._buf[1, :n]
         # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); the float copies are
-        # the same values the float Sobels give, for less than one of them costs
+        # the same values the float Sobels give, for less than one of them costs (the
+        # signed d/dy stays int16: its row means are taken in float32 where needed)
         dx, dy = self._dx[:n], self._dy[:n]
         cv2.spatialGradient(roi, dx, dy)
-        np.abs(dx, out=ax)
-        np.copyto(gy, dy)
-        np.abs(gy, out=ay)
-        cv2.dilate(ax, self._kernel3, dst=ax3)  # tolerate a column of drift on vertical edges
+        adx, ax3 = self._adx[0, :n], self._adx[1, :n]
+        np.abs(dx, out=adx)
+        np.copyto(ax, adx)
+        np.abs(dy, out=ay)
+        # tolerate a column of drift on vertical edges; kept in int16 (exact, and the
+        # dilation and the reads cost less than in float32)
+        cv2.dilate(adx, self._kernel3, dst=ax3)
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -262,7 +309,9 @@ class FusedMethod:
         prof_b = _mean(ay[r0b : r1b + 1, u_lo : u_hi + 1], 1)
         rows_b = np.arange(r0b, r1b + 1)
         prior_b = 0.5 + 0.5 * np.exp(-0.5 * ((rows_b - vb0) / max(tol / 2.0, 1.0)) ** 2)
-        pk = _local_maxima(np.pad(prof_b, 1), 0.0) - 1
+        padded = np.zeros(prof_b.size + 2, prof_b.dtype)  # np.pad costs more than the work
+        padded[1:-1] = prof_b
+        pk = _local_maxima(padded, 0.0) - 1
         pk = pk[(pk >= 0) & (pk < prof_b.size)]
         if pk.size == 0:
             pk = np.array([int(np.argmax(prof_b))])
@@ -296,21 +345,19 @@ class FusedMethod:
                 continue
             # presence thresholds from the strip nearest the floor, where the side may be
             # faint (a dark box on a dark floor) while its upper part is not
-            left = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks <= u_hi], rb, noise)
-            right = self._rank_sides(ax3, prof_v, prof_short, peaks[peaks >= u_lo], rb, noise)
+            left, right = self._rank_sides(
+                ax3, prof_v, prof_short, [peaks[peaks <= u_hi], peaks[peaks >= u_lo]], rb, noise
+            )
             log.debug("bottom %d: peaks %s, left %s, right %s", rb, peaks.tolist(), left, right)
-            cols: dict[int, _Side] = {}
-            for c in {*left, *right}:
-                cols[c] = _Side(ax3, c, _presence(float(prof_short[c]), noise), rb)
-            for ul in left:
-                for ur in right:
-                    if ur - ul < min_w:
-                        continue
-                    cand = self._score_pair(ax3, ay, cols[ul], cols[ur], noise, rb, ul, ur, pb)
-                    if cand is not None:
-                        cands.append(cand)
-                        if best is None or cand.score > best.score:
-                            best = cand
+            cols = sorted({*left, *right})
+            if not cols:
+                continue
+            sides = _Sides(ax3, cols, _presence(prof_short[cols].astype(np.float64), noise), rb)
+            pairs = [(ul, ur) for ul in left for ur in right if ur - ul >= min_w]
+            for cand in self._score_pairs(ax3, ay, sides, pairs, noise, rb, pb):
+                cands.append(cand)
+                if best is None or cand.score > best.score:
+                    best = cand
             if best is not None and best.evidence > 0.8:
                 break  # a clear face at the most likely floor-contact row
         timer.lap("search")
@@ -338,108 +385,165 @@ class FusedMethod:
                 f"{self.min_confidence:g} (weak edges, or another face almost as likely)"
             )
             return fail
-        vt, sign = self._front_top(gy, rb, ul, ur, vt, noise)
-        front = self._front_from_back(ay, gy, rb, ul, ur, vt)
+        vt, sign = self._front_top(dy, rb, ul, ur, vt, noise)
+        front = self._front_from_back(ay, dy, rb, ul, ur, vt)
         if front is not None:
             vt, sign = front
-        top_edge = self._buf[5, : gy.shape[0]]
-        np.multiply(gy, np.float32(sign), out=top_edge)
-        np.maximum(top_edge, 0.0, out=top_edge)
+        # the top edge's signed gradient, only in the 7-row window its refinement reads
+        top_edge = self._buf[2, :n]
+        r0 = int(_clamp(vt - 3, 0, n - 7))
+        win = top_edge[r0 : r0 + 7]
+        np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
+        np.maximum(win, 0.0, out=win)
         return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
     @staticmethod
     def _rank_sides(
-        ax3: F32,
+        ax3: I16,
         prof_v: F32,
         prof_short: F32,
-        cols: npt.NDArray[np.intp],
+        groups: list[npt.NDArray[np.intp]],
         rb: int,
         noise: float,
-    ) -> list[int]:
-        """Strongest columns whose edge runs straight up from the floor-contact row."""
-        if cols.size == 0:
-            return []
-        cols = cols[np.argsort(-prof_v[cols])][: 3 * _MAX_SIDE_CANDIDATES]
-        col_vals = ax3[: rb - 1, cols][::-1]  # rows going up from the bottom
-        tv = _presence(prof_short[cols], noise)
+    ) -> list[list[int]]:
+        """Strongest columns whose edge runs straight up from the floor-contact row.
+
+        One ranking per group of peak columns (the left side's, the right side's); the
+        run lengths of all groups' strongest columns are found in one pass.
+        """
+        chosen = [g[np.argsort(-prof_v[g])][: 3 * _MAX_SIDE_CANDIDATES] for g in groups]
+        cols_all = np.concatenate(chosen)
+        if cols_all.size == 0:
+            return [[] for _ in groups]
+        col_vals = ax3[: rb - 1, cols_all][::-1]  # rows going up from the bottom
+        tv = _presence(prof_short[cols_all], noise)
         on = col_vals > tv
         # run length: rows up to the first gap of 3 consecutive misses
         miss = ~on
         gap = miss[:-2] & miss[1:-1] & miss[2:] if on.shape[0] > 2 else miss
         first_gap = np.where(gap.any(axis=0), np.argmax(gap, axis=0), on.shape[0])
-        rank = prof_v[cols] * np.sqrt(np.maximum(first_gap, 1))
-        keep = first_gap >= 3
-        order = np.argsort(-rank[keep])[:_MAX_SIDE_CANDIDATES]
-        return [int(c) for c in cols[keep][order]]
+        rank_all = prof_v[cols_all] * np.sqrt(np.maximum(first_gap, 1))
+        ranked = []
+        start = 0
+        for cols in chosen:
+            end = start + cols.size
+            keep = first_gap[start:end] >= 3
+            order = np.argsort(-rank_all[start:end][keep])[:_MAX_SIDE_CANDIDATES]
+            ranked.append([int(c) for c in cols[keep][order]])
+            start = end
+        return ranked
 
-    def _score_pair(
+    def _score_pairs(
         self,
-        ax3: F32,
+        ax3: I16,
         ay: F32,
-        side_l: _Side,
-        side_r: _Side,
+        sides: _Sides,
+        pairs: list[tuple[int, int]],
         noise: float,
         rb: int,
-        ul: int,
-        ur: int,
         prior_b: float,
-    ) -> _Candidate | None:
-        width = ur - ul
-        m = max(1, width // 8)
-        c0, c1 = ul + m, ur - m
-        if c1 - c0 < 2:
-            return None
+    ) -> list[_Candidate]:
+        """Score every (left, right) pair at one floor-contact row, each with its best top.
+
+        All pairs' top candidates are scored in one flat pass (pair-major, rows ascending:
+        the order a per-pair loop would see them in); the candidates come back in the order
+        of ``pairs``. Row sums of integer gradients are exact in float32, so they are the
+        per-pair values bit for bit.
+        """
         min_h = max(3, int(self.view.fy * MIN_SIZE_M / self._depth))
         top_limit = rb - min_h
         if top_limit < 3:
-            return None
-        snr_b = float(_mean(ay[rb - 1 : rb + 2, c0:c1].max(axis=0))) / noise
-        prof_t = _mean(ay[:top_limit, c0:c1], 1)
-        el, er = side_l.on, side_r.on
-        snr_t = prof_t / noise
-        tops = _local_maxima(snr_t.astype(np.float32), 1.2)
+            return []
+        ps = []
+        for ul, ur in pairs:
+            m = max(1, (ur - ul) // 8)
+            if ur - ul - 2 * m >= 2:
+                ps.append((ul, ur, ul + m, ur - m))
+        if not ps:
+            return []
+        n_p = len(ps)
+        h_ay, w_ay = ay.shape
+        grey = self._grey
+        il = np.array([sides.index[p[0]] for p in ps], np.intp)
+        ir = np.array([sides.index[p[1]] for p in ps], np.intp)
+        inv_n = np.array([1.0 / (p[3] - p[2]) for p in ps], np.float32)
+        # mean |d/dy| between the sides for every row above the smallest face (row sums of
+        # integers: exact, the per-pair values bit for bit)
+        ranges = [(c0, c1) for _, _, c0, c1 in ps]
+        prof = _range_sums(ay[:top_limit], ranges) * inv_n
+        row_sum = _range_sums(grey[:rb], ranges)
+        snr = prof / noise
+        mask = np.zeros((top_limit, n_p), bool)
+        mid = snr[1:-1]
+        mask[1:-1] = (mid >= snr[:-2]) & (mid > snr[2:]) & (mid > 1.2)
         # where each vertical edge ends is a top candidate too: the front top edge of a
         # box can be nearly invisible (front and top faces alike) while its sides are not
-        ends = [side_l.run_top, side_r.run_top]
-        extra = [r for e in ends for r in (e - 1, e) if 0 < r < top_limit]
-        if extra:
-            tops = np.unique(np.concatenate([tops, np.array(extra, dtype=np.intp)]))
+        run_top = sides.run_top
+        for j in range(n_p):
+            for e in (run_top[il[j]], run_top[ir[j]]):
+                for r in (e - 1, e):
+                    if 0 < r < top_limit:
+                        mask[r, j] = True
+        pp, tops = np.nonzero(mask.T)  # pair-major, rows ascending within a pair
         if tops.size == 0:
-            return None
+            return []
+        tl, tr = il[pp], ir[pp]
         # coverage of each side from each top candidate down to the bottom, and above it
-        rows = tops
-        span = (rb - rows).astype(np.float64)
-        cov = 0.5 * (side_l.below[rows] + side_r.below[rows]) / span
+        span = (rb - tops).astype(np.float64)
+        below, upto = sides.below, sides.upto
+        cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
         # vertical edges above the top (half as high again as the face): a stripe across
         # the face leaves them there
-        above_start = np.maximum(rows - np.maximum(3, (rb - rows) // 2), 0)
-        ext = side_l.upto + side_r.upto
-        above = 0.5 * (ext[rows] - ext[above_start]) / np.maximum(rows - above_start, 1)
+        above_start = np.maximum(tops - np.maximum(3, (rb - tops) // 2), 0)
+        n_above = np.maximum(tops - above_start, 1)
+        ext_t = upto[tops, tl] + upto[tops, tr]
+        ext_a = upto[above_start, tl] + upto[above_start, tr]
+        above = 0.5 * (ext_t - ext_a) / n_above
         # ...but textured background (books, posters) gives vertical edges everywhere: only
         # what the side columns have beyond the columns just outside them counts
-        bg = [u for u in (side_l.outside_left, side_r.outside_right) if u is not None]
-        if bg:
-            ext_bg = bg[0] + bg[1] if len(bg) == 2 else 2.0 * bg[0]
-            above_bg = (
-                0.5 * (ext_bg[rows] - ext_bg[above_start]) / np.maximum(rows - above_start, 1)
-            )
-            above = np.maximum(above - above_bg, 0.0)
+        bg = np.array([sides.background(il[j], ir[j]) for j in range(n_p)], np.intp)
+        ba, bb = bg[pp, 0], bg[pp, 1]
+        out = sides.out
+        bg_t = out[tops, ba] + out[tops, bb]
+        bg_a = out[above_start, ba] + out[above_start, bb]
+        above = np.maximum(above - 0.5 * (bg_t - bg_a) / n_above, 0.0)
         stop = 1.0 - above
         # rows just below a top candidate with no vertical edge: the top face of a low box
-        hole = 0.5 * (_hole_below(el, tops) + _hole_below(er, tops))
+        start = np.minimum(tops + 1, rb - 1)
+        nxt = sides.nxt
+        hole = 0.5 * (
+            (nxt[start, tl] - start).astype(np.float64)
+            + (nxt[start, tr] - start).astype(np.float64)
+        )
         # the box's top edge stops at its sides; a shelf or skirting line runs on
-        wo = max(3, (ur - ul) // 5)
-        h_ay, w_ay = ay.shape
-        o_l = _mean(ay[tops, max(0, ul - 1 - wo) : max(1, ul - 1)], 1)
-        o_r = _mean(ay[tops, min(w_ay - 1, ur + 2) : min(w_ay, ur + 2 + wo)], 1)
-        inside = np.maximum(prof_t[tops], 1e-3)
+        # (means over the columns just outside each side, at the top rows: one product)
+        o_cols = []
+        for ul, ur, _, _ in ps:
+            wo = max(3, (ur - ul) // 5)
+            o_cols += [(max(0, ul - 1 - wo), max(1, ul - 1))]
+            o_cols += [(min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))]
+        o_lo, o_hi = min(a for a, _ in o_cols), max(b for _, b in o_cols)
+        o_at = np.array(o_cols, np.intp) - o_lo  # 2 n_p x 2: range ends in the block
+        o_inv = np.array([1.0 / (b - a) for a, b in o_cols], np.float32)
+        # running row sums at the top rows (exact in float32: integers under 2**24)
+        run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
+        np.cumsum(ay[tops, o_lo:o_hi], axis=1, out=run[:, 1:])
+        k_t = np.arange(tops.size)
+        jl, jr = 2 * pp, 2 * pp + 1
+        o_l = (run[k_t, o_at[jl, 1]] - run[k_t, o_at[jl, 0]]) * o_inv[jl]
+        o_r = (run[k_t, o_at[jr, 1]] - run[k_t, o_at[jr, 0]]) * o_inv[jr]
+        prof_tops = prof[tops, pp]
+        inside = np.maximum(prof_tops, 1e-3)
         contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
         # texture inside the face (books on a shelf behind a box's top) is not the face
         # (rows from the highest top candidate down: counts are exact whatever the start)
         t0 = int(tops.min())
-        tex_rows = (_mean(ax3[t0:rb, c0:c1], 1) > 3.0 * noise).astype(np.float64)
-        tex_below = np.cumsum(tex_rows[::-1])[::-1]
-        textured = tex_below[tops - t0] / np.maximum(rb - tops, 1)
+        tex = _range_sums(ax3[t0:rb], ranges) * inv_n
+        tex_rows = tex > 3.0 * noise
+        tex_upto = np.zeros((rb - t0 + 1, n_p))  # textured rows in t0..r-1 (exact counts)
+        np.cumsum(tex_rows, axis=0, out=tex_upto[1:])
+        tex_below = tex_upto[rb - t0, pp] - tex_upto[tops - t0, pp]
+        textured = tex_below / np.maximum(rb - tops, 1)
         # A hole is a top face only if one fits there: a top face shows below the horizon
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
@@ -449,22 +553,25 @@ class FusedMethod:
         # rows whose inside has the face's own shade (measured just above the floor): a
         # shelf of books or a poster over the box does not, a box's face does (but for a
         # stripe across it, or its top face)
-        row_mean = self._grey[:rb, c0:c1].sum(axis=1, dtype=np.float32) * (1.0 / (c1 - c0))
+        row_sum *= inv_n
         kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
-        face = _median(row_mean[rb - 1 - kf : rb - 1])
-        match = (np.abs(row_mean - face) <= max(8.0, 0.08 * face)).astype(np.float64)
-        match_below = np.cumsum(match[::-1])[::-1]
-        face_frac = match_below[tops] / np.maximum(rb - tops, 1)
+        face = np.partition(row_sum[rb - 1 - kf : rb - 1], kf // 2, axis=0)[kf // 2]
+        tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
+        match_b = np.abs(row_sum - face) <= tol
+        match_upto = np.zeros((rb + 1, n_p))  # matching rows in 0..r-1 (exact counts)
+        np.cumsum(match_b, axis=0, out=match_upto[1:])
+        match_t = match_upto[tops, pp]
+        face_frac = (match_upto[rb, pp] - match_t) / np.maximum(rb - tops, 1)
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
-        match_upto = np.concatenate([[0.0], np.cumsum(match)])
         a0 = np.maximum(tops - np.maximum(3, rb - tops), 0)
-        face_above = (match_upto[tops] - match_upto[a0]) / np.maximum(tops - a0, 1)
-        band = (match[np.maximum(tops - 1, 0)] == 0) & (match[np.maximum(tops - 2, 0)] == 0)
+        face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
+        band = ~match_b[np.maximum(tops - 1, 0), pp] & ~match_b[np.maximum(tops - 2, 0), pp]
         face_above = np.where(band, face_above, 0.0)
+        snr_tops = snr[tops, pp]
         feats = {
-            "snr": snr_t[tops],
+            "snr": snr_tops,
             "hole": hole,
             "hole_fit": hole_fit,
             "cov": cov,
@@ -474,48 +581,65 @@ class FusedMethod:
             "face": face_frac,
             "face_above": face_above,
         }
-        score_t, fit = self._top_score(feats, tops, rb, ul, ur)
-        i = int(np.argmax(score_t))
-        if log.isEnabledFor(logging.DEBUG):
-            for j in np.argsort(-score_t)[:5]:
+        score_t, fit = self._top_score(feats)
+        # the bottom edge's strength between the sides (max over +-1 row), per pair
+        m3 = np.zeros(w_ay + 1)
+        np.cumsum(ay[rb - 1 : rb + 2].max(axis=0), out=m3[1:])
+        bounds = np.searchsorted(pp, np.arange(n_p + 1)).tolist()
+        debug = log.isEnabledFor(logging.DEBUG)
+        csum_s = sides.csum
+        cands: list[_Candidate] = []
+        for j, (ul, ur, c0, c1) in enumerate(ps):
+            s0, s1 = bounds[j], bounds[j + 1]
+            if s1 == s0:
+                continue
+            if debug:
+                for k in np.argsort(-score_t[s0:s1])[:5] + s0:
+                    log.debug(
+                        "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
+                        "stop %.2f contained %.2f textured %.2f face %.2f above %.2f",
+                        ul,
+                        ur,
+                        rb,
+                        tops[k],
+                        score_t[k],
+                        snr_tops[k],
+                        hole[k],
+                        cov[k],
+                        stop[k],
+                        contained[k],
+                        textured[k],
+                        face_frac[k],
+                        face_above[k],
+                    )
+            i = s0 + int(np.argmax(score_t[s0:s1]))
+            vt = int(tops[i])
+            snr_b = float(np.float32(m3[c1] - m3[c0]) * (1.0 / (c1 - c0))) / noise
+            inv_h = 1.0 / (rb - vt)
+            a, b = int(il[j]), int(ir[j])
+            snr_l = float(np.float32(csum_s[rb, a] - csum_s[vt, a]) * inv_h) / noise
+            snr_r = float(np.float32(csum_s[rb, b] - csum_s[vt, b]) * inv_h) / noise
+            side = min(snr_l, snr_r, 30.0)
+            horiz = min(max(float(snr_tops[i]), 2.0 * float(stop[i])), snr_b, 30.0)
+            if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
                 log.debug(
-                    "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
-                    "stop %.2f contained %.2f textured %.2f face %.2f above %.2f",
-                    ul,
-                    ur,
-                    rb,
-                    tops[j],
-                    score_t[j],
-                    snr_t[tops[j]],
-                    hole[j],
-                    cov[j],
-                    stop[j],
-                    contained[j],
-                    textured[j],
-                    face_frac[j],
-                    face_above[j],
+                    "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
                 )
-        vt = int(tops[i])
-        snr_l = float(_mean(ax3[vt:rb, ul])) / noise
-        snr_r = float(_mean(ax3[vt:rb, ur])) / noise
-        side = min(snr_l, snr_r, 30.0)
-        horiz = min(max(float(snr_t[vt]), 2.0 * float(stop[i])), snr_b, 30.0)
-        if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
-            log.debug(
-                "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
+                continue
+            fit_i = float(fit[i])
+            score = math.sqrt(side * horiz) * fit_i * prior_b
+            # evidence: how well the edges fit a face (shape) times how clearly they stand out
+            evidence = (
+                math.sqrt(min(1.0, 2.0 * fit_i))
+                * (1.0 - math.exp(-min(side, horiz) / 4.0))
+                * (0.5 + 0.5 * prior_b)
             )
-            return None
-        score = math.sqrt(side * horiz) * float(fit[i]) * prior_b
-        # evidence: how well the edges fit a face (shape) times how clearly they stand out
-        evidence = (
-            math.sqrt(min(1.0, 2.0 * float(fit[i])))
-            * (1.0 - math.exp(-min(side, horiz) / 4.0))
-            * (0.5 + 0.5 * prior_b)
-        )
-        return _Candidate(score, rb, ul, ur, vt, _clamp(evidence, 0.0, 1.0))
+            cands.append(_Candidate(score, rb, ul, ur, vt, _clamp(evidence, 0.0, 1.0)))
+        return cands
 
+    @staticmethod
     def _top_score(
-        self, f: dict[str, npt.NDArray[Any]], tops: npt.NDArray[np.intp], rb: int, ul: int, ur: int
+        f: dict[str, npt.NDArray[Any]],
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """Score of each top candidate and its shape fit (0..1) from the edge evidence."""
         fit = (
@@ -531,7 +655,7 @@ class FusedMethod:
         return score, fit
 
     def _front_top(
-        self, gy: F32, rb: int, ul: int, ur: int, vt: int, noise: float
+        self, dy: I16, rb: int, ul: int, ur: int, vt: int, noise: float
     ) -> tuple[int, float]:
         """A box lower than the lens shows its top face: prefer the face's front edge.
 
@@ -544,28 +668,31 @@ class FusedMethod:
         """
         v = self.view
         m = max(1, (ur - ul) // 8)
-        prof = _mean(gy[:rb, ul + m : ur - m], 1)
-        sign_vt = 1.0 if prof[vt] >= 0 else -1.0
         below_horizon = vt - v.cy
         reach = int(min(below_horizon * 2.0 / (self._depth + 2.0), 0.3 * (rb - vt)))
         if below_horizon <= 1.0 or reach < 1:
-            return vt, sign_vt
+            return vt, (1.0 if int(dy[vt, ul + m : ur - m].sum()) >= 0 else -1.0)
+        # the row means only where the scan reads them (rows vt..last), as Python floats;
+        # prof[r - vt] is row r
+        last = max(vt, min(vt + reach, rb - 3) + 1)
+        prof = _row_means(dy[vt : last + 1, ul + m : ur - m]).tolist()
         # noise of a mean over the face's columns (Sobel smooths ~3 columns together); next
         # to the top edge also its own blur tail, further up only noise
         thr_noise = _FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
-        thr_near = thr_noise + _TAIL_SHARE * abs(float(prof[vt]))
+        thr_near = thr_noise + _TAIL_SHARE * abs(prof[0])
         best = vt
         for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
-            a = abs(float(prof[r]))
+            p_prev, p, p_next = prof[r - 1 - vt], prof[r - vt], prof[r + 1 - vt]
+            a = abs(p)
             thr = thr_near if r - vt <= _TAIL_ROWS else thr_noise
-            if a >= thr and a >= abs(float(prof[r - 1])) and a >= abs(float(prof[r + 1])):
+            if a >= thr and a >= abs(p_prev) and a >= abs(p_next):
                 best = r
-            elif a >= thr and prof[r] * prof[r - 1] < 0 and a > abs(float(prof[r + 1])):
+            elif a >= thr and p * p_prev < 0 and a > abs(p_next):
                 best = r
-        return best, (1.0 if prof[best] >= 0 else -1.0)
+        return best, (1.0 if prof[best - vt] >= 0 else -1.0)
 
     def _front_from_back(
-        self, ay: F32, gy: F32, rb: int, ul: int, ur: int, vt: int
+        self, ay: F32, dy: I16, rb: int, ul: int, ur: int, vt: int
     ) -> tuple[int, float] | None:
         """A top edge narrower than the face, shrunk towards the centre: the top face's back.
 
@@ -606,24 +733,26 @@ class FusedMethod:
         if vf <= vt + 1.0 or vf >= rb - min_h:
             return None
         mc = max(1, (ur - ul) // 8)
-        col = _mean(gy[:rb, ul + mc : ur - mc], 1)
         r0, r1 = max(vt + 1, int(math.floor(vf)) - 2), min(rb - min_h, int(math.ceil(vf)) + 2)
         if r1 < r0:
             return None
+        col = _row_means(dy[vt : r1 + 2, ul + mc : ur - mc])  # col[r - vt] is row r
         # a local extremum of the signed gradient nearest the predicted row: the largest
         # value in the window may be the back edge's own blur tail right below it
         mag = np.abs(col)
-        weakest = 0.15 * abs(float(col[vt]))
+        weakest = 0.15 * float(mag[0])
         peaks = [
             i
             for i in range(r0, r1 + 1)
-            if mag[i] >= weakest and mag[i] >= mag[i - 1] and mag[i] >= mag[i + 1]
+            if mag[i - vt] >= weakest
+            and mag[i - vt] >= mag[i - vt - 1]
+            and mag[i - vt] >= mag[i - vt + 1]
         ]
         r = min(peaks, key=lambda i: abs(i - vf)) if peaks else int(round(vf))
         log.debug(
             "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
         )
-        return r, (1.0 if col[r] >= 0 else -1.0)
+        return r, (1.0 if col[r - vt] >= 0 else -1.0)
 
     # ------------------------------------------------------------------ refinement
     def _refine(
@@ -656,12 +785,14 @@ class FusedMethod:
         # A side face (yaw, or a box off the axis) shows beside the front face: the front
         # face's bottom edge is straight, the side face's rises towards the horizon.
         # Where the straight part ends is the front corner.
-        left_a, left_b = self._side_face(
-            ax, ay, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b
-        )
-        right_a, right_b = self._side_face(
-            ax, ay, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b
-        )
+        bottom = self._bottom_profile(ay, bottom_a, bottom_b, ul, ur)
+        if bottom is not None:
+            left_a, left_b = self._side_face(
+                ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b
+            )
+            right_a, right_b = self._side_face(
+                ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b
+            )
 
         def corner(
             ha: float, hb: float, va: float, vb: float
@@ -736,10 +867,39 @@ class FusedMethod:
             width_px=float(ur_f - ul_f),
         )
 
+    @staticmethod
+    def _bottom_profile(ay: F32, ba: float, bb: float, ul: int, ur: int) -> _BottomProfile | None:
+        """The bottom edge's per-column peaks near its fitted line (v = ba + bb u).
+
+        Both sides' side-face tests read the same profile: computed once for the two.
+        """
+        h, w = ay.shape
+        c_lo, c_hi = max(ul - 2, 2), min(ur + 3, w - 2)
+        cols = np.arange(c_lo, c_hi)
+        if cols.size < 8:
+            return None
+        pred = ba + bb * cols
+        r0 = np.round(pred).astype(np.intp)
+        np.maximum(r0, 3, out=r0)
+        np.minimum(r0, h - 4, out=r0)
+        win = ay[r0[None, :] + _WIN7, cols[None, :]]  # 7 x n
+        peak = np.argmax(win[1:-1], axis=0) + 1  # 1..5
+        strength = win.ravel()[peak * cols.size + np.arange(cols.size)]
+        pos = r0 - 3 + peak + _subpixel(win, peak)
+        dev = pos - pred
+        m = max(1, (ur - ul) // 4)
+        # cols is consecutive: the centre columns are a slice
+        centre = slice(max(0, ul + m - c_lo), max(0, ur - m - c_lo + 1))
+        if strength[centre].size < 3:
+            return None
+        ref = _median(strength[centre])
+        on = ((np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)).tolist()
+        return _BottomProfile(cols, strength, pos, dev, ref, on)
+
     def _side_face(
         self,
         ax: F32,
-        ay: F32,
+        bottom: _BottomProfile,
         ba: float,
         bb: float,
         ul: int,
@@ -755,27 +915,8 @@ class FusedMethod:
         ``direction`` -1 for the left side, +1 for the right; (va, vb) is the fitted edge
         u = va + vb v, returned unchanged when no side face is seen.
         """
-        h, w = ay.shape
-        c_lo, c_hi = max(ul - 2, 2), min(ur + 3, w - 2)
-        cols = np.arange(c_lo, c_hi)
-        if cols.size < 8:
-            return va, vb
-        pred = ba + bb * cols
-        r0 = np.round(pred).astype(np.intp)
-        np.maximum(r0, 3, out=r0)
-        np.minimum(r0, h - 4, out=r0)
-        win = ay[r0[None, :] + _WIN7, cols[None, :]]  # 7 x n
-        peak = np.argmax(win[1:-1], axis=0) + 1  # 1..5
-        strength = win.ravel()[peak * cols.size + np.arange(cols.size)]
-        pos = r0 - 3 + peak + _subpixel(win, peak)
-        dev = pos - pred
-        m = max(1, (ur - ul) // 4)
-        # cols is consecutive: the centre columns are a slice
-        centre = slice(max(0, ul + m - c_lo), max(0, ur - m - c_lo + 1))
-        if strength[centre].size < 3:
-            return va, vb
-        ref = _median(strength[centre])
-        on = ((np.abs(dev) <= 0.8) & (strength >= 0.4 * ref)).tolist()
+        w = ax.shape[1]
+        cols, strength, pos, dev, ref, on = bottom
         mid = int(np.searchsorted(cols, (ul + ur) // 2))
         order = range(mid, -1, -1) if direction < 0 else range(mid, cols.size)
         end = mid
@@ -844,7 +985,9 @@ class FusedMethod:
         if hi - lo < 6:
             return None
         rows = np.arange(lo, hi + 1)
-        cols = np.clip(np.round(a + b * rows).astype(np.intp), 1, w - 2)
+        cols = np.round(a + b * rows).astype(np.intp)
+        np.maximum(cols, 1, out=cols)  # np.clip's wrapper costs more than the work here
+        np.minimum(cols, w - 2, out=cols)
         strength = np.maximum(np.maximum(ax[rows, cols - 1], ax[rows, cols]), ax[rows, cols + 1])
         mid0 = vt + max(2, (rb - vt) // 4)
         ref_rows = strength[rows >= mid0]
