@@ -141,15 +141,16 @@ def test_fused_far_box_top_face_with_a_faint_front_edge(distance: float, lateral
     assert res.height_m == pytest.approx(0.17, rel=0.05)
 
 
-@pytest.mark.parametrize(("lateral", "length"), [(-0.1, 0.8), (0.02, 0.4)])
+@pytest.mark.parametrize(("lateral", "length", "tolerance"), [(0.02, 0.4, 0.05), (0.12, 0.8, 0.08)])
 def test_fused_far_box_front_top_edge_is_not_the_back_edges_blur_tail(
-    lateral: float, length: float
+    lateral: float, length: float, tolerance: float
 ) -> None:
     """A far, narrow box below the lens: its top face's back edge is the strongest top edge.
 
     The front top edge must be taken near the row the back edge's scale predicts, not
     on the back edge's own blur tail a row below it (that kept most of the top face in
-    the height: +10-15 %).
+    the height: +10-15 %). Where no extremum marks it, the predicted row itself is the
+    edge (sub-pixel): refining near it would slide onto that tail again.
     """
     distance = 3.1
     rig = Rig(camera_height_m=0.38, camera_pitch_deg=1.5)
@@ -175,7 +176,7 @@ def test_fused_far_box_front_top_edge_is_not_the_back_edges_blur_tail(
     sc = render_scene(spec, CAM, rig, 3)
     res = Measurer(CAM, rig).measure(sc.image, distance)
     assert res.detected, res.reason
-    assert res.height_m == pytest.approx(0.195, rel=0.06)
+    assert res.height_m == pytest.approx(0.195, rel=tolerance)
     assert res.width_m == pytest.approx(0.205, rel=0.05)
 
 

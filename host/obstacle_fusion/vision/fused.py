@@ -249,6 +249,7 @@ class FusedMethod:
         self._kernel3 = np.ones((1, 3), np.uint8)
         self._h, self._w = h, w
         self._depth = 1.0
+        self._top_row: float | None = None  # this frame's sub-pixel front top row, if set
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
@@ -386,7 +387,8 @@ class FusedMethod:
             )
             return fail
         vt, sign = self._front_top(dy, rb, ul, ur, vt, noise)
-        front = self._front_from_back(ay, dy, rb, ul, ur, vt)
+        self._top_row = None
+        front = self._front_from_back(ay, dy, rb, ul, ur, vt)  # may set self._top_row
         if front is not None:
             vt, sign = front
         # the top edge's signed gradient, only in the 7-row window its refinement reads
@@ -749,6 +751,10 @@ class FusedMethod:
             and mag[i - vt] >= mag[i - vt + 1]
         ]
         r = min(peaks, key=lambda i: abs(i - vf)) if peaks else int(round(vf))
+        if not peaks:
+            # no extremum of its own: the predicted row itself, sub-pixel (refining near
+            # it would slide onto the back edge's blur tail)
+            self._top_row = vf
         log.debug(
             "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
         )
@@ -776,6 +782,8 @@ class FusedMethod:
         cols = np.arange(ul + m, ur - m + 1)
         bottom_a, bottom_b = self._fit_horizontal(ay, cols, rb, h_roi)
         top_a, top_b = self._fit_horizontal(top_edge, cols, vt, h_roi)
+        if self._top_row is not None:  # predicted by _front_from_back
+            top_a = self._top_row - top_b * 0.5 * float(cols[0] + cols[-1])
         # vertical edges: per-row sub-pixel peaks near ul and ur
         mv = max(1, (rb - vt) // 10)
         rows = np.arange(vt + mv, rb - mv + 1)
