@@ -8,6 +8,10 @@ detected with a height or width error above 25 %. Times: median per frame, in-pr
 one core (cv2.setNumThreads(1)).
 
     .venv/bin/python tools/bench_vision.py [--ordinary 50] [--hard 100] [--seed 2026]
+    .venv/bin/python tools/bench_vision.py --seeds 2026,7,123,11,99   # one row per seed
+
+Each scene is timed --repeat times (default 3) and its median kept, so one hiccup of a
+shared machine does not stand for the frame; the table shows the median over scenes.
 """
 
 from __future__ import annotations
@@ -65,7 +69,9 @@ def make_set(
     return out
 
 
-def evaluate(camera: CameraModel, scenes: list, method: str, trait: str | None = None) -> dict:
+def evaluate(
+    camera: CameraModel, scenes: list, method: str, trait: str | None = None, repeat: int = 3
+) -> dict:
     eh, ew, ed, times = [], [], [], []
     missed = gross = 0
     if trait is not None:
@@ -73,9 +79,12 @@ def evaluate(camera: CameraModel, scenes: list, method: str, trait: str | None =
     for scene, rig, range_m in scenes:
         m = Measurer(camera, rig, method)
         m.measure(scene.image, range_m)  # build per-camera state outside the timing
-        t0 = time.perf_counter()
-        res = m.measure(scene.image, range_m)
-        times.append((time.perf_counter() - t0) * 1e3)
+        runs = []
+        for _ in range(max(1, repeat)):
+            t0 = time.perf_counter()
+            res = m.measure(scene.image, range_m)
+            runs.append((time.perf_counter() - t0) * 1e3)
+        times.append(statistics.median(runs))
         t = scene.truth
         if not res.detected:
             missed += 1
@@ -106,14 +115,73 @@ def evaluate(camera: CameraModel, scenes: list, method: str, trait: str | None =
     }
 
 
+def seed_list(text: str) -> list[int]:
+    try:
+        seeds = [int(part) for part in text.split(",") if part.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"not a comma-separated list of integers: {text!r}"
+        ) from None
+    if not seeds:
+        raise argparse.ArgumentTypeError("give at least one seed")
+    return seeds
+
+
+def per_seed(seeds: list[int], n_ordinary: int, n_hard: int, repeat: int) -> int:
+    """One row per seed for fused (ordinary and hard) and the paper (ordinary), then all."""
+    cam = CameraModel.paper(500, 375)
+    print(f"{n_ordinary} ordinary + {n_hard} hard scenes per seed at 500x375; one core\n")
+    print(
+        "| seed | fused ordinary h / w (missed, gross) | fused hard h / w (missed, gross) "
+        "| fused ms ordinary / hard | paper ordinary h / w (missed) |"
+    )
+    print("|---|---|---|---|---|")
+    pooled: dict[str, list] = {"ordinary": [], "hard": []}
+    for seed in seeds:
+        t0 = time.perf_counter()
+        rng = np.random.default_rng(seed)
+        ordinary = make_set(rng, n_ordinary, False, cam)
+        hard = make_set(rng, n_hard, True, cam)
+        pooled["ordinary"] += ordinary
+        pooled["hard"] += hard
+        fo = evaluate(cam, ordinary, "fused", repeat=repeat)
+        fh = evaluate(cam, hard, "fused", repeat=repeat)
+        po = evaluate(cam, ordinary, "paper", repeat=1)
+        print(
+            f"| {seed} | {fo['h']:.2f}% / {fo['w']:.2f}% ({fo['missed']}, {fo['gross']}) "
+            f"| {fh['h']:.2f}% / {fh['w']:.2f}% ({fh['missed']}, {fh['gross']}) "
+            f"| {fo['ms']:.2f} / {fh['ms']:.2f} "
+            f"| {po['h']:.1f}% / {po['w']:.1f}% ({po['missed']}) |",
+            flush=True,
+        )
+        print(f"seed {seed} took {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+    if len(seeds) > 1:
+        fo = evaluate(cam, pooled["ordinary"], "fused", repeat=1)
+        fh = evaluate(cam, pooled["hard"], "fused", repeat=1)
+        print(
+            f"| all {len(seeds)} ({fo['n']} + {fh['n']} scenes) "
+            f"| {fo['h']:.2f}% / {fo['w']:.2f}% ({fo['missed']}, {fo['gross']}) "
+            f"| {fh['h']:.2f}% / {fh['w']:.2f}% ({fh['missed']}, {fh['gross']}) | | |"
+        )
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ordinary", type=int, default=50)
     ap.add_argument("--hard", type=int, default=100)
     ap.add_argument("--hd", type=int, default=20, help="scenes for the 1280x720 timing")
     ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument(
+        "--seeds", type=seed_list, help="comma-separated seeds: one summary row per seed"
+    )
+    ap.add_argument("--repeat", type=int, default=3, help="timed runs per scene (median kept)")
     args = ap.parse_args()
+    if args.repeat < 1:
+        ap.error("--repeat must be at least 1")
     cv2.setNumThreads(1)
+    if args.seeds:
+        return per_seed(args.seeds, args.ordinary, args.hard, args.repeat)
     rng = np.random.default_rng(args.seed)
     cam = CameraModel.paper(500, 375)
     t0 = time.perf_counter()
@@ -134,9 +202,9 @@ def main() -> int:
     )
     print("|---|---|---|---|---|---|")
     for method in ("paper", "fused"):
-        hd_ms = evaluate(hd_cam, hd, method)["ms"]
+        hd_ms = evaluate(hd_cam, hd, method, repeat=args.repeat)["ms"]
         for name, scenes in (("ordinary", ordinary), ("hard", hard)):
-            r = evaluate(cam, scenes, method)
+            r = evaluate(cam, scenes, method, repeat=args.repeat)
             print(
                 f"| {method} / {name} | {r['h']:.2f}% ({r['h_med']:.2f}%) "
                 f"| {r['w']:.2f}% ({r['w_med']:.2f}%) | {r['d']:.2f}% "
@@ -152,7 +220,7 @@ def main() -> int:
     print("| trait | scenes | height err (median) | width err (median) | missed (gross) |")
     print("|---|---|---|---|---|")
     for trait in HARD_TRAITS:
-        r = evaluate(cam, hard, "fused", trait)
+        r = evaluate(cam, hard, "fused", trait, repeat=1)
         print(
             f"| {trait} | {r['n']} | {r['h']:.2f}% ({r['h_med']:.2f}%) "
             f"| {r['w']:.2f}% ({r['w_med']:.2f}%) | {r['missed']} ({r['gross']}) |"
