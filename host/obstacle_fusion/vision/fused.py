@@ -183,6 +183,30 @@ class _Sides:
         return (a if a >= 0 else b), (b if b >= 0 else a)
 
 
+def _fit_edges(
+    windows: list[tuple[F32, int, int]], x: npt.NDArray[np.float64]
+) -> list[tuple[float, float]]:
+    """Line fits through the sub-pixel gradient peaks of several 7-sample edge windows.
+
+    Each window is 7 x n (samples across the edge x positions ``x`` along it), with the
+    coordinate of its first sample and the first sample the peak may be at (the peak is
+    within +-1 of the window's middle). The parabolic offsets of all windows are found
+    in one pass: on these small windows the per-call overhead is most of the cost.
+    """
+    peaks = []
+    for win, _, lo in windows:
+        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        np.minimum(peak, 5, out=peak)
+        peaks.append(peak)
+    stacked = np.concatenate([win for win, _, _ in windows], axis=1)
+    off = _subpixel(stacked, np.concatenate(peaks))
+    n = x.size
+    return [
+        _fit_line(x, start + peaks[i] + off[i * n : (i + 1) * n])
+        for i, (_, start, _) in enumerate(windows)
+    ]
+
+
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
     """y = a + b x, least squares with one round of outlier rejection."""
     if x.size < 2:
@@ -393,7 +417,7 @@ class FusedMethod:
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
         np.maximum(win, 0.0, out=win)
-        return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
+        return self._refine(ax, ay, ax3, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
     @staticmethod
     def _rank_sides(
@@ -749,6 +773,7 @@ class FusedMethod:
         self,
         ax: F32,
         ay: F32,
+        ax3: I16,
         top_edge: F32,
         rb: int,
         ul: int,
@@ -764,13 +789,13 @@ class FusedMethod:
         # horizontal edges: per-column sub-pixel peaks near rb and vt
         m = max(1, (ur - ul) // 10)
         cols = np.arange(ul + m, ur - m + 1)
-        bottom_a, bottom_b = self._fit_horizontal(ay, cols, rb, h_roi)
-        top_a, top_b = self._fit_horizontal(top_edge, cols, vt, h_roi)
+        (bottom_a, bottom_b), (top_a, top_b) = self._fit_horizontal(
+            [(ay, rb), (top_edge, vt)], cols, h_roi
+        )
         # vertical edges: per-row sub-pixel peaks near ul and ur
         mv = max(1, (rb - vt) // 10)
         rows = np.arange(vt + mv, rb - mv + 1)
-        left_a, left_b = self._fit_vertical(ax, rows, ul, w_img)
-        right_a, right_b = self._fit_vertical(ax, rows, ur, w_img)
+        (left_a, left_b), (right_a, right_b) = self._fit_vertical(ax, rows, [ul, ur], w_img)
 
         # A side face (yaw, or a box off the axis) shows beside the front face: the front
         # face's bottom edge is straight, the side face's rises towards the horizon.
@@ -799,8 +824,8 @@ class FusedMethod:
         # Where the vertical edges end is the front top corner even when the top face
         # (a pixel or three tall) merges with the front top edge in the gradient.
         if tl[1] - v.cy > 1.0:
-            end_l = self._edge_end(ax, left_a, left_b, vt, rb)
-            end_r = self._edge_end(ax, right_a, right_b, vt, rb)
+            end_l = self._edge_end(ax3, left_a, left_b, vt, rb)
+            end_r = self._edge_end(ax3, right_a, right_b, vt, rb)
             if end_l is not None and end_r is not None:
                 d_l, d_r = end_l - tl[1], end_r - tr[1]
                 lower = 0.5 * (d_l + d_r)
@@ -959,7 +984,7 @@ class FusedMethod:
             strip = np.add.reduce(ax[rows, c - 1 : c + 2], 0) / rows.size  # .mean(axis=0)
             edge_mean = np.add.reduce(ax[rows, int(round(edge_u))]) / rows.size
             if float(strip.max()) >= 0.25 * float(edge_mean):
-                a2, b2 = self._fit_vertical(ax, rows, c, w)
+                a2, b2 = self._fit_vertical(ax, rows, [c], w)[0]
                 if abs((a2 + b2 * rb) - corner_u) <= 1.0:
                     return a2, b2
         if not clear_rise:  # no shading edge at the corner and only a slight rise
@@ -967,9 +992,12 @@ class FusedMethod:
         return corner_u - vb * rb, vb
 
     @staticmethod
-    def _edge_end(ax: F32, a: float, b: float, vt: int, rb: int) -> float | None:
-        """Sub-pixel row where a vertical edge (u = a + b v) fades out going up."""
-        h, w = ax.shape
+    def _edge_end(ax3: I16, a: float, b: float, vt: int, rb: int) -> float | None:
+        """Sub-pixel row where a vertical edge (u = a + b v) fades out going up.
+
+        ``ax3`` is |d/dx| dilated over +-1 column (the edge's strength within a column).
+        """
+        h, w = ax3.shape
         lo = max(1, vt - 6)
         hi = min(rb - 2, vt + max(4, (rb - vt) // 2))
         if hi - lo < 6:
@@ -978,7 +1006,7 @@ class FusedMethod:
         cols = np.round(a + b * rows).astype(np.intp)
         np.maximum(cols, 1, out=cols)  # np.clip's wrapper costs more than the work here
         np.minimum(cols, w - 2, out=cols)
-        strength = np.maximum(np.maximum(ax[rows, cols - 1], ax[rows, cols]), ax[rows, cols + 1])
+        strength = ax3[rows, cols].astype(np.float32)  # cols are within 1..w-2: exact
         mid0 = vt + max(2, (rb - vt) // 4)
         ref_rows = strength[rows >= mid0]
         if ref_rows.size < 3:
@@ -996,26 +1024,26 @@ class FusedMethod:
 
     @staticmethod
     def _fit_horizontal(
-        ay: F32, cols: npt.NDArray[np.intp], row: int, h: int
-    ) -> tuple[float, float]:
-        r0 = int(_clamp(row - 3, 0, h - 7))
-        # 7 rows around the edge; the peak within +-1 row (cols are consecutive: a slice)
+        edges: list[tuple[F32, int]], cols: npt.NDArray[np.intp], h: int
+    ) -> list[tuple[float, float]]:
+        """Lines v = a + b u through each (gradient image, row) edge's per-column peaks."""
+        # 7 rows around each edge; the peak within +-1 row (cols are consecutive: a slice)
         u0 = int(cols[0]) if cols.size else 0
-        win = np.ascontiguousarray(ay[r0 : r0 + 7, u0 : u0 + cols.size])
-        lo = max(1, row - 1 - r0)
-        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
-        np.minimum(peak, 5, out=peak)
-        pos = r0 + peak + _subpixel(win, peak)
-        return _fit_line(cols.astype(np.float64), pos)
+        windows = []
+        for img, row in edges:
+            r0 = int(_clamp(row - 3, 0, h - 7))
+            windows.append((img[r0 : r0 + 7, u0 : u0 + cols.size], r0, max(1, row - 1 - r0)))
+        return _fit_edges(windows, cols.astype(np.float64))
 
     @staticmethod
-    def _fit_vertical(ax: F32, rows: npt.NDArray[np.intp], col: int, w: int) -> tuple[float, float]:
-        c0 = int(_clamp(col - 3, 0, w - 7))
+    def _fit_vertical(
+        ax: F32, rows: npt.NDArray[np.intp], edge_cols: list[int], w: int
+    ) -> list[tuple[float, float]]:
+        """Lines u = a + b v through each vertical edge's per-row peaks near its column."""
         # rows are consecutive: a slice, not a gather
         v0 = int(rows[0]) if rows.size else 0
-        win = np.ascontiguousarray(ax[v0 : v0 + rows.size, c0 : c0 + 7].T)
-        lo = max(1, col - 1 - c0)
-        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
-        np.minimum(peak, 5, out=peak)
-        pos = c0 + peak + _subpixel(win, peak)
-        return _fit_line(rows.astype(np.float64), pos)
+        windows = []
+        for col in edge_cols:
+            c0 = int(_clamp(col - 3, 0, w - 7))
+            windows.append((ax[v0 : v0 + rows.size, c0 : c0 + 7].T, c0, max(1, col - 1 - c0)))
+        return _fit_edges(windows, rows.astype(np.float64))
