@@ -131,7 +131,7 @@ class _Sides:
 
     One column of each table per candidate column, built in one pass for all of them
     (per-column arrays cost more in numpy call overhead than in work). Counts are exact
-    integers in float64, so any summation order gives the same values.
+    integers, so they are the per-column values whatever the summation order.
     """
 
     __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
@@ -143,13 +143,20 @@ class _Sides:
         w = ax3.shape[1]
         c = np.array(cols, np.intp)
         self.index = {col: i for i, col in enumerate(cols)}
-        thr = thresholds[None, :]
-        vals = ax3[:rb, c]  # rb x k
-        on = vals > thr
-        upto = np.zeros((rb + 1, k))
-        np.cumsum(on, axis=0, out=upto[1:])
-        self.upto = upto  # edge rows in 0..r-1
-        self.below = upto[rb] - upto[:rb]  # edge rows in r..rb-1
+        # the side columns, then the columns just outside (4 px) as the left or right
+        # side, at the side's threshold: background texture there says the edges above
+        # a top are not the side's own
+        vals = ax3[:rb, np.concatenate([c, np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
+        on_all = vals > np.tile(thresholds, 3)
+        on = on_all[:, :k]
+        # edge rows in 0..r-1 for all 3k columns; a last column of zeros for a side with
+        # no column outside it
+        counts = _running_counts(on_all, extra=1)
+        self.upto = counts[:, :k]
+        self.below = self.upto[rb] - self.upto[:rb]  # edge rows in r..rb-1
+        self.out = counts  # columns k..2k-1 outside left, 2k..3k-1 outside right
+        self.out_left = [k + i if cols[i] >= 4 else -1 for i in range(k)]
+        self.out_right = [2 * k + i if cols[i] + 4 < w else -1 for i in range(k)]
         # first edge row at or below r (rb if none): the hole under a top candidate
         idx = np.where(on, np.arange(rb)[:, None], rb)
         self.nxt = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
@@ -161,18 +168,9 @@ class _Sides:
             gap = miss[:-2] & miss[1:-1] & miss[2:]
             n = np.where(gap.any(axis=0), np.argmax(gap, axis=0), rb - 1)
             self.run_top = (rb - 1 - n).tolist()
-        # the same counts for the columns just outside (4 px) as the left or right side:
-        # background texture there says the edges above a top are not the side's own;
-        # columns 0..k-1 outside left, k..2k-1 outside right, 2k zeros (no such column)
-        outside = ax3[:rb, np.concatenate([np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
-        out = np.zeros((rb + 1, 2 * k + 1))
-        np.cumsum(outside > np.concatenate([thr, thr], axis=1), axis=0, out=out[1:, : 2 * k])
-        self.out = out
-        self.out_left = [i if cols[i] >= 4 else -1 for i in range(k)]
-        self.out_right = [k + i if cols[i] + 4 < w else -1 for i in range(k)]
         # exact column sums from the top (side strength over a face's rows)
-        self.csum = np.zeros((rb + 1, k))
-        np.cumsum(vals, axis=0, dtype=np.float64, out=self.csum[1:])
+        integral = cv2.integral(np.ascontiguousarray(vals[:, :k]), sdepth=cv2.CV_64F)
+        self.csum = integral[:, 1:] - integral[:, :-1]
 
     def background(self, il: int, ir: int) -> tuple[int, int]:
         """Table columns of the outside counts for a pair; one side's twice if only it exists."""
@@ -181,6 +179,19 @@ class _Sides:
         if a < 0 and b < 0:
             return zero, zero
         return (a if a >= 0 else b), (b if b >= 0 else a)
+
+
+def _running_counts(flags: npt.NDArray[np.bool_], extra: int = 0) -> npt.NDArray[np.int32]:
+    """Per column, the true rows above each row: out[r, j] = flags[:r, j].sum() (int32).
+
+    One cv2.integral and a difference of its columns: numpy's cumsum down the rows of a
+    narrow array makes one inner-loop call per row. ``extra`` zero columns are appended.
+    """
+    rows, cols = flags.shape
+    integral = cv2.integral(flags.view(np.uint8))
+    out = np.zeros((rows + 1, cols + extra), np.int32)
+    np.subtract(integral[:, 1:], integral[:, :-1], out=out[:, :cols])
+    return out
 
 
 def _fit_edges(
@@ -561,11 +572,8 @@ class FusedMethod:
         # (rows from the highest top candidate down: counts are exact whatever the start)
         t0 = int(tops.min())
         tex = _range_sums(ax3[t0:rb], ranges) * inv_n
-        tex_rows = tex > 3.0 * noise
-        tex_upto = np.zeros((rb - t0 + 1, n_p))  # textured rows in t0..r-1 (exact counts)
-        np.cumsum(tex_rows, axis=0, out=tex_upto[1:])
-        tex_below = tex_upto[rb - t0, pp] - tex_upto[tops - t0, pp]
-        textured = tex_below / np.maximum(rb - tops, 1)
+        flags = np.zeros((rb, 2 * n_p), bool)  # face shade (below) and texture per row
+        flags[t0:, n_p:] = tex > 3.0 * noise
         # A hole is a top face only if one fits there: a top face shows below the horizon
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
@@ -580,8 +588,10 @@ class FusedMethod:
         face = np.partition(row_sum[rb - 1 - kf : rb - 1], kf // 2, axis=0)[kf // 2]
         tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
         match_b = np.abs(row_sum - face) <= tol
-        match_upto = np.zeros((rb + 1, n_p))  # matching rows in 0..r-1 (exact counts)
-        np.cumsum(match_b, axis=0, out=match_upto[1:])
+        flags[:, :n_p] = match_b
+        counts = _running_counts(flags)  # rows in 0..r-1 (exact counts)
+        match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
+        textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / np.maximum(rb - tops, 1)
         match_t = match_upto[tops, pp]
         face_frac = (match_upto[rb, pp] - match_t) / np.maximum(rb - tops, 1)
         # ...and the face's shade coming back above a band of another shade right above
@@ -605,7 +615,7 @@ class FusedMethod:
         }
         score_t, fit = self._top_score(feats)
         # the bottom edge's strength between the sides (max over +-1 row), per pair
-        m3 = np.zeros(w_ay + 1)
+        m3 = np.zeros(w_ay + 1, np.float32)  # exact: integers under 2**24
         np.cumsum(ay[rb - 1 : rb + 2].max(axis=0), out=m3[1:])
         bounds = np.searchsorted(pp, np.arange(n_p + 1)).tolist()
         debug = log.isEnabledFor(logging.DEBUG)
