@@ -66,10 +66,10 @@ def _median(a: npt.NDArray[Any]) -> float:
     return float(np.partition(flat, k)[k])
 
 
-def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
+def _mean(a: npt.NDArray[Any], axis: int | None = None, dtype: Any = None) -> Any:
     """Mean via sum (np.mean's Python-level wrapper dominates on small arrays)."""
     n = a.size if axis is None else a.shape[axis]
-    return a.sum(axis=axis) * (1.0 / max(n, 1))
+    return a.sum(axis=axis, dtype=dtype) * (1.0 / max(n, 1))
 
 
 def _row_means(a: I16) -> F32:
@@ -226,7 +226,7 @@ def _fit_edges(
         peak = np.argmax(win[lo : lo + 3], axis=0) + lo
         np.minimum(peak, 5, out=peak)
         peaks.append(peak)
-    stacked = np.concatenate([win for win, _, _ in windows], axis=1)
+    stacked = np.concatenate([win for win, _, _ in windows], axis=1, dtype=np.float32)
     off = _subpixel(stacked, np.concatenate(peaks))
     n = x.size
     return [
@@ -304,7 +304,7 @@ class FusedMethod:
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
-        self._buf = np.empty((3, h, w), np.float32)  # |dx|, |dy|, top edge
+        self._buf = np.empty((2, h, w), np.float32)  # |dy|, top edge
         self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
@@ -335,19 +335,19 @@ class FusedMethod:
         self._grey = roi
         timer.lap("undistort")
         n = roi.shape[0]
-        ax, ay = self._buf[0, :n], self._buf[1, :n]
-        # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); the float copies are
-        # the same values the float Sobels give, for less than one of them costs (the
-        # signed d/dy stays int16: its row means are taken in float32 where needed)
+        ay = self._buf[0, :n]
+        # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); |d/dy| as float32,
+        # the same values the float Sobels give, for less than one of them costs; the
+        # signed d/dy and |d/dx| stay int16 (their sums are taken in float32 where
+        # needed: integers under 2**24, exact)
         dx, dy = self._dx[:n], self._dy[:n]
         cv2.spatialGradient(roi, dx, dy)
-        adx, ax3 = self._adx[0, :n], self._adx[1, :n]
-        np.abs(dx, out=adx)
-        np.copyto(ax, adx)
+        ax, ax3 = self._adx[0, :n], self._adx[1, :n]
+        np.abs(dx, out=ax)
         np.abs(dy, out=ay)
-        # tolerate a column of drift on vertical edges; kept in int16 (exact, and the
-        # dilation and the reads cost less than in float32)
-        cv2.dilate(adx, self._kernel3, dst=ax3)
+        # tolerate a column of drift on vertical edges (int16: exact, and the dilation
+        # and the reads cost less than in float32)
+        cv2.dilate(ax, self._kernel3, dst=ax3)
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -385,11 +385,11 @@ class FusedMethod:
                 continue
             # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
             # bottom: a side may lack contrast against the floor yet not against the wall
-            prof_short = _mean(ax[top_strip : rb - 1], 0)
+            prof_short = _mean(ax[top_strip : rb - 1], 0, np.float32)
             prof_v = prof_short
             tall = max(0, rb - 1 - int(_clamp(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
             if tall < top_strip:
-                prof_v = np.maximum(prof_short, _mean(ax[tall : rb - 1], 0))
+                prof_v = np.maximum(prof_short, _mean(ax[tall : rb - 1], 0, np.float32))
             base = _median(prof_v) + 0.5
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
@@ -440,7 +440,7 @@ class FusedMethod:
         if front is not None:
             vt, sign = front
         # the top edge's signed gradient, only in the 7-row window its refinement reads
-        top_edge = self._buf[2, :n]
+        top_edge = self._buf[1, :n]
         r0 = int(_clamp(vt - 3, 0, n - 7))
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
@@ -795,7 +795,7 @@ class FusedMethod:
     # ------------------------------------------------------------------ refinement
     def _refine(
         self,
-        ax: F32,
+        ax: I16,
         ay: F32,
         ax3: I16,
         top_edge: F32,
@@ -937,7 +937,7 @@ class FusedMethod:
 
     def _side_face(
         self,
-        ax: F32,
+        ax: I16,
         bottom: _BottomProfile,
         ba: float,
         bb: float,
@@ -1005,8 +1005,9 @@ class FusedMethod:
         rows = np.arange(vt + mv, rb - mv + 1)
         c = int(round(corner_u))
         if rows.size >= 3 and 3 <= c < w - 3:
-            strip = np.add.reduce(ax[rows, c - 1 : c + 2], 0) / rows.size  # .mean(axis=0)
-            edge_mean = np.add.reduce(ax[rows, int(round(edge_u))]) / rows.size
+            # .mean(axis=0) in float32, without the wrapper
+            strip = np.add.reduce(ax[rows, c - 1 : c + 2], 0, dtype=np.float32) / rows.size
+            edge_mean = np.add.reduce(ax[rows, int(round(edge_u))], dtype=np.float32) / rows.size
             if float(strip.max()) >= 0.25 * float(edge_mean):
                 a2, b2 = self._fit_vertical(ax, rows, [c], w)[0]
                 if abs((a2 + b2 * rb) - corner_u) <= 1.0:
@@ -1061,7 +1062,7 @@ class FusedMethod:
 
     @staticmethod
     def _fit_vertical(
-        ax: F32, rows: npt.NDArray[np.intp], edge_cols: list[int], w: int
+        ax: I16, rows: npt.NDArray[np.intp], edge_cols: list[int], w: int
     ) -> list[tuple[float, float]]:
         """Lines u = a + b v through each vertical edge's per-row peaks near its column."""
         # rows are consecutive: a slice, not a gather
