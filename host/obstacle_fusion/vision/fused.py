@@ -536,12 +536,14 @@ class FusedMethod:
             return []
         tl, tr = il[pp], ir[pp]
         # coverage of each side from each top candidate down to the bottom, and above it
-        span = (rb - tops).astype(np.float64)
+        # (tops < top_limit: the face height rb - tops is >= min_h + 1, never 0)
+        h_t = rb - tops
+        span = h_t.astype(np.float64)
         below, upto = sides.below, sides.upto
         cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
         # vertical edges above the top (half as high again as the face): a stripe across
         # the face leaves them there
-        above_start = np.maximum(tops - np.maximum(3, (rb - tops) // 2), 0)
+        above_start = np.maximum(tops - np.maximum(3, h_t // 2), 0)
         n_above = np.maximum(tops - above_start, 1)
         ext_t = upto[tops, tl] + upto[tops, tr]
         ext_a = upto[above_start, tl] + upto[above_start, tr]
@@ -558,27 +560,25 @@ class FusedMethod:
         # rows just below a top candidate with no vertical edge: the top face of a low box
         start = np.minimum(tops + 1, rb - 1)
         nxt = sides.nxt
-        hole = 0.5 * (
-            (nxt[start, tl] - start).astype(np.float64)
-            + (nxt[start, tr] - start).astype(np.float64)
-        )
+        hole = 0.5 * (nxt[start, tl] + nxt[start, tr] - 2 * start).astype(np.float64)
         # the box's top edge stops at its sides; a shelf or skirting line runs on
         # (means over the columns just outside each side, at the top rows: one product)
-        o_cols = []
+        o_cols = []  # per pair: left range start, end, right range start, end
         for ul, ur, _, _ in ps:
             wo = max(3, (ur - ul) // 5)
-            o_cols += [(max(0, ul - 1 - wo), max(1, ul - 1))]
-            o_cols += [(min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))]
-        o_lo, o_hi = min(a for a, _ in o_cols), max(b for _, b in o_cols)
-        o_at = np.array(o_cols, np.intp) - o_lo  # 2 n_p x 2: range ends in the block
-        o_inv = np.array([1.0 / (b - a) for a, b in o_cols], np.float32)
+            o_cols.append(
+                (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
+            )
+        o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
+        o_at = np.array(o_cols, np.intp) - o_lo  # range ends within the block
+        o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
         # running row sums at the top rows (exact in float32: integers under 2**24)
         run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
         np.cumsum(ay[tops, o_lo:o_hi], axis=1, out=run[:, 1:])
-        k_t = np.arange(tops.size)
-        jl, jr = 2 * pp, 2 * pp + 1
-        o_l = (run[k_t, o_at[jl, 1]] - run[k_t, o_at[jl, 0]]) * o_inv[jl]
-        o_r = (run[k_t, o_at[jr, 1]] - run[k_t, o_at[jr, 0]]) * o_inv[jr]
+        ends = run[np.arange(tops.size)[:, None], o_at[pp]]  # T x 4
+        inv_t = o_inv[pp]
+        o_l = (ends[:, 1] - ends[:, 0]) * inv_t[:, 0]
+        o_r = (ends[:, 3] - ends[:, 2]) * inv_t[:, 1]
         prof_tops = prof[tops, pp]
         inside = np.maximum(prof_tops, 1e-3)
         contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
@@ -592,7 +592,7 @@ class FusedMethod:
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
         hole_max = np.maximum(0.0, (tops - self.view.cy) * 2.0 / self._depth) + 1.0
-        soft = np.exp(-hole / np.maximum(4.0, _HOLE_SHARE * (rb - tops)))
+        soft = np.exp(-hole / np.maximum(4.0, _HOLE_SHARE * h_t))
         hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
         # rows whose inside has the face's own shade (measured just above the floor): a
         # shelf of books or a poster over the box does not, a box's face does (but for a
@@ -605,15 +605,16 @@ class FusedMethod:
         flags[:, :n_p] = match_b
         counts = _running_counts(flags)  # rows in 0..r-1 (exact counts)
         match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
-        textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / np.maximum(rb - tops, 1)
+        textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
         match_t = match_upto[tops, pp]
-        face_frac = (match_upto[rb, pp] - match_t) / np.maximum(rb - tops, 1)
+        face_frac = (match_upto[rb, pp] - match_t) / h_t
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
-        a0 = np.maximum(tops - np.maximum(3, rb - tops), 0)
+        a0 = np.maximum(tops - np.maximum(3, h_t), 0)
         face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
-        band = ~match_b[np.maximum(tops - 1, 0), pp] & ~match_b[np.maximum(tops - 2, 0), pp]
+        # (tops >= 1: row 0 is never a candidate)
+        band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
         face_above = np.where(band, face_above, 0.0)
         snr_tops = snr[tops, pp]
         feats = {
