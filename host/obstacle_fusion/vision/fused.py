@@ -66,10 +66,18 @@ def _median(a: npt.NDArray[Any]) -> float:
     return float(np.partition(flat, k)[k])
 
 
-def _mean(a: npt.NDArray[Any], axis: int | None = None, dtype: Any = None) -> Any:
+def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     """Mean via sum (np.mean's Python-level wrapper dominates on small arrays)."""
     n = a.size if axis is None else a.shape[axis]
-    return a.sum(axis=axis, dtype=dtype) * (1.0 / max(n, 1))
+    return a.sum(axis=axis) * (1.0 / max(n, 1))
+
+
+def _col_means(a: npt.NDArray[Any]) -> F32:
+    """Float32 column means of an integer-valued gradient block (cv2.reduce: ~2x faster
+    than numpy's casting sum; float32 sums of integers under 2**24 are exact)."""
+    sums = cv2.reduce(a, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F)[0]
+    sums *= 1.0 / max(a.shape[0], 1)
+    return sums
 
 
 def _row_means(a: I16) -> F32:
@@ -385,11 +393,11 @@ class FusedMethod:
                 continue
             # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
             # bottom: a side may lack contrast against the floor yet not against the wall
-            prof_short = _mean(ax[top_strip : rb - 1], 0, np.float32)
+            prof_short = _col_means(ax[top_strip : rb - 1])
             prof_v = prof_short
             tall = max(0, rb - 1 - int(_clamp(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
             if tall < top_strip:
-                prof_v = np.maximum(prof_short, _mean(ax[tall : rb - 1], 0, np.float32))
+                prof_v = np.maximum(prof_short, _col_means(ax[tall : rb - 1]))
             base = _median(prof_v) + 0.5
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
