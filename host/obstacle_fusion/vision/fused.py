@@ -224,7 +224,7 @@ def _fit_edges(
 ) -> list[tuple[float, float]]:
     """Line fits through the sub-pixel gradient peaks of several 7-sample edge windows.
 
-    Each window is 7 x n (samples across the edge x positions ``x`` along it), with the
+    Each window is 7 x n (7 samples across the edge at each position ``x`` along it), with the
     coordinate of its first sample and the first sample the peak may be at (the peak is
     within +-1 of the window's middle). The parabolic offsets of all windows are found
     in one pass: on these small windows the per-call overhead is most of the cost.
@@ -570,7 +570,7 @@ class FusedMethod:
         nxt = sides.nxt
         hole = 0.5 * (nxt[start, tl] + nxt[start, tr] - 2 * start).astype(np.float64)
         # the box's top edge stops at its sides; a shelf or skirting line runs on
-        # (means over the columns just outside each side, at the top rows: one product)
+        # (means over the columns just outside each side, at the top rows)
         o_cols = []  # per pair: left range start, end, right range start, end
         for ul, ur, _, _ in ps:
             wo = max(3, (ur - ul) // 5)
