@@ -72,6 +72,14 @@ def _mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     return a.sum(axis=axis) * (1.0 / max(n, 1))
 
 
+def _col_means(a: npt.NDArray[Any]) -> F32:
+    """Float32 column means of an integer-valued gradient block (cv2.reduce: ~2x faster
+    than numpy's casting sum; float32 sums of integers under 2**24 are exact)."""
+    sums = cv2.reduce(a, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F)[0]
+    sums *= 1.0 / max(a.shape[0], 1)
+    return sums
+
+
 def _row_means(a: I16) -> F32:
     """Row means of an int16 gradient block in float32 (sums exact: integers < 2**24)."""
     return a.sum(axis=1, dtype=np.float32) * (1.0 / max(a.shape[1], 1))
@@ -131,7 +139,7 @@ class _Sides:
 
     One column of each table per candidate column, built in one pass for all of them
     (per-column arrays cost more in numpy call overhead than in work). Counts are exact
-    integers in float64, so any summation order gives the same values.
+    integers, so they are the per-column values whatever the summation order.
     """
 
     __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
@@ -143,13 +151,20 @@ class _Sides:
         w = ax3.shape[1]
         c = np.array(cols, np.intp)
         self.index = {col: i for i, col in enumerate(cols)}
-        thr = thresholds[None, :]
-        vals = ax3[:rb, c]  # rb x k
-        on = vals > thr
-        upto = np.zeros((rb + 1, k))
-        np.cumsum(on, axis=0, out=upto[1:])
-        self.upto = upto  # edge rows in 0..r-1
-        self.below = upto[rb] - upto[:rb]  # edge rows in r..rb-1
+        # the side columns, then the columns just outside (4 px) as the left or right
+        # side, at the side's threshold: background texture there says the edges above
+        # a top are not the side's own
+        vals = ax3[:rb, np.concatenate([c, np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
+        on_all = vals > _int_threshold(thresholds, 3)
+        on = on_all[:, :k]
+        # edge rows in 0..r-1 for all 3k columns; a last column of zeros for a side with
+        # no column outside it
+        counts = _running_counts(on_all, extra=1)
+        self.upto = counts[:, :k]
+        self.below = self.upto[rb] - self.upto[:rb]  # edge rows in r..rb-1
+        self.out = counts  # columns k..2k-1 outside left, 2k..3k-1 outside right
+        self.out_left = [k + i if cols[i] >= 4 else -1 for i in range(k)]
+        self.out_right = [2 * k + i if cols[i] + 4 < w else -1 for i in range(k)]
         # first edge row at or below r (rb if none): the hole under a top candidate
         idx = np.where(on, np.arange(rb)[:, None], rb)
         self.nxt = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
@@ -157,22 +172,10 @@ class _Sides:
         if rb - 1 < 3:
             self.run_top = [rb - 1] * k
         else:
-            miss = ~on[: rb - 1][::-1]
-            gap = miss[:-2] & miss[1:-1] & miss[2:]
-            n = np.where(gap.any(axis=0), np.argmax(gap, axis=0), rb - 1)
-            self.run_top = (rb - 1 - n).tolist()
-        # the same counts for the columns just outside (4 px) as the left or right side:
-        # background texture there says the edges above a top are not the side's own;
-        # columns 0..k-1 outside left, k..2k-1 outside right, 2k zeros (no such column)
-        outside = ax3[:rb, np.concatenate([np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
-        out = np.zeros((rb + 1, 2 * k + 1))
-        np.cumsum(outside > np.concatenate([thr, thr], axis=1), axis=0, out=out[1:, : 2 * k])
-        self.out = out
-        self.out_left = [i if cols[i] >= 4 else -1 for i in range(k)]
-        self.out_right = [k + i if cols[i] + 4 < w else -1 for i in range(k)]
+            self.run_top = (rb - 1 - _first_gap(on[: rb - 1][::-1])).tolist()
         # exact column sums from the top (side strength over a face's rows)
-        self.csum = np.zeros((rb + 1, k))
-        np.cumsum(vals, axis=0, dtype=np.float64, out=self.csum[1:])
+        integral = cv2.integral(np.ascontiguousarray(vals[:, :k]), sdepth=cv2.CV_64F)
+        self.csum = integral[:, 1:] - integral[:, :-1]
 
     def background(self, il: int, ir: int) -> tuple[int, int]:
         """Table columns of the outside counts for a pair; one side's twice if only it exists."""
@@ -181,6 +184,63 @@ class _Sides:
         if a < 0 and b < 0:
             return zero, zero
         return (a if a >= 0 else b), (b if b >= 0 else a)
+
+
+def _first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
+    """Per column, the first row starting 3 consecutive misses (the row count if none).
+
+    Worked on a transposed copy: numpy's any/argmax down the rows of a narrow array
+    cost several times as much as along contiguous rows.
+    """
+    miss = ~np.ascontiguousarray(on.T)
+    gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
+    return np.where(gap.any(axis=1), np.argmax(gap, axis=1), miss.shape[1])
+
+
+def _int_threshold(thresholds: npt.NDArray[Any], repeat: int = 1) -> npt.NDArray[np.int16]:
+    """For the int16 gradients, x > t exactly when x > floor(t): a compare without casts.
+
+    (Thresholds stay far below the int16 range: |gradient| <= 1020, noise likewise.)
+    """
+    floor = np.floor(thresholds).astype(np.int16)
+    return np.concatenate([floor] * repeat) if repeat > 1 else floor
+
+
+def _running_counts(flags: npt.NDArray[np.bool_], extra: int = 0) -> npt.NDArray[np.int32]:
+    """Per column, the true rows above each row: out[r, j] = flags[:r, j].sum() (int32).
+
+    One cv2.integral and a difference of its columns: numpy's cumsum down the rows of a
+    narrow array makes one inner-loop call per row. ``extra`` zero columns are appended.
+    """
+    rows, cols = flags.shape
+    integral = cv2.integral(flags.view(np.uint8))
+    out = np.zeros((rows + 1, cols + extra), np.int32)
+    np.subtract(integral[:, 1:], integral[:, :-1], out=out[:, :cols])
+    return out
+
+
+def _fit_edges(
+    windows: list[tuple[F32, int, int]], x: npt.NDArray[np.float64]
+) -> list[tuple[float, float]]:
+    """Line fits through the sub-pixel gradient peaks of several 7-sample edge windows.
+
+    Each window is 7 x n (7 samples across the edge at each position ``x`` along it), with the
+    coordinate of its first sample and the first sample the peak may be at (the peak is
+    within +-1 of the window's middle). The parabolic offsets of all windows are found
+    in one pass: on these small windows the per-call overhead is most of the cost.
+    """
+    peaks = []
+    for win, _, lo in windows:
+        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        np.minimum(peak, 5, out=peak)
+        peaks.append(peak)
+    stacked = np.concatenate([win for win, _, _ in windows], axis=1, dtype=np.float32)
+    off = _subpixel(stacked, np.concatenate(peaks))
+    n = x.size
+    return [
+        _fit_line(x, start + peaks[i] + off[i * n : (i + 1) * n])
+        for i, (_, start, _) in enumerate(windows)
+    ]
 
 
 def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
@@ -253,7 +313,7 @@ class FusedMethod:
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
-        self._buf = np.empty((3, h, w), np.float32)  # |dx|, |dy|, top edge
+        self._buf = np.empty((2, h, w), np.float32)  # |dy|, top edge
         self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
@@ -284,19 +344,19 @@ class FusedMethod:
         self._grey = roi
         timer.lap("undistort")
         n = roi.shape[0]
-        ax, ay = self._buf[0, :n], self._buf[1, :n]
-        # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); the float copies are
-        # the same values the float Sobels give, for less than one of them costs (the
-        # signed d/dy stays int16: its row means are taken in float32 where needed)
+        ay = self._buf[0, :n]
+        # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); |d/dy| as float32,
+        # the same values the float Sobels give, for less than one of them costs; the
+        # signed d/dy and |d/dx| stay int16 (their sums are taken in float32 where
+        # needed: integers under 2**24, exact)
         dx, dy = self._dx[:n], self._dy[:n]
         cv2.spatialGradient(roi, dx, dy)
-        adx, ax3 = self._adx[0, :n], self._adx[1, :n]
-        np.abs(dx, out=adx)
-        np.copyto(ax, adx)
+        ax, ax3 = self._adx[0, :n], self._adx[1, :n]
+        np.abs(dx, out=ax)
         np.abs(dy, out=ay)
-        # tolerate a column of drift on vertical edges; kept in int16 (exact, and the
-        # dilation and the reads cost less than in float32)
-        cv2.dilate(adx, self._kernel3, dst=ax3)
+        # tolerate a column of drift on vertical edges (int16: exact, and the dilation
+        # and the reads cost less than in float32)
+        cv2.dilate(ax, self._kernel3, dst=ax3)
         noise = _median(ay[::4, ::4]) / 0.6745 + 1.0
         timer.lap("gradients")
 
@@ -334,11 +394,11 @@ class FusedMethod:
                 continue
             # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
             # bottom: a side may lack contrast against the floor yet not against the wall
-            prof_short = _mean(ax[top_strip : rb - 1], 0)
+            prof_short = _col_means(ax[top_strip : rb - 1])
             prof_v = prof_short
             tall = max(0, rb - 1 - int(_clamp(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
             if tall < top_strip:
-                prof_v = np.maximum(prof_short, _mean(ax[tall : rb - 1], 0))
+                prof_v = np.maximum(prof_short, _col_means(ax[tall : rb - 1]))
             base = _median(prof_v) + 0.5
             peaks = _local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
             if peaks.size < 2:
@@ -392,12 +452,12 @@ class FusedMethod:
         if front is not None:
             vt, sign = front
         # the top edge's signed gradient, only in the 7-row window its refinement reads
-        top_edge = self._buf[2, :n]
+        top_edge = self._buf[1, :n]
         r0 = int(_clamp(vt - 3, 0, n - 7))
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
         np.maximum(win, 0.0, out=win)
-        return self._refine(ax, ay, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
+        return self._refine(ax, ay, ax3, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
 
     @staticmethod
     def _rank_sides(
@@ -418,12 +478,9 @@ class FusedMethod:
         if cols_all.size == 0:
             return [[] for _ in groups]
         col_vals = ax3[: rb - 1, cols_all][::-1]  # rows going up from the bottom
-        tv = _presence(prof_short[cols_all], noise)
-        on = col_vals > tv
+        on = col_vals > _int_threshold(_presence(prof_short[cols_all], noise))
         # run length: rows up to the first gap of 3 consecutive misses
-        miss = ~on
-        gap = miss[:-2] & miss[1:-1] & miss[2:] if on.shape[0] > 2 else miss
-        first_gap = np.where(gap.any(axis=0), np.argmax(gap, axis=0), on.shape[0])
+        first_gap = _first_gap(on)
         rank_all = prof_v[cols_all] * np.sqrt(np.maximum(first_gap, 1))
         ranked = []
         start = 0
@@ -491,12 +548,14 @@ class FusedMethod:
             return []
         tl, tr = il[pp], ir[pp]
         # coverage of each side from each top candidate down to the bottom, and above it
-        span = (rb - tops).astype(np.float64)
+        # (tops < top_limit: the face height rb - tops is >= min_h + 1, never 0)
+        h_t = rb - tops
+        span = h_t.astype(np.float64)
         below, upto = sides.below, sides.upto
         cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
         # vertical edges above the top (half as high again as the face): a stripe across
         # the face leaves them there
-        above_start = np.maximum(tops - np.maximum(3, (rb - tops) // 2), 0)
+        above_start = np.maximum(tops - np.maximum(3, h_t // 2), 0)
         n_above = np.maximum(tops - above_start, 1)
         ext_t = upto[tops, tl] + upto[tops, tr]
         ext_a = upto[above_start, tl] + upto[above_start, tr]
@@ -513,27 +572,25 @@ class FusedMethod:
         # rows just below a top candidate with no vertical edge: the top face of a low box
         start = np.minimum(tops + 1, rb - 1)
         nxt = sides.nxt
-        hole = 0.5 * (
-            (nxt[start, tl] - start).astype(np.float64)
-            + (nxt[start, tr] - start).astype(np.float64)
-        )
+        hole = 0.5 * (nxt[start, tl] + nxt[start, tr] - 2 * start).astype(np.float64)
         # the box's top edge stops at its sides; a shelf or skirting line runs on
-        # (means over the columns just outside each side, at the top rows: one product)
-        o_cols = []
+        # (means over the columns just outside each side, at the top rows)
+        o_cols = []  # per pair: left range start, end, right range start, end
         for ul, ur, _, _ in ps:
             wo = max(3, (ur - ul) // 5)
-            o_cols += [(max(0, ul - 1 - wo), max(1, ul - 1))]
-            o_cols += [(min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))]
-        o_lo, o_hi = min(a for a, _ in o_cols), max(b for _, b in o_cols)
-        o_at = np.array(o_cols, np.intp) - o_lo  # 2 n_p x 2: range ends in the block
-        o_inv = np.array([1.0 / (b - a) for a, b in o_cols], np.float32)
+            o_cols.append(
+                (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
+            )
+        o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
+        o_at = np.array(o_cols, np.intp) - o_lo  # range ends within the block
+        o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
         # running row sums at the top rows (exact in float32: integers under 2**24)
         run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
         np.cumsum(ay[tops, o_lo:o_hi], axis=1, out=run[:, 1:])
-        k_t = np.arange(tops.size)
-        jl, jr = 2 * pp, 2 * pp + 1
-        o_l = (run[k_t, o_at[jl, 1]] - run[k_t, o_at[jl, 0]]) * o_inv[jl]
-        o_r = (run[k_t, o_at[jr, 1]] - run[k_t, o_at[jr, 0]]) * o_inv[jr]
+        ends = run[np.arange(tops.size)[:, None], o_at[pp]]  # T x 4
+        inv_t = o_inv[pp]
+        o_l = (ends[:, 1] - ends[:, 0]) * inv_t[:, 0]
+        o_r = (ends[:, 3] - ends[:, 2]) * inv_t[:, 1]
         prof_tops = prof[tops, pp]
         inside = np.maximum(prof_tops, 1e-3)
         contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
@@ -541,16 +598,13 @@ class FusedMethod:
         # (rows from the highest top candidate down: counts are exact whatever the start)
         t0 = int(tops.min())
         tex = _range_sums(ax3[t0:rb], ranges) * inv_n
-        tex_rows = tex > 3.0 * noise
-        tex_upto = np.zeros((rb - t0 + 1, n_p))  # textured rows in t0..r-1 (exact counts)
-        np.cumsum(tex_rows, axis=0, out=tex_upto[1:])
-        tex_below = tex_upto[rb - t0, pp] - tex_upto[tops - t0, pp]
-        textured = tex_below / np.maximum(rb - tops, 1)
+        flags = np.zeros((rb, 2 * n_p), bool)  # face shade (below) and texture per row
+        flags[t0:, n_p:] = tex > 3.0 * noise
         # A hole is a top face only if one fits there: a top face shows below the horizon
         # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
         # a side losing contrast against the background, a milder fault.
         hole_max = np.maximum(0.0, (tops - self.view.cy) * 2.0 / self._depth) + 1.0
-        soft = np.exp(-hole / np.maximum(4.0, _HOLE_SHARE * (rb - tops)))
+        soft = np.exp(-hole / np.maximum(4.0, _HOLE_SHARE * h_t))
         hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
         # rows whose inside has the face's own shade (measured just above the floor): a
         # shelf of books or a poster over the box does not, a box's face does (but for a
@@ -560,16 +614,19 @@ class FusedMethod:
         face = np.partition(row_sum[rb - 1 - kf : rb - 1], kf // 2, axis=0)[kf // 2]
         tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
         match_b = np.abs(row_sum - face) <= tol
-        match_upto = np.zeros((rb + 1, n_p))  # matching rows in 0..r-1 (exact counts)
-        np.cumsum(match_b, axis=0, out=match_upto[1:])
+        flags[:, :n_p] = match_b
+        counts = _running_counts(flags)  # rows in 0..r-1 (exact counts)
+        match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
+        textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
         match_t = match_upto[tops, pp]
-        face_frac = (match_upto[rb, pp] - match_t) / np.maximum(rb - tops, 1)
+        face_frac = (match_upto[rb, pp] - match_t) / h_t
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
-        a0 = np.maximum(tops - np.maximum(3, rb - tops), 0)
+        a0 = np.maximum(tops - np.maximum(3, h_t), 0)
         face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
-        band = ~match_b[np.maximum(tops - 1, 0), pp] & ~match_b[np.maximum(tops - 2, 0), pp]
+        # (tops >= 1: row 0 is never a candidate)
+        band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
         face_above = np.where(band, face_above, 0.0)
         snr_tops = snr[tops, pp]
         feats = {
@@ -585,7 +642,7 @@ class FusedMethod:
         }
         score_t, fit = self._top_score(feats)
         # the bottom edge's strength between the sides (max over +-1 row), per pair
-        m3 = np.zeros(w_ay + 1)
+        m3 = np.zeros(w_ay + 1, np.float32)  # exact: integers under 2**24
         np.cumsum(ay[rb - 1 : rb + 2].max(axis=0), out=m3[1:])
         bounds = np.searchsorted(pp, np.arange(n_p + 1)).tolist()
         debug = log.isEnabledFor(logging.DEBUG)
@@ -763,8 +820,9 @@ class FusedMethod:
     # ------------------------------------------------------------------ refinement
     def _refine(
         self,
-        ax: F32,
+        ax: I16,
         ay: F32,
+        ax3: I16,
         top_edge: F32,
         rb: int,
         ul: int,
@@ -780,15 +838,15 @@ class FusedMethod:
         # horizontal edges: per-column sub-pixel peaks near rb and vt
         m = max(1, (ur - ul) // 10)
         cols = np.arange(ul + m, ur - m + 1)
-        bottom_a, bottom_b = self._fit_horizontal(ay, cols, rb, h_roi)
-        top_a, top_b = self._fit_horizontal(top_edge, cols, vt, h_roi)
+        (bottom_a, bottom_b), (top_a, top_b) = self._fit_horizontal(
+            [(ay, rb), (top_edge, vt)], cols, h_roi
+        )
         if self._top_row is not None:  # predicted by _front_from_back
             top_a = self._top_row - top_b * 0.5 * float(cols[0] + cols[-1])
         # vertical edges: per-row sub-pixel peaks near ul and ur
         mv = max(1, (rb - vt) // 10)
         rows = np.arange(vt + mv, rb - mv + 1)
-        left_a, left_b = self._fit_vertical(ax, rows, ul, w_img)
-        right_a, right_b = self._fit_vertical(ax, rows, ur, w_img)
+        (left_a, left_b), (right_a, right_b) = self._fit_vertical(ax, rows, [ul, ur], w_img)
 
         # A side face (yaw, or a box off the axis) shows beside the front face: the front
         # face's bottom edge is straight, the side face's rises towards the horizon.
@@ -817,8 +875,8 @@ class FusedMethod:
         # Where the vertical edges end is the front top corner even when the top face
         # (a pixel or three tall) merges with the front top edge in the gradient.
         if tl[1] - v.cy > 1.0:
-            end_l = self._edge_end(ax, left_a, left_b, vt, rb)
-            end_r = self._edge_end(ax, right_a, right_b, vt, rb)
+            end_l = self._edge_end(ax3, left_a, left_b, vt, rb)
+            end_r = self._edge_end(ax3, right_a, right_b, vt, rb)
             if end_l is not None and end_r is not None:
                 d_l, d_r = end_l - tl[1], end_r - tr[1]
                 lower = 0.5 * (d_l + d_r)
@@ -906,7 +964,7 @@ class FusedMethod:
 
     def _side_face(
         self,
-        ax: F32,
+        ax: I16,
         bottom: _BottomProfile,
         ba: float,
         bb: float,
@@ -974,10 +1032,11 @@ class FusedMethod:
         rows = np.arange(vt + mv, rb - mv + 1)
         c = int(round(corner_u))
         if rows.size >= 3 and 3 <= c < w - 3:
-            strip = np.add.reduce(ax[rows, c - 1 : c + 2], 0) / rows.size  # .mean(axis=0)
-            edge_mean = np.add.reduce(ax[rows, int(round(edge_u))]) / rows.size
+            # .mean(axis=0) in float32, without the wrapper
+            strip = np.add.reduce(ax[rows, c - 1 : c + 2], 0, dtype=np.float32) / rows.size
+            edge_mean = np.add.reduce(ax[rows, int(round(edge_u))], dtype=np.float32) / rows.size
             if float(strip.max()) >= 0.25 * float(edge_mean):
-                a2, b2 = self._fit_vertical(ax, rows, c, w)
+                a2, b2 = self._fit_vertical(ax, rows, [c], w)[0]
                 if abs((a2 + b2 * rb) - corner_u) <= 1.0:
                     return a2, b2
         if not clear_rise:  # no shading edge at the corner and only a slight rise
@@ -985,9 +1044,12 @@ class FusedMethod:
         return corner_u - vb * rb, vb
 
     @staticmethod
-    def _edge_end(ax: F32, a: float, b: float, vt: int, rb: int) -> float | None:
-        """Sub-pixel row where a vertical edge (u = a + b v) fades out going up."""
-        h, w = ax.shape
+    def _edge_end(ax3: I16, a: float, b: float, vt: int, rb: int) -> float | None:
+        """Sub-pixel row where a vertical edge (u = a + b v) fades out going up.
+
+        ``ax3`` is |d/dx| dilated over +-1 column (the edge's strength within a column).
+        """
+        h, w = ax3.shape
         lo = max(1, vt - 6)
         hi = min(rb - 2, vt + max(4, (rb - vt) // 2))
         if hi - lo < 6:
@@ -996,7 +1058,7 @@ class FusedMethod:
         cols = np.round(a + b * rows).astype(np.intp)
         np.maximum(cols, 1, out=cols)  # np.clip's wrapper costs more than the work here
         np.minimum(cols, w - 2, out=cols)
-        strength = np.maximum(np.maximum(ax[rows, cols - 1], ax[rows, cols]), ax[rows, cols + 1])
+        strength = ax3[rows, cols].astype(np.float32)  # cols are within 1..w-2: exact
         mid0 = vt + max(2, (rb - vt) // 4)
         ref_rows = strength[rows >= mid0]
         if ref_rows.size < 3:
@@ -1014,26 +1076,26 @@ class FusedMethod:
 
     @staticmethod
     def _fit_horizontal(
-        ay: F32, cols: npt.NDArray[np.intp], row: int, h: int
-    ) -> tuple[float, float]:
-        r0 = int(_clamp(row - 3, 0, h - 7))
-        # 7 rows around the edge; the peak within +-1 row (cols are consecutive: a slice)
+        edges: list[tuple[F32, int]], cols: npt.NDArray[np.intp], h: int
+    ) -> list[tuple[float, float]]:
+        """Lines v = a + b u through each (gradient image, row) edge's per-column peaks."""
+        # 7 rows around each edge; the peak within +-1 row (cols are consecutive: a slice)
         u0 = int(cols[0]) if cols.size else 0
-        win = np.ascontiguousarray(ay[r0 : r0 + 7, u0 : u0 + cols.size])
-        lo = max(1, row - 1 - r0)
-        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
-        np.minimum(peak, 5, out=peak)
-        pos = r0 + peak + _subpixel(win, peak)
-        return _fit_line(cols.astype(np.float64), pos)
+        windows = []
+        for img, row in edges:
+            r0 = int(_clamp(row - 3, 0, h - 7))
+            windows.append((img[r0 : r0 + 7, u0 : u0 + cols.size], r0, max(1, row - 1 - r0)))
+        return _fit_edges(windows, cols.astype(np.float64))
 
     @staticmethod
-    def _fit_vertical(ax: F32, rows: npt.NDArray[np.intp], col: int, w: int) -> tuple[float, float]:
-        c0 = int(_clamp(col - 3, 0, w - 7))
+    def _fit_vertical(
+        ax: I16, rows: npt.NDArray[np.intp], edge_cols: list[int], w: int
+    ) -> list[tuple[float, float]]:
+        """Lines u = a + b v through each vertical edge's per-row peaks near its column."""
         # rows are consecutive: a slice, not a gather
         v0 = int(rows[0]) if rows.size else 0
-        win = np.ascontiguousarray(ax[v0 : v0 + rows.size, c0 : c0 + 7].T)
-        lo = max(1, col - 1 - c0)
-        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
-        np.minimum(peak, 5, out=peak)
-        pos = c0 + peak + _subpixel(win, peak)
-        return _fit_line(rows.astype(np.float64), pos)
+        windows = []
+        for col in edge_cols:
+            c0 = int(_clamp(col - 3, 0, w - 7))
+            windows.append((ax[v0 : v0 + rows.size, c0 : c0 + 7].T, c0, max(1, col - 1 - c0)))
+        return _fit_edges(windows, rows.astype(np.float64))
