@@ -180,6 +180,52 @@ def test_fused_far_box_front_top_edge_is_not_the_back_edges_blur_tail(
     assert res.width_m == pytest.approx(0.205, rel=0.05)
 
 
+def test_fused_low_box_with_a_label_is_measured_to_its_top_not_the_label() -> None:
+    """A low, flat box (6 cm) with a light label across its dark front, its top face showing.
+
+    The label's strong edges must not become the face's top (that gave -56 % height): rows
+    of another shade with the face's own shade above and below them belong to the face.
+    A generated hard scene (benchmark seed 2, hard scene 9), kept with its render seed.
+    """
+    cam = CameraModel.paper(500, 375)
+    rig = Rig(
+        camera_height_m=0.23048,
+        camera_pitch_deg=6.37,
+        sonar_right_m=-0.01456,
+        sonar_below_m=0.03674,
+        sonar_ahead_m=-0.01765,
+    )
+    spec = SceneSpec(
+        width_m=0.40786,
+        height_m=0.06004,
+        length_m=0.48643,
+        distance_m=0.85928,
+        lateral_m=0.00994,
+        box_color=(43.39, 59.43, 47.54),
+        floor_style="plain",
+        floor_color=(195.3, 158.54, 197.27),
+        wall_color=(120.78, 141.07, 140.65),
+        wall_gap_m=1.3695,
+        skirting_m=0.09059,
+        skirting_color=(95.92, 143.86, 89.14),
+        clutter=15,
+        extra_boxes=1,
+        label=True,
+        light_gain=1.0334,
+        light_gradient=0.09005,
+        noise_sigma=1.3433,
+        blur_sigma=0.72124,
+        shadow=0.25096,
+        light_x=0.05773,
+        light_z=0.45977,
+    )
+    sc = render_scene(spec, cam, rig, 284010080)
+    res = Measurer(cam, rig).measure(sc.image, 0.8578)
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(sc.truth.height_m, rel=0.05)
+    assert res.width_m == pytest.approx(sc.truth.width_m, rel=0.03)
+
+
 def test_fused_confidence_floor_turns_a_weak_answer_into_no_detection() -> None:
     rig = Rig(camera_height_m=0.3)
     spec = clean_room(width_m=0.4, height_m=0.3, distance_m=1.5)

@@ -45,6 +45,8 @@ _PRESENCE_CAP = 5.0
 _HOLE_SHARE = 0.2  # a gap in the sides longer than this share of the face is no top face
 _TAIL_SHARE = 0.1  # a top edge's blur tail, as a share of the edge, within _TAIL_ROWS
 _TAIL_ROWS = 2
+# a stripe of another shade across the face (a label) at most this share of its height
+_LABEL_SHARE = 0.35
 _FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a row mean
 # below this confidence the fused method reports no detection rather than a likely wrong
 # size (chosen on generated hard scenes: it turns most gross errors into misses)
@@ -620,6 +622,15 @@ class FusedMethod:
         textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
         match_t = match_upto[tops, pp]
         face_frac = (match_upto[rb, pp] - match_t) / h_t
+        # a stripe (label) across the face: rows of another shade with the face's own
+        # above and below them, inside a top that starts in the face's shade, are face
+        # (first[r]: the first row at or below r in the face's shade)
+        row_idx = np.arange(rb)[:, None]
+        first = np.minimum.accumulate(np.where(match_b, row_idx, rb)[::-1], axis=0)[::-1]
+        ft = first[tops, pp]
+        inner = (rb - ft) - (match_upto[rb, pp] - match_upto[ft, pp])
+        label = (ft - tops <= 2) & (inner <= _LABEL_SHARE * h_t)
+        face_frac = np.where(label, face_frac + inner / h_t, face_frac)
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
