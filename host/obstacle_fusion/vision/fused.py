@@ -311,7 +311,6 @@ class FusedMethod:
         self._kernel3 = np.ones((1, 3), np.uint8)
         self._h, self._w = h, w
         self._depth = 1.0
-        self._top_row: float | None = None  # this frame's sub-pixel front top row, if set
         self._grey: npt.NDArray[Any] = np.zeros((1, 1), np.uint8)
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
@@ -449,17 +448,19 @@ class FusedMethod:
             )
             return fail
         vt, sign = self._front_top(dy, rb, ul, ur, vt, noise)
-        self._top_row = None
-        front = self._front_from_back(ay, dy, rb, ul, ur, vt)  # may set self._top_row
+        top_row: float | None = None  # a sub-pixel front top row that needs no refining
+        front = self._front_from_back(ay, dy, rb, ul, ur, vt)
         if front is not None:
-            vt, sign = front
+            vt, sign, top_row = front
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]
         r0 = int(_clamp(vt - 3, 0, n - 7))
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
         np.maximum(win, 0.0, out=win)
-        return self._refine(ax, ay, ax3, top_edge, rb, ul, ur, vt, conf, depth, range_m, timer)
+        return self._refine(
+            ax, ay, ax3, top_edge, rb, ul, ur, vt, top_row, conf, depth, range_m, timer
+        )
 
     @staticmethod
     def _rank_sides(
@@ -763,7 +764,7 @@ class FusedMethod:
 
     def _front_from_back(
         self, ay: F32, dy: I16, rb: int, ul: int, ur: int, vt: int
-    ) -> tuple[int, float] | None:
+    ) -> tuple[int, float, float | None] | None:
         """A top edge narrower than the face, shrunk towards the centre: the top face's back.
 
         A top face recedes: its back edge at depth D + l spans the face's columns scaled
@@ -772,6 +773,8 @@ class FusedMethod:
         by the amounts that one scale s explains, is the back edge, and the front edge is
         on row cy + (vt - cy) / s: taken there, or at the signed-gradient extremum within
         a pixel or two of it (the front edge itself may be too faint to be picked).
+        Returns the row, its gradient's sign, and the sub-pixel row when it was taken
+        from the prediction alone (then not to be refined), or None: no top face here.
         """
         v = self.view
         if vt - v.cy < 3.0 or ur - ul < 12:
@@ -819,14 +822,12 @@ class FusedMethod:
             and mag[i - vt] >= mag[i - vt + 1]
         ]
         r = min(peaks, key=lambda i: abs(i - vf)) if peaks else int(round(vf))
-        if not peaks:
-            # no extremum of its own: the predicted row itself, sub-pixel (refining near
-            # it would slide onto the back edge's blur tail)
-            self._top_row = vf
         log.debug(
             "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
         )
-        return r, (1.0 if col[r - vt] >= 0 else -1.0)
+        # with no extremum of its own, the predicted row itself, sub-pixel: refining near
+        # it would slide onto the back edge's blur tail
+        return r, (1.0 if col[r - vt] >= 0 else -1.0), (None if peaks else vf)
 
     # ------------------------------------------------------------------ refinement
     def _refine(
@@ -839,6 +840,7 @@ class FusedMethod:
         ul: int,
         ur: int,
         vt: int,
+        top_row: float | None,
         conf: float,
         depth: float,
         range_m: float,
@@ -852,8 +854,8 @@ class FusedMethod:
         (bottom_a, bottom_b), (top_a, top_b) = self._fit_horizontal(
             [(ay, rb), (top_edge, vt)], cols, h_roi
         )
-        if self._top_row is not None:  # predicted by _front_from_back
-            top_a = self._top_row - top_b * 0.5 * float(cols[0] + cols[-1])
+        if top_row is not None:  # predicted by _front_from_back, not refined
+            top_a = top_row - top_b * 0.5 * float(cols[0] + cols[-1])
         # vertical edges: per-row sub-pixel peaks near ul and ur
         mv = max(1, (rb - vt) // 10)
         rows = np.arange(vt + mv, rb - mv + 1)
