@@ -47,12 +47,23 @@ _TAIL_SHARE = 0.1  # a top edge's blur tail, as a share of the edge, within _TAI
 _TAIL_ROWS = 2
 # a stripe of another shade across the face (a label) at most this share of its height
 _LABEL_SHARE = 0.35
+_LABEL_BLUR_ROWS = 3  # a top edge's blur: rows from the top to the face's own shade
+_MAX_VERIFIED = 4  # best candidates checked for world-vertical sides
+_RADIAL_MIN = 0.08  # a floor line's lean (du/dv) from which it is told from a vertical
+_BANDS = 4  # column bands of a face candidate, each to keep the face's shade
+_BAND_SHARE = 0.8
 _FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a row mean
 # below this confidence the fused method reports no detection rather than a likely wrong
 # size (chosen on generated hard scenes: it turns most gross errors into misses)
 DEFAULT_MIN_CONFIDENCE = 0.05
 _WIN7 = np.arange(-3, 4)[:, None]  # row offsets of a 7-row window around an edge
 _T5 = np.linspace(0.0, 1.0, 5)[:, None]  # outline samples along each face edge
+
+
+def _face_term(face: Any, bands: Any) -> Any:
+    """The face-shade share's weight: squared, and cut where one column band's share
+    falls under _BAND_SHARE of the whole face's (that band covers floor or wall)."""
+    return face**2 * np.minimum(1.0, bands / np.maximum(_BAND_SHARE * face, 1e-6)) ** 2
 
 
 def _clamp(x: float, lo: float, hi: float) -> float:
@@ -127,6 +138,21 @@ def _range_sums(img: npt.NDArray[Any], ranges: list[tuple[int, int]]) -> F32:
     return out.T
 
 
+def _grey_range_sums(grey: npt.NDArray[np.uint8], ranges: list[tuple[int, int]]) -> F32:
+    """Row sums of an 8-bit image over many column ranges [c0, c1), from one integral.
+
+    Equal to :func:`_range_sums` (integer sums, exact in int32 and then in float32: a row
+    sum is at most 255 * width) for many ranges at the cost of a few of its calls.
+    """
+    lo = min(c0 for c0, _ in ranges)
+    hi = max(c1 for _, c1 in ranges)
+    integral = cv2.integral(grey[:, lo:hi])  # int32, (rows + 1) x (width + 1)
+    idx = np.array(ranges, np.intp).ravel() - lo  # c0, c1, c0, c1, ...
+    at = integral[:, idx]
+    per_row = at[1:] - at[:-1]
+    return (per_row[:, 1::2] - per_row[:, 0::2]).astype(np.float32)
+
+
 def _presence(strength: Any, noise: float) -> Any:
     """Threshold for a side's edge rows: a quarter of its strength near the floor, capped.
 
@@ -197,6 +223,24 @@ def _first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
     miss = ~np.ascontiguousarray(on.T)
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
     return np.where(gap.any(axis=1), np.argmax(gap, axis=1), miss.shape[1])
+
+
+def _late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
+    """Per column, the length of an edge run that starts within ``late_rows`` of the
+    bottom (3 hits in a row) and goes on to its first gap of 3 misses; 0 if none."""
+    t = np.ascontiguousarray(on.T)
+    n = t.shape[1]
+    if n < 6 or late_rows < 1:
+        return np.zeros(t.shape[0], np.intp)
+    hit = t[:, :-2] & t[:, 1:-1] & t[:, 2:]
+    hit[:, min(late_rows, hit.shape[1]) :] = False
+    has = hit.any(axis=1)
+    start = np.argmax(hit, axis=1)
+    miss = ~t
+    gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:]
+    gap &= np.arange(n - 2)[None, :] >= start[:, None]
+    end = np.where(gap.any(axis=1), np.argmax(gap, axis=1), n)
+    return np.where(has, end - start, 0)
 
 
 def _int_threshold(thresholds: npt.NDArray[Any], repeat: int = 1) -> npt.NDArray[np.int16]:
@@ -408,7 +452,13 @@ class FusedMethod:
             # presence thresholds from the strip nearest the floor, where the side may be
             # faint (a dark box on a dark floor) while its upper part is not
             left, right = self._rank_sides(
-                ax3, prof_v, prof_short, [peaks[peaks <= u_hi], peaks[peaks >= u_lo]], rb, noise
+                ax3,
+                prof_v,
+                prof_short,
+                [peaks[peaks <= u_hi], peaks[peaks >= u_lo]],
+                rb,
+                noise,
+                rb - 1 - tall,
             )
             log.debug("bottom %d: peaks %s, left %s, right %s", rb, peaks.tolist(), left, right)
             cols = sorted({*left, *right})
@@ -422,13 +472,30 @@ class FusedMethod:
                     best = cand
             if best is not None and best.evidence > 0.8:
                 break  # a clear face at the most likely floor-contact row
+        # the best candidates whose sides are not vertical in the world (the seams of a
+        # floor patch run towards the vanishing point) are no face and no rival either
+        cands.sort(key=lambda c: -c.score)
+        best = None
+        rivals = cands
+        for i, cand in enumerate(cands[:_MAX_VERIFIED]):
+            if self._sides_vertical(ax, cand):
+                best = cand
+                rivals = [c for j, c in enumerate(cands) if j >= i or j >= _MAX_VERIFIED]
+                break
+            log.debug(
+                "face %d-%d x %d-%d: sides lean to the vanishing point",
+                cand.ul,
+                cand.ur,
+                cand.vt,
+                cand.rb,
+            )
         timer.lap("search")
         if best is None:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         # a different face (little overlap) scoring nearly as well makes the choice a guess
-        rival = max((c.score for c in cands if c.overlap(best) < 0.5), default=0.0)
+        rival = max((c.score for c in rivals if c.overlap(best) < 0.5), default=0.0)
         ambiguity = min(1.0, rival / best.score) if best.score > 0.0 else 1.0
         conf = best.evidence * (1.0 - ambiguity)
         log.debug(
@@ -462,6 +529,31 @@ class FusedMethod:
             ax, ay, ax3, top_edge, rb, ul, ur, vt, top_row, conf, depth, range_m, timer
         )
 
+    def _sides_vertical(self, ax: I16, cand: _Candidate) -> bool:
+        """False when a side leans the way a floor line through its foot would.
+
+        In the levelled view every vertical world edge is an image column; a seam or
+        plank edge on the floor through (u, v) runs towards the vanishing point, at
+        du/dv = (u - cx) / (v - cy). Near the centre column the two look alike: then true.
+        """
+        v = self.view
+        below = cand.rb - v.cy
+        if below <= 5.0:
+            return True
+        mv = max(1, (cand.rb - cand.vt) // 10)
+        rows = np.arange(cand.vt + mv, cand.rb - mv + 1)
+        if rows.size < 5:
+            return True
+        for a, b in self._fit_vertical(ax, rows, [cand.ul, cand.ur], ax.shape[1]):
+            radial = (a + b * cand.rb - v.cx) / below
+            if (
+                abs(radial) >= _RADIAL_MIN
+                and abs(b) >= 0.05
+                and abs(b - radial) < 0.5 * abs(radial)
+            ):
+                return False
+        return True
+
     @staticmethod
     def _rank_sides(
         ax3: I16,
@@ -470,6 +562,7 @@ class FusedMethod:
         groups: list[npt.NDArray[np.intp]],
         rb: int,
         noise: float,
+        late_rows: int = 0,
     ) -> list[list[int]]:
         """Strongest columns whose edge runs straight up from the floor-contact row.
 
@@ -485,6 +578,16 @@ class FusedMethod:
         # run length: rows up to the first gap of 3 consecutive misses
         first_gap = _first_gap(on)
         rank_all = prof_v[cols_all] * np.sqrt(np.maximum(first_gap, 1))
+        # A box in the floor's own shade shows its sides only against the wall: an edge
+        # run that starts higher up (within the tall strip) counts too, but ranks below
+        # every run from the floor, so it only fills the places those leave free.
+        late = _late_run(on, late_rows)
+        only_late = (first_gap < 3) & (late >= 3)
+        if only_late.any():
+            late_rank = prof_v[cols_all] * np.sqrt(np.maximum(late, 1))
+            below_all = float(late_rank.max()) + 1.0  # every late rank ends up negative
+            rank_all = np.where(only_late, late_rank - below_all, rank_all)
+            first_gap = np.where(only_late, late, first_gap)
         ranked = []
         start = 0
         for cols in chosen:
@@ -533,7 +636,7 @@ class FusedMethod:
         # integers: exact, the per-pair values bit for bit)
         ranges = [(c0, c1) for _, _, c0, c1 in ps]
         prof = _range_sums(ay[:top_limit], ranges) * inv_n
-        row_sum = _range_sums(grey[:rb], ranges)
+        row_sum = _grey_range_sums(grey[:rb], ranges)
         snr = prof / noise
         mask = np.zeros((top_limit, n_p), bool)
         mid = snr[1:-1]
@@ -614,7 +717,7 @@ class FusedMethod:
         # stripe across it, or its top face)
         row_sum *= inv_n
         kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
-        face = np.partition(row_sum[rb - 1 - kf : rb - 1], kf // 2, axis=0)[kf // 2]
+        face = np.partition(row_sum[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
         tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
         match_b = np.abs(row_sum - face) <= tol
         flags[:, :n_p] = match_b
@@ -630,7 +733,7 @@ class FusedMethod:
         first = np.minimum.accumulate(np.where(match_b, row_idx, rb)[::-1], axis=0)[::-1]
         ft = first[tops, pp]
         inner = (rb - ft) - (match_upto[rb, pp] - match_upto[ft, pp])
-        label = (ft - tops <= 2) & (inner <= _LABEL_SHARE * h_t)
+        label = (ft - tops <= _LABEL_BLUR_ROWS) & (inner <= _LABEL_SHARE * h_t)
         face_frac = np.where(label, face_frac + inner / h_t, face_frac)
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
@@ -640,8 +743,10 @@ class FusedMethod:
         # (tops >= 1: row 0 is never a candidate)
         band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
         face_above = np.where(band, face_above, 0.0)
+        face_bands = self._band_face_share(grey, ps, tops, pp, rb, kf, noise)
         snr_tops = snr[tops, pp]
         feats = {
+            "face_bands": face_bands,
             "snr": snr_tops,
             "hole": hole,
             "hole_fit": hole_fit,
@@ -709,6 +814,50 @@ class FusedMethod:
         return cands
 
     @staticmethod
+    def _band_face_share(
+        grey: npt.NDArray[np.uint8],
+        ps: list[tuple[int, int, int, int]],
+        tops: npt.NDArray[np.intp],
+        pp: npt.NDArray[np.intp],
+        rb: int,
+        kf: int,
+        noise: float,
+    ) -> npt.NDArray[np.float64]:
+        """Per top candidate, the worst column band's share of rows in its own face shade.
+
+        The whole-width row means can match the face's shade while one side of the pair
+        covers floor and wall beside the face (a weak true side and a strong background
+        edge beyond it): each band of a real face keeps its own shade from bottom to top.
+        """
+        ranges = []
+        for _, _, c0, c1 in ps:
+            # band edges across [c0, c1); a band is at least one column wide
+            cuts = [c0 + round(b * (c1 - c0) / _BANDS) for b in range(_BANDS + 1)]
+            ranges += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(_BANDS)]
+        widths = np.array([c1 - c0 for c0, c1 in ranges], np.float32)
+        means = _grey_range_sums(grey[:rb], ranges) / widths
+        face = np.partition(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+        grey_noise = max(noise - 1.0, 0.0) / 3.46
+        tol = np.maximum(
+            np.maximum(np.float32(8.0), 0.08 * face),
+            (3.0 * grey_noise / np.sqrt(widths)).astype(np.float32),
+        )
+        match = np.abs(means - face) <= tol
+        upto = _running_counts(match)
+        row_idx = np.arange(rb)[:, None]
+        first = np.minimum.accumulate(np.where(match, row_idx, rb)[::-1], axis=0)[::-1]
+        h_t = (rb - tops).astype(np.float64)
+        shares = []
+        for b in range(_BANDS):
+            col = pp * _BANDS + b
+            frac = (upto[rb, col] - upto[tops, col]) / h_t
+            ft = first[tops, col]
+            inner = (rb - ft) - (upto[rb, col] - upto[ft, col])
+            label = (ft - tops <= _LABEL_BLUR_ROWS) & (inner <= _LABEL_SHARE * h_t)
+            shares.append(np.where(label, frac + inner / h_t, frac))
+        return np.min(shares, axis=0)
+
+    @staticmethod
     def _top_score(
         f: dict[str, npt.NDArray[Any]],
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
@@ -719,7 +868,7 @@ class FusedMethod:
             * f["stop"] ** 2
             * (0.3 + 0.7 * f["contained"])
             * (1.0 - f["textured"])
-            * f["face"] ** 2
+            * _face_term(f["face"], f["face_bands"])
             * (1.0 - f["face_above"])
         )
         score = np.minimum(np.maximum(f["snr"], 0.5), 20.0) ** 0.25 * fit
