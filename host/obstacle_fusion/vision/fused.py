@@ -50,6 +50,7 @@ _LABEL_SHARE = 0.35
 _LABEL_BLUR_ROWS = 3  # a top edge's blur: rows from the top to the face's own shade
 _MAX_VERIFIED = 4  # best candidates checked for world-vertical sides
 _RADIAL_MIN = 0.08  # a floor line's lean (du/dv) from which it is told from a vertical
+_LEAN_MIN = 0.05  # a fitted side's lean below this is vertical whatever the floor's
 _BANDS = 4  # column bands of a face candidate, each to keep the face's shade
 _BAND_SHARE = 0.8
 _FRONT_TOP_SIGMAS = 3.0  # a top face's front edge: this many noise levels of a row mean
@@ -151,6 +152,40 @@ def _grey_range_sums(grey: npt.NDArray[np.uint8], ranges: list[tuple[int, int]])
     at = integral[:, idx]
     per_row = at[1:] - at[:-1]
     return (per_row[:, 1::2] - per_row[:, 0::2]).astype(np.float32)
+
+
+def _face_shade(means: F32, rb: int, kf: int) -> F32:
+    """Per column, the face's own shade: the median of the kf row means starting 3 rows
+    above the floor-contact row (clear of the bottom edge's blur)."""
+    return np.partition(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+
+
+def _first_match(match: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
+    """Per column, the first row at or below each row in the face's shade (rb if none)."""
+    row_idx = np.arange(rb)[:, None]
+    return np.minimum.accumulate(np.where(match, row_idx, rb)[::-1], axis=0)[::-1]
+
+
+def _shade_share(
+    upto: npt.NDArray[np.int32],
+    first: npt.NDArray[np.intp],
+    tops: npt.NDArray[np.intp],
+    cols: npt.NDArray[np.intp],
+    rb: int,
+    h_t: npt.NDArray[np.intp],
+) -> npt.NDArray[np.float64]:
+    """Share of a candidate's rows (top to bottom) in the face's shade, a label counted in.
+
+    A stripe (label) across the face: rows of another shade with the face's own above and
+    below them, inside a top that starts in the face's shade (within a blurred edge's
+    rows), are face. ``upto`` are running counts of the shade matches, ``first`` from
+    :func:`_first_match`, ``cols`` each candidate's column in them.
+    """
+    share = (upto[rb, cols] - upto[tops, cols]) / h_t
+    ft = first[tops, cols]
+    inner = (rb - ft) - (upto[rb, cols] - upto[ft, cols])
+    label = (ft - tops <= _LABEL_BLUR_ROWS) & (inner <= _LABEL_SHARE * h_t)
+    return np.where(label, share + inner / h_t, share)
 
 
 def _presence(strength: Any, noise: float) -> Any:
@@ -480,7 +515,7 @@ class FusedMethod:
         for i, cand in enumerate(cands[:_MAX_VERIFIED]):
             if self._sides_vertical(ax, cand):
                 best = cand
-                rivals = [c for j, c in enumerate(cands) if j >= i or j >= _MAX_VERIFIED]
+                rivals = cands[i:]
                 break
             log.debug(
                 "face %d-%d x %d-%d: sides lean to the vanishing point",
@@ -548,7 +583,7 @@ class FusedMethod:
             radial = (a + b * cand.rb - v.cx) / below
             if (
                 abs(radial) >= _RADIAL_MIN
-                and abs(b) >= 0.05
+                and abs(b) >= _LEAN_MIN
                 and abs(b - radial) < 0.5 * abs(radial)
             ):
                 return False
@@ -717,7 +752,7 @@ class FusedMethod:
         # stripe across it, or its top face)
         row_sum *= inv_n
         kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
-        face = np.partition(row_sum[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+        face = _face_shade(row_sum, rb, kf)
         tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
         match_b = np.abs(row_sum - face) <= tol
         flags[:, :n_p] = match_b
@@ -725,16 +760,7 @@ class FusedMethod:
         match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
         textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
         match_t = match_upto[tops, pp]
-        face_frac = (match_upto[rb, pp] - match_t) / h_t
-        # a stripe (label) across the face: rows of another shade with the face's own
-        # above and below them, inside a top that starts in the face's shade, are face
-        # (first[r]: the first row at or below r in the face's shade)
-        row_idx = np.arange(rb)[:, None]
-        first = np.minimum.accumulate(np.where(match_b, row_idx, rb)[::-1], axis=0)[::-1]
-        ft = first[tops, pp]
-        inner = (rb - ft) - (match_upto[rb, pp] - match_upto[ft, pp])
-        label = (ft - tops <= _LABEL_BLUR_ROWS) & (inner <= _LABEL_SHARE * h_t)
-        face_frac = np.where(label, face_frac + inner / h_t, face_frac)
+        face_frac = _shade_share(match_upto, _first_match(match_b, rb), tops, pp, rb, h_t)
         # ...and the face's shade coming back above a band of another shade right above
         # a top means the top was a stripe across the face (a top face of the same shade
         # as the front starts right at the top, with no band)
@@ -836,7 +862,7 @@ class FusedMethod:
             ranges += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(_BANDS)]
         widths = np.array([c1 - c0 for c0, c1 in ranges], np.float32)
         means = _grey_range_sums(grey[:rb], ranges) / widths
-        face = np.partition(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+        face = _face_shade(means, rb, kf)
         grey_noise = max(noise - 1.0, 0.0) / 3.46
         tol = np.maximum(
             np.maximum(np.float32(8.0), 0.08 * face),
@@ -844,17 +870,11 @@ class FusedMethod:
         )
         match = np.abs(means - face) <= tol
         upto = _running_counts(match)
-        row_idx = np.arange(rb)[:, None]
-        first = np.minimum.accumulate(np.where(match, row_idx, rb)[::-1], axis=0)[::-1]
-        h_t = (rb - tops).astype(np.float64)
-        shares = []
-        for b in range(_BANDS):
-            col = pp * _BANDS + b
-            frac = (upto[rb, col] - upto[tops, col]) / h_t
-            ft = first[tops, col]
-            inner = (rb - ft) - (upto[rb, col] - upto[ft, col])
-            label = (ft - tops <= _LABEL_BLUR_ROWS) & (inner <= _LABEL_SHARE * h_t)
-            shares.append(np.where(label, frac + inner / h_t, frac))
+        first = _first_match(match, rb)
+        h_t = rb - tops
+        shares = [
+            _shade_share(upto, first, tops, pp * _BANDS + b, rb, h_t) for b in range(_BANDS)
+        ]
         return np.min(shares, axis=0)
 
     @staticmethod
