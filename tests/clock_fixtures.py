@@ -5,7 +5,7 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass, field
 
-from obstacle_fusion.clock import ClockModel
+from obstacle_fusion.timing.clock import ClockModel
 
 
 @dataclass

@@ -16,15 +16,15 @@ from typing import Any
 
 import pytest
 import serial
-from obstacle_fusion.emulator import (
+from obstacle_fusion.protocol import StreamDecoder, encode
+from obstacle_fusion.protocol.generated import Message
+from obstacle_fusion.sim.emulator import (
     REPO_ROOT,
     Emulator,
     EmulatorConfig,
     emulator_binary,
     firmware_elf,
 )
-from obstacle_fusion.protocol import StreamDecoder, encode
-from obstacle_fusion.protocol.generated import Message
 
 TESTFW_DIR = REPO_ROOT / "tools" / "emulator" / "build" / "testfw"
 

@@ -27,7 +27,7 @@ from obstacle_fusion.outputs.mcap_file import (
     TOPIC_RANGE,
     read_recording,
 )
-from obstacle_fusion.scenario import demo_scenario
+from obstacle_fusion.sim.scenario import demo_scenario
 
 from tests import emulator_fixtures
 

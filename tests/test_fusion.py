@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from obstacle_fusion.fusion import Fusion, PairKind, RangePairer
 from obstacle_fusion.sonar import SonarReading, SonarStatus
-from obstacle_fusion.sources import Frame
+from obstacle_fusion.sources.frames import Frame
 
 
 def _reading(

@@ -29,14 +29,14 @@ from pathlib import Path
 
 import numpy as np
 from obstacle_fusion.app import App, RunSettings
-from obstacle_fusion.emulated_robot import EmulatedRobot
-from obstacle_fusion.link import Link
+from obstacle_fusion.link.connection import Link
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
-from obstacle_fusion.scenario import demo_scenario
-from obstacle_fusion.scene import renderer_for
-from obstacle_fusion.sources import Frame, FrameSource
-from obstacle_fusion.synthetic_camera import SyntheticCamera, synthetic_camera_model
+from obstacle_fusion.sim.emulated_robot import EmulatedRobot
+from obstacle_fusion.sim.scenario import demo_scenario
+from obstacle_fusion.sim.scene import renderer_for
+from obstacle_fusion.sim.synthetic_camera import SyntheticCamera, synthetic_camera_model
+from obstacle_fusion.sources.frames import Frame, FrameSource
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
 

@@ -23,9 +23,15 @@ import time
 from pathlib import Path
 
 import serial
-from obstacle_fusion.emulator import REPO_ROOT, Emulator, EmulatorConfig, check_built, firmware_elf
 from obstacle_fusion.protocol import StreamDecoder
 from obstacle_fusion.protocol.generated import Range
+from obstacle_fusion.sim.emulator import (
+    REPO_ROOT,
+    Emulator,
+    EmulatorConfig,
+    check_built,
+    firmware_elf,
+)
 
 TARGET_SPEED = 5.0
 
@@ -87,6 +93,7 @@ def timing_error(elf: Path, measurements: int) -> tuple[list[float], int]:
     errors = []
     j = 0
     for r in ranges:
+
         def miss(k: int, r: Range = r) -> float:
             return abs(starts[k] - r.trigger_us)
 
@@ -114,16 +121,22 @@ def main() -> int:
 
     print("emulator benchmark (of-emulator, simavr 1.6, Uno firmware)")
     print(f"  firmware: {elf.relative_to(REPO_ROOT) if elf.is_relative_to(REPO_ROOT) else elf}")
-    print(f"  fast mode, firmware ranging every 60 ms : {fast:8.1f} x real time "
-          f"(target >= {TARGET_SPEED:.0f}x: {'met' if fast >= TARGET_SPEED else 'NOT met'})")
+    print(
+        f"  fast mode, firmware ranging every 60 ms : {fast:8.1f} x real time "
+        f"(target >= {TARGET_SPEED:.0f}x: {'met' if fast >= TARGET_SPEED else 'NOT met'})"
+    )
     print(f"  fast mode, firmware never sleeping      : {busy_fast:8.1f} x real time")
     print(f"  real-time mode                          : {real:8.3f} x real time")
-    print(f"  echo timing over {len(errors)} measurements, 0.02..4 m "
-          f"(RANGE.echo_ticks - truth, 0.5 us ticks):")
-    print(f"    max |error| {max(abs_err):.3f} ticks, mean {statistics.fmean(errors):+.3f}, "
-          f"rms {math.sqrt(statistics.fmean(e * e for e in errors)):.3f}; "
-          f"within 1 tick: {sum(a <= 1.0 for a in abs_err)}/{len(errors)}; "
-          f"frames lost: {gaps}")
+    print(
+        f"  echo timing over {len(errors)} measurements, 0.02..4 m "
+        f"(RANGE.echo_ticks - truth, 0.5 us ticks):"
+    )
+    print(
+        f"    max |error| {max(abs_err):.3f} ticks, mean {statistics.fmean(errors):+.3f}, "
+        f"rms {math.sqrt(statistics.fmean(e * e for e in errors)):.3f}; "
+        f"within 1 tick: {sum(a <= 1.0 for a in abs_err)}/{len(errors)}; "
+        f"frames lost: {gaps}"
+    )
     ok = fast >= TARGET_SPEED and max(abs_err) <= 1.0 and gaps == 0
     return 0 if ok else 1
 

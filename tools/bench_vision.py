@@ -23,7 +23,7 @@ import time
 
 import cv2
 import numpy as np
-from obstacle_fusion.scene import HARD_TRAITS, SceneSpec, render_scene
+from obstacle_fusion.sim.scene import HARD_TRAITS, SceneSpec, render_scene
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from obstacle_fusion.scene import SceneSpec, render_scene
+from obstacle_fusion.sim.scene import SceneSpec, render_scene
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 

@@ -17,10 +17,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from obstacle_fusion.clock import ClockModel
-from obstacle_fusion.emulated_robot import EmulatedRobot
 from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
-from obstacle_fusion.link import Link, Received, describe_hello
+from obstacle_fusion.link.connection import Link, Received, describe_hello
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
@@ -33,8 +31,10 @@ from obstacle_fusion.protocol.generated import (
     RangeStatus,
     TimeSyncReply,
 )
+from obstacle_fusion.sim.emulated_robot import EmulatedRobot
 from obstacle_fusion.sonar import SonarConverter
-from obstacle_fusion.sources import Frame, FrameSource
+from obstacle_fusion.sources.frames import Frame, FrameSource
+from obstacle_fusion.timing.clock import ClockModel
 
 log = logging.getLogger(__name__)
 

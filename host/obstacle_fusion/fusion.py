@@ -22,7 +22,7 @@ from typing import Any, Protocol
 
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.sonar import SonarReading, SonarStatus
-from obstacle_fusion.sources import Frame
+from obstacle_fusion.sources.frames import Frame
 
 log = logging.getLogger(__name__)
 

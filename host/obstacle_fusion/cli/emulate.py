@@ -10,8 +10,8 @@ import sys
 import time
 from pathlib import Path
 
-from obstacle_fusion.emulator import EmulatorConfig, check_built, emulator_binary
 from obstacle_fusion.errors import UserError
+from obstacle_fusion.sim.emulator import EmulatorConfig, check_built, emulator_binary
 
 
 def _distance(text: str) -> float | None:

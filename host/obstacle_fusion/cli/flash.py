@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from obstacle_fusion.errors import UserError
-from obstacle_fusion.ports import check_port, find_board_port
+from obstacle_fusion.link.ports import check_port, find_board_port
 
 log = logging.getLogger(__name__)
 

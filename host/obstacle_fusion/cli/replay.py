@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     )
     from obstacle_fusion.protocol.generated import Range
     from obstacle_fusion.sonar import SonarConverter
-    from obstacle_fusion.sources import Frame
+    from obstacle_fusion.sources.frames import Frame
     from obstacle_fusion.vision.camera import CameraModel, CameraModelError
     from obstacle_fusion.vision.measure import Measurer
     from obstacle_fusion.vision.rig import Rig
@@ -159,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
             if measurer is None:
                 cam = camera
                 if cam is None:
-                    from obstacle_fusion.synthetic_camera import synthetic_camera_model
+                    from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
 
                     cam = synthetic_camera_model(image.shape[1], image.shape[0])
                 measurer = Measurer(cam, rig, method)

@@ -209,7 +209,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: bool) -> int:
     from obstacle_fusion.app import App
-    from obstacle_fusion.link import Link, resolve_port
+    from obstacle_fusion.link.connection import Link, resolve_port
     from obstacle_fusion.outputs.console import ConsoleView
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import McapRecorder
@@ -219,9 +219,9 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
         robot = None
         extra = None
         if demo:
-            from obstacle_fusion.emulated_robot import EmulatedRobot
-            from obstacle_fusion.scenario import demo_scenario, load_scenario
-            from obstacle_fusion.synthetic_camera import SyntheticCamera, synthetic_camera_model
+            from obstacle_fusion.sim.emulated_robot import EmulatedRobot
+            from obstacle_fusion.sim.scenario import demo_scenario, load_scenario
+            from obstacle_fusion.sim.synthetic_camera import SyntheticCamera, synthetic_camera_model
 
             scenario = load_scenario(args.scenario) if args.scenario else demo_scenario()
             if args.temperature is not None and args.temperature != scenario.temperature_c:
@@ -261,7 +261,7 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
                 return {"scene_t_s": synthetic.scene_time_of(rec.frame_index)}
 
         else:
-            from obstacle_fusion.sources import open_source
+            from obstacle_fusion.sources.opencv_sources import open_source
 
             port = resolve_port(args.port)
             source = open_source(

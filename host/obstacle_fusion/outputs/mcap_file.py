@@ -30,7 +30,7 @@ from obstacle_fusion import __version__
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.fusion import ObstacleRecord
 from obstacle_fusion.sonar import SonarReading
-from obstacle_fusion.sources import Frame
+from obstacle_fusion.sources.frames import Frame
 
 log = logging.getLogger(__name__)
 

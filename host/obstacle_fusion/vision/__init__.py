@@ -1,25 +1,12 @@
-"""Vision: the camera model, its calibration, and the obstacle measurement.
+"""Vision: one camera frame and the sonar's range -> the obstacle's height and width.
 
-Kept import-light on purpose: submodules pull in OpenCV, so import what you need from
-them directly (``from obstacle_fusion.vision.camera import CameraModel``). The names below
-are resolved lazily on first access for convenience.
+- ``types``        the shared types every method uses (Measurement, View, Line, Timer)
+- ``measure``      the method registry and ``Measurer``, the one entry point
+- ``fused``        the sonar-guided method; ``paper`` the paper's pipeline
+- ``camera``, ``calibration``, ``chessboard``  the camera model and its calibration
+- ``rig``          where the camera and sonar sit on the robot
+- ``annotate``     drawing a measurement onto a frame
+
+Submodules pull in OpenCV, so this package imports none of them; import what you need
+(``from obstacle_fusion.vision.measure import Measurer``).
 """
-
-from __future__ import annotations
-
-import importlib
-from typing import Any
-
-_LAZY = {
-    "CameraModel": "obstacle_fusion.vision.camera",
-    "CameraModelError": "obstacle_fusion.vision.camera",
-}
-
-__all__ = sorted(_LAZY)
-
-
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(module), name)

@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.measure import Measurement
+from obstacle_fusion.vision.types import Measurement
 
 
 def annotate(image: npt.NDArray[Any], result: Measurement) -> npt.NDArray[Any]:

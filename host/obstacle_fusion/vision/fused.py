@@ -29,7 +29,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.measure import Line, Measurement, Timer, View
+from obstacle_fusion.vision.types import Line, Measurement, Timer, View
 
 log = logging.getLogger(__name__)
 

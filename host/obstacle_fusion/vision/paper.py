@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.measure import Line, Measurement, Timer, View
+from obstacle_fusion.vision.types import Line, Measurement, Timer, View
 
 # Fig. 7 (a) horizontal and (b) vertical templates. The printed (b) reads
 # [-1 0 1; -1 0 1; 1 0 1], an evident misprint of the standard Sobel [-1 0 1; -2 0 2; -1 0 1].

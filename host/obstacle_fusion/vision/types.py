@@ -1,0 +1,131 @@
+"""The vision's shared types: the answer (Measurement), the working view, the stage timer.
+
+Every method receives a :class:`View` (the geometry built once per camera, rig and image
+size) and a :class:`Timer`, and returns a :class:`Measurement`; nothing here knows any method.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Any, Protocol
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.rig import Rig
+
+FloatArray = npt.NDArray[np.float64]
+Box = tuple[float, float, float, float]
+Line = tuple[float, float, float, float]
+
+@dataclass
+class Measurement:
+    """One frame's answer. Pixel coordinates are in the input (distorted) image."""
+
+    detected: bool
+    method: str
+    range_m: float
+    distance_m: float | None = None  # sonar to face, forward (the obstacle's distance)
+    height_m: float | None = None
+    width_m: float | None = None
+    box_px: Box | None = None  # x0, y0, x1, y1 of the front face
+    confidence: float | None = 0.0  # None: the method has no such notion (paper)
+    timings_ms: dict[str, float] = field(default_factory=dict)
+    lines: list[Line] = field(default_factory=list)  # chosen edges, x0, y0, x1, y1
+    height_px: float | None = None  # in the method's working view
+    width_px: float | None = None
+    reason: str = ""  # why nothing was detected
+
+    def to_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["box_px"] = None if self.box_px is None else [round(v, 2) for v in self.box_px]
+        d["lines"] = [[round(v, 2) for v in ln] for ln in self.lines]
+        d["timings_ms"] = {k: round(v, 4) for k, v in self.timings_ms.items()}
+        return d
+
+
+class Timer:
+    """Per-stage wall-clock times in ms, cheap enough for every frame."""
+
+    def __init__(self) -> None:
+        self.ms: dict[str, float] = {}
+        self._t = time.perf_counter()
+
+    def lap(self, name: str) -> None:
+        now = time.perf_counter()
+        self.ms[name] = self.ms.get(name, 0.0) + (now - self._t) * 1e3
+        self._t = now
+
+
+class View:
+    """Per-camera (and per-rig) geometry of one working view, built once.
+
+    ``kind`` "level": undistorted AND rotated to a virtual camera with no pitch (robot
+    axes), so vertical world edges are vertical image columns and a face square to the
+    robot images as an exact scaled copy. "plain": undistorted only (the paper's view).
+    """
+
+    def __init__(self, camera: CameraModel, rig: Rig, kind: str) -> None:
+        self.camera = camera
+        self.rig = rig
+        self.kind = kind
+        k = camera.camera_matrix.copy()
+        k[0, 1] = 0.0
+        if kind == "level":
+            self.rotation = np.array(rig.camera_to_robot)  # camera -> level frame
+            k[1, 2] = camera.cy - camera.fy * math.tan(rig.pitch_rad)
+        else:
+            self.rotation = np.eye(3)
+        self.k = k
+        self.fx, self.fy, self.cx, self.cy = k[0, 0], k[1, 1], k[0, 2], k[1, 2]
+        self.map1, self.map2 = cv2.initUndistortRectifyMap(
+            camera.camera_matrix, camera.dist_coeffs, self.rotation, k, camera.size, cv2.CV_16SC2
+        )
+        # input rows the first n view rows read (bilinear: the row below the lowest too),
+        # so a colour frame is converted to grey only as far down as the remap looks
+        lowest = np.maximum.accumulate(self.map1[:, :, 1].max(axis=1).astype(np.int64))
+        self._src_rows = np.clip(lowest + 2, 1, camera.height).tolist()
+        self.grey = np.empty((camera.height, camera.width), np.uint8)
+        self.out = np.empty((camera.height, camera.width), np.uint8)
+
+    def warp(self, image: npt.NDArray[Any], rows: int | None = None) -> npt.NDArray[np.uint8]:
+        """Input frame (BGR or grey) to this view's grey image (a reused buffer).
+
+        ``rows`` limits the work to the view's top rows when only they are needed.
+        """
+        n = self.out.shape[0] if rows is None else max(1, min(int(rows), self.out.shape[0]))
+        if image.ndim == 3:
+            k = self._src_rows[n - 1]
+            src = cv2.cvtColor(image[:k], cv2.COLOR_BGR2GRAY, dst=self.grey[:k])
+        else:
+            src = image
+        cv2.remap(
+            src,
+            self.map1[:n],
+            self.map2[:n],
+            cv2.INTER_LINEAR,
+            dst=self.out[:n],
+            borderMode=cv2.BORDER_REPLICATE,
+        )
+        return self.out[:n]
+
+    def to_input(self, pts: npt.ArrayLike) -> FloatArray:
+        """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""
+        p = np.asarray(pts, dtype=np.float64).reshape(-1, 2)
+        rays = np.stack(
+            [(p[:, 0] - self.cx) / self.fx, (p[:, 1] - self.cy) / self.fy, np.ones(len(p))], axis=1
+        )
+        cam = rays @ self.rotation  # R^T applied to row vectors: level -> camera frame
+        return self.camera.project(cam)
+
+
+class Method(Protocol):
+    """What the registry in :mod:`obstacle_fusion.vision.measure` holds: one way to measure."""
+
+    name: str
+
+    def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement: ...

@@ -1,0 +1,54 @@
+"""The synthetic camera films the scenario: the obstacle where the scenario puts it."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from obstacle_fusion.sim.scenario import demo_scenario
+from obstacle_fusion.sim.scene import render_scene
+from obstacle_fusion.sim.synthetic_camera import SyntheticCamera, synthetic_camera_model
+from obstacle_fusion.vision.rig import Rig
+
+
+def test_frames_follow_the_scene_clock_and_show_the_scenarios_obstacle() -> None:
+    scenario = demo_scenario()
+    cam = synthetic_camera_model(500, 375)
+    now = [100.0]
+    src = SyntheticCamera(
+        scenario,
+        cam,
+        Rig(),
+        fps=10.0,
+        scene_time=lambda t: t - 100.0,
+        realtime=False,
+        clock=lambda: now[0],
+    )
+    frames = [src.read() for _ in range(3)]
+    assert [f.t_host for f in frames if f] == pytest.approx([100.0, 100.1, 100.2])
+    assert src.scene_time_of(2) == pytest.approx(0.2)
+    spec = src.spec_at(5.0)
+    a = scenario.obstacle_at(5.0)
+    assert a is not None and spec.obstacle
+    assert (spec.height_m, spec.width_m) == (a.height_m, a.width_m)
+    assert spec.distance_m == pytest.approx(scenario.distance_at(5.0))
+    assert not src.spec_at(13.0).obstacle  # the clear moment
+    assert not src.spec_at(None).obstacle  # before the emulator's time 0 is known
+
+
+def test_the_box_is_where_the_renderer_says() -> None:
+    cam = synthetic_camera_model(500, 375)
+    src = SyntheticCamera(demo_scenario(), cam, Rig(), realtime=False, scene_time=lambda t: 6.0)
+    frame = src.read()
+    assert frame is not None and frame.image.shape == (375, 500, 3)
+    spec = src.spec_at(6.0)
+    truth = render_scene(spec, cam, Rig(), 0, supersample=2).truth
+    x0, y0, x1, y1 = (int(v) for v in truth.box_px)
+    box = frame.image[y0 + 3 : y1 - 3, x0 + 3 : x1 - 3].reshape(-1, 3).mean(axis=0)
+    assert np.allclose(box, spec.box_color, atol=40)
+
+
+def test_sixteen_by_nine_keeps_the_papers_focal_length_per_pixel() -> None:
+    wide = synthetic_camera_model(1280, 720)
+    four_three = synthetic_camera_model(1280, 960)
+    assert wide.fx == pytest.approx(four_three.fx, rel=0.01)
+    assert (wide.width, wide.height) == (1280, 720)

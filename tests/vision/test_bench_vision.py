@@ -1,0 +1,33 @@
+"""The vision benchmark script runs end to end on a few scenes and prints its tables."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "tools" / "bench_vision.py"
+
+
+def run(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, str(SCRIPT), *args], capture_output=True, text=True, timeout=300
+    )
+
+
+def test_per_seed_rows_and_pooled_row() -> None:
+    out = run("--seeds", "5,6", "--ordinary", "3", "--hard", "3", "--repeat", "1")
+    assert out.returncode == 0, out.stderr
+    rows = [line for line in out.stdout.splitlines() if line.startswith("| ")]
+    seeds = [row.split("|")[1].strip() for row in rows[1:]]
+    assert seeds == ["5", "6", "all 2 (6 + 6 scenes)"]
+    # every fused cell is a percentage pair, never nan: the scenes were measured
+    assert "nan" not in out.stdout
+
+
+def test_bad_arguments_are_usage_errors() -> None:
+    for args in (("--seeds", "a,b"), ("--repeat", "0")):
+        out = run(*args)
+        assert out.returncode == 2
+        assert "error:" in out.stderr and "Traceback" not in out.stderr
