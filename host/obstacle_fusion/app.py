@@ -17,18 +17,36 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
-from obstacle_fusion.link.connection import Link, Received, describe_hello
+import numpy as np
+
+from obstacle_fusion.fusion import (
+    BeamChooser,
+    Fusion,
+    ObstacleRecord,
+    PairingMode,
+    RangePairer,
+    TrackSettings,
+)
+from obstacle_fusion.link.connection import (
+    Link,
+    LinkError,
+    PendingCommand,
+    Received,
+    describe_hello,
+)
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
 from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 from obstacle_fusion.protocol.generated import (
     Config,
+    GetInfo,
     Hello,
     Log,
+    Nack,
     Range,
     RangeStatus,
+    SetConfig,
     TimeSyncReply,
 )
 from obstacle_fusion.sim.emulated_robot import EmulatedRobot
@@ -53,6 +71,14 @@ class RunSettings:
     first_range_timeout_s: float = 5.0
     method: str | None = None
     mode: str = "robot"
+    pairing: str = "predicted"  # or "interpolated" (waits for the echo after each frame)
+    max_extrapolation_s: float = 0.2  # a prediction never reaches further past a reading
+    sensors: int | None = None  # sonars to range (SET_CONFIG sensor_mask); None: as the board is
+
+    def per_sensor_span(self) -> float:
+        """The board ranges its sonars in turn, so each one's readings are N cycles apart:
+        the gap limits (interpolation, extrapolation) scale with the number of sonars."""
+        return float(max(self.sensors or 1, 1))
 
 
 class FrameGrabber:
@@ -119,6 +145,7 @@ class App:
         view: ConsoleView | None = None,
         robot: EmulatedRobot | None = None,
         extra_fields: Callable[[ObstacleRecord], dict[str, Any]] | None = None,
+        beams: BeamChooser | None = None,
     ) -> None:
         self.s = settings
         self.link = link
@@ -135,13 +162,22 @@ class App:
             half_spacing_m=settings.half_spacing_m,
             median_window=settings.median_window,
         )
+        span = settings.per_sensor_span()
         self.fusion = Fusion(
             measurer=measurer,
-            pairer=RangePairer(settings.pair_tolerance_s, settings.max_gap_s),
+            pairer=RangePairer(settings.pair_tolerance_s, settings.max_gap_s * span),
             stop_distance_m=settings.stop_distance_m,
             max_wait_s=settings.max_wait_s,
             method=settings.method,
+            pairing=PairingMode(settings.pairing),
+            track=TrackSettings(
+                max_extrapolation_s=settings.max_extrapolation_s * span,
+                max_gap_s=settings.max_gap_s * span,
+            ),
+            beams=beams,
         )
+        self.config_sent_session = 0
+        self.config_refused: str | None = None
         self.grabber = FrameGrabber(source)
         self.session = 0
         self.timer_hz = 2_000_000
@@ -155,6 +191,8 @@ class App:
         self.ranges_unmapped_dropped = 0
         self._was_connected = False
         self._prepared = False
+        self._commands: list[PendingCommand] = []
+        self._carry: Frame | None = None
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -170,6 +208,11 @@ class App:
             self.timer_hz = msg.timer_hz
             self.converter.timer_hz = msg.timer_hz
             self._event("hello", {"session": item.session, "board": describe_hello(msg)})
+            if self.s.sensors is not None and self.config_sent_session != item.session:
+                self._send(GetInfo())  # its CONFIG answer says whether the mask is right
+        elif isinstance(msg, Config):
+            self._event("config", dataclasses.asdict(msg))
+            self._check_config(msg, item.session)
         elif isinstance(msg, TimeSyncReply) and item.t_send is not None:
             self.clock.add_sync(item.t_send, item.t_host, msg.rx_us, msg.tx_us)
         elif isinstance(msg, Range):
@@ -178,11 +221,55 @@ class App:
                 self.clock.add_oneway(item.t_host, (msg.trigger_us + echo_us) & 0xFFFFFFFF)
             self.rates["ranges"].tick(item.t_host)
             self._unmapped.append(item)
-        elif isinstance(msg, Config):
-            self._event("config", dataclasses.asdict(msg))
         elif isinstance(msg, Log):
             self._event("log", {"level": msg.level, "text": msg.text})
         return out
+
+    def wanted_mask(self) -> int | None:
+        n = self.s.sensors
+        return None if n is None else (1 << n) - 1
+
+    def _check_config(self, config: Config, session: int) -> None:
+        """Ask for the sonars wanted (once per session: a NACK is reported, not retried)."""
+        mask = self.wanted_mask()
+        if mask is None or config.sensor_mask == mask or self.config_sent_session == session:
+            return
+        self.config_sent_session = session
+        self._send(
+            SetConfig(
+                cycle_ms=config.cycle_ms,
+                sensor_mask=mask,
+                max_echo_us=config.max_echo_us,
+                echo_timeout_us=config.echo_timeout_us,
+                heartbeat_ms=config.heartbeat_ms,
+            )
+        )
+        self._event("set_config", {"sensor_mask": mask, "session": session})
+
+    def _send(self, msg: Any) -> None:
+        try:
+            pending = self.link.send(msg)
+        except LinkError as exc:  # disconnected meanwhile: the next session asks again
+            log.info("could not send %s: %s", msg.NAME, exc)
+            self.config_sent_session = 0
+            return
+        self._commands.append(pending)
+
+    def _check_commands(self) -> None:
+        for pending in list(self._commands):
+            reply = pending.reply
+            if reply is None:
+                if time.monotonic() - pending.t_send > 2.0:
+                    self._commands.remove(pending)
+                    log.warning("no answer to %s from the board", pending.msg.NAME)
+                continue
+            self._commands.remove(pending)
+            if isinstance(reply, Nack):
+                why = f"the board refused {pending.msg.NAME} (error {reply.error})"
+                if isinstance(pending.msg, SetConfig):
+                    self.config_refused = why
+                log.error("%s", why)
+                self._event("nack", {"command": pending.msg.NAME, "error": reply.error})
 
     def _map_ranges(self, now: float) -> list[ObstacleRecord]:
         """Convert the ranges waiting for the clock model (usually at once)."""
@@ -215,6 +302,17 @@ class App:
             self.recorder.write_event(name, detail)
 
     # ------------------------------------------------------------------ frames and records
+    def _prepare_early(self) -> None:
+        """A source that knows its frame size lets the measurer build its state before the
+        first frame, so that frame does not wait for it."""
+        size = getattr(self.source, "frame_size", None)
+        prepare = getattr(self.fusion.measurer, "prepare", None)
+        if size is None or prepare is None:
+            return
+        width, height = size
+        prepare(np.zeros((int(height), int(width), 3), np.uint8))
+        self._prepared = True
+
     def _on_frame(self, frame: Frame) -> list[ObstacleRecord]:
         if not self._prepared:
             # The measurer checks its calibration against the first frame's size: a camera it
@@ -288,7 +386,7 @@ class App:
                 self._publish(self._on_message(item))
             self._publish(self._map_ranges(time.monotonic()))
             self._watch_link()
-            if self.fusion.pairer.newest_t is not None and (
+            if self.fusion.newest_t is not None and (
                 self.robot is None or self.robot.scene_time(time.monotonic()) is not None
             ):
                 return
@@ -302,6 +400,7 @@ class App:
         exit_code = 0
         self.link.start()
         try:
+            self._prepare_early()
             self._wait_for_first_range(start + self.s.first_range_timeout_s)
             self.grabber.start()
             run_start = time.monotonic()
@@ -322,10 +421,13 @@ class App:
                 records += self._map_ranges(now)
                 got_frame = False
                 while True:
-                    try:
-                        frame = self.grabber.queue.get_nowait()
-                    except queue.Empty:
-                        break
+                    frame = self._carry
+                    self._carry = None
+                    if frame is None:
+                        try:
+                            frame = self.grabber.queue.get_nowait()
+                        except queue.Empty:
+                            break
                     got_frame = True
                     records += self._on_frame(frame)
                 records += self.fusion.poll()
@@ -339,13 +441,22 @@ class App:
                     break
                 if self.grabber.error is not None:
                     raise self.grabber.error
-                if self.grabber.finished.is_set() and self.grabber.queue.empty():
+                if (
+                    self.grabber.finished.is_set()
+                    and self.grabber.queue.empty()
+                    and self._carry is None
+                ):
                     self._publish(self.fusion.flush())
                     log.info("frame source ended: %s", self.source.end_reason)
                     break
                 self._update_view()
+                self._check_commands()
                 if not got_frame and not records:
-                    time.sleep(0.002)
+                    # Idle: sleep until a frame comes (at once) or 2 ms pass (link, polls).
+                    try:
+                        self._carry = self.grabber.queue.get(timeout=0.002)
+                    except queue.Empty:
+                        pass
         finally:
             self.grabber.stop()
             try:

@@ -1,11 +1,23 @@
 """Pair every camera frame with the sonar range of its capture instant, measure, publish.
 
 As ROS message_filters' ApproximateTime does for two streams, but with the answer a robot
-needs: the range *at* the frame's instant. When the frame falls between two good readings
-close enough together, the range is interpolated; otherwise the nearest reading within a
-tolerance is used; otherwise the frame is published as unpaired and counted. A frame waits
-(briefly, bounded) for the reading after it, because that reading is still in flight when
-the frame arrives; a pairing is never silently made with a reading that is too old.
+needs: the range *at* the frame's instant. Two ways to get it:
+
+* ``predicted`` (the default): the frame is published at once with the range a
+  constant-velocity Kalman filter over each sonar's recent readings predicts for the
+  frame's instant, and that prediction's standard deviation (``range_sigma_m``). Only a
+  filter with at least two recent good readings predicts, and never further ahead of its
+  last reading than ``max_extrapolation_s``; otherwise the frame falls back to waiting, as
+  below.
+* ``interpolated``: the frame waits (briefly, bounded) for the reading after it, because
+  that reading is still in flight when the frame arrives, then takes the range interpolated
+  between the two good readings around it when they are close enough together.
+
+Either way, when neither works, the nearest reading within a tolerance is used; otherwise the
+frame is published as unpaired and counted. A pairing is never silently made with a reading
+that is too old. With several sonars, each has its own readings and filter, every record
+carries every sonar's range, and the distance is the one of the sonar whose beam covers the
+obstacle the image shows (without an image box: the nearest valid range).
 """
 
 from __future__ import annotations
@@ -15,8 +27,8 @@ import logging
 import math
 import time
 from collections import deque
-from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field, replace
 from enum import StrEnum
 from typing import Any, Protocol
 
@@ -28,9 +40,17 @@ log = logging.getLogger(__name__)
 
 
 class PairKind(StrEnum):
+    PREDICTED = "predicted"
     INTERPOLATED = "interpolated"
     NEAREST = "nearest"
     NONE = "none"
+
+
+class PairingMode(StrEnum):
+    """How a frame gets its range: at once from the filter, or after the next echo."""
+
+    PREDICTED = "predicted"
+    INTERPOLATED = "interpolated"
 
 
 class ObstacleStatus(StrEnum):
@@ -52,10 +72,20 @@ class Pairing:
     dt_s: float | None  # frame time minus the nearest reading's time
     readings: tuple[SonarReading, ...]
     reason: str | None = None
+    sigma_m: float | None = None  # the prediction's standard deviation (predicted only)
+    sensor_id: int = 0
 
 
 class MeasurerLike(Protocol):
     def measure(self, image: Any, range_m: float) -> Any: ...
+
+
+class BeamChooser(Protocol):
+    """Which sonar's beam covers the obstacle an image box shows (several sonars)."""
+
+    def choose(
+        self, box_px: tuple[float, float, float, float], depth_m: float, sensors: Sequence[int]
+    ) -> int | None: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,6 +112,9 @@ class ObstacleRecord:
     vision_ms: float | None = None
     t_published: float | None = None
     reason: str | None = None
+    range_sigma_m: float | None = None  # standard deviation of a predicted distance
+    sensor_id: int | None = None  # the sonar the distance comes from
+    ranges: tuple[tuple[int, float | None], ...] = ()  # every sonar's range at t_host
 
     @property
     def latency_s(self) -> float | None:
@@ -92,6 +125,7 @@ class ObstacleRecord:
         d["measurements"] = list(self.measurements)
         d["trigger_us"] = list(self.trigger_us)
         d["box_px"] = list(self.box_px) if self.box_px is not None else None
+        d["ranges"] = {str(k): v for k, v in self.ranges}
         d["latency_s"] = self.latency_s
         return d
 
@@ -115,6 +149,10 @@ class RangePairer:
     @property
     def newest_t(self) -> float | None:
         return self._times[-1] if self._times else None
+
+    @property
+    def newest(self) -> SonarReading | None:
+        return self._readings[-1] if self._readings else None
 
     def add(self, reading: SonarReading) -> None:
         t = reading.t_host
@@ -154,7 +192,12 @@ class RangePairer:
             near = before if frac <= 0.5 else after
             assert near.t_host is not None
             return Pairing(
-                PairKind.INTERPOLATED, distance, SonarStatus.OK, t - near.t_host, (before, after)
+                PairKind.INTERPOLATED,
+                distance,
+                SonarStatus.OK,
+                t - near.t_host,
+                (before, after),
+                sensor_id=before.sensor_id,
             )
         candidates = [r for r in (before, after) if r is not None and r.t_host is not None]
         if not candidates:
@@ -171,8 +214,129 @@ class RangePairer:
                 (),
                 f"nearest sonar reading is {abs(dt) * 1e3:.0f} ms away "
                 f"(tolerance {self.tolerance_s * 1e3:.0f} ms)",
+                sensor_id=nearest.sensor_id,
             )
-        return Pairing(PairKind.NEAREST, nearest.distance_m, nearest.status, dt, (nearest,))
+        return Pairing(
+            PairKind.NEAREST,
+            nearest.distance_m,
+            nearest.status,
+            dt,
+            (nearest,),
+            sensor_id=nearest.sensor_id,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class TrackSettings:
+    """The constant-velocity filter's model and its limits."""
+
+    measurement_sigma_m: float = 0.003  # one reading's noise (the HC-SR04's few millimetres)
+    accel_psd: float = 4.0  # white-noise acceleration spectral density, m^2/s^3
+    speed_sigma_mps: float = 2.0  # prior on the speed when a track starts
+    max_extrapolation_s: float = 0.2  # never predict further past the last reading
+    max_gap_s: float = 0.2  # good readings further apart start a new track
+    gate_sigmas: float = 5.0  # a reading this far off the prediction starts a new track...
+    gate_min_m: float = 0.10  # ...and at least this far (another obstacle, not motion)
+
+
+@dataclass(frozen=True, slots=True)
+class Prediction:
+    distance_m: float
+    sigma_m: float
+    speed_mps: float  # d(range)/dt: negative when the obstacle comes closer
+    reading: SonarReading  # the newest reading the filter used
+
+
+class RangeTrack:
+    """A constant-velocity Kalman filter over one sonar's good readings: (range, speed).
+
+    State x = (r, v) with covariance P; between readings r' = r + v dt and P grows with the
+    white-noise acceleration model (Q = q [dt^3/3, dt^2/2; dt^2/2, dt]). A failed reading
+    stops predictions until a good one arrives; a gap longer than ``max_gap_s`` or a reading
+    outside the gate (another obstacle stepped in) starts the track again.
+    """
+
+    def __init__(self, settings: TrackSettings | None = None) -> None:
+        self.s = settings or TrackSettings()
+        self.restarts = 0
+        self.reset()
+
+    def reset(self) -> None:
+        self.t: float | None = None  # host time of the newest good reading used
+        self.r = 0.0
+        self.v = 0.0
+        self.p00 = self.p01 = self.p11 = 0.0
+        self.updates = 0
+        self.last: SonarReading | None = None
+        self.failed_t: float | None = None  # a failed reading after the last good one
+
+    def _propagate(self, dt: float) -> tuple[float, float, float, float, float]:
+        q = self.s.accel_psd
+        a = abs(dt)
+        return (
+            self.r + self.v * dt,
+            self.v,
+            self.p00 + 2.0 * dt * self.p01 + dt * dt * self.p11 + q * a**3 / 3.0,
+            self.p01 + dt * self.p11 + q * dt * a / 2.0,
+            self.p11 + q * a,
+        )
+
+    def _start(self, t: float, z: float, reading: SonarReading) -> None:
+        if self.updates:
+            self.restarts += 1
+        self.t = t
+        self.r, self.v = z, 0.0
+        self.p00 = self.s.measurement_sigma_m**2
+        self.p01 = 0.0
+        self.p11 = self.s.speed_sigma_mps**2
+        self.updates = 1
+        self.last = reading
+        self.failed_t = None
+
+    def add(self, reading: SonarReading) -> None:
+        t = reading.t_host
+        if t is None or not math.isfinite(t):
+            return
+        if self.t is not None and t <= self.t:
+            return  # older than what the filter holds: out of order, not used
+        if not reading.ok:
+            self.failed_t = t
+            return
+        z = reading.distance_m
+        assert z is not None
+        if self.t is None or t - self.t > self.s.max_gap_s:
+            self._start(t, z, reading)
+            return
+        r, v, p00, p01, p11 = self._propagate(t - self.t)
+        s_var = p00 + self.s.measurement_sigma_m**2
+        y = z - r
+        if abs(y) > max(self.s.gate_sigmas * math.sqrt(s_var), self.s.gate_min_m):
+            self._start(t, z, reading)
+            return
+        k0, k1 = p00 / s_var, p01 / s_var
+        self.r, self.v = r + k0 * y, v + k1 * y
+        self.p00, self.p01, self.p11 = (1.0 - k0) * p00, (1.0 - k0) * p01, p11 - k1 * p01
+        self.t = t
+        self.updates += 1
+        self.last = reading
+        self.failed_t = None
+
+    def predict(self, t: float) -> tuple[Prediction | None, str]:
+        """The range at host time t and its standard deviation, or None and why not."""
+        if self.t is None or self.last is None or self.updates < 2:
+            return None, "the range filter has fewer than two good readings in a row"
+        if self.failed_t is not None:
+            return None, "the newest sonar reading failed"
+        h = t - self.t
+        if h > self.s.max_extrapolation_s:
+            return None, (
+                f"the last good reading is {h * 1e3:.0f} ms old (extrapolation limit "
+                f"{self.s.max_extrapolation_s * 1e3:.0f} ms)"
+            )
+        r, v, p00, _, _ = self._propagate(h)
+        if r <= 0.0:
+            return None, f"the predicted range {r:.3f} m is not positive"
+        return Prediction(r, math.sqrt(max(p00, 0.0)), v, self.last), ""
 
 
 @dataclass(slots=True)
@@ -180,6 +344,7 @@ class FusionStats:
     frames: int = 0
     published: int = 0
     paired: int = 0
+    predicted: int = 0
     interpolated: int = 0
     nearest: int = 0
     unpaired: int = 0
@@ -207,7 +372,7 @@ class Fusion:
     """Frames and readings in (any interleaving), obstacle records out, in frame order."""
 
     measurer: MeasurerLike | None = None
-    pairer: RangePairer = field(default_factory=RangePairer)
+    pairer: RangePairer = field(default_factory=RangePairer)  # sonar 0's; others copy it
     stop_distance_m: float | None = None
     max_wait_s: float = 0.25  # longest a frame waits for the reading after it
     max_pending: int = 32
@@ -215,11 +380,56 @@ class Fusion:
     clock: Callable[[], float] = time.monotonic
     stats: FusionStats = field(default_factory=FusionStats)
     vision_errors: int = 0
+    pairing: PairingMode = PairingMode.PREDICTED
+    track: TrackSettings = field(default_factory=TrackSettings)
+    beams: BeamChooser | None = None  # several sonars: which beam covers the image's box
+    stale_sensor_s: float = 1.0  # a sonar silent this long (others speaking) is left out
     _pending: deque[tuple[Frame, float]] = field(default_factory=deque)
+    _pairers: dict[int, RangePairer] = field(default_factory=dict)
+    _tracks: dict[int, RangeTrack] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.pairing = PairingMode(self.pairing)
+
+    def pairer_of(self, sensor_id: int) -> RangePairer:
+        if sensor_id == 0:
+            return self.pairer
+        p = self._pairers.get(sensor_id)
+        if p is None:
+            t = self.pairer
+            p = self._pairers[sensor_id] = RangePairer(t.tolerance_s, t.max_gap_s, t.history_s)
+        return p
+
+    def track_of(self, sensor_id: int) -> RangeTrack:
+        tr = self._tracks.get(sensor_id)
+        if tr is None:
+            tr = self._tracks[sensor_id] = RangeTrack(self.track)
+        return tr
+
+    @property
+    def newest_t(self) -> float | None:
+        times = [t for t in (p.newest_t for p in self._all_pairers().values()) if t is not None]
+        return max(times) if times else None
+
+    def _all_pairers(self) -> dict[int, RangePairer]:
+        return {0: self.pairer, **self._pairers}
+
+    def sensors(self) -> list[int]:
+        """The sonars that speak: each has a reading within stale_sensor_s of the newest."""
+        newest = {sid: p.newest_t for sid, p in self._all_pairers().items()}
+        known = [t for t in newest.values() if t is not None]
+        if not known:
+            return []
+        latest = max(known)
+        return sorted(
+            sid for sid, t in newest.items() if t is not None and latest - t <= self.stale_sensor_s
+        )
 
     def add_reading(self, reading: SonarReading) -> list[ObstacleRecord]:
         self.stats.readings += 1
-        self.pairer.add(reading)
+        self.pairer_of(reading.sensor_id).add(reading)
+        if reading.t_host is not None:
+            self.track_of(reading.sensor_id).add(reading)
         return self.poll()
 
     def add_frame(self, frame: Frame) -> list[ObstacleRecord]:
@@ -237,14 +447,12 @@ class Fusion:
         now = self.clock() if now is None else now
         while self._pending:
             frame, t_arrived = self._pending[0]
-            ready = self.pairer.ready(frame.t_host)
-            expired = now - t_arrived >= self.max_wait_s or len(self._pending) > self.max_pending
-            if not (ready or expired):
+            final = now - t_arrived >= self.max_wait_s or len(self._pending) > self.max_pending
+            pairings = self._decide(frame.t_host, final)
+            if pairings is None:
                 break
             self._pending.popleft()
-            if not ready:
-                self.stats.forced += 1
-            out.append(self._publish(frame))
+            out.append(self._publish(frame, pairings))
         return out
 
     def flush(self) -> list[ObstacleRecord]:
@@ -252,13 +460,101 @@ class Fusion:
         out = []
         while self._pending:
             frame, _ = self._pending.popleft()
-            if not self.pairer.ready(frame.t_host):
-                self.stats.forced += 1
-            out.append(self._publish(frame))
+            pairings = self._decide(frame.t_host, final=True)
+            assert pairings is not None
+            out.append(self._publish(frame, pairings))
         return out
 
-    def _publish(self, frame: Frame) -> ObstacleRecord:
-        pairing = self.pairer.pair(frame.t_host)
+    def _decide(self, t: float, final: bool) -> dict[int, Pairing] | None:
+        """Every speaking sonar's pairing for a frame at t, or None to wait for more."""
+        sensors = self.sensors()
+        if not sensors:
+            if not final:
+                return None
+            self.stats.forced += 1
+            return {0: self.pairer.pair(t)}
+        out: dict[int, Pairing] = {}
+        forced = False
+        for sid in sensors:
+            pairer = self.pairer_of(sid)
+            if pairer.ready(t):
+                out[sid] = pairer.pair(t)
+                continue
+            why = ""
+            if self.pairing is PairingMode.PREDICTED:
+                predicted, why = self._predict(sid, t)
+                if predicted is not None:
+                    out[sid] = predicted
+                    continue
+            if not final:
+                return None
+            forced = True
+            pairing = pairer.pair(t)
+            if pairing.kind is PairKind.NONE and why:
+                pairing = replace(pairing, reason=f"{pairing.reason}; no prediction: {why}")
+            out[sid] = pairing
+        if forced:
+            self.stats.forced += 1
+        return out
+
+    def _predict(self, sid: int, t: float) -> tuple[Pairing | None, str]:
+        pred, why = self.track_of(sid).predict(t)
+        if pred is not None:
+            assert pred.reading.t_host is not None
+            return (
+                Pairing(
+                    PairKind.PREDICTED,
+                    pred.distance_m,
+                    SonarStatus.OK,
+                    t - pred.reading.t_host,
+                    (pred.reading,),
+                    sigma_m=pred.sigma_m,
+                    sensor_id=sid,
+                ),
+                "",
+            )
+        newest = self.pairer_of(sid).newest
+        if newest is not None and not newest.ok:
+            # The newest reading failed (no echo, timeout): it is what is known now.
+            pairing = self.pairer_of(sid).pair(t)
+            if pairing.kind is PairKind.NEAREST:
+                return pairing, ""
+        return None, why
+
+    @staticmethod
+    def _nearest_valid(pairings: dict[int, Pairing]) -> list[int]:
+        """Sonars with a distance, nearest first (ties: the lower id)."""
+        valid = [(p.distance_m, sid) for sid, p in pairings.items() if p.distance_m is not None]
+        return [sid for _, sid in sorted(valid)]
+
+    def _primary(self, pairings: dict[int, Pairing]) -> int:
+        valid = self._nearest_valid(pairings)
+        if valid:
+            return valid[0]
+        paired = [sid for sid, p in sorted(pairings.items()) if p.kind is not PairKind.NONE]
+        return paired[0] if paired else min(pairings)
+
+    def _measure(self, frame: Frame, range_m: float) -> tuple[Any, str | None, float]:
+        """(measurement or None, reason when None, milliseconds spent)."""
+        assert self.measurer is not None
+        t0 = time.perf_counter()
+        m: Any = None
+        reason = None
+        # A refusal or a crash is not "nothing there": a robot must not drive on it.
+        try:
+            m = self.measurer.measure(frame.image, range_m)
+        except UserError as exc:  # e.g. a range outside what the vision accepts
+            reason = f"vision refused: {exc}"
+        except Exception as exc:  # one bad frame must not end a robot's run
+            self.vision_errors += 1
+            if self.vision_errors <= 3:
+                log.exception("vision failed on frame %d", frame.index)
+            reason = f"vision failed: {exc!r}"
+        return m, reason, (time.perf_counter() - t0) * 1e3
+
+    def _publish(self, frame: Frame, pairings: dict[int, Pairing]) -> ObstacleRecord:
+        sid = self._primary(pairings)
+        pairing = pairings[sid]
         stats = self.stats
         height = width = depth = vision_ms = None
         box = None
@@ -269,11 +565,6 @@ class Fusion:
             status = ObstacleStatus.UNPAIRED
             stats.unpaired += 1
         else:
-            stats.paired += 1
-            if pairing.kind is PairKind.INTERPOLATED:
-                stats.interpolated += 1
-            else:
-                stats.nearest += 1
             if pairing.distance_m is None:
                 if pairing.sonar_status in (SonarStatus.NO_ECHO, SonarStatus.OUT_OF_RANGE):
                     status = ObstacleStatus.CLEAR
@@ -287,19 +578,26 @@ class Fusion:
                 stats.not_detected += 1
                 reason = "no measurer configured"
             else:
-                t0 = time.perf_counter()
-                m: Any = None
-                # A refusal or a crash is not "nothing there": a robot must not drive on it.
-                try:
-                    m = self.measurer.measure(frame.image, pairing.distance_m)
-                except UserError as exc:  # e.g. a range outside what the vision accepts
-                    reason = f"vision refused: {exc}"
-                except Exception as exc:  # one bad frame must not end a robot's run
-                    self.vision_errors += 1
-                    if self.vision_errors <= 3:
-                        log.exception("vision failed on frame %d", frame.index)
-                    reason = f"vision failed: {exc!r}"
-                vision_ms = (time.perf_counter() - t0) * 1e3
+                m, reason, vision_ms = self._measure(frame, pairing.distance_m)
+                valid = self._nearest_valid(pairings)
+                if (
+                    m is not None
+                    and len(valid) > 1
+                    and self.beams is not None
+                    and getattr(m, "detected", False)
+                    and getattr(m, "box_px", None) is not None
+                ):
+                    # Several sonars: the one whose beam covers the box the image shows.
+                    covering = self.beams.choose(
+                        tuple(float(v) for v in m.box_px),  # type: ignore[arg-type]
+                        float(getattr(m, "distance_m", None) or pairing.distance_m),
+                        valid,
+                    )
+                    if covering is not None and covering != sid:
+                        sid, pairing = covering, pairings[covering]
+                        assert pairing.distance_m is not None
+                        m, reason, more_ms = self._measure(frame, pairing.distance_m)
+                        vision_ms += more_ms
                 method = getattr(m, "method", method)
                 if m is None:
                     status = ObstacleStatus.VISION_ERROR
@@ -317,6 +615,13 @@ class Fusion:
                     status = ObstacleStatus.NOT_DETECTED
                     stats.not_detected += 1
                     reason = getattr(m, "reason", None) or "no obstacle found in the image"
+            stats.paired += 1
+            if pairing.kind is PairKind.PREDICTED:
+                stats.predicted += 1
+            elif pairing.kind is PairKind.INTERPOLATED:
+                stats.interpolated += 1
+            else:
+                stats.nearest += 1
         distance = pairing.distance_m
         alert = (
             self.stop_distance_m is not None
@@ -347,4 +652,7 @@ class Fusion:
             vision_ms=vision_ms,
             t_published=self.clock(),
             reason=reason,
+            range_sigma_m=pairing.sigma_m,
+            sensor_id=sid if pairing.kind is not PairKind.NONE else None,
+            ranges=tuple((k, p.distance_m) for k, p in sorted(pairings.items())),
         )

@@ -64,11 +64,31 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="half the transducer spacing for formula (6); 0 = formula (7) only",
     )
     proc.add_argument(
+        "--pairing",
+        choices=("predicted", "interpolated"),
+        default="predicted",
+        help="predicted (default): each frame at once with the range a constant-velocity "
+        "filter predicts for its instant; interpolated: wait for the echo after the frame "
+        "and interpolate (about 40-70 ms later)",
+    )
+    proc.add_argument(
+        "--max-extrapolation-ms",
+        type=float,
+        default=200.0,
+        help="never predict further than this past a sonar's last good reading (10..1000)",
+    )
+    proc.add_argument(
         "--max-wait-ms",
         type=float,
         default=250.0,
-        help="longest a frame waits for the range after it (0: nearest range at once, lower "
-        "latency, fewer frames paired)",
+        help="longest a frame waits for the range after it when it is not predicted (0: "
+        "nearest range at once, lower latency, fewer frames paired)",
+    )
+    proc.add_argument(
+        "--sensors",
+        type=int,
+        help="number of sonars to range, 1..4 (SET_CONFIG sensor_mask after each handshake; "
+        "default: the rig's sonars when it lists several, else the board's setting)",
     )
     out = p.add_argument_group("outputs")
     out.add_argument(
@@ -107,6 +127,7 @@ class _LazyMeasurer:
         self.method = method
         self.calib = calib
         self._impl: Any = None
+        self.frame_camera: Any = None  # the camera at the frames' size, once known
 
     def prepare(self, image: Any) -> None:
         """Check the calibration against the frame size; a UserError ends the run (exit 2)
@@ -140,6 +161,8 @@ class _LazyMeasurer:
                     f"--calib {self.calib}: it does not fit the camera's {w}x{h} frames: {exc}"
                 ) from None
         self._impl = Measurer(camera, self.rig, self.method)
+        self._impl.prepare(w, h)
+        self.frame_camera = camera.scaled_to(w, h)
 
     def measure(self, image: Any, range_m: float) -> Any:
         if self._impl is None:
@@ -167,6 +190,12 @@ def run(args: argparse.Namespace) -> int:
         )
     if not 0.0 <= args.max_wait_ms <= 5000.0:
         raise UserError(f"--max-wait-ms must be within 0..5000, got {args.max_wait_ms}")
+    if not 10.0 <= args.max_extrapolation_ms <= 1000.0:
+        raise UserError(
+            f"--max-extrapolation-ms must be within 10..1000, got {args.max_extrapolation_ms}"
+        )
+    if args.sensors is not None and not 1 <= args.sensors <= 4:
+        raise UserError(f"--sensors must be within 1..4, got {args.sensors}")
     if not 0.0 <= args.half_spacing_mm <= 50.0:
         raise UserError(f"--half-spacing-mm must be within 0..50, got {args.half_spacing_mm}")
     if args.exit_on_alert is not None and args.stop_distance is None:
@@ -197,6 +226,9 @@ def run(args: argparse.Namespace) -> int:
         max_wait_s=args.max_wait_ms / 1e3,
         method=args.method,
         mode="emulator" if demo else "robot",
+        pairing=args.pairing,
+        max_extrapolation_s=args.max_extrapolation_ms / 1e3,
+        sensors=args.sensors if args.sensors is not None else rig.sensor_count_wanted(),
     )
     if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
         signal.signal(signal.SIGTERM, _sigterm)
@@ -214,6 +246,7 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import McapRecorder
     from obstacle_fusion.outputs.video import AnnotatedVideoWriter
+    from obstacle_fusion.vision.rig import BeamSelector
 
     with ExitStack() as stack:
         robot = None
@@ -239,7 +272,11 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
                 f"{scenario.temperature_c:g} C)",
                 file=sys.stderr,
             )
-            robot = EmulatedRobot(scenario, clock_ppm=args.clock_ppm).start()
+            if settings.sensors is None and scenario.sensor_count > 1:
+                settings.sensors = scenario.sensor_count
+            robot = EmulatedRobot(
+                scenario, clock_ppm=args.clock_ppm, sensors=settings.sensors or 1
+            ).start()
             stack.callback(robot.stop)
             print(
                 f"obstacle-fusion run: emulator pid {robot.pid} on {robot.port()}",
@@ -300,17 +337,21 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
         view = None if args.quiet else ConsoleView(sys.stderr)
         if view is not None:
             stack.callback(view.close)
+        measurer = _LazyMeasurer(camera, rig, args.method, args.calib)
         app = App(
             settings,
             link,
             source,
-            _LazyMeasurer(camera, rig, args.method, args.calib),
+            measurer,
             jsonl=jsonl,
             recorder=recorder,
             video=video,
             view=view,
             robot=robot,
             extra_fields=extra,
+            beams=BeamSelector(rig, lambda: measurer.frame_camera)
+            if len(rig.sonar_mounts()) > 1
+            else None,
         )
         result = app.run()
         if view is not None:

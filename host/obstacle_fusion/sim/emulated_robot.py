@@ -28,6 +28,7 @@ log = logging.getLogger(__name__)
 class EmulatedRobot:
     scenario: Scenario
     clock_ppm: float = 0.0
+    sensors: int = 1  # virtual HC-SR04s (at least the scenario's sonars)
     restart: bool = True
     workdir: Path | None = None
     extra: dict[str, object] = field(default_factory=dict)  # more EmulatorConfig fields
@@ -45,6 +46,8 @@ class EmulatedRobot:
         scene = self.scenario.write_keyframes(self.workdir / "scene.txt")
         config = EmulatorConfig(
             scene=scene,
+            sensors=max(self.sensors, self.scenario.sensor_count),
+            sensor_scenes=self.scenario.write_sensor_keyframes(self.workdir),
             temperature_c=self.scenario.temperature_c,
             clock_ppm=self.clock_ppm,
             wait_client=True,

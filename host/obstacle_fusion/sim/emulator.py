@@ -72,6 +72,7 @@ class EmulatorConfig:
     elf: Path | None = None
     distance_m: float | None = 1.0  # None: no obstacle (the sensor's ~38 ms pulse)
     scene: Path | None = None  # keyframe file; overrides distance_m
+    sensor_scenes: tuple[tuple[int, Path], ...] = ()  # (sensor id, its own keyframe file)
     temperature_c: float = 20.0
     fast: bool = False
     clock_ppm: float = 0.0
@@ -130,6 +131,8 @@ class EmulatorConfig:
         opt("--max-range", self.max_range_m)
         if self.sensors != 1:
             opt("--sensors", self.sensors)
+        for sensor_id, path in self.sensor_scenes:
+            opt("--sensor-scene", f"{sensor_id}:{path}")
         opt("--trig", self.trig_pin)
         opt("--echo", self.echo_pin)
         opt("--uart-drop", self.uart_drop or None)

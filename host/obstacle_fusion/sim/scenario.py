@@ -48,11 +48,18 @@ class Segment:
         return self.d0 + f * (self.d1 - self.d0)
 
 
+Keyframes = tuple[tuple[float, float | None], ...]  # (time s, distance m or None), linear
+
+
 @dataclass(frozen=True)
 class Scenario:
+    """``segments`` are what sensor 0 and the camera face; ``sonar_keyframes`` give other
+    sonars their own distances over time (a sonar without its own plays sensor 0's)."""
+
     segments: tuple[Segment, ...]
     temperature_c: float = 20.0
     name: str = "scenario"
+    sonar_keyframes: tuple[tuple[int, Keyframes], ...] = ()
 
     def __post_init__(self) -> None:
         if not self.segments:
@@ -64,6 +71,29 @@ class Scenario:
     @property
     def duration_s(self) -> float:
         return self.segments[-1].t1
+
+    @property
+    def sensor_count(self) -> int:
+        """1 + the highest sonar id that has its own distances (1 with none)."""
+        return 1 + max((sid for sid, _ in self.sonar_keyframes), default=0)
+
+    def sensor_distance_at(self, sensor_id: int, t: float) -> float | None:
+        """What sonar ``sensor_id`` faces at scenario time t (None: nothing)."""
+        for sid, frames in self.sonar_keyframes:
+            if sid == sensor_id:
+                return keyframe_distance(list(frames), t)
+        return self.distance_at(t)
+
+    def write_sensor_keyframes(self, folder: str | Path) -> tuple[tuple[int, Path], ...]:
+        """One emulator keyframe file per sonar with its own distances: (id, path)."""
+        out = []
+        for sid, frames in self.sonar_keyframes:
+            p = Path(folder) / f"sensor{sid}.txt"
+            lines = [f"# obstacle-fusion scenario '{self.name}', sensor {sid}"]
+            lines += [f"{t:.6f} {'none' if d is None else f'{d:.6f}'}" for t, d in frames]
+            p.write_text("\n".join(lines) + "\n", encoding="ascii")
+            out.append((sid, p))
+        return tuple(out)
 
     def segment_at(self, t: float) -> Segment | None:
         """The segment covering t; before the first, the first; after the last, the last.
@@ -207,14 +237,76 @@ def load_scenario(path: str | Path) -> Scenario:
             f"scenario file {p}: temperature_c must be a number of degrees celsius within "
             f"{lo:g}..{hi:g}, got {temperature!r}"
         )
+    sonars = _sonar_keyframes(data.get("sonar", []), p)
     try:
         return Scenario(
             tuple(segments),
             temperature_c=float(temperature),
             name=str(data.get("name", p.stem)),
+            sonar_keyframes=sonars,
         )
     except ValueError as exc:
         raise UserError(f"scenario file {p}: {exc}") from None
+
+
+def _sonar_keyframes(raw: Any, p: Path) -> tuple[tuple[int, Keyframes], ...]:
+    if not isinstance(raw, list):
+        raise UserError(f"scenario file {p}: [[sonar]] must be a list of tables")
+    out: dict[int, Keyframes] = {}
+
+    def dist(value: Any, where: str) -> float | None:
+        if value == "none":
+            return None
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+            or not 0.02 <= value <= 4.0
+        ):
+            raise UserError(
+                f'scenario file {p}, {where}: a distance is metres within 0.02..4 or "none", '
+                f"got {value!r}"
+            )
+        return float(value)
+
+    for i, entry in enumerate(raw, 1):
+        if not isinstance(entry, dict):
+            raise UserError(f"scenario file {p}: [[sonar]] {i} is not a table")
+        sid = entry.get("id")
+        if isinstance(sid, bool) or not isinstance(sid, int) or not 1 <= sid <= 3:
+            raise UserError(
+                f"scenario file {p}, [[sonar]] {i}: id must be 1..3 (sensor 0 plays the "
+                f"segments), got {sid!r}"
+            )
+        if sid in out:
+            raise UserError(f"scenario file {p}: sonar {sid} is listed twice")
+        unknown = sorted(set(entry) - {"id", "keyframes", "distance"})
+        if unknown or ("keyframes" in entry) == ("distance" in entry):
+            raise UserError(
+                f"scenario file {p}, sonar {sid}: give either keyframes = [[t, d], ...] or "
+                f"distance = d" + (f" (unknown keys {unknown})" if unknown else "")
+            )
+        where = f"sonar {sid}"
+        if "distance" in entry:
+            out[sid] = ((0.0, dist(entry["distance"], where)),)
+            continue
+        frames = entry["keyframes"]
+        if not isinstance(frames, list) or not frames:
+            raise UserError(f"scenario file {p}, {where}: keyframes must be a non-empty list")
+        kf: list[tuple[float, float | None]] = []
+        for pair in frames:
+            if not isinstance(pair, list) or len(pair) != 2:
+                raise UserError(
+                    f"scenario file {p}, {where}: each keyframe is [t, d], got {pair!r}"
+                )
+            t = pair[0]
+            if isinstance(t, bool) or not isinstance(t, int | float) or not math.isfinite(t):
+                raise UserError(f"scenario file {p}, {where}: time {t!r} is not a number")
+            if kf and t <= kf[-1][0]:
+                raise UserError(f"scenario file {p}, {where}: keyframe times must increase")
+            kf.append((float(t), dist(pair[1], where)))
+        out[sid] = tuple(kf)
+    return tuple(sorted(out.items()))
 
 
 def _segment(seg: Any, i: int, p: Path) -> Segment:

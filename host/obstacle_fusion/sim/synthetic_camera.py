@@ -79,10 +79,16 @@ class SyntheticCamera(FrameSource):
         self._next = start
         self._k = 0
         self.recent: deque[tuple[int, float | None]] = deque(maxlen=256)  # (index, scene time)
+        self._render_s: deque[float] = deque(maxlen=15)  # recent render durations
 
     @property
     def nominal_fps(self) -> float:
         return self.fps
+
+    @property
+    def frame_size(self) -> tuple[int, int]:
+        """(width, height) of every frame, known before the first."""
+        return self.camera.width, self.camera.height
 
     def spec_at(self, scene_t: float | None) -> SceneSpec:
         """What the camera sees at scenario time ``scene_t`` (None: before the world exists)."""
@@ -111,18 +117,29 @@ class SyntheticCamera(FrameSource):
             self.end_reason = f"{self.max_frames} frames rendered"
             return None
         now = self.clock()
+        if self.realtime and now - self._next > 1.0 / self.fps:
+            self._next = now  # fell behind (a slow render): skip, don't burst
+        t = self._next
+        self._next += 1.0 / self.fps
+        # The world is known ahead, so the frame of instant t is rendered before t and
+        # handed over at t: like a camera whose exposure ends as the frame is delivered, the
+        # host sees it at its capture instant (rendering is this simulator's cost, not the
+        # host's latency). The render starts a margin before t (twice the slowest recent
+        # render), not right after the previous frame, so it does not compete with the
+        # host's work on that frame.
         if self.realtime:
-            if self._next > now:
-                self.sleep(self._next - now)
-            elif now - self._next > 1.0 / self.fps:
-                self._next = now  # fell behind (a slow render): skip, don't burst
-            t = self._next
-            self._next += 1.0 / self.fps
-        else:
-            t = self._next
-            self._next += 1.0 / self.fps
+            lead = 2.0 * max(self._render_s, default=0.02) + 0.005
+            now = self.clock()
+            if t - lead > now:
+                self.sleep(t - lead - now)
         scene_t = self.scene_time(t)
+        r0 = time.perf_counter()
         rendered = self._renderer.render(self.spec_at(scene_t), self._rng)
+        self._render_s.append(time.perf_counter() - r0)
+        if self.realtime:
+            now = self.clock()
+            if t > now:
+                self.sleep(t - now)
         index = self._k
         self._k += 1
         self.recent.append((index, scene_t))

@@ -72,6 +72,10 @@ class Measurer:
             self._per_size[key] = impl
         return impl
 
+    def prepare(self, width: int, height: int) -> None:
+        """Build the per-size state now (maps, tables), not on the first frame's clock."""
+        self._method_for(width, height)
+
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
             raise UserError("image must be a non-empty grey or BGR array")

@@ -44,6 +44,7 @@ typedef struct {
     const char *pty_file;
     const char *control_path;
     const char *scene_path;
+    const char *sensor_scene[SONAR_MAX]; /* --sensor-scene K:FILE, after --scene */
     uint64_t seed;
     int verbose;
     /* state */
@@ -181,6 +182,7 @@ static void usage(FILE *f)
         "world:\n"
         "  --distance M|none     constant obstacle distance (default 1.0)\n"
         "  --scene FILE          keyframe file: `<time_s> <distance_m|none>` lines\n"
+        "  --sensor-scene K:FILE sensor K's own keyframe file (after --scene)\n"
         "  --temperature C       air temperature (default 20)\n"
         "  --noise-mm MM         Gaussian distance noise, sigma (default 0)\n"
         "  --dropout P           probability of a no-echo pulse (default 0)\n"
@@ -223,11 +225,12 @@ static void parse_args(emu_t *e, int argc, char **argv)
         O_DIST = 256, O_SCENE, O_TEMP, O_NOISE, O_DROPOUT, O_SPIKE, O_TRIG, O_ECHO, O_BURST,
         O_NOECHO, O_MAXR, O_MINTRIG, O_FAST, O_PPM, O_DUR, O_SERVICE, O_UDROP, O_UCORR,
         O_UINS, O_FDIR, O_WAIT, O_GRACE, O_RESETOPEN, O_TRUTH, O_PTYFILE, O_CONTROL, O_MCU,
-        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT
+        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT, O_SENSCENE
     };
     static const struct option opts[] = {
         {"distance", required_argument, 0, O_DIST},
         {"scene", required_argument, 0, O_SCENE},
+        {"sensor-scene", required_argument, 0, O_SENSCENE},
         {"temperature", required_argument, 0, O_TEMP},
         {"noise-mm", required_argument, 0, O_NOISE},
         {"dropout", required_argument, 0, O_DROPOUT},
@@ -276,6 +279,15 @@ static void parse_args(emu_t *e, int argc, char **argv)
                 distance = parse_num("--distance", optarg, 0.0, 1000.0);
             break;
         case O_SCENE: e->scene_path = optarg; break;
+        case O_SENSCENE: {
+            char *colon = strchr(optarg, ':');
+            char *end;
+            long k = colon ? strtol(optarg, &end, 10) : -1;
+            if (!colon || end != colon || k < 0 || k >= SONAR_MAX || !colon[1])
+                die("--sensor-scene: '%s' is not K:FILE with K in 0..%d", optarg, SONAR_MAX - 1);
+            e->sensor_scene[k] = colon + 1;
+            break;
+        }
         case O_TEMP: temperature = parse_num("--temperature", optarg, -100, 100); break;
         case O_NOISE: e->sp.noise_mm = parse_num("--noise-mm", optarg, 0, 10000); break;
         case O_DROPOUT: e->sp.dropout_p = parse_num("--dropout", optarg, 0, 1); break;
@@ -779,6 +791,13 @@ int main(int argc, char **argv)
         for (int k = 0; k < SONAR_MAX; k++)
             if (scene_load(&e->scene[k], e->scene_path, 0.0, err, sizeof err))
                 die("%s", err);
+    }
+    for (int k = 0; k < SONAR_MAX; k++) {
+        char err[512];
+        if (e->sensor_scene[k] && k >= e->nsensors)
+            die("--sensor-scene %d: there are only %d sensors (--sensors)", k, e->nsensors);
+        if (e->sensor_scene[k] && scene_load(&e->scene[k], e->sensor_scene[k], 0.0, err, sizeof err))
+            die("%s", err);
     }
     if (e->truth_path) {
         e->truth = fopen(e->truth_path, "w");
