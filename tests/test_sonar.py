@@ -120,3 +120,32 @@ def test_a_fast_crystal_is_corrected_by_the_clock_models_scale() -> None:
     fixed = conv.convert(_range(ticks), time_scale=1 / 1.005).distance_m
     assert naive == pytest.approx(1.005, rel=1e-4)
     assert fixed == pytest.approx(1.0, rel=1e-4)
+
+
+def test_each_sensor_has_its_own_median_history() -> None:
+    """Two sonars facing different things, interleaved: a shared window would mix them."""
+    conv = SonarConverter(median_window=3, half_spacing_m=0.0)
+    near, far = 5831, 23324  # about 0.5 m and 2.0 m
+    out: dict[int, list[float]] = {0: [], 1: []}
+    for k in range(4):
+        for sid, ticks in ((0, near), (1, far)):
+            msg = Range(
+                measurement=2 * k + sid, sensor_id=sid, trigger_us=0, echo_ticks=ticks, status=0
+            )
+            r = conv.convert(msg, t_trigger_host=0.03 * (2 * k + sid))
+            assert r.distance_m is not None and r.sensor_id == sid
+            out[sid].append(r.distance_m)
+    assert out[0] == pytest.approx([out[0][0]] * 4)
+    assert out[1] == pytest.approx([out[1][0]] * 4)
+    assert out[0][0] == pytest.approx(0.5, rel=1e-2) and out[1][0] == pytest.approx(2.0, rel=1e-2)
+    conv.reset()
+    again = conv.convert(_range(far), t_trigger_host=1.0)
+    assert again.distance_m == pytest.approx(again.raw_distance_m)  # reset forgets all
+
+
+def test_the_median_of_an_even_window_is_the_mean_of_the_middle_two() -> None:
+    conv = SonarConverter(median_window=4, half_spacing_m=0.0)
+    vals = [conv.convert(_range(t), t_trigger_host=0.01 * i) for i, t in enumerate([10000, 12000])]
+    assert vals[1].distance_m == pytest.approx(
+        (vals[0].raw_distance_m + vals[1].raw_distance_m) / 2  # type: ignore[operator]
+    )

@@ -306,12 +306,15 @@ class App:
         """A source that knows its frame size lets the measurer build its state before the
         first frame, so that frame does not wait for it."""
         size = getattr(self.source, "frame_size", None)
-        prepare = getattr(self.fusion.measurer, "prepare", None)
-        if size is None or prepare is None:
+        if size is None:
             return
-        width, height = size
-        prepare(np.zeros((int(height), int(width), 3), np.uint8))
-        self._prepared = True
+        width, height = int(size[0]), int(size[1])
+        prepare = getattr(self.fusion.measurer, "prepare", None)
+        if prepare is not None:
+            prepare(np.zeros((height, width, 3), np.uint8))
+            self._prepared = True
+        elif hasattr(self.fusion.measurer, "prepare_size"):
+            self.fusion.measurer.prepare_size(width, height)  # type: ignore[union-attr]
 
     def _on_frame(self, frame: Frame) -> list[ObstacleRecord]:
         if not self._prepared:
@@ -386,7 +389,7 @@ class App:
                 self._publish(self._on_message(item))
             self._publish(self._map_ranges(time.monotonic()))
             self._watch_link()
-            if self.fusion.newest_t is not None and (
+            if self.fusion.ready_for_frames() and (
                 self.robot is None or self.robot.scene_time(time.monotonic()) is not None
             ):
                 return

@@ -231,7 +231,7 @@ class TrackSettings:
     """The constant-velocity filter's model and its limits."""
 
     measurement_sigma_m: float = 0.003  # one reading's noise (the HC-SR04's few millimetres)
-    accel_psd: float = 4.0  # white-noise acceleration spectral density, m^2/s^3
+    accel_psd: float = 0.5  # white-noise acceleration spectral density, m^2/s^3
     speed_sigma_mps: float = 2.0  # prior on the speed when a track starts
     max_extrapolation_s: float = 0.2  # never predict further past the last reading
     max_gap_s: float = 0.2  # good readings further apart start a new track
@@ -424,6 +424,14 @@ class Fusion:
         return sorted(
             sid for sid, t in newest.items() if t is not None and latest - t <= self.stale_sensor_s
         )
+
+    def ready_for_frames(self) -> bool:
+        """Readings flow (and, when predicting, a filter can predict): start the camera."""
+        if self.newest_t is None:
+            return False
+        if self.pairing is PairingMode.INTERPOLATED:
+            return True
+        return any(tr.updates >= 2 for tr in self._tracks.values())
 
     def add_reading(self, reading: SonarReading) -> list[ObstacleRecord]:
         self.stats.readings += 1

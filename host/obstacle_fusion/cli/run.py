@@ -161,7 +161,7 @@ class _LazyMeasurer:
                     f"--calib {self.calib}: it does not fit the camera's {w}x{h} frames: {exc}"
                 ) from None
         self._impl = Measurer(camera, self.rig, self.method)
-        self._impl.prepare(w, h)
+        self._impl.prepare_size(w, h)
         self.frame_camera = camera.scaled_to(w, h)
 
     def measure(self, image: Any, range_m: float) -> Any:

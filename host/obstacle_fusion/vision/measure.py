@@ -72,7 +72,7 @@ class Measurer:
             self._per_size[key] = impl
         return impl
 
-    def prepare(self, width: int, height: int) -> None:
+    def prepare_size(self, width: int, height: int) -> None:
         """Build the per-size state now (maps, tables), not on the first frame's clock."""
         self._method_for(width, height)
 
