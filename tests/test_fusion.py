@@ -418,6 +418,9 @@ class Beams:
         self.answer = answer
         self.asked: list[list[int]] = []
 
+    def in_view(self, sensors: list[int]) -> list[int]:
+        return list(sensors)
+
     def choose(
         self, box_px: tuple[float, float, float, float], depth_m: float, sensors: list[int]
     ) -> int | None:
@@ -454,7 +457,7 @@ def test_the_sonar_whose_beam_covers_the_box_gives_the_distance() -> None:
     last = _two_sonars(f)
     clock.t = last + 0.02
     rec = f.add_frame(_frame(last + 0.01))[0]
-    assert beams.asked == [[1, 0]]  # nearest first
+    assert beams.asked == [[1, 0], [1, 0]]  # nearest first, then the covering one confirms
     assert rec.sensor_id == 0 and rec.distance_m == pytest.approx(2.0)
     assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]  # measured again
     assert rec.depth_m == pytest.approx(2.0)
@@ -473,3 +476,22 @@ def test_a_silent_sonar_does_not_hold_frames_back() -> None:
     clock.t = 2.2
     rec = f.add_frame(_frame(2.1))[0]
     assert rec.pairing == "interpolated" and dict(rec.ranges) == {0: pytest.approx(2.0)}
+
+
+def test_when_the_nearest_sonars_range_finds_no_box_the_next_one_is_tried() -> None:
+    class Picky(FakeMeasurer):
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            self.ranges.append(range_m)
+            if abs(range_m - 2.0) > 1e-6:
+                return _M(False, None, None, None, None, 0.0)
+            return _M(True, 0.3, 0.5, range_m, (1.0, 2.0, 3.0, 4.0), 0.9)
+
+    clock = Clock()
+    meas = Picky()
+    f = Fusion(measurer=meas, clock=clock, beams=Beams(0), stop_distance_m=1.0)
+    last = _two_sonars(f)
+    clock.t = last + 0.02
+    rec = f.add_frame(_frame(last + 0.01))[0]
+    assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]
+    assert rec.status == "ok" and rec.sensor_id == 0 and rec.distance_m == pytest.approx(2.0)
+    assert rec.alert  # sonar 1 sees something at 0.7 m: the robot must stop all the same

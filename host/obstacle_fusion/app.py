@@ -253,7 +253,8 @@ class App:
             log.info("could not send %s: %s", msg.NAME, exc)
             self.config_sent_session = 0
             return
-        self._commands.append(pending)
+        if isinstance(msg, SetConfig):  # GET_INFO is answered by HELLO and CONFIG, not ACK
+            self._commands.append(pending)
 
     def _check_commands(self) -> None:
         for pending in list(self._commands):

@@ -83,6 +83,10 @@ class MeasurerLike(Protocol):
 class BeamChooser(Protocol):
     """Which sonar's beam covers the obstacle an image box shows (several sonars)."""
 
+    def in_view(self, sensors: Sequence[int]) -> list[int]:
+        """Those of ``sensors`` whose beam reaches into the camera's view, in order."""
+        ...
+
     def choose(
         self, box_px: tuple[float, float, float, float], depth_m: float, sensors: Sequence[int]
     ) -> int | None: ...
@@ -537,6 +541,8 @@ class Fusion:
 
     def _primary(self, pairings: dict[int, Pairing]) -> int:
         valid = self._nearest_valid(pairings)
+        if valid and self.beams is not None and len(valid) > 1 and self.measurer is not None:
+            valid = self.beams.in_view(valid) or valid  # the image can only see those
         if valid:
             return valid[0]
         paired = [sid for sid, p in sorted(pairings.items()) if p.kind is not PairKind.NONE]
@@ -559,6 +565,52 @@ class Fusion:
                 log.exception("vision failed on frame %d", frame.index)
             reason = f"vision failed: {exc!r}"
         return m, reason, (time.perf_counter() - t0) * 1e3
+
+    def _measure_choosing(
+        self, frame: Frame, pairings: dict[int, Pairing], first: int
+    ) -> tuple[int, Any, str | None, float]:
+        """Measure with the sonar whose beam covers the box the image shows.
+
+        One sonar: its range. Several in the camera's view: nearest first; a box found with
+        a range is kept when it lies in that sonar's beam; when it lies in another's, that
+        one's range is measured next; when none is found, the next sonar's range is tried.
+        Returns (sonar, measurement or None, reason, milliseconds)."""
+        valid = self._nearest_valid(pairings)
+        cands = valid
+        if self.beams is not None and len(valid) > 1:
+            cands = self.beams.in_view(valid) or valid
+        order = [first] + [c for c in cands if c != first]
+        tried: dict[int, tuple[Any, str | None]] = {}
+        total_ms = 0.0
+        while order:
+            sid = order.pop(0)
+            if sid in tried:
+                continue
+            distance = pairings[sid].distance_m
+            assert distance is not None
+            m, reason, ms = self._measure(frame, distance)
+            total_ms += ms
+            tried[sid] = (m, reason)
+            if self.beams is None or len(cands) < 2:
+                return sid, m, reason, total_ms
+            box = getattr(m, "box_px", None)
+            if m is None or not getattr(m, "detected", False) or box is None:
+                continue
+            covering = self.beams.choose(
+                (float(box[0]), float(box[1]), float(box[2]), float(box[3])),
+                float(getattr(m, "distance_m", None) or distance),
+                cands,
+            )
+            if covering is None or covering == sid:
+                return sid, m, reason, total_ms
+            if covering not in tried:
+                order.insert(0, covering)
+            elif getattr(tried[covering][0], "detected", False):
+                return covering, tried[covering][0], tried[covering][1], total_ms
+            else:
+                return sid, m, reason, total_ms
+        m, reason = tried[first]
+        return first, m, reason, total_ms
 
     def _publish(self, frame: Frame, pairings: dict[int, Pairing]) -> ObstacleRecord:
         sid = self._primary(pairings)
@@ -586,26 +638,8 @@ class Fusion:
                 stats.not_detected += 1
                 reason = "no measurer configured"
             else:
-                m, reason, vision_ms = self._measure(frame, pairing.distance_m)
-                valid = self._nearest_valid(pairings)
-                if (
-                    m is not None
-                    and len(valid) > 1
-                    and self.beams is not None
-                    and getattr(m, "detected", False)
-                    and getattr(m, "box_px", None) is not None
-                ):
-                    # Several sonars: the one whose beam covers the box the image shows.
-                    covering = self.beams.choose(
-                        tuple(float(v) for v in m.box_px),  # type: ignore[arg-type]
-                        float(getattr(m, "distance_m", None) or pairing.distance_m),
-                        valid,
-                    )
-                    if covering is not None and covering != sid:
-                        sid, pairing = covering, pairings[covering]
-                        assert pairing.distance_m is not None
-                        m, reason, more_ms = self._measure(frame, pairing.distance_m)
-                        vision_ms += more_ms
+                sid, m, reason, vision_ms = self._measure_choosing(frame, pairings, sid)
+                pairing = pairings[sid]
                 method = getattr(m, "method", method)
                 if m is None:
                     status = ObstacleStatus.VISION_ERROR
@@ -631,10 +665,11 @@ class Fusion:
             else:
                 stats.nearest += 1
         distance = pairing.distance_m
+        nearest = [p.distance_m for p in pairings.values() if p.distance_m is not None]
         alert = (
             self.stop_distance_m is not None
-            and distance is not None
-            and distance <= self.stop_distance_m
+            and bool(nearest)
+            and min(nearest) <= self.stop_distance_m  # any sonar: the robot must stop
         )
         if alert:
             stats.alerts += 1

@@ -99,3 +99,44 @@ def test_a_bad_scenario_temperature_names_the_file_and_key(tmp_path: Path, value
     assert "--temperature" not in str(err.value) and "convert" not in str(err.value)
     path.write_text(path.read_text().replace(f"temperature_c = {value}", "temperature_c = -5"))
     assert load_scenario(path).temperature_c == -5.0
+
+
+def test_sonar_tables_give_other_sensors_their_own_distances(tmp_path: Path) -> None:
+    p = tmp_path / "s.toml"
+    p.write_text(
+        "[[segment]]\nt0 = 0.0\nt1 = 4.0\nd0 = 2.0\nd1 = 1.0\nheight_m = 0.4\nwidth_m = 0.5\n"
+        '[[sonar]]\nid = 1\nkeyframes = [[0.0, 1.5], [2.0, 0.5], [3.0, "none"]]\n'
+        "[[sonar]]\nid = 3\ndistance = 2.5\n"
+    )
+    sc = load_scenario(p)
+    assert sc.sensor_count == 4
+    assert sc.sensor_distance_at(1, 1.0) == pytest.approx(1.0)
+    assert sc.sensor_distance_at(1, 3.5) is None
+    assert sc.sensor_distance_at(3, 3.9) == pytest.approx(2.5)
+    assert sc.sensor_distance_at(2, 1.0) == sc.distance_at(1.0) == pytest.approx(1.75)
+    files = dict(sc.write_sensor_keyframes(tmp_path))
+    assert sorted(files) == [1, 3]
+    frames, _ = parse_keyframes(files[1].read_text())
+    for t in (0.0, 0.7, 1.9, 2.5, 3.2):
+        assert keyframe_distance(frames, t) == pytest.approx(sc.sensor_distance_at(1, t))
+
+
+@pytest.mark.parametrize(
+    ("sonar", "match"),
+    [
+        ("id = 0\ndistance = 1.0", "id must be 1..3"),
+        ("id = 1", "either keyframes"),
+        ("id = 1\ndistance = 1.0\nkeyframes = [[0.0, 1.0]]", "either keyframes"),
+        ("id = 1\ndistance = 9.0", "0.02..4"),
+        ("id = 2\nkeyframes = [[1.0, 1.0], [0.5, 1.0]]", "must increase"),
+        ("id = 2\nkeyframes = [[1.0]]", r"each keyframe is \[t, d\]"),
+    ],
+)
+def test_bad_sonar_tables_are_named(tmp_path: Path, sonar: str, match: str) -> None:
+    p = tmp_path / "s.toml"
+    p.write_text(
+        "[[segment]]\nt0 = 0.0\nt1 = 4.0\nd0 = 2.0\nheight_m = 0.4\nwidth_m = 0.5\n"
+        f"[[sonar]]\n{sonar}\n"
+    )
+    with pytest.raises(UserError, match=match):
+        load_scenario(p)

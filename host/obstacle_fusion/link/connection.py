@@ -263,6 +263,8 @@ class Link:
             seq = self._seq
             self._seq = (self._seq + 1) & 0xFF
             pending = PendingCommand(msg, seq, time.monotonic())
+            if isinstance(msg, GetInfo):  # its HELLO answer is asked for, not a restart
+                self._last_get_info = pending.t_send
             self._pending[seq] = pending
             try:
                 ser.write(encode(msg, seq))

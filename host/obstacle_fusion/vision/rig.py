@@ -259,6 +259,28 @@ class BeamSelector:
         self.rig = rig
         self.camera = camera  # () -> a CameraModel at the frames' size, or None
 
+    def in_view(self, sensors: Sequence[int]) -> list[int]:
+        """Those of ``sensors`` whose beam overlaps the camera's horizontal field of view
+        (a sonar looking aside or behind measures what the image cannot show)."""
+        cam = self.camera()
+        if cam is None:
+            return list(sensors)
+        k = cam.camera_matrix
+        fx, cx = float(k[0][0]), float(k[0][2])
+        left = math.atan2(-cx - 0.5, fx)
+        right = math.atan2(cam.width - 0.5 - cx, fx)
+        mounts = {m.id: m for m in self.rig.sonar_mounts()}
+        out = []
+        for sid in sensors:
+            m = mounts.get(sid)
+            if m is None:
+                continue
+            half = math.radians(m.beam_width_deg) / 2.0
+            yaw = math.radians(m.yaw_deg)
+            if yaw + half >= left and yaw - half <= right:
+                out.append(sid)
+        return out
+
     def choose(
         self, box_px: tuple[float, float, float, float], depth_m: float, sensors: Sequence[int]
     ) -> int | None:
