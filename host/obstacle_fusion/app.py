@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import queue
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -193,6 +194,7 @@ class App:
         self._prepared = False
         self._commands: list[PendingCommand] = []
         self._carry: Frame | None = None
+        self._drain_t = time.monotonic()
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -327,7 +329,9 @@ class App:
             self._prepared = True
         self.rates["frames"].tick()
         if self.recorder is not None:
-            self.recorder.write_frame(frame, log_t=time.monotonic())
+            # Logged at the instant the link was last drained: replay, ordering by log time,
+            # then gives this frame the same readings the live fusion had.
+            self.recorder.write_frame(frame, log_t=self._drain_t)
         if self.video is not None:
             self._images[frame.index] = frame.image
         return self.fusion.add_frame(frame)
@@ -400,6 +404,16 @@ class App:
         )
 
     def run(self) -> RunResult:
+        # The link and camera threads run Python too: with the default 5 ms GIL switch
+        # interval a frame can wait that long for the loop to get the interpreter back.
+        switch = sys.getswitchinterval()
+        sys.setswitchinterval(min(switch, 0.0005))
+        try:
+            return self._run()
+        finally:
+            sys.setswitchinterval(switch)
+
+    def _run(self) -> RunResult:
         start = time.monotonic()
         exit_code = 0
         self.link.start()
@@ -420,6 +434,7 @@ class App:
                         self._event("emulator_restart", {"detail": event})
                 self._watch_link()
                 records: list[ObstacleRecord] = []
+                self._drain_t = time.monotonic()
                 for item in self.link.drain():
                     records += self._on_message(item)
                 records += self._map_ranges(now)

@@ -38,6 +38,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="re-convert ranges at this air temperature, celsius (-50..80)",
     )
     _args.add_processing_args(p)
+    p.add_argument(
+        "--pairing",
+        choices=("predicted", "interpolated"),
+        help="default: the recorded one (predicted for recordings that do not say)",
+    )
     p.add_argument("--calib", type=Path, help="camera calibration (default: the recorded one)")
     p.add_argument("--rig", type=Path, help="rig file (default: the recorded one)")
     p.add_argument(
@@ -52,7 +57,7 @@ _STATUS_CODES = {"ok": 0, "no_echo": 1, "timeout": 2, "out_of_range": 3, "too_cl
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from obstacle_fusion.fusion import Fusion, RangePairer
+    from obstacle_fusion.fusion import Fusion, PairingMode, RangePairer, TrackSettings
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import (
         TOPIC_IMAGE,
@@ -113,12 +118,26 @@ def run(args: argparse.Namespace) -> int:
     now = [0.0]
     measurer: Any = None
     converters: dict[int, SonarConverter] = {}
+    span = _meta_number(meta, "sensors", 1.0, 1.0, 4.0)
     fusion = Fusion(
         measurer=None,
-        pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3),
+        pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3, max_gap_s=0.2 * span),
         stop_distance_m=stop,
         method=method,
         clock=lambda: now[0],
+        pairing=PairingMode(
+            args.pairing
+            or (
+                meta.get("pairing")
+                if meta.get("pairing") in ("predicted", "interpolated")
+                else None
+            )
+            or "predicted"
+        ),
+        track=TrackSettings(
+            max_extrapolation_s=_meta_number(meta, "max_extrapolation_s", 0.2, 0.01, 1.0) * span,
+            max_gap_s=0.2 * span,
+        ),
     )
     out = JsonLinesWriter(sys.stdout)
     index = 0
@@ -185,6 +204,15 @@ def run(args: argparse.Namespace) -> int:
             "replayed above; anything after it is lost"
         )
     return 0
+
+
+def _meta_number(meta: dict[str, str], key: str, default: float, lo: float, hi: float) -> float:
+    """A recorded setting, or the default when it is missing or not a sensible number."""
+    try:
+        value = float(meta.get(key, default))
+    except (TypeError, ValueError):
+        return default
+    return value if lo <= value <= hi else default
 
 
 def rig_from_metadata(text: str, recording: Path) -> Any:

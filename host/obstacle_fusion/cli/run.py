@@ -324,6 +324,9 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
                         "temperature_c": str(settings.temperature_c),
                         "half_spacing_m": str(settings.half_spacing_m),
                         "stop_distance_m": str(args.stop_distance),
+                        "pairing": settings.pairing,
+                        "max_extrapolation_s": str(settings.max_extrapolation_s),
+                        "sensors": str(settings.sensors or 1),
                         "rig": json.dumps(dataclasses.asdict(rig)),
                         "camera": json.dumps(_camera_dict(camera)),
                     }
