@@ -5,10 +5,10 @@ Each mutant changes one token of a module (a comparison flipped or loosened, + a
 swapped, * and / swapped, and/or swapped, a `not` dropped, True/False swapped, an integer
 plus one, a float doubled) or applies one of the named mutants below (defects a review
 found surviving: a status published as another, a per-sensor state shared). Every mutant
-runs the given tests against a copy of the package (the worktree is never touched, so a
-run in progress elsewhere is not disturbed); a test failure, an error or a timeout kills
-it. Mutants listed in the equivalence file (``id  # why``) are reported apart and left out
-of the score: score = killed / (mutants - equivalent).
+runs the given tests in a forked child that holds the mutated module in sys.modules (the
+files are never touched, so a run in progress elsewhere is not disturbed); a test failure,
+an error or a timeout kills it. Mutants listed in the equivalence file (``id  # why``)
+are reported apart and left out of the score: score = killed / (mutants - equivalent).
 
 Usage: .venv/bin/python tools/mutate_host.py host/obstacle_fusion/fusion.py \\
            host/obstacle_fusion/sonar.py --tests tests/test_fusion.py tests/test_sonar.py \\
@@ -20,11 +20,11 @@ from __future__ import annotations
 import argparse
 import io
 import os
-import shutil
-import subprocess
+import signal
 import sys
-import tempfile
+import time
 import tokenize
+import types
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -145,22 +145,51 @@ def mutants_of(path: Path) -> list[Mutant]:
     return out
 
 
-def run_tests(copy_root: Path, tests: list[str], timeout: float) -> tuple[bool, str]:
-    """True when the tests pass (the mutant survives)."""
-    env = dict(os.environ, PYTHONPATH=str(copy_root), PYTHONDONTWRITEBYTECODE="1")
-    try:
-        proc = subprocess.run(
-            [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests],
-            cwd=ROOT,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=timeout,
-        )
-    except subprocess.TimeoutExpired:
-        return False, "timeout"
-    last = (proc.stdout.strip().splitlines() or [""])[-1]
-    return proc.returncode == 0, last
+def _module_name(path: Path) -> str:
+    rel = path.relative_to(PACKAGE).with_suffix("")
+    return ".".join(("obstacle_fusion", *rel.parts))
+
+
+def run_mutant(m: Mutant | None, tests: list[str], timeout: float) -> tuple[bool, str]:
+    """Run the tests in a forked child with the mutant in sys.modules; True = they pass.
+
+    The parent has imported pytest, numpy and the package's other modules once, so a child
+    starts in milliseconds; the mutated module is compiled from its text (the files on disk
+    are never changed)."""
+    pid = os.fork()
+    if pid == 0:  # the child
+        code = 3
+        try:
+            sys.stdout.flush()
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, 1)
+            os.dup2(devnull, 2)
+            if m is not None:
+                name = _module_name(m.file)
+                mod = types.ModuleType(name)
+                mod.__file__ = str(m.file)
+                sys.modules[name] = mod
+                parent, _, leaf = name.rpartition(".")
+                setattr(sys.modules[parent], leaf, mod)
+                exec(compile(m.text, str(m.file), "exec"), mod.__dict__)
+            import pytest
+
+            code = int(pytest.main(["-x", "-q", "-p", "no:cacheprovider", *tests]))
+        except BaseException:  # noqa: BLE001 - a mutant that breaks the import is killed
+            code = 4
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + timeout
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            code = os.waitstatus_to_exitcode(status)
+            return code == 0, f"exit {code}"
+        if time.monotonic() > deadline:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            return False, "timeout"
+        time.sleep(0.01)
 
 
 def main() -> int:
@@ -178,56 +207,35 @@ def main() -> int:
             ident, _, why = raw.partition("#")
             if ident.strip():
                 equivalent[ident.strip()] = why.strip()
-    mutants = [m for p in args.modules for m in mutants_of(p.resolve())]
+    modules = [p.resolve() for p in args.modules]
+    mutants = [m for p in modules for m in mutants_of(p)]
     if args.only:
         mutants = [m for m in mutants if args.only in m.id]
     stale = sorted(set(equivalent) - {m.id for m in mutants})
-    with tempfile.TemporaryDirectory(prefix="mutate-") as tmp:
-        copies = []
-        for k in range(max(args.jobs, 1)):
-            root = Path(tmp) / f"w{k}"
-            shutil.copytree(PACKAGE, root / "obstacle_fusion")
-            copies.append(root)
-        ok, last = run_tests(copies[0], args.tests, args.timeout)
-        if not ok:
-            print(f"the tests fail without any mutant: {last}", file=sys.stderr)
-            return 2
-        probe = subprocess.run(
-            [sys.executable, "-c", "import obstacle_fusion; print(obstacle_fusion.__file__)"],
-            env=dict(os.environ, PYTHONPATH=str(copies[0])),
-            capture_output=True,
-            text=True,
-        )
-        if not probe.stdout.strip().startswith(str(copies[0])):
-            print(f"the package copy is not the one imported: {probe.stdout}", file=sys.stderr)
-            return 2
-        free = list(copies)
-        import threading
+    # Import everything the tests need except the modules under test and their users.
+    import numpy  # noqa: F401
+    import obstacle_fusion.errors  # noqa: F401
+    import obstacle_fusion.protocol.generated  # noqa: F401
+    import obstacle_fusion.sources.frames  # noqa: F401
+    import pytest  # noqa: F401
 
-        lock = threading.Lock()
-
-        def one(m: Mutant) -> tuple[Mutant, bool, str]:
-            with lock:
-                root = free.pop()
-            target = root / "obstacle_fusion" / m.file.relative_to(PACKAGE)
-            original = target.read_text(encoding="utf-8")
-            try:
-                target.write_text(m.text, encoding="utf-8")
-                survived, last = run_tests(root, args.tests, args.timeout)
-            finally:
-                target.write_text(original, encoding="utf-8")
-                with lock:
-                    free.append(root)
-            return m, survived, last
-
-        results = []
-        with ThreadPoolExecutor(max_workers=len(copies)) as pool:
-            for m, survived, _last in pool.map(one, mutants):
-                results.append((m, survived))
-                mark = "SURVIVED" if survived else "killed  "
-                if survived and m.id in equivalent:
-                    mark = "equiv.  "
-                print(f"{mark} {m.id}   [{m.what[:70]}]", flush=True)
+    mutated = {_module_name(p) for p in modules}
+    for name in list(sys.modules):
+        if name in mutated or name == "obstacle_fusion.fusion":
+            del sys.modules[name]
+    ok, last = run_mutant(None, args.tests, args.timeout)
+    if not ok:
+        print(f"the tests fail without any mutant: {last}", file=sys.stderr)
+        return 2
+    results = []
+    with ThreadPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
+        outcomes = pool.map(lambda m: (m, *run_mutant(m, args.tests, args.timeout)), mutants)
+        for m, survived, last in outcomes:
+            results.append((m, survived))
+            mark = "SURVIVED" if survived else "killed  "
+            if survived and m.id in equivalent:
+                mark = "equiv.  "
+            print(f"{mark} {m.id}   [{m.what[:70]}] {'' if survived else last}", flush=True)
     survivors = [m for m, s in results if s and m.id not in equivalent]
     equiv = [m for m, s in results if s and m.id in equivalent]
     killed_equiv = [m for m, s in results if not s and m.id in equivalent]
