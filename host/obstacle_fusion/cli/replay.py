@@ -61,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import (
         TOPIC_IMAGE,
+        TOPIC_OBSTACLE,
         TOPIC_RANGE,
         decode_image,
         read_recording,
@@ -140,6 +141,12 @@ def run(args: argparse.Namespace) -> int:
         ),
     )
     out = JsonLinesWriter(sys.stdout)
+    # The live run's frame numbers (a camera may have skipped some), from its records.
+    recorded_index: dict[int, int] = {}
+    for m in rec.messages:
+        data = m.data if isinstance(m.data, dict) else {}
+        if m.topic == TOPIC_OBSTACLE and isinstance(data.get("frame_index"), int):
+            recorded_index[m.publish_time_ns] = data["frame_index"]
     index = 0
     bad_images = 0
     for m in sorted(msgs, key=lambda m: m.log_time_ns):
@@ -183,7 +190,12 @@ def run(args: argparse.Namespace) -> int:
                     cam = synthetic_camera_model(image.shape[1], image.shape[0])
                 measurer = Measurer(cam, rig, method)
                 fusion.measurer = measurer
-            frame = Frame(image, m.publish_time_ns / 1e9, index, str(d.get("frame_id", "")))
+            frame = Frame(
+                image,
+                m.publish_time_ns / 1e9,
+                recorded_index.get(m.publish_time_ns, index),
+                str(d.get("frame_id", "")),
+            )
             index += 1
             records = fusion.add_frame(frame)
         for r in records:
