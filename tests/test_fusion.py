@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
+import logging
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import pytest
 from obstacle_fusion.fusion import (
     Fusion,
+    FusionStats,
     PairingMode,
     PairKind,
     RangePairer,
@@ -47,8 +51,9 @@ class _M:
     width_m: float | None
     distance_m: float | None
     box_px: tuple[float, float, float, float] | None
-    confidence: float
+    confidence: float | None
     method: str = "fake"
+    reason: str = ""
 
 
 class FakeMeasurer:
@@ -495,3 +500,437 @@ def test_when_the_nearest_sonars_range_finds_no_box_the_next_one_is_tried() -> N
     assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]
     assert rec.status == "ok" and rec.sensor_id == 0 and rec.distance_m == pytest.approx(2.0)
     assert rec.alert  # sonar 1 sees something at 0.7 m: the robot must stop all the same
+
+
+# ---------------------------------------------------------------- the filter's numbers
+def _reference_kalman(
+    readings: list[tuple[float, float]],
+    t_pred: float,
+    sigma: float = 0.003,
+    psd: float = 0.5,
+    v0: float = 2.0,
+) -> tuple[float, float, float]:
+    """The textbook constant-velocity Kalman filter, in matrices, as an independent check:
+    x = (r, v), F = [[1, dt], [0, 1]], Q = q [[dt^3/3, dt^2/2], [dt^2/2, dt]], H = [1, 0],
+    with the documented model: 3 mm reading noise, q = 0.5 m^2/s^3, 2 m/s speed prior."""
+    t0, z0 = readings[0]
+    x = np.array([z0, 0.0])
+    p = np.diag([sigma**2, v0**2])
+    t_prev = t0
+    h = np.array([[1.0, 0.0]])
+    r = np.array([[sigma**2]])
+
+    def step(dt: float) -> tuple[np.ndarray, np.ndarray]:
+        f = np.array([[1.0, dt], [0.0, 1.0]])
+        a = abs(dt)
+        q = psd * np.array([[a**3 / 3, dt * a / 2], [dt * a / 2, a]])
+        return f @ x, f @ p @ f.T + q
+
+    for t, z in readings[1:]:
+        x, p = step(t - t_prev)
+        y = z - (h @ x)[0]
+        s_mat = h @ p @ h.T + r
+        k = p @ h.T @ np.linalg.inv(s_mat)
+        x = x + (k * y).ravel()
+        p = (np.eye(2) - k @ h) @ p
+        t_prev = t
+    xp, pp = step(t_pred - t_prev)
+    return float(xp[0]), float(xp[1]), float(np.sqrt(pp[0, 0]))
+
+
+def test_the_filter_is_the_textbook_constant_velocity_kalman_filter() -> None:
+    rng = np.random.default_rng(7)
+    t = 5.0
+    readings = []
+    for _ in range(12):
+        t += 0.055 + 0.01 * rng.random()
+        readings.append((t, 2.0 - 0.7 * (t - 5.0) + 0.003 * rng.standard_normal()))
+    track = RangeTrack()
+    for k, (tk, z) in enumerate(readings):
+        track.add(_reading(tk, z, m=k))
+    for reach in (0.0, 0.03, 0.15):
+        pred, why = track.predict(t + reach)
+        assert pred is not None, why
+        r, v, sigma = _reference_kalman(readings, t + reach)
+        assert pred.distance_m == pytest.approx(r, abs=1e-12)
+        assert pred.speed_mps == pytest.approx(v, abs=1e-9)
+        assert pred.sigma_m == pytest.approx(sigma, rel=1e-9)
+    assert track.updates == 12 and track.restarts == 0
+
+
+def test_the_filter_ignores_readings_without_a_time_repeated_or_out_of_order() -> None:
+    track = RangeTrack()
+    track.add(_reading(1.0, 2.0))
+    track.add(_reading(1.06, 1.94))
+    state = (track.r, track.v, track.p00, track.p01, track.p11, track.updates)
+    for bad in (
+        _reading(1.06, 1.5),  # the same instant again
+        _reading(1.03, 1.5),  # older
+        dataclasses.replace(_reading(1.2, 1.5), t_host=None),
+        dataclasses.replace(_reading(1.2, 1.5), t_host=float("nan")),
+    ):
+        track.add(bad)
+        assert (track.r, track.v, track.p00, track.p01, track.p11, track.updates) == state
+
+
+def test_the_filter_restarts_after_a_gap_over_its_limit_not_at_it() -> None:
+    s = TrackSettings(max_gap_s=0.25)
+    at = RangeTrack(s)
+    for t in (1.0, 1.25, 1.5):  # exactly the limit apart (binary-exact times)
+        at.add(_reading(t, 2.0 - (t - 1.0)))
+    assert at.restarts == 0 and at.updates == 3
+    over = RangeTrack(s)
+    for t in (1.0, 1.25, 1.5078125):
+        over.add(_reading(t, 2.0 - (t - 1.0)))
+    assert over.restarts == 1 and over.updates == 1
+
+
+def test_the_gate_is_at_least_10_cm_and_otherwise_5_sigma() -> None:
+    def steady(settings: TrackSettings) -> RangeTrack:
+        track = RangeTrack(settings)
+        for k in range(6):
+            track.add(_reading(1.0 + 0.0625 * k, 2.0))
+        return track
+
+    t_next = 1.0 + 0.0625 * 6
+    near = steady(TrackSettings())
+    near.add(_reading(t_next, 2.095))  # 9.5 cm off: within the 10 cm floor
+    assert near.restarts == 0
+    far = steady(TrackSettings())
+    far.add(_reading(t_next, 2.105))
+    assert far.restarts == 1
+    # A noisy sensor (5 cm): 5 sigma of the innovation is the wider bound.
+    noisy = TrackSettings(measurement_sigma_m=0.05)
+    probe = steady(noisy)
+    _, _, p00, _, _ = probe._propagate(0.0625)
+    sigma = math.sqrt(p00 + 0.05**2)
+    assert 5 * sigma > 0.12
+    inside = steady(noisy)
+    inside.add(_reading(t_next, 2.0 + 4.8 * sigma))
+    assert inside.restarts == 0
+    outside = steady(noisy)
+    outside.add(_reading(t_next, 2.0 + 5.2 * sigma))
+    assert outside.restarts == 1
+
+
+def test_the_default_filter_restarts_after_a_gap_over_200_ms() -> None:
+    track = RangeTrack()
+    for t in (1.0, 1.0625, 1.28125):  # 218.75 ms after the second
+        track.add(_reading(t, 2.0))
+    assert track.restarts == 1 and track.updates == 1
+    kept = RangeTrack()
+    for t in (1.0, 1.0625, 1.25):  # 187.5 ms
+        kept.add(_reading(t, 2.0))
+    assert kept.restarts == 0 and kept.updates == 3
+
+
+def test_a_prediction_reaches_to_the_limit_and_no_further() -> None:
+    s = TrackSettings(max_extrapolation_s=0.25)
+    track = RangeTrack(s)
+    track.add(_reading(0.875, 2.0))
+    track.add(_reading(1.0, 2.0))
+    at, _ = track.predict(1.25)  # exactly the limit (binary-exact times)
+    assert at is not None
+    beyond, why = track.predict(1.2578125)
+    assert beyond is None and "258 ms old (extrapolation limit 250 ms)" in why
+
+
+def test_a_prediction_through_zero_is_refused() -> None:
+    track = RangeTrack()
+    track.add(_reading(1.0, 0.2))
+    track.add(_reading(1.0625, 0.1))  # 1.6 m/s closer: through zero 62 ms later
+    pred, why = track.predict(1.19)
+    assert pred is None and "not positive" in why
+    assert track.predict(1.08)[0] is not None
+
+
+# ---------------------------------------------------------------- boundaries and bookkeeping
+def test_a_history_longer_than_10_s_is_forgotten() -> None:
+    p = RangePairer()
+    p.add(_reading(0.0, 2.0))
+    p.add(_reading(9.9375, 2.0))
+    assert len(p) == 2
+    p.add(_reading(10.0625, 2.0))  # the first is now 10.06 s older than the newest
+    assert len(p) == 2 and p.pair(0.0).kind is PairKind.NONE
+
+
+def test_interpolation_at_the_gap_limit_and_the_nearest_readings_offset() -> None:
+    p = RangePairer()
+    p.add(_reading(0.0, 2.0))
+    p.add(_reading(0.2, 1.8))  # exactly 200 ms apart: still interpolated
+    assert p.pair(0.1).kind is PairKind.INTERPOLATED
+    q = RangePairer()
+    q.add(_reading(1.0, 2.0))
+    q.add(_reading(1.0625, 1.9375))
+    mid = q.pair(1.03125)  # exactly half way: dated against the reading before
+    assert mid.dt_s == pytest.approx(0.03125) and mid.distance_m == pytest.approx(1.96875)
+    late = q.pair(1.046875)  # three quarters: against the reading after
+    assert late.dt_s == pytest.approx(-0.015625)
+
+
+def test_the_nearest_tolerance_boundary_is_inclusive() -> None:
+    p = RangePairer(tolerance_s=0.0625)
+    p.add(_reading(1.0, 2.0))
+    assert p.pair(1.0625).kind is PairKind.NEAREST
+    assert p.pair(0.9375).kind is PairKind.NEAREST
+    assert p.pair(1.0703125).kind is PairKind.NONE
+    edge = RangePairer(tolerance_s=0.0625)
+    edge.add(_reading(1.0, None, SonarStatus.NO_ECHO))
+    edge.add(_reading(1.25, 1.0))
+    assert edge.pair(1.0625).sonar_status is SonarStatus.NO_ECHO  # the nearer one
+
+
+def test_a_reading_at_the_frames_instant_is_not_the_one_after_it() -> None:
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock, pairing=PairingMode.INTERPOLATED)
+    f.add_reading(_reading(1.0, 2.0))
+    f.add_reading(_reading(1.0625, 1.9375))
+    clock.t = 1.07
+    assert f.add_frame(_frame(1.0625)) == []  # waits for the reading after 1.0625
+    out = f.add_reading(_reading(1.125, 1.875))
+    assert [r.pairing for r in out] == ["interpolated"]
+
+
+def test_an_unpaired_frame_says_exactly_why() -> None:
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock, pairing=PairingMode.INTERPOLATED)
+    f.add_reading(_reading(1.0, 2.0))
+    clock.t = 1.5
+    f.add_frame(_frame(1.5))
+    clock.t = 1.75
+    (rec,) = f.poll()
+    assert rec.reason == "nearest sonar reading is 500 ms away (tolerance 50 ms)"
+    assert rec.sensor_id is None and rec.confidence == 0.0
+
+
+def test_the_default_wait_is_250_ms_and_32_frames() -> None:
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock)
+    f.add_reading(_reading(1.0, 2.0))
+    clock.t = 1.0
+    f.add_frame(_frame(1.0078125, 0))
+    clock.t = 1.2421875
+    assert f.poll() == []
+    clock.t = 1.25  # exactly 250 ms after it arrived
+    assert [r.frame_index for r in f.poll()] == [0]
+    g = Fusion(measurer=FakeMeasurer(), clock=clock)
+    g.add_reading(_reading(1.0, 2.0))
+    out = []
+    for k in range(32):
+        out += g.add_frame(_frame(1.0078125 + k * 1e-4, k))
+    assert out == [] and g.pending == 32
+    out = g.add_frame(_frame(1.02, 32))
+    assert [r.frame_index for r in out] == [0] and g.pending == 32
+
+
+def test_no_reading_at_all_waits_then_is_unpaired() -> None:
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock)
+    assert not f.ready_for_frames() and f.newest_t is None and f.sensors() == []
+    assert f.add_frame(_frame(1.0)) == []
+    clock.t = 0.3
+    (rec,) = f.poll()
+    assert rec.status == "unpaired" and rec.reason == "no sonar reading yet"
+    assert rec.to_dict()["ranges"] == {"0": None}
+    assert f.stats.forced == 1 and f.stats.unpaired == 1
+
+
+def test_ready_for_frames_needs_a_predicting_filter() -> None:
+    f = Fusion()
+    f.add_reading(_reading(1.0, 2.0))
+    assert not f.ready_for_frames()
+    f.add_reading(_reading(1.06, 2.0))
+    assert f.ready_for_frames()
+    g = Fusion(pairing=PairingMode.INTERPOLATED)
+    g.add_reading(_reading(1.0, 2.0))
+    assert g.ready_for_frames()
+
+
+def test_sonars_speaking_within_a_second_of_the_newest_count() -> None:
+    f = Fusion()
+    f.add_reading(_reading(2.0, 1.0, sensor=1))  # only sensor 1 so far
+    assert f.newest_t == 2.0 and f.sensors() == [1]
+    f.add_reading(_reading(3.0, 1.0, sensor=0))  # exactly 1 s later
+    assert f.sensors() == [0, 1]
+    f.add_reading(_reading(3.0078125, 1.0, sensor=0))
+    assert f.sensors() == [0]
+
+
+def test_every_counter_counts_once() -> None:
+    clock = Clock()
+
+    class Mixed(FakeMeasurer):
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            self.ranges.append(range_m)
+            if range_m > 1.9:
+                raise RuntimeError("boom")
+            if range_m > 1.4:
+                return _M(False, None, None, None, None, 0.0, reason="")
+            return _M(True, 0.3, 0.5, range_m, (1.0, 2.0, 3.0, 4.0), None)
+
+    f = Fusion(measurer=Mixed(), clock=clock, pairing=PairingMode.INTERPOLATED)
+    recs = []
+    plan = [(2.0, "vision_error"), (1.5, "not_detected"), (1.0, "ok")]
+    t = 1.0
+    for d, _ in plan:
+        f.add_reading(_reading(t, d))
+        recs += f.add_frame(_frame(t + 0.01))
+        recs += f.add_reading(_reading(t + 0.02, d))
+        t += 0.5
+    f.add_reading(_reading(t, None, SonarStatus.NO_ECHO))
+    recs += f.add_frame(_frame(t + 0.01))
+    recs += f.add_reading(_reading(t + 0.02, None, SonarStatus.TIMEOUT))
+    clock.t = 9.0
+    recs += f.add_frame(_frame(9.0))
+    clock.t = 9.5
+    recs += f.poll()
+    assert [r.status for r in recs] == [
+        "vision_error",
+        "not_detected",
+        "ok",
+        "clear",
+        "unpaired",
+    ]
+    assert recs[1].reason == "no obstacle found in the image"
+    assert recs[2].confidence == 0.0 and recs[2].method == "fake"  # confidence None: 0
+    assert recs[3].confidence == 0.0 and recs[3].method is None
+    d = f.stats.as_dict()
+    assert d == {
+        "frames": 5,
+        "published": 5,
+        "paired": 4,
+        "predicted": 0,
+        "interpolated": 3,
+        "nearest": 1,
+        "unpaired": 1,
+        "detected": 1,
+        "not_detected": 1,
+        "clear": 1,
+        "sonar_errors": 0,
+        "vision_errors": 1,
+        "alerts": 0,
+        "forced": 1,
+        "readings": 8,
+        "paired_fraction": 0.8,
+    }
+    assert f.vision_errors == 1
+    assert FusionStats().paired_fraction == 0.0
+
+
+def test_vision_crashes_are_logged_three_times_then_counted_quietly(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    class Crashes:
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            raise RuntimeError("boom")
+
+    clock = Clock()
+    f = Fusion(measurer=Crashes(), clock=clock, pairing=PairingMode.INTERPOLATED)
+    with caplog.at_level(logging.ERROR, logger="obstacle_fusion.fusion"):
+        for k in range(5):
+            t = 1.0 + k * 0.0625
+            f.add_reading(_reading(t, 1.0))
+            f.add_frame(_frame(t + 0.01, k))
+        f.add_reading(_reading(2.0, 1.0))
+    assert f.vision_errors == 5
+    assert len([r for r in caplog.records if "vision failed" in r.getMessage()]) == 3
+
+
+def test_the_vision_time_is_measured_in_milliseconds(monkeypatch: pytest.MonkeyPatch) -> None:
+    import obstacle_fusion.fusion as fusion_module
+
+    ticks = iter([10.0, 10.025, 20.0, 20.0125])
+    monkeypatch.setattr(fusion_module.time, "perf_counter", lambda: next(ticks))
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock, pairing=PairingMode.INTERPOLATED)
+    f.add_reading(_reading(1.0, 1.0))
+    f.add_frame(_frame(1.01))
+    (rec,) = f.add_reading(_reading(1.06, 1.0))
+    assert rec.vision_ms == pytest.approx(25.0)
+
+
+def test_without_a_measurer_the_nearest_sonar_of_all_is_used() -> None:
+    class OnlyZeroInView(Beams):
+        def in_view(self, sensors: list[int]) -> list[int]:
+            return [s for s in sensors if s == 0]
+
+    clock = Clock()
+    f = Fusion(measurer=None, clock=clock, beams=OnlyZeroInView(0))
+    last = _two_sonars(f)
+    clock.t = last + 0.02
+    rec = f.add_frame(_frame(last + 0.01))[0]
+    assert rec.sensor_id == 1 and rec.status == "not_detected"
+    g = Fusion(measurer=FakeMeasurer(), clock=clock, beams=OnlyZeroInView(0))
+    _two_sonars(g)
+    rec = g.add_frame(_frame(last + 0.01))[0]
+    assert rec.sensor_id == 0  # the image can only show what sonar 0 sees
+
+
+def _three_sonars(f: Fusion) -> float:
+    for k in range(4):
+        t = 1.0 + 0.06 * k
+        for sid, d in ((0, 2.0), (1, 0.7), (2, 1.2)):
+            f.add_reading(_reading(t + 0.01 * sid, d, m=3 * k + sid, sensor=sid))
+    return 1.0 + 0.06 * 3 + 0.02
+
+
+class ByRange:
+    """A chooser that says which sonar covers the box found at each range."""
+
+    def __init__(self, answers: dict[float, int | None]) -> None:
+        self.answers = answers
+        self.boxes: list[tuple[float, ...]] = []
+
+    def in_view(self, sensors: list[int]) -> list[int]:
+        return list(sensors)
+
+    def choose(
+        self, box_px: tuple[float, float, float, float], depth_m: float, sensors: list[int]
+    ) -> int | None:
+        self.boxes.append((*box_px, depth_m))
+        return self.answers[round(depth_m, 3)]
+
+
+def test_the_covering_sonar_is_measured_next_not_the_next_nearest() -> None:
+    clock = Clock()
+    meas = FakeMeasurer()
+    beams = ByRange({0.7: 0, 2.0: 0})
+    f = Fusion(measurer=meas, clock=clock, beams=beams)
+    last = _three_sonars(f)
+    clock.t = last + 0.02
+    rec = f.add_frame(_frame(last + 0.01))[0]
+    assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]  # not 1.2 in between
+    assert rec.sensor_id == 0
+    assert beams.boxes[0] == (1.0, 2.0, 3.0, 4.0, pytest.approx(0.7))
+
+
+def test_two_sonars_pointing_at_each_other_end_with_a_detection() -> None:
+    clock = Clock()
+    meas = FakeMeasurer()
+    f = Fusion(measurer=meas, clock=clock, beams=ByRange({0.7: 0, 2.0: 1}))
+    last = _two_sonars(f)
+    clock.t = last + 0.02
+    rec = f.add_frame(_frame(last + 0.01))[0]
+    assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]
+    assert rec.sensor_id == 1 and rec.status == "ok"  # the first detection is kept
+
+    class FirstBlind(FakeMeasurer):
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            self.ranges.append(range_m)
+            if range_m < 1.0:
+                return _M(False, None, None, None, None, 0.0)
+            return _M(True, 0.3, 0.5, range_m, (1.0, 2.0, 3.0, 4.0), 0.9)
+
+    g = Fusion(measurer=FirstBlind(), clock=clock, beams=ByRange({2.0: 1}))
+    _two_sonars(g)
+    rec = g.add_frame(_frame(last + 0.01))[0]
+    assert rec.sensor_id == 0 and rec.status == "ok"  # 1 found nothing: 0's box is kept
+
+
+def test_no_covering_sonar_keeps_the_nearest_in_view() -> None:
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock, beams=ByRange({0.7: None}))
+    last = _two_sonars(f)
+    clock.t = last + 0.02
+    rec = f.add_frame(_frame(last + 0.01))[0]
+    assert rec.sensor_id == 1 and rec.box_px == (1.0, 2.0, 3.0, 4.0)

@@ -149,3 +149,62 @@ def test_the_median_of_an_even_window_is_the_mean_of_the_middle_two() -> None:
     assert vals[1].distance_m == pytest.approx(
         (vals[0].raw_distance_m + vals[1].raw_distance_m) / 2  # type: ignore[operator]
     )
+
+
+def test_absolute_zero_and_below_are_refused_by_name() -> None:
+    for t in (-273.15, -300.0):
+        with pytest.raises(ValueError, match="absolute zero"):
+            speed_of_sound(t)
+    assert speed_of_sound(-273.0) > 0
+
+
+def test_the_defaults_are_the_uno_timer_and_the_hc_sr04_geometry() -> None:
+    conv = SonarConverter()
+    ticks = 291  # 145.5 us: a slant of about 2.5 cm
+    slant = speed_of_sound(20.0) * (ticks / 2e6) / 2
+    r = conv.convert(_range(ticks))
+    assert r.slant_m == pytest.approx(slant, rel=1e-12)
+    assert r.distance_m == pytest.approx(math.sqrt(slant**2 - 0.013**2), rel=1e-12)
+    assert r.time_scale == 1.0
+
+
+def test_the_timer_rate_may_be_anything_positive() -> None:
+    assert SonarConverter(timer_hz=1).timer_hz == 1
+
+
+def test_the_too_close_boundary_and_formula_7_at_zero() -> None:
+    conv = SonarConverter(half_spacing_m=0.013)
+    conv.speed_mps = 2.0  # slant = echo_s exactly
+    assert conv.distance(0.013) == (None, 0.013)  # the slant is the half-spacing: too close
+    assert conv.distance(0.014)[0] == pytest.approx(math.sqrt(0.014**2 - 0.013**2))
+    flat = SonarConverter(half_spacing_m=0.0)
+    assert flat.distance(0.0) == (0.0, 0.0)
+
+
+def test_the_default_median_window_forgets_after_half_a_second() -> None:
+    conv = SonarConverter(median_window=3, half_spacing_m=0.0)
+    conv.convert(_range(2000), t_trigger_host=0.0)
+    conv.convert(_range(2000), t_trigger_host=0.25)
+    late = conv.convert(_range(11662), t_trigger_host=0.625)  # the first is 0.63 s old
+    assert late.distance_m == pytest.approx(
+        (late.raw_distance_m + conv.distance(2000 / 2e6)[0]) / 2  # type: ignore[operator]
+    )
+
+
+def test_a_reading_is_ok_only_with_status_ok_and_a_distance() -> None:
+    from obstacle_fusion.sonar import SonarReading
+
+    base = dict(
+        t_host=1.0,
+        t_trigger_host=1.0,
+        trigger_us=0,
+        measurement=0,
+        sensor_id=0,
+        echo_ticks=0,
+        echo_s=0.0,
+        raw_distance_m=1.0,
+        slant_m=1.0,
+    )
+    assert SonarReading(status=SonarStatus.OK, distance_m=1.0, **base).ok  # type: ignore[arg-type]
+    assert not SonarReading(status=SonarStatus.TIMEOUT, distance_m=1.0, **base).ok  # type: ignore[arg-type]
+    assert not SonarReading(status=SonarStatus.OK, distance_m=None, **base).ok  # type: ignore[arg-type]

@@ -127,8 +127,8 @@ def mutants_of(path: Path) -> list[Mutant]:
         if tok.string == "-" and i + 1 < len(toks) and toks[i + 1].string == ">":
             continue
         line_text = lines[tok.start[0] - 1]
-        if line_text.lstrip().startswith(("log.", "def ", "class ", "@")) or "log." in line_text:
-            continue  # messages and signatures' annotations (defaults are named mutants)
+        if line_text.lstrip().startswith(("def ", "class ", "@", "assert ")) or "log." in line_text:
+            continue  # messages, signatures (defaults are named mutants), internal invariants
         if tok.string in ("*", "/") and line_text.lstrip().startswith(("import", "from")):
             continue
         a = offsets[tok.start[0] - 1] + tok.start[1]

@@ -73,7 +73,6 @@ class Pairing:
     readings: tuple[SonarReading, ...]
     reason: str | None = None
     sigma_m: float | None = None  # the prediction's standard deviation (predicted only)
-    sensor_id: int = 0
 
 
 class MeasurerLike(Protocol):
@@ -189,8 +188,8 @@ class RangePairer:
             and before.t_host is not None
             and after.t_host - before.t_host <= self.max_gap_s
         ):
-            span = after.t_host - before.t_host
-            frac = (t - before.t_host) / span if span > 0 else 0.0
+            # bisect_right: before.t_host <= t < after.t_host, so the span is positive.
+            frac = (t - before.t_host) / (after.t_host - before.t_host)
             assert before.distance_m is not None and after.distance_m is not None
             distance = before.distance_m + frac * (after.distance_m - before.distance_m)
             near = before if frac <= 0.5 else after
@@ -201,14 +200,13 @@ class RangePairer:
                 SonarStatus.OK,
                 t - near.t_host,
                 (before, after),
-                sensor_id=before.sensor_id,
             )
-        candidates = [r for r in (before, after) if r is not None and r.t_host is not None]
+        # Every stored reading has a host time (add() keeps no other): self._times holds it.
+        candidates = [(self._times[k], self._readings[k]) for k in (i - 1, i) if 0 <= k < len(self)]
         if not candidates:
             return Pairing(PairKind.NONE, None, None, None, (), "no sonar reading yet")
-        nearest = min(candidates, key=lambda r: abs(t - (r.t_host or 0.0)))
-        assert nearest.t_host is not None
-        dt = t - nearest.t_host
+        t_near, nearest = min(candidates, key=lambda c: abs(t - c[0]))
+        dt = t - t_near
         if abs(dt) > self.tolerance_s:
             return Pairing(
                 PairKind.NONE,
@@ -218,16 +216,8 @@ class RangePairer:
                 (),
                 f"nearest sonar reading is {abs(dt) * 1e3:.0f} ms away "
                 f"(tolerance {self.tolerance_s * 1e3:.0f} ms)",
-                sensor_id=nearest.sensor_id,
             )
-        return Pairing(
-            PairKind.NEAREST,
-            nearest.distance_m,
-            nearest.status,
-            dt,
-            (nearest,),
-            sensor_id=nearest.sensor_id,
-        )
+        return Pairing(PairKind.NEAREST, nearest.distance_m, nearest.status, dt, (nearest,))
 
 
 @dataclass(frozen=True, slots=True)
@@ -327,8 +317,9 @@ class RangeTrack:
 
     def predict(self, t: float) -> tuple[Prediction | None, str]:
         """The range at host time t and its standard deviation, or None and why not."""
-        if self.t is None or self.last is None or self.updates < 2:
+        if self.updates < 2:
             return None, "the range filter has fewer than two good readings in a row"
+        assert self.t is not None and self.last is not None
         if self.failed_t is not None:
             return None, "the newest sonar reading failed"
         h = t - self.t
@@ -521,7 +512,6 @@ class Fusion:
                     t - pred.reading.t_host,
                     (pred.reading,),
                     sigma_m=pred.sigma_m,
-                    sensor_id=sid,
                 ),
                 "",
             )
@@ -541,7 +531,7 @@ class Fusion:
 
     def _primary(self, pairings: dict[int, Pairing]) -> int:
         valid = self._nearest_valid(pairings)
-        if valid and self.beams is not None and len(valid) > 1 and self.measurer is not None:
+        if valid and self.beams is not None and self.measurer is not None:
             valid = self.beams.in_view(valid) or valid  # the image can only see those
         if valid:
             return valid[0]
@@ -577,7 +567,7 @@ class Fusion:
         Returns (sonar, measurement or None, reason, milliseconds)."""
         valid = self._nearest_valid(pairings)
         cands = valid
-        if self.beams is not None and len(valid) > 1:
+        if self.beams is not None:
             cands = self.beams.in_view(valid) or valid
         order = [first] + [c for c in cands if c != first]
         tried: dict[int, tuple[Any, str | None]] = {}
@@ -593,19 +583,15 @@ class Fusion:
             tried[sid] = (m, reason)
             if self.beams is None or len(cands) < 2:
                 return sid, m, reason, total_ms
-            box = getattr(m, "box_px", None)
-            if m is None or not getattr(m, "detected", False) or box is None:
+            if m is None or not m.detected or m.box_px is None:
                 continue
-            covering = self.beams.choose(
-                (float(box[0]), float(box[1]), float(box[2]), float(box[3])),
-                float(getattr(m, "distance_m", None) or distance),
-                cands,
-            )
+            box = tuple(float(v) for v in m.box_px)
+            covering = self.beams.choose(box, distance, cands)  # type: ignore[arg-type]
             if covering is None or covering == sid:
                 return sid, m, reason, total_ms
             if covering not in tried:
                 order.insert(0, covering)
-            elif getattr(tried[covering][0], "detected", False):
+            elif tried[covering][0] is not None and tried[covering][0].detected:
                 return covering, tried[covering][0], tried[covering][1], total_ms
             else:
                 return sid, m, reason, total_ms
@@ -640,23 +626,21 @@ class Fusion:
             else:
                 sid, m, reason, vision_ms = self._measure_choosing(frame, pairings, sid)
                 pairing = pairings[sid]
-                method = getattr(m, "method", method)
                 if m is None:
                     status = ObstacleStatus.VISION_ERROR
                     stats.vision_errors += 1
-                elif getattr(m, "detected", False):
+                elif m.detected:
+                    method = m.method
                     status = ObstacleStatus.OK
                     stats.detected += 1
-                    height = getattr(m, "height_m", None)
-                    width = getattr(m, "width_m", None)
-                    depth = getattr(m, "distance_m", None)
-                    confidence = float(getattr(m, "confidence", 1.0) or 0.0)
-                    raw_box = getattr(m, "box_px", None)
-                    box = tuple(float(v) for v in raw_box) if raw_box is not None else None
+                    height, width, depth = m.height_m, m.width_m, m.distance_m
+                    confidence = float(m.confidence or 0.0)  # None: the method has none
+                    box = None if m.box_px is None else tuple(float(v) for v in m.box_px)
                 else:
+                    method = m.method
                     status = ObstacleStatus.NOT_DETECTED
                     stats.not_detected += 1
-                    reason = getattr(m, "reason", None) or "no obstacle found in the image"
+                    reason = m.reason or "no obstacle found in the image"
             stats.paired += 1
             if pairing.kind is PairKind.PREDICTED:
                 stats.predicted += 1
