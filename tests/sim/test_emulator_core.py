@@ -417,3 +417,23 @@ def test_emulate_cli_sensors_option_wires_a_second_sensor(uno_elf: Path, tmp_pat
         proc.wait(10)
     records = [r for r in map(parse_truth_line, truth.read_text().splitlines()) if r]
     assert {r.sensor_id for r in records} == {0, 1}
+
+
+def test_a_sensor_scene_for_a_sensor_that_is_not_there_is_refused(
+    emulator_built: Path, tmp_path: Path
+) -> None:
+    scene = tmp_path / "s1.txt"
+    scene.write_text("0 1.0\n")
+    for sensors, spec, match in (
+        (1, (1, scene), r"--sensor-scene 1: there are only 1 sensors"),
+        (2, (1, tmp_path / "missing.txt"), r"missing\.txt"),
+    ):
+        emu = Emulator(
+            config=EmulatorConfig(
+                elf=firmware_for_tests("echo_test"), sensors=sensors, sensor_scenes=(spec,)
+            ),
+            binary=emulator_built,
+        )
+        with pytest.raises(EmulatorError, match=match):
+            emu.start()
+        emu.cleanup()
