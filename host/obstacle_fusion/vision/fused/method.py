@@ -33,6 +33,8 @@ from obstacle_fusion.vision.types import Measurement, Timer, View
 
 
 class FusedMethod:
+    """The sonar-guided method for one camera and image size (buffers reused per frame)."""
+
     name = "fused"
 
     def __init__(self, view: View, min_confidence: float = DEFAULT_MIN_CONFIDENCE) -> None:

@@ -20,6 +20,7 @@ I16 = npt.NDArray[np.int16]  # int16 gradient images
 
 
 def clamp(x: float, lo: float, hi: float) -> float:
+    """x within [lo, hi] (a Python float: np.clip's wrapper costs more than the work)."""
     return lo if x < lo else hi if x > hi else x
 
 
@@ -194,6 +195,7 @@ def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[f
 
 
 def lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
+    """y = a + b x, plain least squares: (a, b); b = 0 for a degenerate x."""
     # sum / n is exactly what .mean() computes, without its Python-level wrapper
     xm, ym = float(np.add.reduce(x)) / x.size, float(np.add.reduce(y)) / y.size
     dx = x - xm

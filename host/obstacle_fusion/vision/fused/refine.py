@@ -65,13 +65,19 @@ def refine(
     range_m: float,
     timer: Timer,
 ) -> Measurement:
+    """The measurement of the chosen face (floor-contact row rb, sides ul..ur, top vt).
+
+    ``top_edge`` holds the front top edge's signed gradient around vt; ``top_row`` is a
+    sub-pixel top row predicted by :func:`~obstacle_fusion.vision.fused.top.front_from_back`
+    (used as is), else None. Height and width at the face depth ``depth``.
+    """
     v = view
     h_roi, w_img = ay.shape
     # horizontal edges: per-column sub-pixel peaks near rb and vt
     m = max(1, (ur - ul) // 10)
     cols = np.arange(ul + m, ur - m + 1)
     (bottom_a, bottom_b), (top_a, top_b) = fit_horizontal([(ay, rb), (top_edge, vt)], cols, h_roi)
-    if top_row is not None:  # predicted by _front_from_back, not refined
+    if top_row is not None:  # predicted by front_from_back, not refined
         top_a = top_row - top_b * 0.5 * float(cols[0] + cols[-1])
     # vertical edges: per-row sub-pixel peaks near ul and ur
     mv = max(1, (rb - vt) // 10)
