@@ -20,9 +20,9 @@ import numpy.typing as npt
 
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.face_channel import face_floor_grey
-from obstacle_fusion.vision.floor_contact import contact_rows
 from obstacle_fusion.vision.fused import FusedMethod
+from obstacle_fusion.vision.fused.channel import face_floor_grey
+from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.rig import Rig, check_range
 from obstacle_fusion.vision.types import Measurement, Method, Timer, View

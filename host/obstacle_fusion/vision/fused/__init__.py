@@ -23,10 +23,14 @@ The stages, one module each (each module's docstring says what it receives and r
 - ``profiles``    small array helpers: means, sub-pixel peaks, running counts, line fits
 - ``search``      candidate search: floor-contact rows, side columns, presence tables
 - ``scoring``     pair and face scoring, and the vanishing-point test of the sides
+- ``extent``      the chosen face's top raised past a label's edge, its sides widened
+                  past seams (its top and bottom edges run on across them)
 - ``confidence``  the confidence figure and the min-confidence decision
 - ``top``         the chosen face's front top edge (a top face's front, not its back)
 - ``refine``      sub-pixel refinement of the chosen edges and the measurement
 - ``method``      :class:`FusedMethod`: the working view, the gradients, the stages in order
+- ``channel``     the frame's channel turned towards the face's colour against the floor
+- ``floor_contact`` the floor-contact rows found in the image when no rig is given
 
 Debug logging goes to the loggers under ``obstacle_fusion.vision.fused``.
 """

@@ -18,6 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.confidence import confidence, refusal
+from obstacle_fusion.vision.fused.extent import raise_top_past_inner_edges, widen_across_seams
 from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
@@ -112,8 +113,11 @@ class FusedMethod:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
-        # confidence
+        # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
+        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+
+        # confidence
         conf = confidence(best, rivals)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
@@ -127,6 +131,9 @@ class FusedMethod:
         front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
         if front is not None:
             vt, sign, top_row = front
+        # the face's front top and bottom edges run on across seams out to its real sides
+        ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        timer.lap("extent")
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]
         r0 = int(clamp(vt - 3, 0, n - 7))

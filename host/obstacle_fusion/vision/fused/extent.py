@@ -22,6 +22,9 @@ EDGE_FLOOR_SHARE = 0.2
 WALK_WINDOW = 3
 #: Columns where the edges may dip (a seam, a joint) without ending the face.
 MAX_GAP = 4
+#: Where the top and bottom edges end, a side as strong as this share of the chosen
+#: (seam) sides' weaker one must stand, else the widening is refused.
+SIDE_SHARE_OF_SEAM = 0.5
 #: Rows either side of an edge row searched for its peak (blur, sub-pixel position).
 EDGE_ROWS = 1
 #: Side columns searched for the strongest vertical edge where the walk stopped.
@@ -78,6 +81,8 @@ def widen_across_seams(
     st = np.convolve(gt, kernel, mode="same") / ref_t
     runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
     sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    # a side stands as a vertical edge at least this strong (the chosen seams' weaker half)
+    need = SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right]))
     new = []
     for side, step in ((left, -1), (right, 1)):
         end = _walk(runs_on, side, step)
@@ -86,7 +91,9 @@ def widen_across_seams(
             continue
         lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
         lo, hi = max(lo, 0), min(hi, sides.size - 1)
-        new.append(int(lo + np.argmax(sides[lo : hi + 1])))
+        best = int(lo + np.argmax(sides[lo : hi + 1]))
+        # no vertical edge where the edges end: a background line ran on, not the face
+        new.append(best if float(sides[best]) >= need else side)
     return new[0], new[1]
 
 
