@@ -1,9 +1,20 @@
-"""An annotated video of the run: the frame, the obstacle's box and the fused numbers."""
+"""An annotated video of the run: the frame, the obstacle's box and the fused numbers.
+
+``.mp4`` (and ``.m4v``, ``.mov``, ``.mkv``) is H.264 (libx264 through PyAV, whose wheels
+bundle FFmpeg with it; the ``video`` extra), yuv420p, ``+faststart``: what browsers and
+Foxglove play. A frame of odd width or height gets one replicated column/row (H.264 in
+4:2:0 needs even sides). ``.avi`` stays Motion-JPEG through OpenCV.
+
+The overlay is drawn for a 500x375 frame at least: Hershey simplex with capitals about
+17 px high and a 2 px stroke on a dark band (scaled up with bigger frames).
+"""
 
 from __future__ import annotations
 
 import logging
+from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
 import cv2
 import numpy as np
@@ -14,33 +25,112 @@ from obstacle_fusion.fusion import ObstacleRecord
 
 log = logging.getLogger(__name__)
 
-_FOURCC = {".mp4": "mp4v", ".m4v": "mp4v", ".avi": "MJPG", ".mkv": "mp4v", ".mov": "mp4v"}
+H264_SUFFIXES = (".mp4", ".m4v", ".mov", ".mkv")
+MJPEG_SUFFIXES = (".avi",)
+
+#: Overlay font at a 500x375 frame; the glyph height the test holds it to is >= 14 px.
+FONT = cv2.FONT_HERSHEY_SIMPLEX
+FONT_SCALE = 0.75
+FONT_THICKNESS = 2
+LINE_STEP_PX = 26
+BASE_SIZE = (500, 375)
 
 
-def annotate(image: npt.NDArray[np.uint8], record: ObstacleRecord) -> npt.NDArray[np.uint8]:
-    """A copy of the frame with the box and the numbers drawn on it."""
-    out = image.copy()
-    colour = (
-        (0, 0, 255) if record.alert else ((0, 200, 0) if record.status == "ok" else (0, 200, 255))
-    )
-    if record.box_px is not None:
-        x0, y0, x1, y1 = (int(round(v)) for v in record.box_px)
-        cv2.rectangle(out, (x0, y0), (x1, y1), colour, 2)
+def _colour(record: ObstacleRecord) -> tuple[int, int, int]:
+    if record.alert:
+        return (0, 0, 255)
+    return (0, 200, 0) if record.status == "ok" else (0, 200, 255)
+
+
+def overlay_lines(record: ObstacleRecord) -> list[str]:
     lines = [f"{record.status}{'  STOP' if record.alert else ''}"]
     if record.distance_m is not None:
         lines.append(f"L {record.distance_m:.3f} m")
     if record.height_m is not None and record.width_m is not None:
         lines.append(f"H {record.height_m:.3f} m  W {record.width_m:.3f} m")
-    scale = max(out.shape[1] / 900.0, 0.4)
+    return lines
+
+
+def annotate(image: npt.NDArray[np.uint8], record: ObstacleRecord) -> npt.NDArray[np.uint8]:
+    """A copy of the frame with the box, the chosen edges and the numbers drawn on it."""
+    out = image.copy()
+    colour = _colour(record)
+    if record.box_px is not None:
+        x0, y0, x1, y1 = (int(round(v)) for v in record.box_px)
+        cv2.rectangle(out, (x0, y0), (x1, y1), colour, 2)
+    for ax, ay, bx, by in record.edges_px:
+        p0 = (int(round(ax * 16)), int(round(ay * 16)))
+        p1 = (int(round(bx * 16)), int(round(by * 16)))
+        cv2.line(out, p0, p1, (0, 255, 255), 1, cv2.LINE_AA, 4)
+    lines = overlay_lines(record)
+    k = max(1.0, min(out.shape[1] / BASE_SIZE[0], out.shape[0] / BASE_SIZE[1]))
+    scale, thick, step = FONT_SCALE * k, max(1, round(FONT_THICKNESS * k)), LINE_STEP_PX * k
+    width = max(cv2.getTextSize(t, FONT, scale, thick)[0][0] for t in lines)
+    band = out[0 : int(step * len(lines) + 8 * k), 0 : int(width + 16 * k)]
+    band[:] = (band * 0.35).astype(np.uint8)  # darken behind the text: readable on any scene
     for i, text in enumerate(lines):
-        y = int((i + 1) * 24 * scale) + 4
-        cv2.putText(
-            out, text, (6, y), cv2.FONT_HERSHEY_SIMPLEX, 0.6 * scale, (0, 0, 0), 3, cv2.LINE_AA
-        )
-        cv2.putText(
-            out, text, (6, y), cv2.FONT_HERSHEY_SIMPLEX, 0.6 * scale, colour, 1, cv2.LINE_AA
-        )
+        org = (int(8 * k), int(step * (i + 1)))
+        cv2.putText(out, text, org, FONT, scale, colour, thick, cv2.LINE_AA)
     return out
+
+
+def check_video_path(path: Path) -> None:
+    """Refuse an output the writer cannot make, before the run starts."""
+    suffix = path.suffix.lower()
+    if suffix not in H264_SUFFIXES + MJPEG_SUFFIXES:
+        raise UserError(
+            f"video output {path}: unknown extension; use one of "
+            f"{', '.join(H264_SUFFIXES + MJPEG_SUFFIXES)}"
+        )
+    if not path.parent.exists():
+        raise UserError(f"video output {path}: folder {path.parent} does not exist")
+    if suffix in H264_SUFFIXES:
+        _require_av()
+
+
+def _require_av() -> Any:
+    try:
+        import av
+    except ImportError:
+        raise UserError(
+            "--video with H.264 needs PyAV: pip install 'obstacle-fusion[video]' (make setup "
+            "installs it), or write an .avi (Motion-JPEG through OpenCV)"
+        ) from None
+    return av
+
+
+class _H264Writer:
+    def __init__(self, path: Path, fps: float, size: tuple[int, int]) -> None:
+        av = _require_av()
+        self.size = size
+        try:
+            self.container = av.open(
+                str(path), mode="w", container_options={"movflags": "+faststart"}
+            )
+            rate = Fraction(fps).limit_denominator(1001)
+            self.stream = self.container.add_stream("libx264", rate=rate)
+        except Exception as exc:  # PyAV/FFmpeg errors: no encoder, cannot open the file
+            raise UserError(f"cannot write video {path} (H.264): {exc}") from None
+        self.stream.width, self.stream.height = size
+        self.stream.pix_fmt = "yuv420p"
+        self.stream.codec_context.time_base = Fraction(1, 1) / rate
+        self.stream.options = {"crf": "23", "preset": "veryfast"}
+        self._av = av
+        self._pts = 0
+
+    def write(self, bgr: npt.NDArray[np.uint8]) -> None:
+        frame = self._av.VideoFrame.from_ndarray(np.ascontiguousarray(bgr), format="bgr24")
+        frame.pts = self._pts
+        self._pts += 1
+        for packet in self.stream.encode(frame):
+            self.container.mux(packet)
+
+    def close(self) -> None:
+        try:
+            for packet in self.stream.encode():
+                self.container.mux(packet)
+        finally:
+            self.container.close()
 
 
 class AnnotatedVideoWriter:
@@ -54,36 +144,46 @@ class AnnotatedVideoWriter:
                 f"video output {self.path} already exists; give another name, or --overwrite "
                 "to replace it"
             )
-        fourcc = _FOURCC.get(self.path.suffix.lower())
-        if fourcc is None:
-            raise UserError(
-                f"video output {self.path}: unknown extension; use one of {', '.join(_FOURCC)}"
-            )
-        if not self.path.parent.exists():
-            raise UserError(f"video output {self.path}: folder {self.path.parent} does not exist")
-        self.fourcc = fourcc
+        check_video_path(self.path)
+        self.codec = "h264" if self.path.suffix.lower() in H264_SUFFIXES else "mjpeg"
         self.fps = fps
-        self._writer: cv2.VideoWriter | None = None
-        self._size: tuple[int, int] | None = None
+        self._writer: Any = None
+        self._size: tuple[int, int] | None = None  # the input frames' (w, h)
         self.frames = 0
+
+    def _open(self, w: int, h: int) -> None:
+        if self.codec == "h264":
+            self._writer = _H264Writer(self.path, self.fps, (w + w % 2, h + h % 2))
+        else:
+            writer = cv2.VideoWriter(
+                str(self.path), cv2.VideoWriter.fourcc(*"MJPG"), self.fps, (w, h)
+            )
+            if not writer.isOpened():
+                raise UserError(f"cannot write video {self.path} (codec MJPG)")
+            self._writer = writer
+        self._size = (w, h)
 
     def write(self, image: npt.NDArray[np.uint8], record: ObstacleRecord) -> None:
         h, w = image.shape[:2]
         if self._writer is None:
-            writer = cv2.VideoWriter(
-                str(self.path), cv2.VideoWriter.fourcc(*self.fourcc), self.fps, (w, h)
-            )
-            if not writer.isOpened():
-                raise UserError(f"cannot write video {self.path} (codec {self.fourcc})")
-            self._writer = writer
-            self._size = (w, h)
+            self._open(w, h)
+        assert self._size is not None
         frame = annotate(image, record)
         if self._size != (w, h):
             frame = np.asarray(cv2.resize(frame, self._size), np.uint8)
+        if self.codec == "h264":
+            pw, ph = self._size[0] % 2, self._size[1] % 2
+            if pw or ph:
+                frame = np.asarray(
+                    cv2.copyMakeBorder(frame, 0, ph, 0, pw, cv2.BORDER_REPLICATE), np.uint8
+                )
         self._writer.write(frame)
         self.frames += 1
 
     def close(self) -> None:
         if self._writer is not None:
-            self._writer.release()
-            self._writer = None
+            writer, self._writer = self._writer, None
+            if isinstance(writer, _H264Writer):
+                writer.close()
+            else:
+                writer.release()
