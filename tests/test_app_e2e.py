@@ -25,7 +25,9 @@ from obstacle_fusion.outputs.mcap_file import (
     TOPIC_IMAGE,
     TOPIC_OBSTACLE,
     TOPIC_RANGE,
+    event_of_log,
     read_recording,
+    recording_unix_offset_ns,
 )
 from obstacle_fusion.sim.scenario import demo_scenario
 
@@ -185,9 +187,11 @@ def test_killing_the_emulator_mid_run_loses_nothing_recorded(uno_elf: Path, tmp_
     assert rec.complete, rec.problem
     sessions = {m.data["session"] for m in rec.messages if m.topic == TOPIC_RANGE}
     assert sessions == {1, 2}
-    frames = [m.publish_time_ns / 1e9 for m in rec.messages if m.topic == TOPIC_IMAGE]
+    unix = recording_unix_offset_ns(rec.metadata)  # message times are Unix; t_kill monotonic
+    assert unix > 1_600_000_000 * 10**9
+    frames = [(m.publish_time_ns - unix) / 1e9 for m in rec.messages if m.topic == TOPIC_IMAGE]
     assert min(frames) < t_kill - 1.0 and max(frames) > t_kill + 3.0
-    events = [m.data["event"] for m in rec.messages if m.topic == TOPIC_EVENT]
+    events = [event_of_log(m.data)[0] for m in rec.messages if m.topic == TOPIC_EVENT]
     assert "disconnected" in events and "emulator_restart" in events
 
 

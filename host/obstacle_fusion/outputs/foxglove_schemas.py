@@ -120,6 +120,15 @@ OBSTACLE_SCHEMA: dict[str, Any] = {
         "pair_dt_s": _NUM,
         "sonar_status": {"type": ["string", "null"]},
         "latency_s": _NUM,
+        "source": {"type": "string"},
+        "measurements": {"type": "array", "items": {"type": "integer"}},
+        "trigger_us": {"type": "array", "items": {"type": "integer"}},
+        "box_px": {"type": ["array", "null"], "items": {"type": "number"}},
+        "depth_m": _NUM,
+        "method": {"type": ["string", "null"]},
+        "vision_ms": _NUM,
+        "t_published": _NUM,
+        "reason": {"type": ["string", "null"]},
     },
 }
 

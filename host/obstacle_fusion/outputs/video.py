@@ -6,7 +6,7 @@ Foxglove play. A frame of odd width or height gets one replicated column/row (H.
 4:2:0 needs even sides). ``.avi`` stays Motion-JPEG through OpenCV.
 
 The overlay is drawn for a 500x375 frame at least: Hershey simplex with capitals about
-17 px high and a 2 px stroke on a dark band (scaled up with bigger frames).
+17 px high, a 2 px stroke and a clear column between glyphs on a dark band (scaled up with bigger frames).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ MJPEG_SUFFIXES = (".avi",)
 
 #: Overlay font at a 500x375 frame; the glyph height the test holds it to is >= 14 px.
 FONT = cv2.FONT_HERSHEY_SIMPLEX
-FONT_SCALE = 0.75
+FONT_SCALE = 0.8
 FONT_THICKNESS = 2
 LINE_STEP_PX = 26
 BASE_SIZE = (500, 375)
