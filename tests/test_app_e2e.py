@@ -195,6 +195,21 @@ def test_killing_the_emulator_mid_run_loses_nothing_recorded(uno_elf: Path, tmp_
     assert "disconnected" in events and "emulator_restart" in events
 
 
+def _bag_summary(path: Path) -> dict[str, Any]:
+    from obstacle_fusion.outputs.ros2_bag import typestore
+    from rosbags.rosbag2 import Reader
+
+    store = typestore()
+    out: dict[str, Any] = {"ranges": []}
+    with Reader(path) as reader:
+        for conn in reader.connections:
+            out[conn.topic] = conn.msgcount
+        for conn, _, raw in reader.messages():
+            if conn.topic == "/sonar/range":
+                out["ranges"].append(store.deserialize_cdr(raw, conn.msgtype).range)
+    return out
+
+
 def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
     mcap = tmp_path / "short.mcap"
     video = tmp_path / "short.mp4"
@@ -209,6 +224,8 @@ def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
             str(mcap),
             "--video",
             str(video),
+            "--ros2-bag",
+            str(tmp_path / "live_bag"),
         ),
         capture_output=True,
         text=True,
@@ -220,9 +237,15 @@ def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
     n_video = 0
     while cap.read()[0]:
         n_video += 1
+    assert int(cap.get(cv2.CAP_PROP_FOURCC)).to_bytes(4, "little") in (b"avc1", b"h264")
     cap.release()
     assert n_video == len(live)  # one annotated frame per record
-    replay = subprocess.run(_cmd("replay", str(mcap)), capture_output=True, text=True, timeout=60)
+    replay = subprocess.run(
+        _cmd("replay", str(mcap), "--ros2-bag", str(tmp_path / "replay_bag")),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert replay.returncode == 0, replay.stderr
     again = [json.loads(line) for line in replay.stdout.splitlines()]
     assert len(again) == len(live)
@@ -230,6 +253,11 @@ def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
         assert a["frame_index"] == b["frame_index"] and a["pairing"] == b["pairing"]
         if a["distance_m"] is not None:
             assert b["distance_m"] == pytest.approx(a["distance_m"], abs=1e-9)
+    # The ROS 2 bags of the run and of its replay: the same ranges, one detection array a frame.
+    bags = [_bag_summary(tmp_path / name) for name in ("live_bag", "replay_bag")]
+    assert bags[0]["/obstacle/detections"] == len(live) == bags[1]["/obstacle/detections"]
+    assert bags[0]["ranges"] == pytest.approx(bags[1]["ranges"], abs=1e-9)
+    assert bags[0]["/camera/image/compressed"] == len(live)
     # A truncated copy: what precedes the cut is replayed, then a clear error.
     cut = tmp_path / "cut.mcap"
     cut.write_bytes(mcap.read_bytes()[: mcap.stat().st_size // 2])
