@@ -6,7 +6,8 @@ Foxglove play. A frame of odd width or height gets one replicated column/row (H.
 4:2:0 needs even sides). ``.avi`` stays Motion-JPEG through OpenCV.
 
 The overlay is drawn for a 500x375 frame at least: Hershey simplex with capitals about
-17 px high, a 2 px stroke and a clear column between glyphs on a dark band (scaled up with bigger frames).
+17 px high, a 2 px stroke and a clear column between glyphs, on a dark band (scaled up
+with bigger frames).
 """
 
 from __future__ import annotations
