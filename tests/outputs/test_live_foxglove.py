@@ -200,3 +200,15 @@ def test_run_serves_the_emulated_robot_live(uno_elf: Path) -> None:
     assert any(t["text"].startswith("L ") for t in boxes[0]["texts"])
     _, rng = got[TOPIC_RANGE][-1]
     assert rng["status"] == "ok" and 0.5 < rng["distance_m"] < 3.5
+
+
+def test_without_the_sdk_run_names_the_extra(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from obstacle_fusion.cli import main
+
+    monkeypatch.setitem(sys.modules, "foxglove", None)
+    assert main(["run", "--foxglove", "8765", "--duration", "1"]) == 2
+    assert "obstacle-fusion[foxglove]" in capsys.readouterr().err
+    assert main(["run", "--foxglove", "no-port-here"]) == 2  # checked before anything starts
+    assert "HOST:PORT" in capsys.readouterr().err

@@ -5,6 +5,7 @@ calibrate --ros-yaml parsed back against the OpenCV camera file."""
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -212,3 +213,16 @@ def test_calibrate_writes_ros_yaml_that_matches_its_camera_file(
     assert k[0, 0] == pytest.approx(534.1, abs=1.0)  # the README's figure for these photos
     assert main(["calibrate", *photos, "-o", str(out), "--ros-yaml", str(out)]) == 2
     assert "same file" in capsys.readouterr().err
+
+
+def test_without_rosbags_the_cli_names_the_extra(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setitem(sys.modules, "rosbags.rosbag2", None)
+    rec = tmp_path / "r.mcap"
+    McapRecorder(rec).close()
+    assert main(["replay", str(rec), "--ros2-bag", str(tmp_path / "b")]) == 2
+    assert "obstacle-fusion[ros]" in capsys.readouterr().err
+    assert main(["run", "--ros2-bag", str(tmp_path / "b"), "--duration", "1"]) == 2
+    assert "obstacle-fusion[ros]" in capsys.readouterr().err
+    assert not (tmp_path / "b").exists()

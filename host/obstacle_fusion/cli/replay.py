@@ -78,6 +78,10 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.vision.rig import Rig
 
     _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import require_rosbags
+
+        require_rosbags()
     rec = read_recording(args.recording)
     # New recordings hold Unix-epoch times; the fusion runs on the host-monotonic ones.
     offset_ns = recording_unix_offset_ns(rec.metadata)

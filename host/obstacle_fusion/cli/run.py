@@ -204,9 +204,14 @@ def run(args: argparse.Namespace) -> int:
     _args.refuse_overwrite(args.video, "--video", args.overwrite)
     _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
     if args.foxglove is not None:
-        from obstacle_fusion.outputs.live_foxglove import Address
+        from obstacle_fusion.outputs.live_foxglove import Address, require_sdk
 
         args.foxglove_address = Address.parse(args.foxglove)
+        require_sdk()
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import require_rosbags
+
+        require_rosbags()
     if args.video is not None:
         from obstacle_fusion.outputs.video import check_video_path
 

@@ -55,7 +55,7 @@ class Address:
         return cls(host, port)
 
 
-def _require_sdk() -> Any:
+def require_sdk() -> Any:
     try:
         import foxglove
     except ImportError:
@@ -94,7 +94,7 @@ class FoxgloveLiveServer:
     """A Foxglove WebSocket server publishing TopicMessages; close() stops it."""
 
     def __init__(self, address: Address, *, name: str = "obstacle-fusion") -> None:
-        foxglove = _require_sdk()
+        foxglove = require_sdk()
         _check_free(address)
         self._ctx = foxglove.Context()
         try:

@@ -75,7 +75,7 @@ VISION_MSGS = {
 }
 
 
-def _require_rosbags() -> Any:
+def require_rosbags() -> Any:
     try:
         import rosbags.rosbag2
         import rosbags.typesys
@@ -89,7 +89,7 @@ def _require_rosbags() -> Any:
 
 def typestore() -> Any:
     """ROS 2 Humble's message types plus vision_msgs."""
-    _require_rosbags()
+    require_rosbags()
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE)
@@ -148,7 +148,7 @@ class Ros2BagWriter:
         topics: FoxgloveTopics | None = None,
         overwrite: bool = False,
     ) -> None:
-        rosbags = _require_rosbags()
+        rosbags = require_rosbags()
         from rosbags.rosbag2 import StoragePlugin, Writer
 
         self.path = Path(path)
