@@ -238,7 +238,8 @@ class App:
             prepare = getattr(self.fusion.measurer, "prepare", None)
             if prepare is not None:
                 prepare(frame.image)
-            camera = getattr(self.fusion.measurer, "camera_model", None)
+            measurer = self.fusion.measurer
+            camera = getattr(measurer, "camera_model", None) or getattr(measurer, "camera", None)
             if camera is not None:
                 self.topics.set_camera(camera)
             self._prepared = True

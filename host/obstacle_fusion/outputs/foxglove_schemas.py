@@ -389,7 +389,7 @@ class FoxgloveTopics:
         cal = self.calibration(width, height, pub, lg)
         if cal is not None:
             out.append(cal)
-        return out + self.transforms(lg)
+        return out + self.transforms(lg, stamp_ns=pub)
 
     def calibration(self, width: int, height: int, pub: int, lg: int) -> TopicMessage | None:
         cam = self.camera_at(width, height)
@@ -411,8 +411,13 @@ class FoxgloveTopics:
         }
         return TopicMessage(TOPIC_CALIBRATION, dumps(payload), pub, lg)
 
-    def transforms(self, lg: int, force: bool = False) -> list[TopicMessage]:
-        """robot -> camera and robot -> sonar_N, at most once per TRANSFORM_PERIOD_S."""
+    def transforms(
+        self, lg: int, force: bool = False, stamp_ns: int | None = None
+    ) -> list[TopicMessage]:
+        """robot -> camera and robot -> sonar_N, at most once per TRANSFORM_PERIOD_S.
+
+        Stamped ``stamp_ns`` (default: the log time): with a frame, its capture instant, so
+        the first image already has its transform at its own time."""
         if (
             not force
             and self._last_static_ns is not None
@@ -425,13 +430,13 @@ class FoxgloveTopics:
         out = []
         for child, (xyz, rot) in poses:
             payload = {
-                "timestamp": stamp(lg),
+                "timestamp": stamp(lg if stamp_ns is None else stamp_ns),
                 "parent_frame_id": FRAME_ROBOT,
                 "child_frame_id": child,
                 "translation": {"x": xyz[0], "y": xyz[1], "z": xyz[2]},
                 "rotation": rot,
             }
-            out.append(TopicMessage(TOPIC_TF, dumps(payload), lg, lg))
+            out.append(TopicMessage(TOPIC_TF, dumps(payload), stamp_ns or lg, lg))
         return out
 
     # -------------------------------------------------------------- sonar
@@ -464,7 +469,7 @@ class FoxgloveTopics:
         }
         out = [TopicMessage(TOPIC_RANGE, dumps(payload), pub, lg)]
         if new_sensor:
-            out += self.transforms(lg, force=True)
+            out += self.transforms(lg, force=True, stamp_ns=pub)
         return out
 
     # -------------------------------------------------------------- records
