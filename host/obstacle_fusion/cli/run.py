@@ -358,7 +358,9 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
             settings,
             link,
             source,
-            _LazyMeasurer(camera, rig, args.method, args.calib),
+            # a real camera with no --rig: the floor contact is found in each frame, never a
+            # guessed camera height; the emulated robot films with a known rig
+            _LazyMeasurer(camera, rig if (demo or args.rig) else None, args.method, args.calib),
             jsonl=jsonl,
             recorder=recorder,
             video=video,
