@@ -115,7 +115,8 @@ class _H264Writer:
         self.stream.width, self.stream.height = size
         self.stream.pix_fmt = "yuv420p"
         self.stream.codec_context.time_base = Fraction(1, 1) / rate
-        self.stream.options = {"crf": "23", "preset": "veryfast"}
+        # zerolatency: no lookahead, so no frame ever waits (and no stall) inside the encoder
+        self.stream.options = {"crf": "23", "preset": "veryfast", "tune": "zerolatency"}
         self._av = av
         self._pts = 0
 
