@@ -98,3 +98,23 @@ def test_missing_pyav_names_the_extra(tmp_path: Path, monkeypatch: pytest.Monkey
     with pytest.raises(UserError, match=r"obstacle-fusion\[video\]"):
         AnnotatedVideoWriter(tmp_path / "x.mp4")
     AnnotatedVideoWriter(tmp_path / "x.avi").close()  # Motion-JPEG needs only OpenCV
+
+
+def test_an_encoder_failure_on_the_writer_thread_is_reported(tmp_path: Path) -> None:
+    folder = tmp_path / "gone"
+    folder.mkdir()
+    writer = AnnotatedVideoWriter(folder / "run.mp4")
+    folder.rmdir()  # the file cannot be created any more when the first frame comes
+    writer.write(np.full((375, 500, 3), 90, np.uint8), _record())
+    with pytest.raises(UserError, match=r"video .*gone/run\.mp4"):
+        writer.close()
+    assert writer.frames == 0
+
+
+def test_unthreaded_writer_writes_in_the_callers_thread(tmp_path: Path) -> None:
+    writer = AnnotatedVideoWriter(tmp_path / "run.mp4", threaded=False)
+    writer.write(np.full((375, 500, 3), 90, np.uint8), _record())
+    assert writer.frames == 1  # done before write() returned
+    writer.close()
+    with av.open(str(tmp_path / "run.mp4")) as container:
+        assert sum(1 for _ in container.decode(video=0)) == 1

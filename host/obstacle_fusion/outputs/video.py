@@ -13,6 +13,8 @@ with bigger frames).
 from __future__ import annotations
 
 import logging
+import queue
+import threading
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -137,9 +139,22 @@ class _H264Writer:
 
 class AnnotatedVideoWriter:
     """Opens on the first frame (its size decides the video's); frames of another size are
-    resized so one odd frame never ends the video."""
+    resized so one odd frame never ends the video.
 
-    def __init__(self, path: str | Path, fps: float = 15.0, *, overwrite: bool = False) -> None:
+    Drawing and encoding run on a thread of their own (``threaded``, the default), so the
+    encoder's start-up and its occasional slow frame never hold up the live loop; a bounded
+    queue (``queue_frames``) makes a writer that falls far behind slow the loop down rather
+    than lose frames. An encoder error is raised by the next write() or by close()."""
+
+    def __init__(
+        self,
+        path: str | Path,
+        fps: float = 15.0,
+        *,
+        overwrite: bool = False,
+        threaded: bool = True,
+        queue_frames: int = 64,
+    ) -> None:
         self.path = Path(path)
         if self.path.exists() and not overwrite:
             raise UserError(
@@ -152,6 +167,14 @@ class AnnotatedVideoWriter:
         self._writer: Any = None
         self._size: tuple[int, int] | None = None  # the input frames' (w, h)
         self.frames = 0
+        self._error: BaseException | None = None
+        self._closed = False
+        self._queue: queue.Queue[tuple[npt.NDArray[np.uint8], ObstacleRecord] | None] | None = None
+        self._thread: threading.Thread | None = None
+        if threaded:
+            self._queue = queue.Queue(maxsize=queue_frames)
+            self._thread = threading.Thread(target=self._work, name="video-writer", daemon=True)
+            self._thread.start()
 
     def _open(self, w: int, h: int) -> None:
         if self.codec == "h264":
@@ -165,7 +188,36 @@ class AnnotatedVideoWriter:
             self._writer = writer
         self._size = (w, h)
 
+    def _work(self) -> None:
+        assert self._queue is not None
+        while True:
+            item = self._queue.get()
+            if item is None:
+                return
+            if self._error is not None:
+                continue  # drain: the error is reported once, by write() or close()
+            try:
+                self._encode(*item)
+            except BaseException as exc:
+                self._error = exc
+
+    def _raise_error(self) -> None:
+        if self._error is not None:
+            exc, self._error = self._error, None
+            if isinstance(exc, UserError):
+                raise exc
+            raise UserError(f"writing video {self.path} failed: {exc}") from exc
+
     def write(self, image: npt.NDArray[np.uint8], record: ObstacleRecord) -> None:
+        self._raise_error()
+        if self._closed:
+            return
+        if self._queue is None:
+            self._encode(image, record)
+        else:
+            self._queue.put((image, record))
+
+    def _encode(self, image: npt.NDArray[np.uint8], record: ObstacleRecord) -> None:
         h, w = image.shape[:2]
         if self._writer is None:
             self._open(w, h)
@@ -183,9 +235,18 @@ class AnnotatedVideoWriter:
         self.frames += 1
 
     def close(self) -> None:
-        if self._writer is not None:
-            writer, self._writer = self._writer, None
-            if isinstance(writer, _H264Writer):
-                writer.close()
-            else:
-                writer.release()
+        """Write what is queued, finish the file; raise a pending encoder error."""
+        self._closed = True
+        if self._thread is not None and self._queue is not None:
+            self._queue.put(None)
+            self._thread.join()
+            self._thread = None
+        try:
+            if self._writer is not None:
+                writer, self._writer = self._writer, None
+                if isinstance(writer, _H264Writer):
+                    writer.close()
+                else:
+                    writer.release()
+        finally:
+            self._raise_error()
