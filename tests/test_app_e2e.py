@@ -250,7 +250,9 @@ def test_replay_reproduces_the_run(uno_elf: Path, tmp_path: Path) -> None:
     again = [json.loads(line) for line in replay.stdout.splitlines()]
     assert len(again) == len(live)
     for a, b in zip(live, again, strict=True):
-        assert a["frame_index"] == b["frame_index"] and a["pairing"] == b["pairing"]
+        # matched by capture instant: a frame the grabber dropped under load leaves a gap in
+        # the live frame_index that the replay's own count does not have
+        assert b["t_host"] == pytest.approx(a["t_host"], abs=2e-9) and a["pairing"] == b["pairing"]
         if a["distance_m"] is not None:
             assert b["distance_m"] == pytest.approx(a["distance_m"], abs=1e-9)
     # The ROS 2 bags of the run and of its replay: the same ranges, one detection array a frame.
