@@ -556,9 +556,11 @@ class FoxgloveTopics:
         lateral = self.rig.sonar_right_m  # rig x: the beam's axis unless the box says better
         if rec.box_px is not None and self.frame_size is not None:
             cam = self.camera_at(*self.frame_size)
-            if cam is not None:
+            if cam is not None:  # the ray through the box's centre, undistorted and levelled
                 u = 0.5 * (rec.box_px[0] + rec.box_px[2])
-                lateral = (u - cam.cx) / cam.fx * depth
+                v = 0.5 * (rec.box_px[1] + rec.box_px[3])
+                ray = self.rig.camera_to_robot @ cam.unproject([[u, v]])[0]
+                lateral = float(ray[0] / ray[2]) * depth
         centre = rig_point_to_robot(self.rig, [lateral, 0.0, depth + CUBE_DEPTH_M / 2])
         centre[2] = rec.height_m / 2.0  # it stands on the floor
         return [float(v) for v in centre]
