@@ -258,22 +258,32 @@ def test_the_cube_stands_on_the_floor_at_the_measured_range() -> None:
     cam = CameraModel.paper(500, 375)
     topics = FoxgloveTopics(rig=rig, camera=cam, unix_offset_ns=UNIX)
     topics.frame_size = (500, 375)
-    centred = cam.cx - 50.0, 150.0, cam.cx + 50.0, 250.0
-    scene = topics.scene(_record(box_px=centred), UNIX)
+
+    def box_at(x_right: float) -> tuple[float, float, float, float]:
+        """A 100 px box centred where the camera sees a point x_right metres right, 2.02 deep."""
+        u, v = cam.project([[x_right, 0.0, 2.02]])[0]
+        return (u - 50.0, v - 50.0, u + 50.0, v + 50.0)
+
+    scene = topics.scene(_record(box_px=box_at(0.0)), UNIX)
     (entity,) = scene["entities"]
     cube = entity["cubes"][0]
     assert entity["frame_id"] == "robot" and entity["id"] == "obstacle"
     pos = cube["pose"]["position"]
     assert pos["x"] == pytest.approx(2.0 + 0.02 + 0.025)  # range + sonar ahead + half depth
-    assert pos["y"] == pytest.approx(0.0, abs=1e-3)
+    assert pos["y"] == pytest.approx(0.0, abs=1e-6)
     assert pos["z"] == pytest.approx(0.2)  # half its height: on the floor
     assert cube["size"] == {"x": 0.05, "y": 0.5, "z": 0.4}
-    # 0.5 m to the right at 2.02 m depth: the box's centre moves fx * 0.5 / 2.02 px right
-    shift = cam.fx * 0.5 / 2.02
-    right = topics.scene(
-        _record(box_px=(centred[0] + shift, 150.0, centred[2] + shift, 250.0)), UNIX
+    right = topics.scene(_record(box_px=box_at(0.5)), UNIX)  # 0.5 m right: robot y = -0.5
+    assert right["entities"][0]["cubes"][0]["pose"]["position"]["y"] == pytest.approx(
+        -0.5, abs=1e-6
     )
-    assert right["entities"][0]["cubes"][0]["pose"]["position"]["y"] == pytest.approx(-0.5, abs=1e-3)
+    # a camera pitched down 10 degrees: the ray is levelled before it meets the face's depth
+    pitched = FoxgloveTopics(rig=Rig(camera_pitch_deg=10.0, sonar_ahead_m=0.02), camera=cam)
+    pitched.frame_size = (500, 375)
+    p_cam = pitched.rig.camera_to_robot.T @ np.array([0.5, 0.1, 2.02])
+    u, v = cam.project([p_cam])[0]
+    lean = pitched.scene(_record(box_px=(u - 40, v - 40, u + 40, v + 40)), UNIX)
+    assert lean["entities"][0]["cubes"][0]["pose"]["position"]["y"] == pytest.approx(-0.5, abs=1e-6)
     gone = topics.scene(_record(status="not_detected", height_m=None, width_m=None), UNIX)
     assert gone["entities"] == [] and gone["deletions"][0]["id"] == "obstacle"
 
