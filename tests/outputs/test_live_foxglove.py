@@ -57,6 +57,11 @@ def test_a_taken_port_is_a_clear_error() -> None:
         port = s.getsockname()[1]
         with pytest.raises(UserError, match="in use"):
             FoxgloveLiveServer(Address("127.0.0.1", port))
+        from obstacle_fusion.cli import main
+
+        t0 = time.monotonic()
+        assert main(["run", "--foxglove", str(port), "--duration", "1"]) == 2
+        assert time.monotonic() - t0 < 5.0  # refused before the emulated robot starts
 
 
 async def _receive(url: str, timeout_s: float) -> tuple[dict[str, Any], dict[str, list[Any]]]:

@@ -204,10 +204,11 @@ def run(args: argparse.Namespace) -> int:
     _args.refuse_overwrite(args.video, "--video", args.overwrite)
     _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
     if args.foxglove is not None:
-        from obstacle_fusion.outputs.live_foxglove import Address, require_sdk
+        from obstacle_fusion.outputs.live_foxglove import Address, check_free, require_sdk
 
         args.foxglove_address = Address.parse(args.foxglove)
         require_sdk()
+        check_free(args.foxglove_address)  # a taken port ends the run before it starts
     if args.ros2_bag is not None:
         from obstacle_fusion.outputs.ros2_bag import require_rosbags
 

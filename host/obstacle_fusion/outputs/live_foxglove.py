@@ -66,7 +66,7 @@ def require_sdk() -> Any:
     return foxglove
 
 
-def _check_free(addr: Address) -> None:
+def check_free(addr: Address) -> None:
     """A taken port is a user error with a clear message, before the SDK tries it."""
     if addr.port == 0:
         return
@@ -95,7 +95,7 @@ class FoxgloveLiveServer:
 
     def __init__(self, address: Address, *, name: str = "obstacle-fusion") -> None:
         foxglove = require_sdk()
-        _check_free(address)
+        check_free(address)
         self._ctx = foxglove.Context()
         try:
             self._server = foxglove.start_server(
