@@ -36,6 +36,7 @@ from obstacle_fusion.link.connection import (
     describe_hello,
 )
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
+from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
 from obstacle_fusion.outputs.video import AnnotatedVideoWriter
@@ -146,6 +147,9 @@ class App:
         view: ConsoleView | None = None,
         robot: EmulatedRobot | None = None,
         extra_fields: Callable[[ObstacleRecord], dict[str, Any]] | None = None,
+        live: Any = None,
+        ros2: Any = None,
+        topics: FoxgloveTopics | None = None,
         beams: BeamChooser | None = None,
     ) -> None:
         self.s = settings
@@ -157,6 +161,11 @@ class App:
         self.view = view
         self.robot = robot
         self.extra_fields = extra_fields
+        self.live = live  # a Foxglove WebSocket server (anything with write(TopicMessage))
+        self.ros2 = ros2  # a Ros2BagWriter
+        # One encoder for the recording and the live view: the same bytes go to both.
+        self.topics = topics or (recorder.topics if recorder is not None else FoxgloveTopics())
+        self._sinks = [s for s in (recorder, live) if s is not None]
         self.clock = ClockModel(baud=link.baud)
         self.converter = SonarConverter(
             temperature_c=settings.temperature_c,
@@ -293,16 +302,23 @@ class App:
             scale = est.slope if est is not None and est.source != "none" else 1.0
             reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
-            if self.recorder is not None:
-                self.recorder.write_range(reading, self.timer_hz, item.session, log_t=item.t_host)
+            if self._sinks:
+                self._emit(self.topics.reading(reading, self.timer_hz, item.session, item.t_host))
+            if self.ros2 is not None:
+                self.ros2.write_range(reading, log_t=item.t_host)
             out += self.fusion.add_reading(reading)
         self._unmapped.clear()
         return out
 
+    def _emit(self, msgs: list[TopicMessage]) -> None:
+        for sink in self._sinks:
+            for m in msgs:
+                sink.write(m)
+
     def _event(self, name: str, detail: dict[str, Any]) -> None:
         log.info("%s: %s", name, detail)
-        if self.recorder is not None:
-            self.recorder.write_event(name, detail)
+        if self._sinks:
+            self._emit([self.topics.event(name, detail)])
 
     # ------------------------------------------------------------------ frames and records
     def _prepare_early(self) -> None:
@@ -326,12 +342,25 @@ class App:
             prepare = getattr(self.fusion.measurer, "prepare", None)
             if prepare is not None:
                 prepare(frame.image)
+            measurer = self.fusion.measurer
+            camera = getattr(measurer, "camera_model", None) or getattr(measurer, "camera", None)
+            if camera is not None:
+                self.topics.set_camera(camera)
             self._prepared = True
         self.rates["frames"].tick()
-        if self.recorder is not None:
+        if self._sinks or self.ros2 is not None:
             # Logged at the instant the link was last drained: replay, ordering by log time,
             # then gives this frame the same readings the live fusion had.
-            self.recorder.write_frame(frame, log_t=self._drain_t)
+            now = self._drain_t
+            h, w = frame.image.shape[:2]
+            data = encode_image(frame.image, self.topics.image_format, self.topics.jpeg_quality)
+            if data is None:
+                log.warning("could not encode frame %d; not recorded", frame.index)
+            else:
+                if self._sinks:
+                    self._emit(self.topics.encoded_frame(data, w, h, frame.t_host, now))
+                if self.ros2 is not None:
+                    self.ros2.write_image(data, self.topics.image_format, w, h, frame.t_host, now)
         if self.video is not None:
             self._images[frame.index] = frame.image
         return self.fusion.add_frame(frame)
@@ -343,8 +372,10 @@ class App:
             extra = self.extra_fields(rec) if self.extra_fields else None
             if self.jsonl is not None:
                 self.jsonl.write(rec, extra)
-            if self.recorder is not None:
-                self.recorder.write_obstacle(rec)
+            if self._sinks:
+                self._emit(self.topics.record(rec))
+            if self.ros2 is not None:
+                self.ros2.write_record(rec)
             if self.video is not None:
                 image = self._images.pop(rec.frame_index, None)
                 if image is not None:

@@ -118,6 +118,8 @@ class ObstacleRecord:
     range_sigma_m: float | None = None  # standard deviation of a predicted distance
     sensor_id: int | None = None  # the sonar the distance comes from
     ranges: tuple[tuple[int, float | None], ...] = ()  # every sonar's range at t_host
+    #: the image edges the method chose (x0, y0, x1, y1 px), for drawing; not in to_dict()
+    edges_px: tuple[tuple[float, float, float, float], ...] = ()
 
     @property
     def latency_s(self) -> float | None:
@@ -130,6 +132,7 @@ class ObstacleRecord:
         d["box_px"] = list(self.box_px) if self.box_px is not None else None
         d["ranges"] = {str(k): v for k, v in self.ranges}
         d["latency_s"] = self.latency_s
+        del d["edges_px"]
         return d
 
 
@@ -604,6 +607,7 @@ class Fusion:
         stats = self.stats
         height = width = depth = vision_ms = None
         box = None
+        edges: tuple[tuple[float, float, float, float], ...] = ()
         confidence = 0.0
         method = self.method
         reason = pairing.reason
@@ -636,6 +640,10 @@ class Fusion:
                     height, width, depth = m.height_m, m.width_m, m.distance_m
                     confidence = float(m.confidence or 0.0)  # None: the method has none
                     box = None if m.box_px is None else tuple(float(v) for v in m.box_px)
+                    edges = tuple(
+                        (float(a), float(b), float(c), float(d))
+                        for a, b, c, d in (getattr(m, "lines", None) or ())
+                    )
                 else:
                     method = m.method
                     status = ObstacleStatus.NOT_DETECTED
@@ -682,4 +690,5 @@ class Fusion:
             range_sigma_m=pairing.sigma_m,
             sensor_id=sid if pairing.kind is not PairKind.NONE else None,
             ranges=tuple((k, p.distance_m) for k, p in sorted(pairings.items())),
+            edges_px=edges,
         )
