@@ -38,7 +38,6 @@ def test_soak_60_s_with_faults_and_reconnects(uno_elf: Path) -> None:
     # the start-up made the run reach it).
     assert r["reconnects_done"] >= 2
     assert r["link"]["reconnects"] >= 1 and r["emulator_restarts"] >= 1
-    assert r["link"]["board_restarts"] >= 1  # the control-socket reset: an unasked HELLO
     a = r["accounting"]
     assert a["heartbeat_spans"] >= 30 and a["spans_mismatched"] == 0
     assert a["frames_lost_by_seq"] > 0, "1 % byte faults must lose some frames"
