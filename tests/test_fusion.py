@@ -860,6 +860,7 @@ def test_without_a_measurer_the_nearest_sonar_of_all_is_used() -> None:
     clock.t = last + 0.02
     rec = f.add_frame(_frame(last + 0.01))[0]
     assert rec.sensor_id == 1 and rec.status == "not_detected"
+    assert rec.reason == "no measurer configured" and f.stats.not_detected == 1
     g = Fusion(measurer=FakeMeasurer(), clock=clock, beams=OnlyZeroInView(0))
     _two_sonars(g)
     rec = g.add_frame(_frame(last + 0.01))[0]
@@ -934,3 +935,72 @@ def test_no_covering_sonar_keeps_the_nearest_in_view() -> None:
     clock.t = last + 0.02
     rec = f.add_frame(_frame(last + 0.01))[0]
     assert rec.sensor_id == 1 and rec.box_px == (1.0, 2.0, 3.0, 4.0)
+
+
+def test_the_gate_boundary_keeps_the_track() -> None:
+    track = RangeTrack(TrackSettings(gate_min_m=0.125))
+    for k in range(6):
+        track.add(_reading(1.0 + 0.0625 * k, 2.0))
+    assert track.r == 2.0 and track.v == 0.0  # exact: every innovation was 0
+    track.add(_reading(1.375, 2.125))  # exactly at the 12.5 cm gate: still motion
+    assert track.restarts == 0
+
+
+def test_an_obstacle_exactly_at_the_stop_distance_alerts() -> None:
+    clock = Clock()
+    f = Fusion(
+        measurer=FakeMeasurer(), clock=clock, stop_distance_m=1.0, pairing=PairingMode.INTERPOLATED
+    )
+    f.add_reading(_reading(1.0, 1.0))
+    f.add_frame(_frame(1.01))
+    (rec,) = f.add_reading(_reading(1.06, 1.0))
+    assert rec.distance_m == 1.0 and rec.alert
+
+
+def test_a_paired_failure_is_preferred_to_an_unpaired_sonar() -> None:
+    clock = Clock()
+    f = Fusion(measurer=FakeMeasurer(), clock=clock, pairing=PairingMode.INTERPOLATED)
+    f.add_reading(_reading(0.5, 2.0, sensor=0))  # sensor 0: 510 ms before the frame
+    f.add_reading(_reading(1.0, None, SonarStatus.NO_ECHO, sensor=1))
+    f.add_frame(_frame(1.01))
+    clock.t = 1.3
+    (rec,) = f.poll()
+    assert rec.sensor_id == 1 and rec.status == "clear"
+    assert rec.to_dict()["ranges"] == {"0": None, "1": None}
+
+
+def test_a_sonar_out_of_view_is_never_measured() -> None:
+    class OnlyZeroInView(Beams):
+        def in_view(self, sensors: list[int]) -> list[int]:
+            return [s for s in sensors if s == 0]
+
+    clock = Clock()
+    meas = FakeMeasurer()
+    beams = OnlyZeroInView(1)  # it would say the box is in sonar 1's beam
+    f = Fusion(measurer=meas, clock=clock, beams=beams)
+    last = _two_sonars(f)
+    clock.t = last + 0.02
+    rec = f.add_frame(_frame(last + 0.01))[0]
+    assert rec.sensor_id == 0 and meas.ranges == [pytest.approx(2.0)] and beams.asked == []
+
+
+def test_a_failed_or_boxless_measurement_moves_on_to_the_next_sonar() -> None:
+    for first in ("crash", "no_detection_with_a_box"):
+
+        class Odd(FakeMeasurer):
+            def measure(self, image: np.ndarray, range_m: float, first: str = first) -> _M:
+                self.ranges.append(range_m)
+                if range_m < 1.0:
+                    if first == "crash":
+                        raise RuntimeError("boom")
+                    return _M(False, None, None, None, (1.0, 2.0, 3.0, 4.0), 0.0)
+                return _M(True, 0.3, 0.5, range_m, (1.0, 2.0, 3.0, 4.0), 0.9)
+
+        clock = Clock()
+        meas = Odd()
+        f = Fusion(measurer=meas, clock=clock, beams=ByRange({2.0: 0}))
+        last = _two_sonars(f)
+        clock.t = last + 0.02
+        rec = f.add_frame(_frame(last + 0.01))[0]
+        assert rec.sensor_id == 0 and rec.status == "ok", first
+        assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]

@@ -205,6 +205,31 @@ def test_a_reading_is_ok_only_with_status_ok_and_a_distance() -> None:
         raw_distance_m=1.0,
         slant_m=1.0,
     )
-    assert SonarReading(status=SonarStatus.OK, distance_m=1.0, **base).ok  # type: ignore[arg-type]
+    good = SonarReading(status=SonarStatus.OK, distance_m=1.0, **base)  # type: ignore[arg-type]
+    assert good.ok and good.time_scale == 1.0  # made without a scale: no correction
     assert not SonarReading(status=SonarStatus.TIMEOUT, distance_m=1.0, **base).ok  # type: ignore[arg-type]
     assert not SonarReading(status=SonarStatus.OK, distance_m=None, **base).ok  # type: ignore[arg-type]
+
+
+def test_the_median_window_is_the_middle_value_and_ages_at_its_limit() -> None:
+    conv = SonarConverter(median_window=5, half_spacing_m=0.0)
+    raws = []
+    for i, ticks in enumerate([10000, 14000, 11000, 13000, 12000]):
+        r = conv.convert(_range(ticks), t_trigger_host=0.01 * i)
+        raws.append(r.raw_distance_m)
+    assert r.distance_m == pytest.approx(sorted(raws)[2])  # the third of five
+    # Binary-exact times (a 2^20 Hz timer): the first reading's reflection is exactly the
+    # age limit older than the second's and stays in the window; a little more and it leaves.
+    for t2, kept in ((0.5, True), (0.5 + 2.0**-20, False)):
+        c = SonarConverter(timer_hz=1 << 20, median_window=3, half_spacing_m=0.0)
+        first = c.convert(_range(1024), t_trigger_host=2.0**-11)  # reflection at 2^-10 s
+        second = c.convert(_range(2048), t_trigger_host=t2)
+        both = (first.raw_distance_m + second.raw_distance_m) / 2  # type: ignore[operator]
+        assert second.distance_m == pytest.approx(both if kept else second.raw_distance_m)
+
+
+def test_an_undated_reading_leaves_the_window_at_the_next_dated_one() -> None:
+    conv = SonarConverter(median_window=3, half_spacing_m=0.0)
+    conv.convert(_range(2000))  # no host time (the clock model was not ready)
+    dated = conv.convert(_range(11662), t_trigger_host=0.75)
+    assert dated.distance_m == pytest.approx(dated.raw_distance_m)

@@ -145,8 +145,8 @@ class SonarConverter:
         if self.median_window == 1:
             return value
         hist = self._history.setdefault(sensor_id, deque(maxlen=self.median_window))
-        now = t if t is not None else 0.0
-        hist.append((now, value))
+        # A reading without a host time is the oldest there is: the next dated one ages it out.
+        hist.append((t if t is not None else -math.inf, value))
         if t is not None:
             while hist and hist[0][0] < t - self.median_max_age_s:
                 hist.popleft()
