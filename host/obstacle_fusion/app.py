@@ -204,6 +204,7 @@ class App:
         self._commands: list[PendingCommand] = []
         self._carry: Frame | None = None
         self._drain_t = time.monotonic()
+        self._log_t = 0.0
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -302,10 +303,11 @@ class App:
             scale = est.slope if est is not None and est.source != "none" else 1.0
             reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
+            log_t = self._log_time(item.t_host)
             if self._sinks:
-                self._emit(self.topics.reading(reading, self.timer_hz, item.session, item.t_host))
+                self._emit(self.topics.reading(reading, self.timer_hz, item.session, log_t))
             if self.ros2 is not None:
-                self.ros2.write_range(reading, log_t=item.t_host)
+                self.ros2.write_range(reading, log_t=log_t)
             out += self.fusion.add_reading(reading)
         self._unmapped.clear()
         return out
@@ -321,6 +323,13 @@ class App:
             self._emit([self.topics.event(name, detail)])
 
     # ------------------------------------------------------------------ frames and records
+    def _log_time(self, t: float) -> float:
+        """The recording's log time for what is taken in now: its own instant (a range's
+        receipt, a frame's drain), but never earlier than what was taken in before it, so
+        the log order is the order the fusion saw (replay follows it)."""
+        self._log_t = max(self._log_t, t)
+        return self._log_t
+
     def _prepare_early(self) -> None:
         """A source that knows its frame size lets the measurer build its state before the
         first frame, so that frame does not wait for it."""
@@ -349,9 +358,10 @@ class App:
             self._prepared = True
         self.rates["frames"].tick()
         if self._sinks or self.ros2 is not None:
-            # Logged at the instant the link was last drained: replay, ordering by log time,
-            # then gives this frame the same readings the live fusion had.
-            now = self._drain_t
+            # Logged at the instant the link was last drained, and never before what was
+            # taken in ahead of it: replay, ordering by log time, gives this frame the same
+            # readings the live fusion had.
+            now = self._log_time(self._drain_t)
             h, w = frame.image.shape[:2]
             data = encode_image(frame.image, self.topics.image_format, self.topics.jpeg_quality)
             if data is None:

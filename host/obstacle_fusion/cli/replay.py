@@ -41,7 +41,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--pairing",
         choices=("predicted", "interpolated"),
-        help="default: the recorded one (predicted for recordings that do not say)",
+        help="default: the recorded one (interpolated for recordings that do not say: "
+        "they were made before predicted pairing)",
     )
     p.add_argument("--calib", type=Path, help="camera calibration (default: the recorded one)")
     p.add_argument("--rig", type=Path, help="rig file (default: the recorded one)")
@@ -149,7 +150,7 @@ def run(args: argparse.Namespace) -> int:
                 if meta.get("pairing") in ("predicted", "interpolated")
                 else None
             )
-            or "predicted"
+            or "interpolated"  # recorded before predicted pairing existed
         ),
         track=TrackSettings(
             max_extrapolation_s=_meta_number(meta, "max_extrapolation_s", 0.2, 0.01, 1.0) * span,

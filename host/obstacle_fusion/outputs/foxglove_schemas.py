@@ -129,6 +129,13 @@ OBSTACLE_SCHEMA: dict[str, Any] = {
         "vision_ms": _NUM,
         "t_published": _NUM,
         "reason": {"type": ["string", "null"]},
+        "range_sigma_m": _NUM,
+        "sensor_id": {"type": ["integer", "null"]},
+        "ranges": {
+            "type": "object",
+            "description": "every sonar's range at t_host, by sensor id",
+            "additionalProperties": _NUM,
+        },
     },
 }
 
