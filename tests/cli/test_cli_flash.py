@@ -184,7 +184,9 @@ def test_bluepill_port_without_stm32flash_is_not_ignored_silently(
         os.close(controller)
         os.close(device)
     assert "stm32flash" in caplog.text and "ST-Link" in caplog.text
-    assert ran and ran[0][-1].startswith("PORT=")
+    assert ran[0][:2] == ["/usr/bin/make", "-C"] and ran[0][-1] == "BOARD=bluepill"  # the build
+    assert ran[1][:3] == ["st-flash", "--reset", "write"]  # then the ST-Link, not the port
+    assert ran[1][3].endswith("bluepill/obstacle-fusion.bin") and len(ran) == 2
 
 
 def subprocess_ok():  # type: ignore[no-untyped-def]
