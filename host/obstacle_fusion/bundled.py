@@ -87,6 +87,19 @@ def default_firmware_elf() -> Path:
     return DATA_DIR / "firmware" / "uno" / "obstacle-fusion.elf"
 
 
+OPTIBOOT_SOURCE = Path("/usr/share/arduino/hardware/arduino/avr/bootloaders/optiboot")
+
+
+def optiboot_hex() -> Path | None:
+    """The Uno's Optiboot as tools/emulator builds it from Debian's arduino-core-avr source
+    (`make -C tools/emulator optiboot`), in a clone; None when not built."""
+    root = checkout_root()
+    if root is None:
+        return None
+    path = root / "tools" / "emulator" / "build" / "optiboot" / "optiboot_atmega328.hex"
+    return path if path.is_file() else None
+
+
 def emulator_sources() -> Path | None:
     """The emulator's C sources: the clone's tools/emulator/src or the package's copy."""
     root = checkout_root()

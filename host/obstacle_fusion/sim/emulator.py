@@ -102,12 +102,16 @@ class EmulatorConfig:
     exit_with_parent: bool = True  # no orphans when the starting process dies
     seed: int = 1
     quirk_fixes: bool = True
+    # The Uno's bootloader (Intel HEX, e.g. Optiboot): every reset starts there, as with the
+    # BOOTRST fuse; with application=False the flash holds nothing else (a board to flash).
+    bootloader: Path | None = None
+    application: bool = True
     verbose: int = 0
     extra_args: tuple[str, ...] = ()
 
     def arguments(
         self,
-        elf: Path,
+        elf: Path | None,
         truth: Path | None = None,
         pty_file: Path | None = None,
         control: Path | None = None,
@@ -157,8 +161,10 @@ class EmulatorConfig:
         opt("--truth", truth)
         opt("--pty-file", pty_file)
         opt("--control", control)
+        opt("--bootloader", self.bootloader)
         args.extend(self.extra_args)
-        args.append(str(elf))
+        if elf is not None:
+            args.append(str(elf))
         return args
 
 
@@ -347,7 +353,13 @@ class Emulator:
     _own_workdir: bool = False
 
     def start(self) -> Emulator:
-        elf, binary = check_built(self.config.elf, self.binary)
+        if self.config.bootloader is not None and not self.config.application:
+            binary = bundled.ensure_emulator(self.binary or emulator_binary())
+            elf: Path | None = None
+            if not self.config.bootloader.is_file():
+                raise EmulatorError(f"no such bootloader: {self.config.bootloader}")
+        else:
+            elf, binary = check_built(self.config.elf, self.binary)
         if self.workdir is None:
             # Short path: a UNIX socket path must fit in 108 bytes.
             self.workdir = Path(tempfile.mkdtemp(prefix="ofemu-"))
