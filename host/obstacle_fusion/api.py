@@ -221,6 +221,7 @@ class ObstacleSensor:
         self.robot: EmulatedRobot | None = None
         self.app: App | None = None
         self.result: RunResult | None = None
+        self.view: Any = None  # the console view, when `console` is given
         self.dropped = 0  # records a slow iterator missed (its queue was full)
 
         self._lock = threading.Lock()
