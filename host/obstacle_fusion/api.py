@@ -625,8 +625,13 @@ class ObstacleSensor:
 
             view = ConsoleView(self.console)
             stack.callback(view.close)
+        # a real camera with no rig: the floor contact is found in each frame, never a
+        # guessed camera height; the emulated robot films with a known rig
+        measure_rig = rig if (self.mode == "emulator" or self.rig is not None) else None
         measurer = (
-            LazyMeasurer(camera_model, rig, self.method, calib_path) if source is not None else None
+            LazyMeasurer(camera_model, measure_rig, self.method, calib_path)
+            if source is not None
+            else None
         )
         app = App(
             settings,
