@@ -192,3 +192,43 @@ def test_readme_example_runs_as_written(uno_elf: Path, tmp_path: Path) -> None:
     assert m2 is not None and 1.7 <= float(m2[1]) <= 1.8, out  # 1.7996 prints 1.80
     m3 = re.fullmatch(r"stopped at (\d\.\d\d) m", out[-1])
     assert m3 is not None and 1.6 <= float(m3[1]) <= 1.7, out
+
+
+def _record(distance: float | None, status: str = "range", index: int = 0) -> ObstacleRecord:
+    return ObstacleRecord(
+        t_host=float(index), distance_m=distance, height_m=None, width_m=None, confidence=1.0,
+        status=status, alert=False, frame_index=-1, source="sonar", pairing="none",
+        pair_dt_s=None, sonar_status="ok", measurements=(index,), trigger_us=(index,),
+    )  # fmt: skip
+
+
+def test_a_waiter_sees_a_closer_record_however_briefly_it_is_the_newest() -> None:
+    """Records published faster than a waiting thread wakes: none is missed."""
+    sensor = ObstacleSensor(port="/dev/null")  # never opened: records fed as the loop does
+    got: list[ObstacleRecord | None] = []
+    waiter = threading.Thread(target=lambda: got.append(sensor.wait_for_closer_than(1.0, 5)))
+    waiter.start()
+    _until(lambda: sensor._waiters)
+    sensor._deliver(_record(2.0, index=1))
+    sensor._deliver(_record(0.9, index=2))  # closer, and at once replaced
+    sensor._deliver(_record(2.0, index=3))
+    waiter.join(5)
+    assert got and got[0] is not None and got[0].measurements == (2,)
+    assert sensor.distance == 2.0 and not sensor._waiters
+
+
+def test_distance_reads_as_gpiozero_does() -> None:
+    sensor = ObstacleSensor(port="/dev/null", max_distance=2.5)
+    assert sensor.distance is None and sensor.latest is None
+    sensor._deliver(_record(1.234))
+    assert sensor.distance == 1.234
+    sensor._deliver(_record(3.1))
+    assert sensor.distance == 2.5  # capped at max_distance
+    sensor._deliver(_record(None, status="clear"))
+    assert sensor.distance == 2.5  # nothing in range reads as max_distance
+    sensor._deliver(_record(None, status="sonar_error"))
+    assert sensor.distance is None  # unknown is not "far"
+    sensor._deliver(_record(None, status="unpaired"))
+    assert sensor.distance is None
+    with pytest.raises(ValueError):
+        sensor.max_distance = 0

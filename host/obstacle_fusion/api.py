@@ -116,6 +116,14 @@ class _Watch:
     closer: bool = False
 
 
+@dataclass
+class _Waiter:
+    """One wait_for_closer_than: the first record below `metres`, whoever reads it when."""
+
+    metres: float
+    found: ObstacleRecord | None = None
+
+
 def _check_span(name: str, value: float | None, lo: float, hi: float) -> None:
     if value is not None and not lo <= value <= hi:
         raise UserError(f"{name} must be within {lo:g}..{hi:g}, got {value}")
@@ -230,6 +238,7 @@ class ObstacleSensor:
         self._subscribers: list[queue.Queue[Any]] = []
         self._async_subscribers: list[tuple[asyncio.AbstractEventLoop, asyncio.Queue[Any]]] = []
         self._watches: list[_Watch] = []
+        self._waiters: list[_Waiter] = []
         self._stack: ExitStack | None = None
         self._thread: threading.Thread | None = None
         self._connected = threading.Event()
@@ -314,22 +323,28 @@ class ObstacleSensor:
         self, metres: float, timeout: float | None = None
     ) -> ObstacleRecord | None:
         """The first record (the newest, if it already is) closer than ``metres``; None when
-        ``timeout`` seconds pass or the sensor stops first."""
+        ``timeout`` seconds pass or the sensor stops first. No record is missed, however
+        fast they come: each one is checked as it is published."""
         deadline = None if timeout is None else time.monotonic() + timeout
         with self._changed:
-            while True:
-                if self._error is not None:
-                    break
-                rec = self._latest
-                d = self._distance_of(rec)
-                if rec is not None and d is not None and d < metres:
-                    return rec
-                if self._finished.is_set():
-                    return None
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
-                    return None
-                self._changed.wait(0.5 if left is None else min(left, 0.5))
+            rec = self._latest
+            d = self._distance_of(rec)
+            if rec is not None and d is not None and d < metres:
+                return rec
+            waiter = _Waiter(metres)
+            self._waiters.append(waiter)
+            try:
+                while waiter.found is None and self._error is None:
+                    if self._finished.is_set():
+                        return None
+                    left = None if deadline is None else deadline - time.monotonic()
+                    if left is not None and left <= 0:
+                        return None
+                    self._changed.wait(0.5 if left is None else min(left, 0.5))
+            finally:
+                self._waiters.remove(waiter)
+            if waiter.found is not None:
+                return waiter.found
         self._raise_if_failed()
         return None
 
@@ -492,6 +507,9 @@ class ObstacleSensor:
                 if closer and not w.closer:
                     fire.append(w)
                 w.closer = closer
+            for waiter in self._waiters:
+                if waiter.found is None and d is not None and d < waiter.metres:
+                    waiter.found = rec
             subscribers = list(self._subscribers)
             async_subscribers = list(self._async_subscribers)
             self._changed.notify_all()
@@ -726,20 +744,32 @@ class AsyncObstacleSensor:
     async def wait_for_closer_than(
         self, metres: float, timeout: float | None = None
     ) -> ObstacleRecord | None:
+        """As ObstacleSensor's, without blocking the event loop."""
         rec = self.sensor._latest
         d = self.sensor._distance_of(rec)
         if rec is not None and d is not None and d < metres:
             return rec
-        found: asyncio.Future[ObstacleRecord | None] = asyncio.get_running_loop().create_future()
+        loop = asyncio.get_running_loop()
+        found: asyncio.Future[ObstacleRecord] = loop.create_future()
 
         def done(r: ObstacleRecord) -> None:
             if not found.done():
                 found.set_result(r)
 
-        remove = self.when_closer_than(metres, done)
+        remove = self.sensor.when_closer_than(metres, lambda r: loop.call_soon_threadsafe(done, r))
+        deadline = None if timeout is None else loop.time() + timeout
         try:
-            return await asyncio.wait_for(found, timeout)
-        except TimeoutError:
-            return None
+            while True:
+                left = None if deadline is None else deadline - loop.time()
+                if left is not None and left <= 0:
+                    return None
+                try:
+                    return await asyncio.wait_for(
+                        asyncio.shield(found), 0.2 if left is None else min(left, 0.2)
+                    )
+                except TimeoutError:
+                    if not self.sensor.running:
+                        self.sensor._raise_if_failed()
+                        return None
         finally:
             remove()
