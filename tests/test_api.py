@@ -220,6 +220,9 @@ def test_a_waiter_sees_a_closer_record_however_briefly_it_is_the_newest() -> Non
 def test_distance_reads_as_gpiozero_does() -> None:
     sensor = ObstacleSensor(port="/dev/null", max_distance=2.5)
     assert sensor.distance is None and sensor.latest is None
+    every: list[int] = []
+    remove = sensor.on_record(lambda r: every.append(r.measurements[0]))
+    sensor.on_record(lambda r: 1 / 0)  # a failing callback: logged, the others still run
     sensor._deliver(_record(1.234))
     assert sensor.distance == 1.234
     sensor._deliver(_record(3.1))
@@ -228,7 +231,11 @@ def test_distance_reads_as_gpiozero_does() -> None:
     assert sensor.distance == 2.5  # nothing in range reads as max_distance
     sensor._deliver(_record(None, status="sonar_error"))
     assert sensor.distance is None  # unknown is not "far"
-    sensor._deliver(_record(None, status="unpaired"))
+    sensor._deliver(_record(None, status="unpaired", index=7))
     assert sensor.distance is None
+    assert every == [0, 0, 0, 0, 7]
+    remove()
+    sensor._deliver(_record(1.0, index=8))
+    assert every == [0, 0, 0, 0, 7]
     with pytest.raises(ValueError):
         sensor.max_distance = 0

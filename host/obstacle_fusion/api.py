@@ -9,9 +9,10 @@
 As gpiozero's DistanceSensor: ``distance`` (metres, capped at ``max_distance``),
 ``when_closer_than(metres, callback)`` (gpiozero's ``when_in_range`` with the threshold as an
 argument) and ``wait_for_closer_than(metres, timeout)``; as Telemetrix, a callback per
-reading; ``latest`` is the newest obstacle record (distance, height, width, status, times)
-and iterating gives every record from then on. :class:`AsyncObstacleSensor` is the asyncio
-twin (``async with``, ``async for``, ``await wait_for_closer_than``), as telemetrix-aio.
+reading (``on_record``); ``latest`` is the newest obstacle record (distance, height,
+width, status, times) and iterating gives every record from then on.
+:class:`AsyncObstacleSensor` is the asyncio twin (``async with``, ``async for``, ``await
+wait_for_closer_than``), as telemetrix-aio.
 
 Where the data comes from is the CLI's ``run``: ``port`` and ``camera`` for a robot (either
 one: a camera alone finds the board by USB VID:PID, a port alone is the sonar-only mode with
@@ -239,6 +240,7 @@ class ObstacleSensor:
         self._async_subscribers: list[tuple[asyncio.AbstractEventLoop, asyncio.Queue[Any]]] = []
         self._watches: list[_Watch] = []
         self._waiters: list[_Waiter] = []
+        self._callbacks: list[Callable[[ObstacleRecord], Any]] = []
         self._stack: ExitStack | None = None
         self._thread: threading.Thread | None = None
         self._connected = threading.Event()
@@ -299,6 +301,19 @@ class ObstacleSensor:
                 yield item
         finally:
             self._unsubscribe(q)
+
+    def on_record(self, callback: Callable[[ObstacleRecord], Any]) -> Callable[[], None]:
+        """Call ``callback(record)`` for every record (Telemetrix's callback per reading).
+        Returns a function that removes it."""
+        with self._lock:
+            self._callbacks.append(callback)
+
+        def remove() -> None:
+            with self._lock:
+                if callback in self._callbacks:
+                    self._callbacks.remove(callback)
+
+        return remove
 
     def when_closer_than(
         self, metres: float, callback: Callable[[ObstacleRecord], Any]
@@ -512,11 +527,17 @@ class ObstacleSensor:
                     waiter.found = rec
             subscribers = list(self._subscribers)
             async_subscribers = list(self._async_subscribers)
+            callbacks = list(self._callbacks)
             self._changed.notify_all()
         for q in subscribers:
             self._put(q, rec)
         for loop, aq in async_subscribers:
             self._put_async(loop, aq, rec)
+        for callback in callbacks:
+            try:
+                callback(rec)
+            except Exception:  # a robot's callback must not stop the sensor
+                log.exception("on_record callback failed")
         for w in fire:
             try:
                 w.callback(rec)
@@ -725,12 +746,10 @@ class AsyncObstacleSensor:
     def __aiter__(self) -> AsyncIterator[ObstacleRecord]:
         return self._records()
 
-    def when_closer_than(
-        self,
-        metres: float,
-        callback: Callable[[ObstacleRecord], Awaitable[Any] | Any],
-    ) -> Callable[[], None]:
-        """As ObstacleSensor's; a coroutine function runs on this event loop."""
+    def _on_loop(
+        self, callback: Callable[[ObstacleRecord], Awaitable[Any] | Any]
+    ) -> Callable[[ObstacleRecord], None]:
+        """A callback that runs on this event loop (a coroutine function is scheduled)."""
         loop = self._loop or asyncio.get_running_loop()
 
         def fire(rec: ObstacleRecord) -> None:
@@ -739,7 +758,21 @@ class AsyncObstacleSensor:
             else:
                 loop.call_soon_threadsafe(callback, rec)
 
-        return self.sensor.when_closer_than(metres, fire)
+        return fire
+
+    def on_record(
+        self, callback: Callable[[ObstacleRecord], Awaitable[Any] | Any]
+    ) -> Callable[[], None]:
+        """As ObstacleSensor's (every record), run on this event loop."""
+        return self.sensor.on_record(self._on_loop(callback))
+
+    def when_closer_than(
+        self,
+        metres: float,
+        callback: Callable[[ObstacleRecord], Awaitable[Any] | Any],
+    ) -> Callable[[], None]:
+        """As ObstacleSensor's; a coroutine function runs on this event loop."""
+        return self.sensor.when_closer_than(metres, self._on_loop(callback))
 
     async def wait_for_closer_than(
         self, metres: float, timeout: float | None = None
