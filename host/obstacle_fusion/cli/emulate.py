@@ -55,7 +55,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "the pseudo-terminal's path and run until Ctrl-C or --duration. Open the printed "
         "path with `obstacle-fusion run --port PATH` or any serial program.",
     )
-    p.add_argument("--elf", type=Path, help="firmware ELF (default: the `make setup` build)")
+    p.add_argument(
+        "--elf", type=Path, help="firmware ELF (default: the `make setup` build or the package's)"
+    )
     p.add_argument(
         "--bootloader",
         type=Path,
