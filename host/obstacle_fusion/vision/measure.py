@@ -20,6 +20,7 @@ import numpy.typing as npt
 
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.face_channel import face_floor_grey
 from obstacle_fusion.vision.floor_contact import contact_rows
 from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.paper import PaperMethod
@@ -103,7 +104,7 @@ class Measurer:
                     self.rig, camera_height_m=height, camera_pitch_deg=0.0
                 )
                 impl.view = trial  # type: ignore[attr-defined]
-                best = impl.run(image, range_m, timer)
+                best = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
                 best.camera_height_m = height
                 if best.detected:
                     break
@@ -134,6 +135,13 @@ class Measurer:
         timer.lap("setup")
         if self.rig_source == "estimated":
             result = self._run_estimated(impl, image, range_m, timer)
+        elif self.method == "fused":
+            view: View = impl.view  # type: ignore[attr-defined]
+            depth = self.rig.face_depth(range_m)
+            contact = view.cy + view.fy * self.rig.camera_height_m / depth
+            grey = face_floor_grey(image, view, contact, depth)
+            timer.lap("face_channel")
+            result = impl.run(grey, range_m, timer)
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source
