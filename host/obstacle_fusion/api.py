@@ -386,8 +386,10 @@ class ObstacleSensor:
                 self.close()
                 if error is not None:
                     raise error
+                where = self.port or ("the emulated robot" if self.mode == "emulator" else
+                                      "the board found by USB VID:PID")
                 raise SensorError(
-                    f"the board did not answer within {self.connect_timeout:g} s ({self.port})"
+                    f"the board did not answer within {self.connect_timeout:g} s ({where})"
                 )
         return self
 
