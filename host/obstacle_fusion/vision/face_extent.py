@@ -16,6 +16,8 @@ import numpy.typing as npt
 
 #: The edges count as running on while their strength stays above this share of the face's.
 CONTINUE_SHARE = 0.5
+#: Neither edge may fall under this share of its strength along the face.
+EDGE_FLOOR_SHARE = 0.2
 #: Columns averaged when walking along an edge (one noisy column stops nothing).
 WALK_WINDOW = 3
 #: Columns where the edges may dip (a seam, a joint) without ending the face.
@@ -70,9 +72,11 @@ def widen_across_seams(
     if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
         return left, right  # too faint to tell a seam from a side
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
-    runs_on = (np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b) & (
-        np.convolve(gt, kernel, mode="same") >= CONTINUE_SHARE * ref_t
-    )
+    # both edges run on: together at CONTINUE_SHARE of the face's, neither below
+    # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
+    sb = np.convolve(gb, kernel, mode="same") / ref_b
+    st = np.convolve(gt, kernel, mode="same") / ref_t
+    runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
     sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
     new = []
     for side, step in ((left, -1), (right, 1)):
@@ -84,3 +88,56 @@ def widen_across_seams(
         lo, hi = max(lo, 0), min(hi, sides.size - 1)
         new.append(int(lo + np.argmax(sides[lo : hi + 1])))
     return new[0], new[1]
+
+
+#: A side counts as present in a row when its |d/dx| is at least this share of its
+#: strength along the chosen face.
+SIDE_SHARE = 0.4
+#: Rows the sides may fade over (a dark band, a seam across) without ending the face.
+MAX_ROW_GAP = 3
+#: Rows searched for the strongest top edge where the sides stopped.
+SNAP_ROWS = 4
+
+
+def raise_top_past_inner_edges(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> int:
+    """The face's top row, moved up to where both its sides end.
+
+    A label, a poster's lower edge or a band of another colour across the face is a
+    horizontal edge between the sides; the face's sides run on above it, up to the face's
+    real top (a top face, or the background, starts there and the sides stop)."""
+    if right - left < 4 or bottom - top < 3 or top < 2:
+        return top
+    cols = []
+    for side in (left, right):
+        c0, c1 = max(0, side - 1), min(ax.shape[1], side + 2)
+        cols.append(np.asarray(ax[:bottom, c0:c1].max(axis=1), np.float32))
+    strength = [float(np.median(c[top:bottom])) for c in cols]
+    if min(strength) < MIN_EDGE_SNR * noise:
+        return top
+    on = (cols[0] >= SIDE_SHARE * strength[0]) & (cols[1] >= SIDE_SHARE * strength[1])
+    end = _walk_up(on, top)
+    if top - end <= SNAP_ROWS // 2:
+        return top
+    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
+    return int(r0 + np.argmax(rows))
+
+
+def _walk_up(on: npt.NDArray[np.bool_], start: int) -> int:
+    """Highest row above ``start`` reached through ``on`` rows, gaps up to MAX_ROW_GAP."""
+    v, gap, reached = start, 0, start
+    while v - 1 >= 0 and gap <= MAX_ROW_GAP:
+        v -= 1
+        if on[v]:
+            reached, gap = v, 0
+        else:
+            gap += 1
+    return reached
