@@ -111,7 +111,7 @@ def test_installed_package_runs_the_emulated_robot_outside_the_clone(
     ).stdout.strip()  # fmt: skip
     assert Path(where).is_relative_to(installed["site"]), where
     done = subprocess.run(
-        [str(venv / "bin" / "obstacle-fusion"), "run", "--duration", "5", "--json", "--quiet"],
+        [str(venv / "bin" / "obstacle-fusion"), "run", "--duration", "5", "--json"],
         cwd=work, env=_env(installed), capture_output=True, text=True, timeout=90,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
