@@ -328,7 +328,12 @@ class App:
 
     # ------------------------------------------------------------------ the loop
     def _wait_for_first_range(self, deadline: float) -> None:
-        """Start the camera once ranges flow, so the first frames have a range to pair with."""
+        """Start the camera once ranges flow, so the first frames have a range to pair with.
+
+        Sonar only (no camera) there is nothing to wait for: ranges are never paired, so
+        waiting for one would only hold the run's start back by the whole time-out."""
+        if self.grabber is None:
+            return
         while time.monotonic() < deadline:
             if self.link.error is not None:
                 raise self.link.error
