@@ -4,6 +4,9 @@ Nothing here blocks on a device: the link has its reader thread and queue, the f
 source gets a grabber thread and a short queue (a slow consumer drops the oldest frame,
 counted, rather than pairing stale ones). One loop drains both, keeps the clock model fed,
 converts ranges, pairs frames, measures, and publishes to every output.
+
+With no frame source (a robot with only the sonar) every range is published as a record on
+its own (status "range", "clear" or "sonar_error"), and OpenCV is never loaded.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -38,8 +41,6 @@ from obstacle_fusion.link.connection import (
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
-from obstacle_fusion.outputs.mcap_file import McapRecorder
-from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 from obstacle_fusion.protocol.generated import (
     Config,
     GetInfo,
@@ -55,6 +56,10 @@ from obstacle_fusion.sim.emulated_robot import EmulatedRobot
 from obstacle_fusion.sonar import SonarConverter
 from obstacle_fusion.sources.frames import Frame, FrameSource
 from obstacle_fusion.timing.clock import ClockModel
+
+if TYPE_CHECKING:  # imported where they are made: a sonar-only run never loads OpenCV
+    from obstacle_fusion.outputs.mcap_file import McapRecorder
+    from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 
 log = logging.getLogger(__name__)
 
@@ -138,7 +143,7 @@ class App:
         self,
         settings: RunSettings,
         link: Link,
-        source: FrameSource,
+        source: FrameSource | None,
         measurer: Any = None,
         *,
         jsonl: JsonLinesWriter | None = None,
@@ -150,6 +155,8 @@ class App:
         live: Any = None,
         ros2: Any = None,
         topics: FoxgloveTopics | None = None,
+        on_record: Callable[[ObstacleRecord], None] | None = None,
+        on_connect: Callable[[], None] | None = None,
         beams: BeamChooser | None = None,
     ) -> None:
         self.s = settings
@@ -166,6 +173,9 @@ class App:
         # One encoder for the recording and the live view: the same bytes go to both.
         self.topics = topics or (recorder.topics if recorder is not None else FoxgloveTopics())
         self._sinks = [s for s in (recorder, live) if s is not None]
+        self.on_record = on_record  # called in the loop's thread for each published record
+        self.on_connect = on_connect  # called once the link is up (each time it comes up)
+        self._stop_requested = threading.Event()
         self.clock = ClockModel(baud=link.baud)
         self.converter = SonarConverter(
             temperature_c=settings.temperature_c,
@@ -188,7 +198,7 @@ class App:
         )
         self.config_sent_session = 0
         self.config_refused: str | None = None
-        self.grabber = FrameGrabber(source)
+        self.grabber = FrameGrabber(source) if source is not None else None
         self.session = 0
         self.timer_hz = 2_000_000
         self._unmapped: list[Received] = []
@@ -308,7 +318,10 @@ class App:
                 self._emit(self.topics.reading(reading, self.timer_hz, item.session, log_t))
             if self.ros2 is not None:
                 self.ros2.write_range(reading, log_t=log_t)
-            out += self.fusion.add_reading(reading)
+            if self.source is None:
+                out.append(self.fusion.range_record(reading))
+            else:
+                out += self.fusion.add_reading(reading)
         self._unmapped.clear()
         return out
 
@@ -386,6 +399,8 @@ class App:
                 self._emit(self.topics.record(rec))
             if self.ros2 is not None:
                 self.ros2.write_record(rec)
+            if self.on_record is not None:
+                self.on_record(rec)
             if self.video is not None:
                 image = self._images.pop(rec.frame_index, None)
                 if image is not None:
@@ -422,12 +437,19 @@ class App:
                 "connected" if connected else "disconnected",
                 {"port": self.link.counters.port, "counters": self.link.counters.as_dict()},
             )
+            if connected and self.on_connect is not None:
+                self.on_connect()
         if self.robot is not None and connected:
             self.robot.probe_t0()
 
     # ------------------------------------------------------------------ the loop
     def _wait_for_first_range(self, deadline: float) -> None:
-        """Start the camera once ranges flow, so the first frames have a range to pair with."""
+        """Start the camera once ranges flow, so the first frames have a range to pair with.
+
+        Sonar only (no camera) there is nothing to wait for: ranges are never paired, so
+        waiting for one would only hold the run's start back by the whole time-out."""
+        if self.grabber is None:
+            return
         while time.monotonic() < deadline:
             if self.link.error is not None:
                 raise self.link.error
@@ -444,6 +466,10 @@ class App:
             "no sonar range within %.1f s; starting the camera anyway", self.s.first_range_timeout_s
         )
 
+    def stop(self) -> None:
+        """End run() at its next turn (from another thread), as the duration would."""
+        self._stop_requested.set()
+
     def run(self) -> RunResult:
         # The link and camera threads run Python too: with the default 5 ms GIL switch
         # interval a frame can wait that long for the loop to get the interpreter back.
@@ -458,12 +484,14 @@ class App:
         start = time.monotonic()
         exit_code = 0
         self.link.start()
+        grabber = self.grabber
         try:
             self._prepare_early()
             self._wait_for_first_range(start + self.s.first_range_timeout_s)
-            self.grabber.start()
+            if grabber is not None:
+                grabber.start()
             run_start = time.monotonic()
-            while True:
+            while not self._stop_requested.is_set():
                 now = time.monotonic()
                 if self.s.duration_s is not None and now - run_start >= self.s.duration_s:
                     break
@@ -480,12 +508,12 @@ class App:
                     records += self._on_message(item)
                 records += self._map_ranges(now)
                 got_frame = False
-                while True:
+                while grabber is not None:
                     frame = self._carry
                     self._carry = None
                     if frame is None:
                         try:
-                            frame = self.grabber.queue.get_nowait()
+                            frame = grabber.queue.get_nowait()
                         except queue.Empty:
                             break
                     got_frame = True
@@ -499,26 +527,31 @@ class App:
                 if self.jsonl is not None and self.jsonl.broken:
                     log.info("the JSON reader went away (closed pipe); stopping")
                     break
-                if self.grabber.error is not None:
-                    raise self.grabber.error
+                if grabber is not None and grabber.error is not None:
+                    raise grabber.error
                 if (
-                    self.grabber.finished.is_set()
-                    and self.grabber.queue.empty()
+                    grabber is not None
+                    and grabber.finished.is_set()
+                    and grabber.queue.empty()
                     and self._carry is None
                 ):
                     self._publish(self.fusion.flush())
-                    log.info("frame source ended: %s", self.source.end_reason)
+                    log.info("frame source ended: %s", getattr(self.source, "end_reason", ""))
                     break
                 self._update_view()
                 self._check_commands()
                 if not got_frame and not records:
                     # Idle: sleep until a frame comes (at once) or 2 ms pass (link, polls).
-                    try:
-                        self._carry = self.grabber.queue.get(timeout=0.002)
-                    except queue.Empty:
-                        pass
+                    if grabber is None:
+                        time.sleep(0.002)
+                    else:
+                        try:
+                            self._carry = grabber.queue.get(timeout=0.002)
+                        except queue.Empty:
+                            pass
         finally:
-            self.grabber.stop()
+            if grabber is not None:
+                grabber.stop()
             try:
                 for item in self.link.drain():
                     self._publish(self._on_message(item))
@@ -534,7 +567,7 @@ class App:
         return {
             "link": self.link.counters.as_dict(),
             "fusion": self.fusion.stats.as_dict(),
-            "frames_dropped": self.grabber.dropped,
+            "frames_dropped": self.grabber.dropped if self.grabber is not None else 0,
             "ranges_mapped": self.ranges_mapped,
             "ranges_dropped_before_clock": self.ranges_unmapped_dropped,
             "clock": None
