@@ -73,7 +73,9 @@ def main(argv: list[str] | None = None) -> int:
             if dist is None:
                 continue
             dist += 0.03 * (i % 2)
-            view = render_floor_board(renderer, args.floor, dist, right_m=right, yaw_deg=yaw, rng=rng)
+            view = render_floor_board(
+                renderer, args.floor, dist, right_m=right, yaw_deg=yaw, rng=rng
+            )
             cv2.imwrite(str(args.out_dir / f"board_{i:02d}.png"), view.image)
             written += 1
         if written == 0:

@@ -24,7 +24,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "roll; their medians, with the sonar's offsets given here, are written as the rig "
         "TOML that `measure --rig` and `run --rig` read.",
     )
-    parser.add_argument("photos", nargs="+", metavar="PHOTO", help="photos of the board on the floor")
+    parser.add_argument(
+        "photos", nargs="+", metavar="PHOTO", help="photos of the board on the floor"
+    )
     parser.add_argument(
         "--calib", type=Path, help="camera calibration (default: the paper's 4:3 lens, warned)"
     )

@@ -110,9 +110,7 @@ class RigCalibration:
         )
 
 
-def mounting_from_pose(
-    rvec: npt.ArrayLike, tvec: npt.ArrayLike
-) -> tuple[float, float, float]:
+def mounting_from_pose(rvec: npt.ArrayLike, tvec: npt.ArrayLike) -> tuple[float, float, float]:
     """(height_m, pitch_deg, roll_deg) of a camera that sees a floor plane at this pose.
 
     ``rvec``/``tvec`` take the board's plane (its z = 0) into the camera frame.
@@ -268,8 +266,12 @@ def camera_to_robot(pitch_deg: float, roll_deg: float = 0.0) -> FloatArray:
     """Rotation p_robot = R p_camera for a camera rolled by ``roll_deg`` about its optical
     axis (right side down positive), then pitched down by ``pitch_deg``."""
     p, r = math.radians(pitch_deg), math.radians(roll_deg)
-    rx = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(p), math.sin(p)], [0.0, -math.sin(p), math.cos(p)]])
-    rz = np.array([[math.cos(r), -math.sin(r), 0.0], [math.sin(r), math.cos(r), 0.0], [0.0, 0.0, 1.0]])
+    rx = np.array(
+        [[1.0, 0.0, 0.0], [0.0, math.cos(p), math.sin(p)], [0.0, -math.sin(p), math.cos(p)]]
+    )
+    rz = np.array(
+        [[math.cos(r), -math.sin(r), 0.0], [math.sin(r), math.cos(r), 0.0], [0.0, 0.0, 1.0]]
+    )
     out: FloatArray = rx @ rz
     return out
 
