@@ -19,6 +19,7 @@ from typing import Any
 
 from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
 from obstacle_fusion.link.connection import Link, Received, describe_hello
+from obstacle_fusion.online import OnlineCalibration
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
@@ -119,6 +120,7 @@ class App:
         view: ConsoleView | None = None,
         robot: EmulatedRobot | None = None,
         extra_fields: Callable[[ObstacleRecord], dict[str, Any]] | None = None,
+        online: OnlineCalibration | None = None,
     ) -> None:
         self.s = settings
         self.link = link
@@ -142,6 +144,9 @@ class App:
             max_wait_s=settings.max_wait_s,
             method=settings.method,
         )
+        self.online = online
+        if online is not None:
+            self.fusion.observer = online.measured
         self.grabber = FrameGrabber(source)
         self.session = 0
         self.timer_hz = 2_000_000
@@ -155,6 +160,7 @@ class App:
         self.ranges_unmapped_dropped = 0
         self._was_connected = False
         self._prepared = False
+        self._online_logged = -1e9
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -203,6 +209,8 @@ class App:
             scale = est.slope if est is not None and est.source != "none" else 1.0
             reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
+            if self.online is not None:
+                self.online.reading_in(reading)
             if self.recorder is not None:
                 self.recorder.write_range(reading, self.timer_hz, item.session, log_t=item.t_host)
             out += self.fusion.add_reading(reading)
@@ -228,6 +236,8 @@ class App:
             self.recorder.write_frame(frame, log_t=time.monotonic())
         if self.video is not None:
             self._images[frame.index] = frame.image
+        if self.online is not None:
+            frame = self.online.frame_in(frame)  # recorded raw, paired re-dated
         return self.fusion.add_frame(frame)
 
     def _publish(self, records: list[ObstacleRecord]) -> None:
@@ -263,9 +273,21 @@ class App:
             else {}
         )
         st.rates = {k: m.rate() for k, m in self.rates.items()}
-        if self.link.last_problem:
-            st.notes = [self.link.last_problem]
+        st.notes = [self.link.last_problem] if self.link.last_problem else []
+        if self.online is not None:
+            st.notes += [self.online.rig_text(), self.online.latency_text()]
         self.view.update(st, force=force)
+
+    def _update_online(self, force: bool = False) -> None:
+        if self.online is None:
+            return
+        before = (self.online.rig_estimate, self.online.latency_estimate)
+        for text in self.online.update(force=force):
+            self._event("online_warning", {"text": text})
+        after = (self.online.rig_estimate, self.online.latency_estimate)
+        if after != before and (force or time.monotonic() - self._online_logged >= 5.0):
+            self._online_logged = time.monotonic()
+            self._event("online_estimates", self.online.summary())
 
     def _watch_link(self) -> None:
         connected = self.link.connected
@@ -343,6 +365,7 @@ class App:
                     self._publish(self.fusion.flush())
                     log.info("frame source ended: %s", self.source.end_reason)
                     break
+                self._update_online()
                 self._update_view()
                 if not got_frame and not records:
                     time.sleep(0.002)
@@ -353,6 +376,7 @@ class App:
                     self._publish(self._on_message(item))
                 self._publish(self._map_ranges(time.monotonic()))
                 self._publish(self.fusion.flush())
+                self._update_online(force=True)
                 self._update_view(force=True)
             finally:
                 self.link.close()
@@ -375,4 +399,5 @@ class App:
                 "resets": self.clock.resets,
             },
             "emulator_restarts": self.robot.restarts if self.robot else 0,
+            "online": None if self.online is None else self.online.summary(),
         }

@@ -44,8 +44,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     hw.add_argument(
         "--camera-latency-ms",
         type=_args.camera_latency_ms,
-        default=0.0,
-        help="exposure-to-read delay to subtract (0..2000)",
+        help="exposure-to-read delay to subtract (0..2000); default: estimated during the run "
+        "(the face's image height against the sonar's range) and used for pairing once sure",
     )
     hw.add_argument("--calib", type=Path, help="camera calibration (obstacle-fusion calibrate)")
     hw.add_argument("--rig", type=Path, help="rig file: camera height, pitch, sonar offsets")
@@ -95,6 +95,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     emu.add_argument(
         "--scenario", type=Path, help="TOML scenario for the emulated robot (default: the demo)"
     )
+    emu.add_argument(
+        "--emulated-latency-ms",
+        type=_args.camera_latency_ms,
+        default=0.0,
+        help="the synthetic camera lags the scene by this much (0..2000), as a USB camera does",
+    )
     p.set_defaults(func=run)
 
 
@@ -141,6 +147,10 @@ class _LazyMeasurer:
                 ) from None
         self._impl = Measurer(camera, self.rig, self.method)
 
+    def camera_at(self, width: int, height: int) -> Any:
+        """The measuring camera at this frame size (None before the first frame)."""
+        return None if self._impl is None else self._impl.camera.scaled_to(width, height)
+
     def measure(self, image: Any, range_m: float) -> Any:
         if self._impl is None:
             self.prepare(image)
@@ -173,6 +183,10 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("--exit-on-alert needs --stop-distance M (the alert's threshold)")
     if args.scenario is not None and (args.port or args.camera):
         raise UserError("--scenario is for the emulated robot; leave out --port and --camera")
+    if args.emulated_latency_ms and (args.port or args.camera):
+        raise UserError(
+            "--emulated-latency-ms is for the emulated robot; leave out --port and --camera"
+        )
     if args.record is not None and args.record.suffix.lower() != ".mcap":
         raise UserError(f"--record {args.record}: the recording must be a .mcap file")
     if args.camera and (args.width or args.height) and Path(args.camera).exists():
@@ -210,6 +224,7 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: bool) -> int:
     from obstacle_fusion.app import App
     from obstacle_fusion.link.connection import Link, resolve_port
+    from obstacle_fusion.online import OnlineCalibration
     from obstacle_fusion.outputs.console import ConsoleView
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import McapRecorder
@@ -249,7 +264,12 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
             if camera is None:
                 camera = synthetic_camera_model(args.width or 500, args.height or 375)
             source: Any = SyntheticCamera(
-                scenario, camera, rig, fps=args.fps or 15.0, scene_time=robot.scene_time
+                scenario,
+                camera,
+                rig,
+                fps=args.fps or 15.0,
+                scene_time=robot.scene_time,
+                latency_s=args.emulated_latency_ms / 1e3,
             )
             settings.temperature_c = scenario.temperature_c
             if settings.duration_s is None:
@@ -269,7 +289,7 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
                 width=args.width,
                 height=args.height,
                 fps=args.fps,
-                latency_s=args.camera_latency_ms / 1e3,
+                latency_s=(args.camera_latency_ms or 0.0) / 1e3,
                 realtime=True,
             )
         stack.callback(source.close)
@@ -288,6 +308,8 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
                         "half_spacing_m": str(settings.half_spacing_m),
                         "stop_distance_m": str(args.stop_distance),
                         "rig": json.dumps(dataclasses.asdict(rig)),
+                        "rig_source": "file" if args.rig else "default",
+                        "camera_latency_ms": str(args.camera_latency_ms),
                         "camera": json.dumps(_camera_dict(camera)),
                     }
                 },
@@ -300,19 +322,32 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
         view = None if args.quiet else ConsoleView(sys.stderr)
         if view is not None:
             stack.callback(view.close)
+        measurer = _LazyMeasurer(camera, rig, args.method, args.calib)
+        given = None if args.camera_latency_ms is None else args.camera_latency_ms / 1e3
+        online = OnlineCalibration(
+            rig,
+            rig_source="file" if args.rig else "default",
+            latency_given_s=given,
+            # the synthetic camera stamps frames as read; a real source subtracts it itself
+            stamp_shift_s=(given or 0.0) if demo else 0.0,
+            camera_of=measurer.camera_at,
+        )
         app = App(
             settings,
             link,
             source,
-            _LazyMeasurer(camera, rig, args.method, args.calib),
+            measurer,
             jsonl=jsonl,
             recorder=recorder,
             video=video,
             view=view,
             robot=robot,
             extra_fields=extra,
+            online=online,
         )
         result = app.run()
+        if recorder is not None:
+            recorder.add_metadata("online", {k: json.dumps(v) for k, v in online.summary().items()})
         if view is not None:
             view.close()  # the table's last line ends before the summary starts
         summary = result.stats
@@ -326,6 +361,10 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
             f"{summary['link']['reconnects']} reconnects",
             file=sys.stderr,
         )
+        print(f"obstacle-fusion run: {online.rig_text()}", file=sys.stderr)
+        print(f"obstacle-fusion run: {online.latency_text()}", file=sys.stderr)
+        for text in online.warnings:
+            print(f"obstacle-fusion run: warning: {text}", file=sys.stderr)
         log.info("summary: %s", json.dumps(summary))
         return result.exit_code
     return 0

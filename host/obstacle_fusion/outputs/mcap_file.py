@@ -278,6 +278,11 @@ class McapRecorder:
             TOPIC_EVENT, {"timestamp": _stamp(now), "event": event, "detail": detail}, now, now
         )
 
+    def add_metadata(self, name: str, data: dict[str, str]) -> None:
+        """One more metadata record (e.g. what the run learnt, written at its end)."""
+        if not self._closed:
+            self._writer.add_metadata(name, {k: str(v) for k, v in data.items()})
+
     def flush(self) -> None:
         """Close the open chunk and push everything to the file (readable up to here)."""
         if self._closed:
