@@ -23,7 +23,7 @@ import dataclasses
 import logging
 import math
 import time
-from collections import OrderedDict
+from collections import OrderedDict, deque
 from collections.abc import Callable
 from typing import Any
 
@@ -110,6 +110,8 @@ class OnlineCalibration:
         self._warned_rig = False
         self._camera: Any = None
         self._camera_size: tuple[int, int] | None = None
+        self._rows: deque[tuple[float, float]] = deque(maxlen=1000)  # (raw stamp, row)
+        self._ranges: deque[tuple[float, float]] = deque(maxlen=4000)  # (t, range)
 
     # ------------------------------------------------------------------ inputs
     def frame_in(self, frame: Frame) -> Frame:
@@ -125,6 +127,7 @@ class OnlineCalibration:
     def reading_in(self, reading: SonarReading) -> None:
         if reading.ok and reading.t_host is not None and reading.distance_m is not None:
             self.latency.add_range(reading.t_host, reading.distance_m)
+            self._ranges.append((reading.t_host, reading.distance_m))
 
     def measured(self, frame: Frame, range_m: float, measurement: Any) -> None:
         """The fusion's observer: one frame's measurement at its paired range."""
@@ -142,19 +145,38 @@ class OnlineCalibration:
         if camera is None:
             return
         row = bottom_row(camera, measurement)
-        if row is None:
-            return
-        if self.rig_estimator is None:
-            self.rig_estimator = OnlineRigEstimator(camera.fy, camera.cy)
-        self.rig_estimator.add(row, self.rig.face_depth(range_m))
+        if row is not None:
+            # the depth is looked up at fit time, at the instant the latency then known says
+            # the frame shows: a range paired 100 ms off at 0.5 m/s would bend the fit
+            self._rows.append((raw_t, row))
 
     def _camera_for(self, width: int, height: int) -> Any:
         if self._camera_size != (width, height) and self.camera_of is not None:
             self._camera = self.camera_of(width, height)
             if self._camera is not None:
                 self._camera_size = (width, height)
-                self.rig_estimator = None  # rows of another size are another view
+                self._rows.clear()  # rows of another size are another view
         return self._camera
+
+    def _fit_rig(self) -> None:
+        """Rebuild the rig fit from the stored rows at the depths the latency now says."""
+        if self._camera is None or not self._rows or len(self._ranges) < 2:
+            return
+        import numpy as np
+
+        rt = np.array([t for t, _ in self._ranges])
+        rd = np.array([d for _, d in self._ranges])
+        order = np.argsort(rt)
+        rt, rd = rt[order], rd[order]
+        est = OnlineRigEstimator(self._camera.fy, self._camera.cy)
+        lag = 0.0 if self.latency_given_s is not None else self.applied_latency_s
+        for t, row in self._rows:
+            when = t - lag
+            i = int(np.searchsorted(rt, when))
+            if 0 < i < len(rt) and rt[i] - rt[i - 1] <= 0.25:
+                est.add(row, self.rig.face_depth(float(np.interp(when, rt, rd))))
+        self.rig_estimator = est
+        self.rig_estimate = est.estimate()
 
     # ------------------------------------------------------------------ estimates
     def update(self, now: float | None = None, force: bool = False) -> list[str]:
@@ -164,11 +186,18 @@ class OnlineCalibration:
             return []
         self._last_update = now
         new: list[str] = []
-        if self.rig_estimator is not None:
-            self.rig_estimate = self.rig_estimator.estimate()
+        self.latency_estimate = self.latency.estimate()
+        lat = self.latency_estimate
+        settled = self.latency_given_s is not None
+        if self.latency_given_s is None and lat is not None:
+            if lat.confidence >= MIN_LATENCY_CONFIDENCE:
+                self.applied_latency_s = lat.latency_s
+                settled = True  # else the depths may still be paired off: no warning yet
+        self._fit_rig()
         est = self.rig_estimate
         if (
             est is not None
+            and settled
             and self.rig_source == "file"
             and est.n_used >= MIN_DETECTIONS_TO_WARN
             and not self._warned_rig
@@ -183,14 +212,6 @@ class OnlineCalibration:
                     f"at {est.height_m:.3f} m, {est.pitch_deg:+.2f} deg (off by {100 * dh:+.1f} "
                     f"cm, {dp:+.2f} deg): check the rig (obstacle-fusion calibrate-rig)"
                 )
-        self.latency_estimate = self.latency.estimate()
-        lat = self.latency_estimate
-        if (
-            self.latency_given_s is None
-            and lat is not None
-            and lat.confidence >= MIN_LATENCY_CONFIDENCE
-        ):
-            self.applied_latency_s = lat.latency_s
         for text in new:
             log.warning("%s", text)
         self.warnings += new
