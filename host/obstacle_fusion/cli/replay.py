@@ -43,6 +43,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
     )
+    p.add_argument(
+        "--camera-latency-ms",
+        type=_args.camera_latency_ms,
+        help="subtract this from the recorded frame stamps (0..2000); default: estimated from "
+        "the recording (image heights against ranges) and used when confident",
+    )
     p.set_defaults(func=run)
 
 
@@ -110,67 +116,109 @@ def run(args: argparse.Namespace) -> int:
     if stop is None and meta.get("stop_distance_m") not in (None, "None", ""):
         stop = float(meta["stop_distance_m"])
 
-    now = [0.0]
+    from obstacle_fusion.online import MIN_LATENCY_CONFIDENCE, OnlineCalibration
+
+    rig_source = "file" if args.rig is not None else str(meta.get("rig_source", "default"))
     measurer: Any = None
-    converters: dict[int, SonarConverter] = {}
-    fusion = Fusion(
-        measurer=None,
-        pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3),
-        stop_distance_m=stop,
-        method=method,
-        clock=lambda: now[0],
-    )
-    out = JsonLinesWriter(sys.stdout)
-    index = 0
-    bad_images = 0
-    for m in sorted(msgs, key=lambda m: m.log_time_ns):
-        now[0] = m.log_time_ns / 1e9
-        d = m.data
-        if m.topic == TOPIC_RANGE:
-            hz = int(d.get("timer_hz") or 2_000_000)
-            conv = converters.get(hz)
-            if conv is None:
-                conv = converters[hz] = SonarConverter(
-                    timer_hz=hz,
-                    temperature_c=temperature,
-                    median_window=args.median,
-                    half_spacing_m=half_spacing,
+
+    def camera_at(width: int, height: int) -> Any:
+        return None if measurer is None else measurer.camera.scaled_to(width, height)
+
+    def replay_once(
+        shift_s: float, given_s: float | None
+    ) -> tuple[list[Any], Any, int, int, OnlineCalibration]:
+        """One pass over the recording, frame stamps moved ``shift_s`` earlier."""
+        nonlocal measurer
+        now = [0.0]
+        online = OnlineCalibration(
+            rig,
+            rig_source=rig_source,
+            latency_given_s=given_s,
+            stamp_shift_s=shift_s,
+            camera_of=camera_at,
+            clock=lambda: now[0],
+        )
+        converters: dict[int, SonarConverter] = {}
+        fusion = Fusion(
+            measurer=measurer,
+            pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3),
+            stop_distance_m=stop,
+            method=method,
+            clock=lambda: now[0],
+            observer=online.measured,
+        )
+        out: list[Any] = []
+        index = 0
+        bad_images = 0
+        for m in sorted(msgs, key=lambda m: m.log_time_ns):
+            now[0] = m.log_time_ns / 1e9
+            d = m.data
+            if m.topic == TOPIC_RANGE:
+                hz = int(d.get("timer_hz") or 2_000_000)
+                conv = converters.get(hz)
+                if conv is None:
+                    conv = converters[hz] = SonarConverter(
+                        timer_hz=hz,
+                        temperature_c=temperature,
+                        median_window=args.median,
+                        half_spacing_m=half_spacing,
+                    )
+                raw = Range(
+                    d["measurement"],
+                    d["sensor_id"],
+                    d["trigger_us"],
+                    d["echo_ticks"],
+                    _STATUS_CODES.get(d["status"], 255),
                 )
-            raw = Range(
-                d["measurement"],
-                d["sensor_id"],
-                d["trigger_us"],
-                d["echo_ticks"],
-                _STATUS_CODES.get(d["status"], 255),
-            )
-            reading = conv.convert(
-                raw,
-                d.get("t_trigger_host"),
-                d.get("t_receipt"),
-                time_scale=float(d.get("time_scale") or 1.0),
-            )
-            records = fusion.add_reading(reading)
+                reading = conv.convert(
+                    raw,
+                    d.get("t_trigger_host"),
+                    d.get("t_receipt"),
+                    time_scale=float(d.get("time_scale") or 1.0),
+                )
+                online.reading_in(reading)
+                out += fusion.add_reading(reading)
+            else:
+                image = decode_image(d)
+                if image is None:
+                    bad_images += 1
+                    continue
+                if measurer is None:
+                    cam = camera
+                    if cam is None:
+                        from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
 
+                        cam = synthetic_camera_model(image.shape[1], image.shape[0])
+                    measurer = Measurer(cam, rig, method)
+                    fusion.measurer = measurer
+                frame = Frame(image, m.publish_time_ns / 1e9, index, str(d.get("frame_id", "")))
+                index += 1
+                out += fusion.add_frame(online.frame_in(frame))
+        out += fusion.flush()
+        online.update(now=now[0], force=True)
+        return out, fusion, index, bad_images, online
+
+    given = None if args.camera_latency_ms is None else args.camera_latency_ms / 1e3
+    records, fusion, index, bad_images, online = replay_once(given or 0.0, given)
+    lat = online.latency_estimate
+    if given is None:
+        if lat is not None and lat.confidence >= MIN_LATENCY_CONFIDENCE and lat.latency_s > 5e-4:
+            print(
+                f"obstacle-fusion replay: {online.latency_text()}; pairing again with the "
+                f"frames {1e3 * lat.latency_s:.1f} ms earlier",
+                file=sys.stderr,
+            )
+            records, fusion, index, bad_images, online = replay_once(lat.latency_s, lat.latency_s)
         else:
-            image = decode_image(d)
-            if image is None:
-                bad_images += 1
-                continue
-            if measurer is None:
-                cam = camera
-                if cam is None:
-                    from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
-
-                    cam = synthetic_camera_model(image.shape[1], image.shape[0])
-                measurer = Measurer(cam, rig, method)
-                fusion.measurer = measurer
-            frame = Frame(image, m.publish_time_ns / 1e9, index, str(d.get("frame_id", "")))
-            index += 1
-            records = fusion.add_frame(frame)
-        for r in records:
-            out.write(r)
-    for r in fusion.flush():
-        out.write(r)
+            print(
+                f"obstacle-fusion replay: {online.latency_text()}; frames paired as recorded",
+                file=sys.stderr,
+            )
+    else:
+        print(f"obstacle-fusion replay: {online.latency_text()}", file=sys.stderr)
+    writer = JsonLinesWriter(sys.stdout)
+    for r in records:
+        writer.write(r)
     s = fusion.stats
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
@@ -179,6 +227,9 @@ def run(args: argparse.Namespace) -> int:
         + (f", {bad_images} undecodable frames" if bad_images else ""),
         file=sys.stderr,
     )
+    print(f"obstacle-fusion replay: {online.rig_text()}", file=sys.stderr)
+    for text in online.warnings:
+        print(f"obstacle-fusion replay: warning: {text}", file=sys.stderr)
     if not rec.complete:
         raise UserError(
             f"{args.recording}: {rec.problem}. The {len(msgs)} messages before the cut were "
