@@ -88,7 +88,7 @@ class OnlineCalibration:
         latency_given_s: float | None = None,
         stamp_shift_s: float = 0.0,
         camera_of: Callable[[int, int], Any] | None = None,
-        update_every_s: float = 1.0,
+        update_every_s: float = 2.0,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.rig = rig
@@ -107,6 +107,7 @@ class OnlineCalibration:
         self.detections = 0
         self._raw_t: OrderedDict[int, float] = OrderedDict()
         self._last_update = -math.inf
+        self._fitted_at = -1  # detections seen at the last fit
         self._warned_rig = False
         self._camera: Any = None
         self._camera_size: tuple[int, int] | None = None
@@ -170,11 +171,12 @@ class OnlineCalibration:
         rt, rd = rt[order], rd[order]
         est = OnlineRigEstimator(self._camera.fy, self._camera.cy)
         lag = 0.0 if self.latency_given_s is not None else self.applied_latency_s
-        for t, row in self._rows:
-            when = t - lag
-            i = int(np.searchsorted(rt, when))
-            if 0 < i < len(rt) and rt[i] - rt[i - 1] <= 0.25:
-                est.add(row, self.rig.face_depth(float(np.interp(when, rt, rd))))
+        obs = np.array(self._rows)
+        when = obs[:, 0] - lag
+        i = np.clip(np.searchsorted(rt, when), 1, len(rt) - 1)
+        ok = (when > rt[0]) & (when < rt[-1]) & (rt[i] - rt[i - 1] <= 0.25)
+        for row, d in zip(obs[ok, 1], np.interp(when[ok], rt, rd), strict=True):
+            est.add(float(row), self.rig.face_depth(float(d)))
         self.rig_estimator = est
         self.rig_estimate = est.estimate()
 
@@ -182,9 +184,12 @@ class OnlineCalibration:
     def update(self, now: float | None = None, force: bool = False) -> list[str]:
         """Re-fit at most every ``update_every_s``; the new warnings (also logged)."""
         now = self.clock() if now is None else now
-        if not force and now - self._last_update < self.update_every_s:
+        if not force and (
+            now - self._last_update < self.update_every_s or self.detections == self._fitted_at
+        ):
             return []
         self._last_update = now
+        self._fitted_at = self.detections
         new: list[str] = []
         self.latency_estimate = self.latency.estimate()
         lat = self.latency_estimate
