@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -110,3 +111,39 @@ def test_a_given_latency_is_not_replaced_and_low_confidence_detections_are_ignor
     shy = OnlineCalibration(Rig(), camera_of=lambda w, h: CAMERA)
     _drive(shy, 0.25, 3.0, latency=0.08, confidence=0.4)
     assert shy.detections == 0 and shy.rig_estimate is None and shy.latency_estimate is None
+
+
+def test_rendered_frames_measured_by_the_fused_method() -> None:
+    """The whole chain on rendered frames: a box 0.4 m tall on a pitched rig, a camera 80 ms
+    late, the fused method's heights and bottom edges, stop-and-go at 0.6 m/s."""
+    from obstacle_fusion.sim.scene import SceneSpec, renderer_for
+    from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
+    from obstacle_fusion.vision.measure import Measurer
+
+    rig = Rig(camera_height_m=0.30, camera_pitch_deg=5.0, sonar_below_m=0.03)
+    camera = synthetic_camera_model(500, 375)
+    renderer = renderer_for(camera, rig, 2)
+    measurer = Measurer(camera, rig)
+    base = SceneSpec(noise_sigma=1.5, blur_sigma=0.5, obstacle=True, height_m=0.4, width_m=0.5)
+    keys_t, keys_d = [0.0, 2.8, 3.5, 5.5], [2.5, 0.8, 0.8, 2.0]  # 0.6 m/s, stop, back off
+
+    def depth(t: float) -> float:
+        return float(np.interp(t, keys_t, keys_d))
+
+    online = OnlineCalibration(rig, camera_of=lambda w, h: camera.scaled_to(w, h))
+    rng = np.random.default_rng(11)
+    t_r, t_f, k = 0.0, 0.3, 0
+    while t_f < keys_t[-1]:
+        while t_r <= t_f + 0.1:
+            online.reading_in(_reading(t_r, depth(t_r) + rng.normal(0, 0.002)))
+            t_r += 0.05
+        image = renderer.render(replace(base, distance_m=depth(t_f - 0.08)), rng).image
+        frame = online.frame_in(Frame(image, t_f, k, "rendered"))
+        online.measured(frame, depth(t_f), measurer.measure(image, depth(t_f)))  # paired late
+        t_f += 1 / 15
+        k += 1
+    online.update(now=t_f, force=True)
+    lat, est = online.latency_estimate, online.rig_estimate
+    assert online.detections > 60
+    assert lat is not None and abs(lat.latency_s - 0.08) < 0.005, lat
+    assert est is not None and abs(est.height_m - 0.30) < 0.01 and abs(est.pitch_deg - 5.0) < 0.5
