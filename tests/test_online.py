@@ -101,13 +101,20 @@ def test_a_rig_file_within_tolerance_is_not_warned() -> None:
 
 def test_a_given_latency_is_not_replaced_and_low_confidence_detections_are_ignored() -> None:
     online = OnlineCalibration(
-        Rig(), latency_given_s=0.05, stamp_shift_s=0.05, camera_of=lambda w, h: CAMERA
+        Rig(camera_height_m=0.25, camera_pitch_deg=3.0),
+        rig_source="file",
+        latency_given_s=0.05,
+        stamp_shift_s=0.05,
+        camera_of=lambda w, h: CAMERA,
     )
     _drive(online, 0.25, 3.0, latency=0.08)
     lat = online.latency_estimate
     assert lat is not None and abs(lat.latency_s - 0.03) < 0.005  # what remains of 80 ms
     assert online.applied_latency_s == 0.0
     assert online.frame_in(Frame(IMAGE, 10.0, 1, "t")).t_host == pytest.approx(9.95)
+    # the rig fit still dates each row by what remains: a right rig file is not warned about
+    est = online.rig_estimate
+    assert est is not None and abs(est.height_m - 0.25) < 0.005 and online.warnings == []
     shy = OnlineCalibration(Rig(), camera_of=lambda w, h: CAMERA)
     _drive(shy, 0.25, 3.0, latency=0.08, confidence=0.4)
     assert shy.detections == 0 and shy.rig_estimate is None and shy.latency_estimate is None

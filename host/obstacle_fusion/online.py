@@ -170,7 +170,11 @@ class OnlineCalibration:
         order = np.argsort(rt)
         rt, rd = rt[order], rd[order]
         est = OnlineRigEstimator(self._camera.fy, self._camera.cy)
-        lag = 0.0 if self.latency_given_s is not None else self.applied_latency_s
+        lag = self.applied_latency_s
+        lat = self.latency_estimate
+        if self.latency_given_s is not None and lat is not None:
+            # a given latency that leaves some behind: the rows still show the scene earlier
+            lag = lat.latency_s if lat.confidence >= MIN_LATENCY_CONFIDENCE else 0.0
         obs = np.array(self._rows)
         when = obs[:, 0] - lag
         i = np.clip(np.searchsorted(rt, when), 1, len(rt) - 1)
@@ -193,11 +197,11 @@ class OnlineCalibration:
         new: list[str] = []
         self.latency_estimate = self.latency.estimate()
         lat = self.latency_estimate
-        settled = self.latency_given_s is not None
-        if self.latency_given_s is None and lat is not None:
-            if lat.confidence >= MIN_LATENCY_CONFIDENCE:
-                self.applied_latency_s = lat.latency_s
-                settled = True  # else the depths may still be paired off: no warning yet
+        # until the latency (or what a given one leaves) is known, depths may be paired off:
+        # no warning about the rig before that
+        settled = lat is not None and lat.confidence >= MIN_LATENCY_CONFIDENCE
+        if self.latency_given_s is None and lat is not None and settled:
+            self.applied_latency_s = lat.latency_s
         self._fit_rig()
         est = self.rig_estimate
         if (
