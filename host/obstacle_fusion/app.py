@@ -21,6 +21,7 @@ from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
 from obstacle_fusion.link.connection import Link, Received, describe_hello
 from obstacle_fusion.online import OnlineCalibration
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
+from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import McapRecorder
 from obstacle_fusion.outputs.video import AnnotatedVideoWriter
@@ -120,6 +121,9 @@ class App:
         view: ConsoleView | None = None,
         robot: EmulatedRobot | None = None,
         extra_fields: Callable[[ObstacleRecord], dict[str, Any]] | None = None,
+        live: Any = None,
+        ros2: Any = None,
+        topics: FoxgloveTopics | None = None,
         online: OnlineCalibration | None = None,
     ) -> None:
         self.s = settings
@@ -131,6 +135,11 @@ class App:
         self.view = view
         self.robot = robot
         self.extra_fields = extra_fields
+        self.live = live  # a Foxglove WebSocket server (anything with write(TopicMessage))
+        self.ros2 = ros2  # a Ros2BagWriter
+        # One encoder for the recording and the live view: the same bytes go to both.
+        self.topics = topics or (recorder.topics if recorder is not None else FoxgloveTopics())
+        self._sinks = [s for s in (recorder, live) if s is not None]
         self.clock = ClockModel(baud=link.baud)
         self.converter = SonarConverter(
             temperature_c=settings.temperature_c,
@@ -211,16 +220,23 @@ class App:
             self.ranges_mapped += 1
             if self.online is not None:
                 self.online.reading_in(reading)
-            if self.recorder is not None:
-                self.recorder.write_range(reading, self.timer_hz, item.session, log_t=item.t_host)
+            if self._sinks:
+                self._emit(self.topics.reading(reading, self.timer_hz, item.session, item.t_host))
+            if self.ros2 is not None:
+                self.ros2.write_range(reading, log_t=item.t_host)
             out += self.fusion.add_reading(reading)
         self._unmapped.clear()
         return out
 
+    def _emit(self, msgs: list[TopicMessage]) -> None:
+        for sink in self._sinks:
+            for m in msgs:
+                sink.write(m)
+
     def _event(self, name: str, detail: dict[str, Any]) -> None:
         log.info("%s: %s", name, detail)
-        if self.recorder is not None:
-            self.recorder.write_event(name, detail)
+        if self._sinks:
+            self._emit([self.topics.event(name, detail)])
 
     # ------------------------------------------------------------------ frames and records
     def _on_frame(self, frame: Frame) -> list[ObstacleRecord]:
@@ -230,10 +246,23 @@ class App:
             prepare = getattr(self.fusion.measurer, "prepare", None)
             if prepare is not None:
                 prepare(frame.image)
+            measurer = self.fusion.measurer
+            camera = getattr(measurer, "camera_model", None) or getattr(measurer, "camera", None)
+            if camera is not None:
+                self.topics.set_camera(camera)
             self._prepared = True
         self.rates["frames"].tick()
-        if self.recorder is not None:
-            self.recorder.write_frame(frame, log_t=time.monotonic())
+        if self._sinks or self.ros2 is not None:
+            now = time.monotonic()
+            h, w = frame.image.shape[:2]
+            data = encode_image(frame.image, self.topics.image_format, self.topics.jpeg_quality)
+            if data is None:
+                log.warning("could not encode frame %d; not recorded", frame.index)
+            else:
+                if self._sinks:
+                    self._emit(self.topics.encoded_frame(data, w, h, frame.t_host, now))
+                if self.ros2 is not None:
+                    self.ros2.write_image(data, self.topics.image_format, w, h, frame.t_host, now)
         if self.video is not None:
             self._images[frame.index] = frame.image
         if self.online is not None:
@@ -247,8 +276,10 @@ class App:
             extra = self.extra_fields(rec) if self.extra_fields else None
             if self.jsonl is not None:
                 self.jsonl.write(rec, extra)
-            if self.recorder is not None:
-                self.recorder.write_obstacle(rec)
+            if self._sinks:
+                self._emit(self.topics.record(rec))
+            if self.ros2 is not None:
+                self.ros2.write_record(rec)
             if self.video is not None:
                 image = self._images.pop(rec.frame_index, None)
                 if image is not None:

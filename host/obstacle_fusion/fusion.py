@@ -82,6 +82,8 @@ class ObstacleRecord:
     vision_ms: float | None = None
     t_published: float | None = None
     reason: str | None = None
+    #: the image edges the method chose (x0, y0, x1, y1 px), for drawing; not in to_dict()
+    edges_px: tuple[tuple[float, float, float, float], ...] = ()
 
     @property
     def latency_s(self) -> float | None:
@@ -93,6 +95,7 @@ class ObstacleRecord:
         d["trigger_us"] = list(self.trigger_us)
         d["box_px"] = list(self.box_px) if self.box_px is not None else None
         d["latency_s"] = self.latency_s
+        del d["edges_px"]
         return d
 
 
@@ -264,6 +267,7 @@ class Fusion:
         stats = self.stats
         height = width = depth = vision_ms = None
         box = None
+        edges: tuple[tuple[float, float, float, float], ...] = ()
         confidence = 0.0
         method = self.method
         reason = pairing.reason
@@ -317,6 +321,10 @@ class Fusion:
                     confidence = float(getattr(m, "confidence", 1.0) or 0.0)
                     raw_box = getattr(m, "box_px", None)
                     box = tuple(float(v) for v in raw_box) if raw_box is not None else None
+                    edges = tuple(
+                        (float(a), float(b), float(c), float(d))
+                        for a, b, c, d in (getattr(m, "lines", None) or ())
+                    )
                 else:
                     status = ObstacleStatus.NOT_DETECTED
                     stats.not_detected += 1
@@ -351,4 +359,5 @@ class Fusion:
             vision_ms=vision_ms,
             t_published=self.clock(),
             reason=reason,
+            edges_px=edges,
         )

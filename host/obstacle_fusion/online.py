@@ -73,7 +73,8 @@ class OnlineCalibration:
     """Online rig and latency estimates for one run.
 
     ``rig``: the rig the measurement uses; ``rig_source``: "file" (a --rig was given:
-    disagreements are warned about) or "default". ``latency_given_s``: the camera latency
+    disagreements are warned about), "default" or "none" (the measurer has no rig; ``rig``
+    then only gives the sonar's offsets). ``latency_given_s``: the camera latency
     the user gave (None: estimate it and re-date frames by it once confident);
     ``stamp_shift_s``: a fixed amount to subtract from every stamp here (for a source that
     does not do it itself). ``camera_of(width, height)``: the camera model at a frame size
@@ -231,10 +232,15 @@ class OnlineCalibration:
         if est is None:
             why = self.rig_estimator.why_not if self.rig_estimator is not None else "no detection"
             return f"online rig: not yet ({why})"
-        return (
+        text = (
             f"online rig: camera {est.height_m:.3f} m high, pitch {est.pitch_deg:+.2f} deg from "
-            f"{est.n_used} detections (rms {est.residual_px:.2f} px); {self.rig_source} rig "
-            f"{self.rig.camera_height_m:.3f} m, {self.rig.camera_pitch_deg:+.2f} deg"
+            f"{est.n_used} detections (rms {est.residual_px:.2f} px)"
+        )
+        if self.rig_source == "none":
+            return text + "; no rig file"
+        return (
+            f"{text}; {self.rig_source} rig {self.rig.camera_height_m:.3f} m, "
+            f"{self.rig.camera_pitch_deg:+.2f} deg"
         )
 
     def latency_text(self) -> str:

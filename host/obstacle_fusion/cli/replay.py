@@ -44,10 +44,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
     )
     p.add_argument(
+        "--ros2-bag",
+        type=Path,
+        metavar="OUT",
+        help="also write a ROS 2 bag folder (MCAP storage): the recorded ranges and images, "
+        "CameraInfo, and the replayed detections as vision_msgs/Detection3DArray",
+    )
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --ros2-bag")
+    p.add_argument(
         "--camera-latency-ms",
         type=_args.camera_latency_ms,
         help="subtract this from the recorded frame stamps (0..2000); default: estimated from "
-        "the recording (image heights against ranges) and used when confident",
+        "the recording (image heights against ranges; one extra pass) and used when confident",
     )
     p.set_defaults(func=run)
 
@@ -59,6 +67,11 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from obstacle_fusion.fusion import Fusion, RangePairer
+    from obstacle_fusion.outputs.foxglove_schemas import (
+        FoxgloveTopics,
+        recording_monotonic_to_unix_ns,
+        recording_unix_offset_ns,
+    )
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import (
         TOPIC_IMAGE,
@@ -66,14 +79,18 @@ def run(args: argparse.Namespace) -> int:
         decode_image,
         read_recording,
     )
-    from obstacle_fusion.protocol.generated import Range
     from obstacle_fusion.sonar import SonarConverter
-    from obstacle_fusion.sources.frames import Frame
     from obstacle_fusion.vision.camera import CameraModel, CameraModelError
-    from obstacle_fusion.vision.measure import Measurer
     from obstacle_fusion.vision.rig import Rig
 
+    _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import require_rosbags
+
+        require_rosbags()
     rec = read_recording(args.recording)
+    # New recordings hold Unix-epoch times; the fusion runs on the host-monotonic ones.
+    offset_ns = recording_unix_offset_ns(rec.metadata)
     meta = rec.metadata.get("run", {})
     msgs = [m for m in rec.messages if m.topic in (TOPIC_IMAGE, TOPIC_RANGE)]
     if not msgs:
@@ -119,106 +136,74 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.online import MIN_LATENCY_CONFIDENCE, OnlineCalibration
 
     rig_source = "file" if args.rig is not None else str(meta.get("rig_source", "default"))
-    measurer: Any = None
+    now = [0.0]
 
-    def camera_at(width: int, height: int) -> Any:
-        return None if measurer is None else measurer.camera.scaled_to(width, height)
-
-    def replay_once(
-        shift_s: float, given_s: float | None
-    ) -> tuple[list[Any], Any, int, int, OnlineCalibration]:
-        """One pass over the recording, frame stamps moved ``shift_s`` earlier."""
-        nonlocal measurer
-        now = [0.0]
+    def fresh(shift_s: float, given_s: float | None) -> tuple[Any, OnlineCalibration]:
         online = OnlineCalibration(
             rig,
             rig_source=rig_source,
             latency_given_s=given_s,
             stamp_shift_s=shift_s,
-            camera_of=camera_at,
             clock=lambda: now[0],
         )
-        converters: dict[int, SonarConverter] = {}
         fusion = Fusion(
-            measurer=measurer,
+            measurer=None,
             pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3),
             stop_distance_m=stop,
             method=method,
             clock=lambda: now[0],
             observer=online.measured,
         )
-        out: list[Any] = []
-        index = 0
-        bad_images = 0
-        for m in sorted(msgs, key=lambda m: m.log_time_ns):
-            now[0] = m.log_time_ns / 1e9
-            d = m.data
-            if m.topic == TOPIC_RANGE:
-                hz = int(d.get("timer_hz") or 2_000_000)
-                conv = converters.get(hz)
-                if conv is None:
-                    conv = converters[hz] = SonarConverter(
-                        timer_hz=hz,
-                        temperature_c=temperature,
-                        median_window=args.median,
-                        half_spacing_m=half_spacing,
-                    )
-                raw = Range(
-                    d["measurement"],
-                    d["sensor_id"],
-                    d["trigger_us"],
-                    d["echo_ticks"],
-                    _STATUS_CODES.get(d["status"], 255),
-                )
-                reading = conv.convert(
-                    raw,
-                    d.get("t_trigger_host"),
-                    d.get("t_receipt"),
-                    time_scale=float(d.get("time_scale") or 1.0),
-                )
-                online.reading_in(reading)
-                out += fusion.add_reading(reading)
-            else:
-                image = decode_image(d)
-                if image is None:
-                    bad_images += 1
-                    continue
-                if measurer is None:
-                    cam = camera
-                    if cam is None:
-                        from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
-
-                        cam = synthetic_camera_model(image.shape[1], image.shape[0])
-                    measurer = Measurer(cam, rig, method)
-                    fusion.measurer = measurer
-                frame = Frame(image, m.publish_time_ns / 1e9, index, str(d.get("frame_id", "")))
-                index += 1
-                out += fusion.add_frame(online.frame_in(frame))
-        out += fusion.flush()
-        online.update(now=now[0], force=True)
-        return out, fusion, index, bad_images, online
+        return fusion, online
 
     given = None if args.camera_latency_ms is None else args.camera_latency_ms / 1e3
-    records, fusion, index, bad_images, online = replay_once(given or 0.0, given)
-    lat = online.latency_estimate
-    if given is None:
-        if lat is not None and lat.confidence >= MIN_LATENCY_CONFIDENCE and lat.latency_s > 5e-4:
-            print(
-                f"obstacle-fusion replay: {online.latency_text()}; pairing again with the "
-                f"frames {1e3 * lat.latency_s:.1f} ms earlier",
-                file=sys.stderr,
-            )
-            records, fusion, index, bad_images, online = replay_once(lat.latency_s, lat.latency_s)
+    shift = given or 0.0
+    if given is None:  # a first pass, with no output, only to estimate the latency
+        fusion, online = fresh(0.0, None)
+        _replay(
+            args, msgs, offset_ns, now, fusion, _NoOutput(), None, {}, temperature,
+            half_spacing, camera, rig, method, online,
+        )  # fmt: skip
+        online.update(now=now[0], force=True)
+        lat = online.latency_estimate
+        if lat is not None and lat.confidence >= MIN_LATENCY_CONFIDENCE:
+            shift = lat.latency_s
+            note = f"pairing with the frames {1e3 * shift:.1f} ms earlier"
         else:
-            print(
-                f"obstacle-fusion replay: {online.latency_text()}; frames paired as recorded",
-                file=sys.stderr,
-            )
-    else:
-        print(f"obstacle-fusion replay: {online.latency_text()}", file=sys.stderr)
-    writer = JsonLinesWriter(sys.stdout)
-    for r in records:
-        writer.write(r)
+            note = "frames paired as recorded"
+        print(f"obstacle-fusion replay: {online.latency_text()}; {note}", file=sys.stderr)
+    converters: dict[int, SonarConverter] = {}
+    fusion, online = fresh(shift, shift if given is None else given)
+    out = JsonLinesWriter(sys.stdout)
+    ros2: Any = None
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import Ros2BagWriter
+
+        topics = FoxgloveTopics(
+            rig=rig, camera=camera, unix_offset_ns=recording_monotonic_to_unix_ns(rec.metadata)
+        )
+        ros2 = Ros2BagWriter(args.ros2_bag, topics=topics, overwrite=args.overwrite)
+    try:
+        index, bad_images = _replay(
+            args,
+            msgs,
+            offset_ns,
+            now,
+            fusion,
+            out,
+            ros2,
+            converters,
+            temperature,
+            half_spacing,
+            camera,
+            rig,
+            method,
+            online,
+        )
+    finally:
+        if ros2 is not None:
+            ros2.close()
+    online.update(now=now[0], force=True)
     s = fusion.stats
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
@@ -228,14 +213,123 @@ def run(args: argparse.Namespace) -> int:
         file=sys.stderr,
     )
     print(f"obstacle-fusion replay: {online.rig_text()}", file=sys.stderr)
+    if given is not None:
+        print(f"obstacle-fusion replay: {online.latency_text()}", file=sys.stderr)
     for text in online.warnings:
         print(f"obstacle-fusion replay: warning: {text}", file=sys.stderr)
+    if ros2 is not None:
+        print(
+            f"obstacle-fusion replay: wrote the ROS 2 bag {args.ros2_bag} ("
+            + ", ".join(f"{n} on {t}" for t, n in ros2.counts.items())
+            + ")",
+            file=sys.stderr,
+        )
     if not rec.complete:
         raise UserError(
             f"{args.recording}: {rec.problem}. The {len(msgs)} messages before the cut were "
             "replayed above; anything after it is lost"
         )
     return 0
+
+
+def _replay(
+    args: argparse.Namespace,
+    msgs: list[Any],
+    offset_ns: int,
+    now: list[float],
+    fusion: Any,
+    out: Any,
+    ros2: Any,
+    converters: dict[int, Any],
+    temperature: float,
+    half_spacing: float,
+    camera: Any,
+    rig: Any,
+    method: str,
+    online: Any,
+) -> tuple[int, int]:
+    import base64
+
+    from obstacle_fusion.outputs.mcap_file import TOPIC_RANGE, decode_image
+    from obstacle_fusion.protocol.generated import Range
+    from obstacle_fusion.sonar import SonarConverter
+    from obstacle_fusion.sources.frames import Frame
+    from obstacle_fusion.vision.measure import Measurer
+
+    measurer: Any = None
+    index = 0
+    bad_images = 0
+    for m in sorted(msgs, key=lambda m: m.log_time_ns):
+        now[0] = (m.log_time_ns - offset_ns) / 1e9
+        d = m.data
+        if m.topic == TOPIC_RANGE:
+            hz = int(d.get("timer_hz") or 2_000_000)
+            conv = converters.get(hz)
+            if conv is None:
+                conv = converters[hz] = SonarConverter(
+                    timer_hz=hz,
+                    temperature_c=temperature,
+                    median_window=args.median,
+                    half_spacing_m=half_spacing,
+                )
+            raw = Range(
+                d["measurement"],
+                d["sensor_id"],
+                d["trigger_us"],
+                d["echo_ticks"],
+                _STATUS_CODES.get(d["status"], 255),
+            )
+            reading = conv.convert(
+                raw,
+                d.get("t_trigger_host"),
+                d.get("t_receipt"),
+                time_scale=float(d.get("time_scale") or 1.0),
+            )
+            online.reading_in(reading)
+            records = fusion.add_reading(reading)
+            if ros2 is not None:
+                ros2.write_range(reading, log_t=now[0])
+
+        else:
+            image = decode_image(d)
+            if image is None:
+                bad_images += 1
+                continue
+            if measurer is None:
+                cam = camera
+                if cam is None:
+                    from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
+
+                    cam = synthetic_camera_model(image.shape[1], image.shape[0])
+                measurer = Measurer(cam, rig, method)
+                fusion.measurer = measurer
+                online.camera_of = lambda w, h, c=cam: c.scaled_to(w, h)
+                if ros2 is not None:
+                    ros2.topics.set_camera(cam)
+            t_frame = (m.publish_time_ns - offset_ns) / 1e9
+            if ros2 is not None:
+                h, w = image.shape[:2]
+                jpeg = base64.b64decode(d["data"])
+                ros2.write_image(jpeg, str(d.get("format", "jpeg")), w, h, t_frame, now[0])
+            frame = Frame(image, t_frame, index, str(d.get("frame_id", "")))
+            index += 1
+            records = fusion.add_frame(online.frame_in(frame))
+        for r in records:
+            out.write(r)
+            if ros2 is not None:
+                ros2.write_record(r)
+    for r in fusion.flush():
+        out.write(r)
+        if ros2 is not None:
+            ros2.write_record(r)
+    return index, bad_images
+
+
+class _NoOutput:
+    """Where the estimation pass's records go."""
+
+    def write(self, record: Any, extra: Any = None) -> None:
+        return None
 
 
 def rig_from_metadata(text: str, recording: Path) -> Any:

@@ -76,7 +76,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     out.add_argument("--json", action="store_true", help="JSON lines on standard output")
     out.add_argument("--record", type=Path, metavar="FILE.mcap", help="MCAP recording")
-    out.add_argument("--video", type=Path, metavar="OUT.mp4", help="annotated video")
+    out.add_argument(
+        "--video", type=Path, metavar="OUT.mp4", help="annotated video (H.264 MP4; .avi: MJPEG)"
+    )
+    out.add_argument(
+        "--foxglove",
+        metavar="[HOST:]PORT",
+        help="serve the run live to Foxglove over WebSocket (host default 127.0.0.1; "
+        "e.g. 8765, or 0.0.0.0:8765 for other machines)",
+    )
+    out.add_argument(
+        "--ros2-bag",
+        type=Path,
+        metavar="OUT",
+        help="write a ROS 2 bag folder (MCAP storage): Range, CompressedImage, CameraInfo, "
+        "Detection3DArray, tf_static",
+    )
     out.add_argument(
         "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
     )
@@ -87,7 +102,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="exit with CODE (1..125) at the first alert",
     )
     out.add_argument(
-        "--overwrite", action="store_true", help="replace an existing --record or --video file"
+        "--overwrite",
+        action="store_true",
+        help="replace an existing --record, --video or --ros2-bag output",
     )
     out.add_argument("--quiet", action="store_true", help="no live console view")
     emu = p.add_argument_group("emulated robot")
@@ -113,6 +130,7 @@ class _LazyMeasurer:
         self.method = method
         self.calib = calib
         self._impl: Any = None
+        self.camera_model: Any = None  # the camera measured with, once the frame size is known
 
     def prepare(self, image: Any) -> None:
         """Check the calibration against the frame size; a UserError ends the run (exit 2)
@@ -146,10 +164,11 @@ class _LazyMeasurer:
                     f"--calib {self.calib}: it does not fit the camera's {w}x{h} frames: {exc}"
                 ) from None
         self._impl = Measurer(camera, self.rig, self.method)
+        self.camera_model = camera
 
     def camera_at(self, width: int, height: int) -> Any:
         """The measuring camera at this frame size (None before the first frame)."""
-        return None if self._impl is None else self._impl.camera.scaled_to(width, height)
+        return None if self.camera_model is None else self.camera_model.scaled_to(width, height)
 
     def measure(self, image: Any, range_m: float) -> Any:
         if self._impl is None:
@@ -197,6 +216,21 @@ def run(args: argparse.Namespace) -> int:
             )
     _args.refuse_overwrite(args.record, "--record", args.overwrite)
     _args.refuse_overwrite(args.video, "--video", args.overwrite)
+    _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
+    if args.foxglove is not None:
+        from obstacle_fusion.outputs.live_foxglove import Address, check_free, require_sdk
+
+        args.foxglove_address = Address.parse(args.foxglove)
+        require_sdk()
+        check_free(args.foxglove_address)  # a taken port ends the run before it starts
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import require_rosbags
+
+        require_rosbags()
+    if args.video is not None:
+        from obstacle_fusion.outputs.video import check_video_path
+
+        check_video_path(args.video)
     rig = Rig.load(args.rig) if args.rig else Rig()
     camera = CameraModel.load(args.calib) if args.calib else None
     demo = not args.port and not args.camera
@@ -226,6 +260,7 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
     from obstacle_fusion.link.connection import Link, resolve_port
     from obstacle_fusion.online import OnlineCalibration
     from obstacle_fusion.outputs.console import ConsoleView
+    from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import McapRecorder
     from obstacle_fusion.outputs.video import AnnotatedVideoWriter
@@ -295,11 +330,13 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
         stack.callback(source.close)
         link = Link(port, baud=args.baud)
         jsonl = JsonLinesWriter(sys.stdout) if args.json else None
+        topics = FoxgloveTopics(rig=rig, camera=camera)  # one encoder: record and live alike
         recorder = None
         if args.record is not None:
             recorder = McapRecorder(
                 args.record,
                 overwrite=args.overwrite,
+                topics=topics,
                 metadata={
                     "run": {
                         "mode": settings.mode,
@@ -319,14 +356,36 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
         if args.video is not None:
             video = AnnotatedVideoWriter(args.video, fps=args.fps or 15.0, overwrite=args.overwrite)
             stack.callback(video.close)
+        live = None
+        if args.foxglove is not None:
+            from obstacle_fusion.outputs.live_foxglove import FoxgloveLiveServer
+
+            live = FoxgloveLiveServer(args.foxglove_address)
+            stack.callback(live.close)
+            print(
+                f"obstacle-fusion run: Foxglove live on {live.url} (Foxglove: Open connection "
+                "-> Foxglove WebSocket)",
+                file=sys.stderr,
+                flush=True,
+            )
+        ros2 = None
+        if args.ros2_bag is not None:
+            from obstacle_fusion.outputs.ros2_bag import Ros2BagWriter
+
+            ros2 = Ros2BagWriter(args.ros2_bag, topics=topics, overwrite=args.overwrite)
+            stack.callback(ros2.close)
         view = None if args.quiet else ConsoleView(sys.stderr)
         if view is not None:
             stack.callback(view.close)
-        measurer = _LazyMeasurer(camera, rig, args.method, args.calib)
+        # a real camera with no --rig: the floor contact is found in each frame, never a
+        # guessed camera height; the emulated robot films with a known rig
+        measurer = _LazyMeasurer(
+            camera, rig if (demo or args.rig) else None, args.method, args.calib
+        )
         given = None if args.camera_latency_ms is None else args.camera_latency_ms / 1e3
         online = OnlineCalibration(
             rig,
-            rig_source="file" if args.rig else "default",
+            rig_source="file" if args.rig else ("default" if demo else "none"),
             latency_given_s=given,
             # the synthetic camera stamps frames as read; a real source subtracts it itself
             stamp_shift_s=(given or 0.0) if demo else 0.0,
@@ -343,6 +402,9 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
             view=view,
             robot=robot,
             extra_fields=extra,
+            live=live,
+            ros2=ros2,
+            topics=topics,
             online=online,
         )
         result = app.run()
