@@ -363,6 +363,7 @@ def test_online_rig_and_camera_latency_on_the_emulated_robot(
     range of the scene they show. The emulator's time base itself moves by a few ms from
     run to run (README), so the latency is held to 10 ms here; the estimator's own 5 ms
     target is tested on modelled and rendered series (tests/timing, tests/test_online.py)."""
+    from obstacle_fusion.outputs.foxglove_schemas import event_of_log
     from obstacle_fusion.sim.scenario import load_scenario
 
     scenario_file = tmp_path / "stopgo.toml"
@@ -395,5 +396,5 @@ def test_online_rig_and_camera_latency_on_the_emulated_robot(
     rec = read_recording(mcap)
     online = json.loads(rec.metadata["online"]["camera_latency"])
     assert abs(online["latency_s"] - 0.08) < 0.01
-    events = [m.data["event"] for m in rec.messages if m.topic == TOPIC_EVENT]
+    events = [event_of_log(m.data)[0] for m in rec.messages if m.topic == TOPIC_EVENT]
     assert "online_estimates" in events
