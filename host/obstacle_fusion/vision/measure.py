@@ -142,6 +142,9 @@ class Measurer:
             grey = face_floor_grey(image, view, contact, depth)
             timer.lap("face_channel")
             result = impl.run(grey, range_m, timer)
+            if not result.detected and grey is not image:
+                # the colour turn can also fade an edge luminance had: try luminance
+                result = impl.run(image, range_m, timer)
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source

@@ -18,6 +18,12 @@ import numpy.typing as npt
 CONTINUE_SHARE = 0.5
 #: Neither edge may fall under this share of its strength along the face.
 EDGE_FLOOR_SHARE = 0.2
+#: Along the chosen face, an edge's median must reach this share of its strong end
+#: (an edge present over half the face only is not the face's).
+EVEN_SHARE = 0.5
+#: A side moves only when the edges run on past it by this share of the face's width
+#: (a few columns more are the side face's receding edges, not a seam).
+MIN_WIDEN_SHARE = 0.15
 #: Columns averaged when walking along an edge (one noisy column stops nothing).
 WALK_WINDOW = 3
 #: Columns where the edges may dip (a seam, a joint) without ending the face.
@@ -25,6 +31,8 @@ MAX_GAP = 4
 #: Where the top and bottom edges end, a side as strong as this share of the chosen
 #: (seam) sides' weaker one must stand, else the widening is refused.
 SIDE_SHARE_OF_SEAM = 0.5
+#: Share of the face's rows the new side's edge must be present in.
+SIDE_COVERAGE = 0.8
 #: Rows either side of an edge row searched for its peak (blur, sub-pixel position).
 EDGE_ROWS = 1
 #: Side columns searched for the strongest vertical edge where the walk stopped.
@@ -74,6 +82,9 @@ def widen_across_seams(
     ref_t = float(np.median(gt[inner]))
     if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
         return left, right  # too faint to tell a seam from a side
+    for profile, ref in ((gb, ref_b), (gt, ref_t)):
+        if ref < EVEN_SHARE * float(np.percentile(profile[inner], 90)):
+            return left, right  # the edge does not run along the face itself: no face here
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     # both edges run on: together at CONTINUE_SHARE of the face's, neither below
     # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
@@ -82,18 +93,24 @@ def widen_across_seams(
     runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
     sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
     # a side stands as a vertical edge at least this strong (the chosen seams' weaker half)
-    need = SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right]))
+    need = max(
+        SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
+    )
     new = []
     for side, step in ((left, -1), (right, 1)):
         end = _walk(runs_on, side, step)
-        if abs(end - side) <= SNAP_COLUMNS // 2:
-            new.append(side)  # the edges stop at the side: it is the face's
+        if abs(end - side) <= max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left)):
+            new.append(side)  # the edges stop at (or just past) the side: it is the face's
             continue
         lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
         lo, hi = max(lo, 0), min(hi, sides.size - 1)
         best = int(lo + np.argmax(sides[lo : hi + 1]))
-        # no vertical edge where the edges end: a background line ran on, not the face
-        new.append(best if float(sides[best]) >= need else side)
+        # no vertical edge where the edges end: a background line ran on, not the face;
+        # an edge that does not stand the face's whole height (a side face's far corner
+        # stands higher up, further back) is not the face's side either
+        run = np.asarray(ax[top + 1 : bottom, best], np.float32) >= SIDE_SHARE * need
+        whole = run.size > 0 and float(run.mean()) >= SIDE_COVERAGE
+        new.append(best if float(sides[best]) >= need and whole else side)
     return new[0], new[1]
 
 

@@ -132,6 +132,7 @@ class FusedMethod:
         if front is not None:
             vt, sign, top_row = front
         # the face's front top and bottom edges run on across seams out to its real sides
+        span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
         timer.lap("extent")
         # the top edge's signed gradient, only in the 7-row window its refinement reads
@@ -156,4 +157,5 @@ class FusedMethod:
             depth,
             range_m,
             timer,
+            span,
         )

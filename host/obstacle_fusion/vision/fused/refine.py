@@ -64,8 +64,12 @@ def refine(
     depth: float,
     range_m: float,
     timer: Timer,
+    span: tuple[int, int] | None = None,
 ) -> Measurement:
     """The measurement of the chosen face (floor-contact row rb, sides ul..ur, top vt).
+
+    ``span`` (default ul..ur) are the columns the top and bottom edges are fitted over:
+    the side search's columns when the extent stage widened the face across seams.
 
     ``top_edge`` holds the front top edge's signed gradient around vt; ``top_row`` is a
     sub-pixel top row predicted by :func:`~obstacle_fusion.vision.fused.top.front_from_back`
@@ -74,8 +78,9 @@ def refine(
     v = view
     h_roi, w_img = ay.shape
     # horizontal edges: per-column sub-pixel peaks near rb and vt
-    m = max(1, (ur - ul) // 10)
-    cols = np.arange(ul + m, ur - m + 1)
+    fl, fr = span if span is not None else (ul, ur)
+    m = max(1, (fr - fl) // 10)
+    cols = np.arange(fl + m, fr - m + 1)
     (bottom_a, bottom_b), (top_a, top_b) = fit_horizontal([(ay, rb), (top_edge, vt)], cols, h_roi)
     if top_row is not None:  # predicted by front_from_back, not refined
         top_a = top_row - top_b * 0.5 * float(cols[0] + cols[-1])
