@@ -78,6 +78,9 @@ def test_estimates_the_rig_and_latency_and_redates_frames() -> None:
     assert later.t_host == pytest.approx(100.0 - lat.latency_s)
     assert online.warnings == []  # the default rig is not a file: nothing to disagree with
     assert online.summary()["rig_estimate"]["n_used"] == est.n_used
+    rig = online.estimated_rig()
+    assert rig is not None and rig.camera_height_m == est.height_m
+    assert rig.camera_pitch_deg == est.pitch_deg and rig.sonar_below_m == Rig().sonar_below_m
 
 
 def test_a_wrong_rig_file_is_warned_once_the_latency_is_known() -> None:

@@ -227,6 +227,16 @@ class OnlineCalibration:
         self.warnings += new
         return new
 
+    def estimated_rig(self) -> Rig | None:
+        """The rig with the online height and pitch (the sonar's offsets and beam kept), for
+        measuring without a rig file; None until the fit exists."""
+        est = self.rig_estimate
+        if est is None:
+            return None
+        return dataclasses.replace(
+            self.rig, camera_height_m=est.height_m, camera_pitch_deg=est.pitch_deg
+        )
+
     def rig_text(self) -> str:
         est = self.rig_estimate
         if est is None:
