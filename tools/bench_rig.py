@@ -13,6 +13,8 @@ python tools/bench_rig.py
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 from obstacle_fusion.sim.floor_boards import FloorRig, nearest_placement, render_floor_board
 from obstacle_fusion.timing.latency import CameraLatencyEstimator
@@ -45,8 +47,8 @@ def bench_calibrate_rig() -> None:
         if dist is None:
             print(f"  {rig.height_m:.2f} m {rig.pitch_deg:+5.1f} {rig.roll_deg:3.1f}   not in view")
             continue
-        shot = render_floor_board(renderer, rig, dist, rng=np.random.default_rng(i))
-        res = calibrate_rig([("photo", lambda s=shot: s.image)], board, camera)
+        image = render_floor_board(renderer, rig, dist, rng=np.random.default_rng(i)).image
+        res = calibrate_rig([("photo", partial(np.asarray, image))], board, camera)
         print(
             f"  {rig.height_m:.2f} m {rig.pitch_deg:+5.1f} deg {rig.roll_deg:3.1f} deg   "
             f"{dist:.2f} m   {1e3 * (res.height_m - rig.height_m):+7.2f} mm   "
