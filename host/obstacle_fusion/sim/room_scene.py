@@ -145,13 +145,9 @@ def _face_texture(gen: np.random.Generator, kind: str, h: int, w: int, family: s
             img[:, x - 1 : x + 1] *= 0.55
         img[h // 2 - 1 : h // 2 + 1] *= 0.6
     elif kind in ("poster", "text", "brick"):
-        if photos is not None:
-            name = {
-                "poster": photos["face"][int(gen.integers(len(photos["face"])))],
-                "text": "text" if family == "photo" else "page",
-                "brick": "brick",
-            }[kind]
-            pic = photo(name).astype(np.float64)
+        choices = photos.get("face" if kind == "poster" else kind, ()) if photos else ()
+        if choices:
+            pic = photo(choices[int(gen.integers(len(choices)))]).astype(np.float64)
         else:
             pic = _drawn_poster(gen, 240, 320, kind)
         # covering most of the face, with a margin of the face's own shade

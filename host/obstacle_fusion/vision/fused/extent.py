@@ -165,3 +165,61 @@ def _walk_up(on: npt.NDArray[np.bool_], start: int) -> int:
         else:
             gap += 1
     return reached
+
+
+#: The enclosing frame's sides must stand this far above the inner face's top (a share
+#: of the inner face's height, at least 3 rows): the frame is taller than what it holds.
+ABOVE_SHARE = 0.1
+
+
+def enclose_inner_frame(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> tuple[int, int, int]:
+    """A face found inside a larger one standing on the same floor-contact edge.
+
+    A poster, a page or a panel of bricks printed on the face with a margin of the face's
+    own colour is a rectangle of its own, with a uniform shade inside, and the side search
+    prefers it. The face's floor-contact edge runs on past the print's sides to the face's
+    own sides, which stand from the floor to above the print's top: when both are found,
+    the face is that frame, its top raised to where its sides end."""
+    if right - left < 4 or bottom - top < 3:
+        return left, right, top
+    gb = _edge_profile(ay, bottom)
+    inner = slice(left + 1, right)
+    ref_b = float(np.median(gb[inner]))
+    if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * float(np.percentile(gb[inner], 90)):
+        return left, right, top
+    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
+    sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    need = max(
+        SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
+    )
+    above = max(3, int(ABOVE_SHARE * (bottom - top)))
+    if top - above < 0:
+        return left, right, top
+    new = []
+    for side, step in ((left, -1), (right, 1)):
+        end = _walk(runs_on, side, step)
+        if abs(end - side) <= SNAP_COLUMNS // 2:
+            new.append(side)  # the floor-contact edge ends at this side: the face's own
+            continue
+        lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
+        lo, hi = max(lo, 0), min(hi, sides.size - 1)
+        best = int(lo + np.argmax(sides[lo : hi + 1]))
+        column = np.asarray(ax[top - above : bottom, best], np.float32) >= SIDE_SHARE * need
+        if float(sides[best]) < need or float(column.mean()) < SIDE_COVERAGE:
+            return left, right, top
+        new.append(best)
+    if new == [left, right]:
+        return left, right, top
+    outer_top = raise_top_past_inner_edges(ay, ax, bottom, top, new[0], new[1], noise)
+    if outer_top >= top:
+        return left, right, top
+    return new[0], new[1], outer_top

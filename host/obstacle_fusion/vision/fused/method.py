@@ -18,7 +18,11 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.confidence import confidence, refusal
-from obstacle_fusion.vision.fused.extent import raise_top_past_inner_edges, widen_across_seams
+from obstacle_fusion.vision.fused.extent import (
+    enclose_inner_frame,
+    raise_top_past_inner_edges,
+    widen_across_seams,
+)
 from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
@@ -116,6 +120,8 @@ class FusedMethod:
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        # a print on the face with a margin of the face's colour: the face is its frame
+        ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
 
         # confidence
         conf = confidence(best, rivals)
