@@ -97,25 +97,36 @@ class OnlineRigEstimator:
     def _ransac(self, y: FloatArray, depth: FloatArray, rows: FloatArray) -> npt.NDArray[np.bool_]:
         n = len(y)
         rng = np.random.default_rng(self.seed)
-        picks = np.array([rng.choice(n, 3, replace=False) for _ in range(self.iterations)])
+        picks = rng.integers(0, n, (self.iterations, 3))
+        distinct = (
+            (picks[:, 0] != picks[:, 1])
+            & (picks[:, 0] != picks[:, 2])
+            & (picks[:, 1] != picks[:, 2])
+        )
+        picks = picks[distinct]
         a = np.stack([np.ones((len(picks), 3)), -depth[picks], -y[picks]], axis=2)
         b = y[picks] * depth[picks]
         det = np.linalg.det(a)
         ok = np.abs(det) > 1e-12
         best = np.zeros(n, bool)
-        best_cost = math.inf
         if not ok.any():
             return best
         sol = np.linalg.solve(a[ok], b[ok][:, :, None])[:, :, 0]
-        for h, t, _ht in sol:
-            if not (0.0 < h < 5.0 and abs(t) < math.tan(math.radians(60))):
-                continue
-            resid = np.abs(self._predict(float(h), math.atan(float(t)), depth) - rows)
-            inl = resid < self.inlier_px
-            # MSAC: inliers cost their squared residual, outliers the threshold's
-            cost = float(np.minimum(resid, self.inlier_px).__pow__(2).sum())
-            if inl.sum() >= 3 and cost < best_cost:
-                best, best_cost = inl, cost
+        h, t = sol[:, 0], sol[:, 1]
+        sane = (h > 0.0) & (h < 5.0) & (np.abs(t) < math.tan(math.radians(60)))
+        if not sane.any():
+            return best
+        h, p = h[sane], np.arctan(t[sane])
+        # every candidate's pixel residuals at once (candidates x observations)
+        pred = self.cy + self.fy * np.tan(np.arctan2(h[:, None], depth[None, :]) - p[:, None])
+        resid = np.abs(pred - rows[None, :])
+        # MSAC: inliers cost their squared residual, outliers the threshold's
+        cost = np.minimum(resid, self.inlier_px) ** 2
+        inl = resid < self.inlier_px
+        total = np.where(inl.sum(axis=1) >= 3, cost.sum(axis=1), math.inf)
+        j = int(np.argmin(total))
+        if math.isfinite(float(total[j])):
+            best = inl[j]
         return best
 
     def _refine(
