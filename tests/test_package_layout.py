@@ -97,6 +97,9 @@ OPENCV_FREE = [
     "obstacle_fusion",
     "obstacle_fusion.cli",
     "obstacle_fusion.errors",
+    "obstacle_fusion.bundled",
+    "obstacle_fusion.api",
+    "obstacle_fusion.app",
     "obstacle_fusion.protocol",
     "obstacle_fusion.protocol.stream",
     "obstacle_fusion.protocol.jsonview",
@@ -140,6 +143,26 @@ def test_imports_without_opencv(module: str) -> None:
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
     assert done.returncode != 3, f"importing {module} loads OpenCV"
     assert done.returncode == 0, done.stderr
+
+
+def test_the_sensor_class_is_a_lazy_attribute_of_the_package() -> None:
+    """`obstacle_fusion.ObstacleSensor` works, and importing the package does not load the
+    API (nor the app, the link or OpenCV) until it is used."""
+    probe = (
+        "import sys, obstacle_fusion\n"
+        "assert 'obstacle_fusion.api' not in sys.modules, 'api loaded at import'\n"
+        "assert 'obstacle_fusion.app' not in sys.modules, 'app loaded at import'\n"
+        "cls = obstacle_fusion.ObstacleSensor\n"
+        "assert cls.__module__ == 'obstacle_fusion.api'\n"
+        "assert obstacle_fusion.AsyncObstacleSensor.__module__ == 'obstacle_fusion.api'\n"
+        "sys.exit(3 if 'cv2' in sys.modules else 0)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    import obstacle_fusion
+
+    with pytest.raises(AttributeError, match="no attribute 'Nope'"):
+        obstacle_fusion.Nope  # noqa: B018
 
 
 @pytest.mark.parametrize("module", ["obstacle_fusion.vision.measure", *NEEDS_OPENCV])

@@ -4,6 +4,9 @@ Nothing here blocks on a device: the link has its reader thread and queue, the f
 source gets a grabber thread and a short queue (a slow consumer drops the oldest frame,
 counted, rather than pairing stale ones). One loop drains both, keeps the clock model fed,
 converts ranges, pairs frames, measures, and publishes to every output.
+
+With no frame source (a robot with only the sonar) every range is published as a record on
+its own (status "range", "clear" or "sonar_error"), and OpenCV is never loaded.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
 from obstacle_fusion.link.connection import Link, Received, describe_hello
@@ -23,8 +26,6 @@ from obstacle_fusion.online import OnlineCalibration
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
-from obstacle_fusion.outputs.mcap_file import McapRecorder
-from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 from obstacle_fusion.protocol.generated import (
     Config,
     Hello,
@@ -37,6 +38,10 @@ from obstacle_fusion.sim.emulated_robot import EmulatedRobot
 from obstacle_fusion.sonar import SonarConverter
 from obstacle_fusion.sources.frames import Frame, FrameSource
 from obstacle_fusion.timing.clock import ClockModel
+
+if TYPE_CHECKING:  # imported where they are made: a sonar-only run never loads OpenCV
+    from obstacle_fusion.outputs.mcap_file import McapRecorder
+    from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 
 log = logging.getLogger(__name__)
 
@@ -112,7 +117,7 @@ class App:
         self,
         settings: RunSettings,
         link: Link,
-        source: FrameSource,
+        source: FrameSource | None,
         measurer: Any = None,
         *,
         jsonl: JsonLinesWriter | None = None,
@@ -124,6 +129,8 @@ class App:
         live: Any = None,
         ros2: Any = None,
         topics: FoxgloveTopics | None = None,
+        on_record: Callable[[ObstacleRecord], None] | None = None,
+        on_connect: Callable[[], None] | None = None,
         online: OnlineCalibration | None = None,
     ) -> None:
         self.s = settings
@@ -140,6 +147,9 @@ class App:
         # One encoder for the recording and the live view: the same bytes go to both.
         self.topics = topics or (recorder.topics if recorder is not None else FoxgloveTopics())
         self._sinks = [s for s in (recorder, live) if s is not None]
+        self.on_record = on_record  # called in the loop's thread for each published record
+        self.on_connect = on_connect  # called once the link is up (each time it comes up)
+        self._stop_requested = threading.Event()
         self.clock = ClockModel(baud=link.baud)
         self.converter = SonarConverter(
             temperature_c=settings.temperature_c,
@@ -156,7 +166,7 @@ class App:
         self.online = online
         if online is not None:
             self.fusion.observer = online.measured
-        self.grabber = FrameGrabber(source)
+        self.grabber = FrameGrabber(source) if source is not None else None
         self.session = 0
         self.timer_hz = 2_000_000
         self._unmapped: list[Received] = []
@@ -224,7 +234,10 @@ class App:
                 self._emit(self.topics.reading(reading, self.timer_hz, item.session, item.t_host))
             if self.ros2 is not None:
                 self.ros2.write_range(reading, log_t=item.t_host)
-            out += self.fusion.add_reading(reading)
+            if self.source is None:
+                out.append(self.fusion.range_record(reading))
+            else:
+                out += self.fusion.add_reading(reading)
         self._unmapped.clear()
         return out
 
@@ -280,6 +293,8 @@ class App:
                 self._emit(self.topics.record(rec))
             if self.ros2 is not None:
                 self.ros2.write_record(rec)
+            if self.on_record is not None:
+                self.on_record(rec)
             if self.video is not None:
                 image = self._images.pop(rec.frame_index, None)
                 if image is not None:
@@ -328,12 +343,19 @@ class App:
                 "connected" if connected else "disconnected",
                 {"port": self.link.counters.port, "counters": self.link.counters.as_dict()},
             )
+            if connected and self.on_connect is not None:
+                self.on_connect()
         if self.robot is not None and connected:
             self.robot.probe_t0()
 
     # ------------------------------------------------------------------ the loop
     def _wait_for_first_range(self, deadline: float) -> None:
-        """Start the camera once ranges flow, so the first frames have a range to pair with."""
+        """Start the camera once ranges flow, so the first frames have a range to pair with.
+
+        Sonar only (no camera) there is nothing to wait for: ranges are never paired, so
+        waiting for one would only hold the run's start back by the whole time-out."""
+        if self.grabber is None:
+            return
         while time.monotonic() < deadline:
             if self.link.error is not None:
                 raise self.link.error
@@ -350,15 +372,21 @@ class App:
             "no sonar range within %.1f s; starting the camera anyway", self.s.first_range_timeout_s
         )
 
+    def stop(self) -> None:
+        """End run() at its next turn (from another thread), as the duration would."""
+        self._stop_requested.set()
+
     def run(self) -> RunResult:
         start = time.monotonic()
         exit_code = 0
         self.link.start()
+        grabber = self.grabber
         try:
             self._wait_for_first_range(start + self.s.first_range_timeout_s)
-            self.grabber.start()
+            if grabber is not None:
+                grabber.start()
             run_start = time.monotonic()
-            while True:
+            while not self._stop_requested.is_set():
                 now = time.monotonic()
                 if self.s.duration_s is not None and now - run_start >= self.s.duration_s:
                     break
@@ -374,9 +402,9 @@ class App:
                     records += self._on_message(item)
                 records += self._map_ranges(now)
                 got_frame = False
-                while True:
+                while grabber is not None:
                     try:
-                        frame = self.grabber.queue.get_nowait()
+                        frame = grabber.queue.get_nowait()
                     except queue.Empty:
                         break
                     got_frame = True
@@ -390,18 +418,19 @@ class App:
                 if self.jsonl is not None and self.jsonl.broken:
                     log.info("the JSON reader went away (closed pipe); stopping")
                     break
-                if self.grabber.error is not None:
-                    raise self.grabber.error
-                if self.grabber.finished.is_set() and self.grabber.queue.empty():
+                if grabber is not None and grabber.error is not None:
+                    raise grabber.error
+                if grabber is not None and grabber.finished.is_set() and grabber.queue.empty():
                     self._publish(self.fusion.flush())
-                    log.info("frame source ended: %s", self.source.end_reason)
+                    log.info("frame source ended: %s", getattr(self.source, "end_reason", ""))
                     break
                 self._update_online()
                 self._update_view()
                 if not got_frame and not records:
                     time.sleep(0.002)
         finally:
-            self.grabber.stop()
+            if grabber is not None:
+                grabber.stop()
             try:
                 for item in self.link.drain():
                     self._publish(self._on_message(item))
@@ -418,7 +447,7 @@ class App:
         return {
             "link": self.link.counters.as_dict(),
             "fusion": self.fusion.stats.as_dict(),
-            "frames_dropped": self.grabber.dropped,
+            "frames_dropped": self.grabber.dropped if self.grabber is not None else 0,
             "ranges_mapped": self.ranges_mapped,
             "ranges_dropped_before_clock": self.ranges_unmapped_dropped,
             "clock": None

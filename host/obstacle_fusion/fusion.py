@@ -42,6 +42,10 @@ class ObstacleStatus(StrEnum):
     SONAR_ERROR = "sonar_error"  # the nearest reading failed (timeout, too close)
     UNPAIRED = "unpaired"  # no reading near enough in time: nothing claimed
     VISION_ERROR = "vision_error"  # paired, but the vision refused or failed: nothing claimed
+    RANGE = "range"  # sonar only (no camera): a distance, no height or width
+
+
+SONAR_ONLY_SOURCE = "sonar"  # a range record's `source` (no frame: frame_index is -1)
 
 
 @dataclass(frozen=True, slots=True)
@@ -360,4 +364,48 @@ class Fusion:
             t_published=self.clock(),
             reason=reason,
             edges_px=edges,
+        )
+
+    def range_record(self, reading: SonarReading) -> ObstacleRecord:
+        """A record for one reading alone: the sonar-only mode, with no camera to pair.
+
+        Its instant is the reading's reflection time; the status says what the sonar heard
+        (RANGE with a distance, CLEAR, or SONAR_ERROR); the alert is the same rule."""
+        stats = self.stats
+        stats.readings += 1
+        reason = None
+        if reading.distance_m is not None and reading.status is SonarStatus.OK:
+            status = ObstacleStatus.RANGE
+        elif reading.status in (SonarStatus.NO_ECHO, SonarStatus.OUT_OF_RANGE):
+            status = ObstacleStatus.CLEAR
+            stats.clear += 1
+        else:
+            status = ObstacleStatus.SONAR_ERROR
+            stats.sonar_errors += 1
+            reason = f"sonar reading: {reading.status}"
+        distance = reading.distance_m if status is ObstacleStatus.RANGE else None
+        alert = self.stop_distance_m is not None and distance is not None and (
+            distance <= self.stop_distance_m
+        )
+        if alert:
+            stats.alerts += 1
+        stats.published += 1
+        t = reading.t_host if reading.t_host is not None else self.clock()
+        return ObstacleRecord(
+            t_host=t,
+            distance_m=distance,
+            height_m=None,
+            width_m=None,
+            confidence=1.0 if distance is not None else 0.0,
+            status=str(status),
+            alert=bool(alert),
+            frame_index=-1,
+            source=SONAR_ONLY_SOURCE,
+            pairing=str(PairKind.NONE),
+            pair_dt_s=None,
+            sonar_status=str(reading.status),
+            measurements=(reading.measurement,),
+            trigger_us=(reading.trigger_us,),
+            t_published=self.clock(),
+            reason=reason,
         )
