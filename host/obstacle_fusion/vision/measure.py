@@ -104,9 +104,12 @@ class Measurer:
                     self.rig, camera_height_m=height, camera_pitch_deg=0.0
                 )
                 impl.view = trial  # type: ignore[attr-defined]
-                best = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
-                best.camera_height_m = height
-                if best.detected:
+                result = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
+                result.camera_height_m = height
+                if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
+                    best = result
+                if result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT:
+                    best = result
                     break
         finally:
             impl.view = view  # type: ignore[attr-defined]
@@ -153,6 +156,10 @@ class Measurer:
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
 
+
+#: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
+#: when none does, the most confident of the rows tried.
+ESTIMATE_ACCEPT = 0.2
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5

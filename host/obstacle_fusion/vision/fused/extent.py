@@ -63,6 +63,18 @@ def _walk(on: npt.NDArray[np.bool_], start: int, step: int) -> int:
     return u
 
 
+def _snap_window(side: int, end: int, step: int, width: int) -> tuple[int, int]:
+    """Columns to look for the real side where a walk from ``side`` ended at ``end``:
+    mostly back towards the start (the walk's smoothing overshoots), never onto the
+    edge it started from."""
+    lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
+    if step < 0:
+        hi = min(hi, side - 3)
+    else:
+        lo = max(lo, side + 3)
+    return max(lo, 0), min(hi, width - 1)
+
+
 def widen_across_seams(
     ay: npt.NDArray[np.float32],
     ax: npt.NDArray[np.int16],
@@ -102,8 +114,7 @@ def widen_across_seams(
         if abs(end - side) <= max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left)):
             new.append(side)  # the edges stop at (or just past) the side: it is the face's
             continue
-        lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
-        lo, hi = max(lo, 0), min(hi, sides.size - 1)
+        lo, hi = _snap_window(side, end, step, sides.size)
         best = int(lo + np.argmax(sides[lo : hi + 1]))
         # no vertical edge where the edges end: a background line ran on, not the face;
         # an edge that does not stand the face's whole height (a side face's far corner
@@ -150,7 +161,9 @@ def raise_top_past_inner_edges(
     end = _walk_up(on, top)
     if top - end <= SNAP_ROWS // 2:
         return top
-    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + SNAP_ROWS)
+    # the top edge lies where the sides ended, or just above (blur): never back down
+    # on the inner edge the sides ran past
+    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
     rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
     return int(r0 + np.argmax(rows))
 
@@ -167,6 +180,8 @@ def _walk_up(on: npt.NDArray[np.bool_], start: int) -> int:
     return reached
 
 
+#: The frame's sides must be at least this share of the print's sides' strength.
+FRAME_SHARE_OF_PRINT = 0.25
 #: The enclosing frame's sides must stand this far above the inner face's top (a share
 #: of the inner face's height, at least 3 rows): the frame is taller than what it holds.
 ABOVE_SHARE = 0.1
@@ -198,8 +213,9 @@ def enclose_inner_frame(
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
     sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    # a print's edges may be far stronger than the face's own sides against the room
     need = max(
-        SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
+        FRAME_SHARE_OF_PRINT * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
     )
     above = max(3, int(ABOVE_SHARE * (bottom - top)))
     if top - above < 0:
@@ -210,8 +226,7 @@ def enclose_inner_frame(
         if abs(end - side) <= SNAP_COLUMNS // 2:
             new.append(side)  # the floor-contact edge ends at this side: the face's own
             continue
-        lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
-        lo, hi = max(lo, 0), min(hi, sides.size - 1)
+        lo, hi = _snap_window(side, end, step, sides.size)
         best = int(lo + np.argmax(sides[lo : hi + 1]))
         column = np.asarray(ax[top - above : bottom, best], np.float32) >= SIDE_SHARE * need
         if float(sides[best]) < need or float(column.mean()) < SIDE_COVERAGE:
