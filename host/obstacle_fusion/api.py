@@ -60,6 +60,15 @@ class SensorError(UserError):
     """The sensor stopped (the board went away for good, a camera failed, ...)."""
 
 
+def _rig_moved(old: Any, new: Any) -> bool:
+    """Rebuild the measurer's maps only when the online rig moved by more than the fit's
+    own noise (5 mm, 0.2 degree): every frame's refit differs in the last digits."""
+    return (
+        abs(old.camera_height_m - new.camera_height_m) > 0.005
+        or abs(old.camera_pitch_deg - new.camera_pitch_deg) > 0.2
+    )
+
+
 class LazyMeasurer:
     """Builds the vision measurer on the first frame, when the frame size is known."""
 
@@ -70,6 +79,10 @@ class LazyMeasurer:
         self.calib = calib
         self._impl: Any = None
         self.camera_model: Any = None  # the camera measured with, once the frame size is known
+        # with no rig: the run's online rig fit (height and pitch from confident detections
+        # over many frames), once it exists; each frame finds its floor contact until then
+        self.rig_provider: Callable[[], Any] | None = None
+        self._online: Any = None  # (rig, Measurer) built from the provider's latest rig
 
     def prepare(self, image: Any) -> None:
         """Check the calibration against the frame size; a UserError ends the run (exit 2)
@@ -112,6 +125,19 @@ class LazyMeasurer:
     def measure(self, image: Any, range_m: float) -> Any:
         if self._impl is None:
             self.prepare(image)
+        if self.rig is None and self.rig_provider is not None:
+            online_rig = self.rig_provider()
+            if online_rig is not None:
+                if self._online is None or _rig_moved(self._online[0], online_rig):
+                    from obstacle_fusion.vision.measure import Measurer
+
+                    self._online = (
+                        online_rig,
+                        Measurer(
+                            self.camera_model, online_rig, self.method, rig_source="estimated"
+                        ),
+                    )
+                return self._online[1].measure(image, range_m)
         return self._impl.measure(image, range_m)
 
 
@@ -767,6 +793,8 @@ class ObstacleSensor:
                 stamp_shift_s=(given or 0.0) if self.mode == "emulator" else 0.0,
                 camera_of=measurer.camera_at,
             )
+            if measure_rig is None:  # no rig file: measure with the online fit once it exists
+                measurer.rig_provider = online.estimated_rig
             if recorder is not None:  # runs before the recorder closes (LIFO)
                 stack.callback(_record_online, recorder, online)
         self.online = online
