@@ -38,6 +38,7 @@ from obstacle_fusion.link.connection import (
     Received,
     describe_hello,
 )
+from obstacle_fusion.online import OnlineCalibration
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
@@ -158,6 +159,7 @@ class App:
         on_record: Callable[[ObstacleRecord], None] | None = None,
         on_connect: Callable[[], None] | None = None,
         beams: BeamChooser | None = None,
+        online: OnlineCalibration | None = None,
     ) -> None:
         self.s = settings
         self.link = link
@@ -198,6 +200,9 @@ class App:
         )
         self.config_sent_session = 0
         self.config_refused: str | None = None
+        self.online = online
+        if online is not None:
+            self.fusion.observer = online.measured
         self.grabber = FrameGrabber(source) if source is not None else None
         self.session = 0
         self.timer_hz = 2_000_000
@@ -215,6 +220,7 @@ class App:
         self._carry: Frame | None = None
         self._drain_t = time.monotonic()
         self._log_t = 0.0
+        self._online_logged = -1e9
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -314,6 +320,8 @@ class App:
             reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
             log_t = self._log_time(item.t_host)
+            if self.online is not None:
+                self.online.reading_in(reading)
             if self._sinks:
                 self._emit(self.topics.reading(reading, self.timer_hz, item.session, log_t))
             if self.ros2 is not None:
@@ -386,6 +394,8 @@ class App:
                     self.ros2.write_image(data, self.topics.image_format, w, h, frame.t_host, now)
         if self.video is not None:
             self._images[frame.index] = frame.image
+        if self.online is not None:
+            frame = self.online.frame_in(frame)  # recorded raw, paired re-dated
         return self.fusion.add_frame(frame)
 
     def _publish(self, records: list[ObstacleRecord]) -> None:
@@ -425,9 +435,21 @@ class App:
             else {}
         )
         st.rates = {k: m.rate() for k, m in self.rates.items()}
-        if self.link.last_problem:
-            st.notes = [self.link.last_problem]
+        st.notes = [self.link.last_problem] if self.link.last_problem else []
+        if self.online is not None:
+            st.notes += [self.online.rig_text(), self.online.latency_text()]
         self.view.update(st, force=force)
+
+    def _update_online(self, force: bool = False) -> None:
+        if self.online is None:
+            return
+        before = (self.online.rig_estimate, self.online.latency_estimate)
+        for text in self.online.update(force=force):
+            self._event("online_warning", {"text": text})
+        after = (self.online.rig_estimate, self.online.latency_estimate)
+        if after != before and (force or time.monotonic() - self._online_logged >= 5.0):
+            self._online_logged = time.monotonic()
+            self._event("online_estimates", self.online.summary())
 
     def _watch_link(self) -> None:
         connected = self.link.connected
@@ -538,6 +560,7 @@ class App:
                     self._publish(self.fusion.flush())
                     log.info("frame source ended: %s", getattr(self.source, "end_reason", ""))
                     break
+                self._update_online()
                 self._update_view()
                 self._check_commands()
                 if not got_frame and not records:
@@ -557,6 +580,7 @@ class App:
                     self._publish(self._on_message(item))
                 self._publish(self._map_ranges(time.monotonic()))
                 self._publish(self.fusion.flush())
+                self._update_online(force=True)
                 self._update_view(force=True)
             finally:
                 self.link.close()
@@ -579,4 +603,5 @@ class App:
                 "resets": self.clock.resets,
             },
             "emulator_restarts": self.robot.restarts if self.robot else 0,
+            "online": None if self.online is None else self.online.summary(),
         }

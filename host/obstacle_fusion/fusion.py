@@ -386,6 +386,8 @@ class Fusion:
     track: TrackSettings = field(default_factory=TrackSettings)
     beams: BeamChooser | None = None  # several sonars: which beam covers the image's box
     stale_sensor_s: float = 1.0  # a sonar silent this long (others speaking) is left out
+    #: called with (frame, range_m, measurement) after each measurement (online estimates)
+    observer: Callable[[Frame, float, Any], None] | None = None
     _pending: deque[tuple[Frame, float]] = field(default_factory=deque)
     _pairers: dict[int, RangePairer] = field(default_factory=dict)
     _tracks: dict[int, RangeTrack] = field(default_factory=dict)
@@ -634,6 +636,9 @@ class Fusion:
             else:
                 sid, m, reason, vision_ms = self._measure_choosing(frame, pairings, sid)
                 pairing = pairings[sid]
+                if m is not None and self.observer is not None:
+                    assert pairing.distance_m is not None
+                    self.observer(frame, pairing.distance_m, m)
                 if m is None:
                     status = ObstacleStatus.VISION_ERROR
                     stats.vision_errors += 1
@@ -715,8 +720,10 @@ class Fusion:
             stats.sonar_errors += 1
             reason = f"sonar reading: {reading.status}"
         distance = reading.distance_m if status is ObstacleStatus.RANGE else None
-        alert = self.stop_distance_m is not None and distance is not None and (
-            distance <= self.stop_distance_m
+        alert = (
+            self.stop_distance_m is not None
+            and distance is not None
+            and (distance <= self.stop_distance_m)
         )
         if alert:
             stats.alerts += 1

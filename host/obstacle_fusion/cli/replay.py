@@ -57,6 +57,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "CameraInfo, and the replayed detections as vision_msgs/Detection3DArray",
     )
     p.add_argument("--overwrite", action="store_true", help="replace an existing --ros2-bag")
+    p.add_argument(
+        "--camera-latency-ms",
+        type=_args.camera_latency_ms,
+        help="subtract this from the recorded frame stamps (0..2000); default: estimated from "
+        "the recording (image heights against ranges; one extra pass) and used when confident",
+    )
     p.set_defaults(func=run)
 
 
@@ -134,29 +140,58 @@ def run(args: argparse.Namespace) -> int:
     if stop is None and meta.get("stop_distance_m") not in (None, "None", ""):
         stop = float(meta["stop_distance_m"])
 
+    from obstacle_fusion.online import MIN_LATENCY_CONFIDENCE, OnlineCalibration
+
+    rig_source = "file" if args.rig is not None else str(meta.get("rig_source", "default"))
     now = [0.0]
-    converters: dict[int, SonarConverter] = {}
+
     span = _meta_number(meta, "sensors", 1.0, 1.0, 4.0)
-    fusion = Fusion(
-        measurer=None,
-        pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3, max_gap_s=0.2 * span),
-        stop_distance_m=stop,
-        method=method,
-        clock=lambda: now[0],
-        pairing=PairingMode(
-            args.pairing
-            or (
-                meta.get("pairing")
-                if meta.get("pairing") in ("predicted", "interpolated")
-                else None
-            )
-            or "interpolated"  # recorded before predicted pairing existed
-        ),
-        track=TrackSettings(
-            max_extrapolation_s=_meta_number(meta, "max_extrapolation_s", 0.2, 0.01, 1.0) * span,
-            max_gap_s=0.2 * span,
-        ),
+    extrapolation = _meta_number(meta, "max_extrapolation_s", 0.2, 0.01, 1.0)
+    recorded_pairing = meta.get("pairing")
+    pairing = PairingMode(
+        args.pairing
+        or (recorded_pairing if recorded_pairing in ("predicted", "interpolated") else None)
+        or "interpolated"  # recorded before predicted pairing existed
     )
+
+    def fresh(shift_s: float, given_s: float | None) -> tuple[Any, OnlineCalibration]:
+        online = OnlineCalibration(
+            rig,
+            rig_source=rig_source,
+            latency_given_s=given_s,
+            stamp_shift_s=shift_s,
+            clock=lambda: now[0],
+        )
+        fusion = Fusion(
+            measurer=None,
+            pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3, max_gap_s=0.2 * span),
+            stop_distance_m=stop,
+            method=method,
+            clock=lambda: now[0],
+            observer=online.measured,
+            pairing=pairing,
+            track=TrackSettings(max_extrapolation_s=extrapolation * span, max_gap_s=0.2 * span),
+        )
+        return fusion, online
+
+    given = None if args.camera_latency_ms is None else args.camera_latency_ms / 1e3
+    shift = given or 0.0
+    if given is None:  # a first pass, with no output, only to estimate the latency
+        fusion, online = fresh(0.0, None)
+        _replay(
+            args, msgs, offset_ns, now, fusion, _NoOutput(), None, {}, temperature,
+            half_spacing, camera, rig, method, online,
+        )  # fmt: skip
+        online.update(now=now[0], force=True)
+        lat = online.latency_estimate
+        if lat is not None and lat.confidence >= MIN_LATENCY_CONFIDENCE:
+            shift = lat.latency_s
+            note = f"pairing with the frames {1e3 * shift:.1f} ms earlier"
+        else:
+            note = "frames paired as recorded"
+        print(f"obstacle-fusion replay: {online.latency_text()}; {note}", file=sys.stderr)
+    converters: dict[int, SonarConverter] = {}
+    fusion, online = fresh(shift, shift if given is None else given)
     out = JsonLinesWriter(sys.stdout)
     # The live run's frame numbers (a camera may have skipped some), from its records.
     recorded_index: dict[int, int] = {}
@@ -187,11 +222,13 @@ def run(args: argparse.Namespace) -> int:
             camera,
             rig,
             method,
-            recorded_index,
+            online,
+            recorded_index=recorded_index,
         )
     finally:
         if ros2 is not None:
             ros2.close()
+    online.update(now=now[0], force=True)
     s = fusion.stats
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
@@ -200,6 +237,11 @@ def run(args: argparse.Namespace) -> int:
         + (f", {bad_images} undecodable frames" if bad_images else ""),
         file=sys.stderr,
     )
+    print(f"obstacle-fusion replay: {online.rig_text()}", file=sys.stderr)
+    if given is not None:
+        print(f"obstacle-fusion replay: {online.latency_text()}", file=sys.stderr)
+    for text in online.warnings:
+        print(f"obstacle-fusion replay: warning: {text}", file=sys.stderr)
     if ros2 is not None:
         print(
             f"obstacle-fusion replay: wrote the ROS 2 bag {args.ros2_bag} ("
@@ -229,7 +271,8 @@ def _replay(
     camera: Any,
     rig: Any,
     method: str,
-    recorded_index: dict[int, int],
+    online: Any,
+    recorded_index: dict[int, int] | None = None,
 ) -> tuple[int, int]:
     import base64
 
@@ -268,6 +311,7 @@ def _replay(
                 d.get("t_receipt"),
                 time_scale=float(d.get("time_scale") or 1.0),
             )
+            online.reading_in(reading)
             records = fusion.add_reading(reading)
             if ros2 is not None:
                 ros2.write_range(reading, log_t=now[0])
@@ -285,6 +329,7 @@ def _replay(
                     cam = synthetic_camera_model(image.shape[1], image.shape[0])
                 measurer = Measurer(cam, rig, method)
                 fusion.measurer = measurer
+                online.camera_of = lambda w, h, c=cam: c.scaled_to(w, h)
                 if ros2 is not None:
                     ros2.topics.set_camera(cam)
             t_frame = (m.publish_time_ns - offset_ns) / 1e9
@@ -295,11 +340,11 @@ def _replay(
             frame = Frame(
                 image,
                 t_frame,
-                recorded_index.get(m.publish_time_ns, index),
+                (recorded_index or {}).get(m.publish_time_ns, index),
                 str(d.get("frame_id", "")),
             )
             index += 1
-            records = fusion.add_frame(frame)
+            records = fusion.add_frame(online.frame_in(frame))
         for r in records:
             out.write(r)
             if ros2 is not None:
@@ -318,6 +363,13 @@ def _meta_number(meta: dict[str, str], key: str, default: float, lo: float, hi: 
     except (TypeError, ValueError):
         return default
     return value if lo <= value <= hi else default
+
+
+class _NoOutput:
+    """Where the estimation pass's records go."""
+
+    def write(self, record: Any, extra: Any = None) -> None:
+        return None
 
 
 def rig_from_metadata(text: str, recording: Path) -> Any:
