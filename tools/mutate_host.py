@@ -54,8 +54,8 @@ NAMED = [
     (
         "fusion.py",
         "out_of_range published as sonar_error",
-        "(SonarStatus.NO_ECHO, SonarStatus.OUT_OF_RANGE)",
-        "(SonarStatus.NO_ECHO,)",
+        "pairing.sonar_status in (SonarStatus.NO_ECHO, SonarStatus.OUT_OF_RANGE)",
+        "pairing.sonar_status in (SonarStatus.NO_ECHO,)",
     ),
     (
         "sonar.py",
