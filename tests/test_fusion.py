@@ -1004,3 +1004,52 @@ def test_a_failed_or_boxless_measurement_moves_on_to_the_next_sonar() -> None:
         rec = f.add_frame(_frame(last + 0.01))[0]
         assert rec.sensor_id == 0 and rec.status == "ok", first
         assert meas.ranges == [pytest.approx(0.7), pytest.approx(2.0)]
+
+
+def test_the_observer_sees_each_measurement_and_not_a_failed_one() -> None:
+    seen: list[tuple[int, float]] = []
+
+    def observe(frame: Frame, range_m: float, m: object) -> None:
+        seen.append((frame.index, range_m))
+
+    clock = Clock()
+    f = Fusion(
+        measurer=FakeMeasurer(), clock=clock, pairing=PairingMode.INTERPOLATED, observer=observe
+    )
+    f.add_reading(_reading(1.0, 1.5))
+    f.add_frame(_frame(1.01, 7))
+    f.add_reading(_reading(1.06, 1.5))
+    assert seen == [(7, pytest.approx(1.5))]
+
+    class Crashes:
+        def measure(self, image: np.ndarray, range_m: float) -> _M:
+            raise RuntimeError("boom")
+
+    g = Fusion(measurer=Crashes(), clock=clock, pairing=PairingMode.INTERPOLATED, observer=observe)
+    g.add_reading(_reading(1.0, 1.5))
+    g.add_frame(_frame(1.01, 8))
+    g.add_reading(_reading(1.06, 1.5))
+    assert seen == [(7, pytest.approx(1.5))]
+
+
+def test_sonar_only_records_say_what_the_sonar_heard() -> None:
+    f = Fusion(stop_distance_m=1.0)
+    cases = [
+        (_reading(1.0, 1.0), "range", 1.0, True),
+        (_reading(1.1, None, SonarStatus.NO_ECHO), "clear", None, False),
+        (_reading(1.2, None, SonarStatus.OUT_OF_RANGE), "clear", None, False),
+        (_reading(1.3, None, SonarStatus.TIMEOUT), "sonar_error", None, False),
+        # A distance with a failed status is not a range.
+        (
+            dataclasses.replace(_reading(1.4, 0.5), status=SonarStatus.TIMEOUT),
+            "sonar_error",
+            None,
+            False,
+        ),
+    ]
+    for reading, status, distance, alert in cases:
+        rec = f.range_record(reading)
+        assert (rec.status, rec.distance_m, rec.alert) == (status, distance, alert), reading
+        assert rec.t_host == reading.t_host
+    s = f.stats
+    assert (s.readings, s.clear, s.sonar_errors, s.alerts, s.published) == (5, 2, 2, 1, 5)
