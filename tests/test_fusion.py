@@ -1050,6 +1050,12 @@ def test_sonar_only_records_say_what_the_sonar_heard() -> None:
     for reading, status, distance, alert in cases:
         rec = f.range_record(reading)
         assert (rec.status, rec.distance_m, rec.alert) == (status, distance, alert), reading
-        assert rec.t_host == reading.t_host
+        assert rec.t_host == reading.t_host and rec.frame_index == -1
+        assert rec.confidence == (1.0 if distance is not None else 0.0)
+    clock = Clock()
+    clock.t = 9.0
+    g = Fusion(clock=clock)
+    undated = g.range_record(dataclasses.replace(_reading(1.0, 2.0), t_host=None))
+    assert undated.t_host == 9.0 and not undated.alert  # no stop distance: never an alert
     s = f.stats
     assert (s.readings, s.clear, s.sonar_errors, s.alerts, s.published) == (5, 2, 2, 1, 5)
