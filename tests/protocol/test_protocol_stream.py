@@ -110,3 +110,91 @@ def test_long_garbage_does_not_grow_memory() -> None:
     assert decoder.pending_bytes <= 200
     msg = Ack(command_id=1, command_seq=2)
     assert decoder.feed(encode(msg, 0)) == [msg]
+
+
+def _wire_len(msg: Message) -> int:
+    return len(encode(msg, 0))  # COBS adds one byte below 254: the length never depends on seq
+
+
+def _every_chunking(data: bytes) -> list[list[bytes]]:
+    """One piece, byte by byte, and every split into two or three pieces at a stride."""
+    ways = [[data], [data[i : i + 1] for i in range(len(data))]]
+    for a in range(0, len(data) + 1):
+        ways.append([data[:a], data[a:]])
+        for b in range(a, len(data) + 1, 7):
+            ways.append([data[:a], data[a:b], data[b:]])
+    return ways
+
+
+def test_a_too_long_run_is_oversized_however_it_is_chunked() -> None:
+    """150 bytes of valid COBS with no delimiter, then 0x00: one oversized frame, whether
+    the decoder saw it whole or in pieces (it used to be cobs_errors when the tail was
+    trimmed between chunks), and the frame after it still comes out."""
+    from cobs import cobs
+
+    long_run = bytes(cobs.encode(bytes(range(1, 150))))
+    good = Ack(command_id=0x41, command_seq=3)
+    data = long_run + b"\x00" + encode(good, 5)
+    for pieces in _every_chunking(data):
+        decoder = StreamDecoder()
+        assert feed_all(decoder, pieces) == [good], pieces
+        s = decoder.stats
+        assert (s.oversized, s.cobs_errors, s.crc_errors, s.frames) == (1, 0, 0, 1), pieces
+        assert s.bytes_discarded == len(long_run) + 1, pieces
+
+
+def test_a_frame_right_after_long_noise_is_recovered_however_it_is_chunked() -> None:
+    good = Range(measurement=7, sensor_id=0, trigger_us=123456, echo_ticks=4000, status=0)
+    noise = bytes(range(1, 200))  # no 0x00: the frame has no delimiter before it
+    data = noise + encode(good, 9)
+    for pieces in _every_chunking(data):
+        decoder = StreamDecoder()
+        assert feed_all(decoder, pieces) == [good], pieces
+        s = decoder.stats
+        assert (s.resyncs, s.oversized, s.bad_frames) == (1, 0, 0), pieces
+        assert s.bytes_discarded == len(noise), pieces
+
+
+def test_resync_is_counted_for_a_short_noise_prefix() -> None:
+    good = Ack(command_id=0x41, command_seq=3)
+    decoder = StreamDecoder()
+    assert decoder.feed(b"\x13\x37" + encode(good, 1)) == [good]
+    assert decoder.stats.resyncs == 1 and decoder.stats.bad_frames == 0
+    assert decoder.stats.bytes_discarded == 2
+
+
+def test_runs_of_zeros_are_counted_as_dropped_bytes() -> None:
+    good = Ack(command_id=1, command_seq=2)
+    decoder = StreamDecoder()
+    got = decoder.feed(b"\x00\x00\x00" + encode(good, 0) + b"\x00\x00")
+    assert got == [good]
+    assert decoder.stats.stray_zeros == 5 and decoder.stats.bytes_discarded == 5
+    assert decoder.stats.bad_frames == 0
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow], max_examples=150)
+@given(
+    st.lists(st.tuples(messages, st.booleans(), st.binary(max_size=80), st.integers(0, 60)),
+             min_size=1, max_size=12),
+    st.lists(st.integers(0, 3000), max_size=10),
+)
+def test_every_byte_is_in_a_good_frame_pending_or_counted_as_dropped(
+    items: list, cuts: list[int]  # type: ignore[type-arg]
+) -> None:
+    """Garbage (zeros included), corrupted and intact frames: the bytes of the good frames,
+    the pending tail and bytes_discarded add up to the bytes fed, in every chunking."""
+    stream = bytearray()
+    for seq, (msg, corrupt, garbage, flip_at) in enumerate(items):
+        frame = bytearray(encode(msg, seq & 0xFF))
+        if corrupt:
+            frame[flip_at % (len(frame) - 1)] ^= 0x5A
+        stream += garbage + frame
+    decoder = StreamDecoder()
+    got = feed_all(decoder, chunked(bytes(stream), cuts))
+    s = decoder.stats
+    assert s.frames == len(got)
+    good_bytes = sum(_wire_len(m) for m in got)
+    assert good_bytes + decoder.pending_bytes + s.bytes_discarded == s.bytes == len(stream)
+    whole = StreamDecoder()
+    assert whole.feed(bytes(stream)) == got
+    assert whole.stats == s
