@@ -16,7 +16,6 @@ import random
 import time
 
 from cobs import cobs
-
 from obstacle_fusion.protocol import StreamDecoder, encode
 from obstacle_fusion.protocol.codec import CRC_SEEDS
 from obstacle_fusion.protocol.generated import Range, RangeStatus
