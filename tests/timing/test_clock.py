@@ -151,11 +151,13 @@ def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
     assert len(errors) >= 20
     est = model.estimate()
     assert est is not None and est.drift_ppm == pytest.approx(ppm, abs=50)
-    if max_lag_s > 0.02 and percentile(errors, 0.95) >= 0.5e-3:
-        # A starved emulator stalls and then races to catch up: its MCU is no longer a
-        # crystal at a fixed rate, which is what the target is about. Say so, don't guess.
-        pytest.skip(f"the emulator fell {max_lag_s * 1e3:.0f} ms behind real time (CPU busy)")
-    assert percentile(errors, 0.95) < 0.5e-3, f"p95 {percentile(errors, 0.95) * 1e3:.3f} ms"
+    # An accuracy check that skips is no check: a starved emulator (it stalls, then races to
+    # catch up, so its MCU is no crystal at a fixed rate) fails the test, and says so.
+    p95 = percentile(errors, 0.95)
+    assert p95 < 0.5e-3, (
+        f"p95 {p95 * 1e3:.3f} ms (the emulator fell at most {max_lag_s * 1e3:.0f} ms behind "
+        "real time; over 20 ms means the machine was too busy for this timing test)"
+    )
 
 
 def test_an_mcu_reboot_without_hello_is_detected_and_relearned() -> None:
