@@ -277,7 +277,8 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
         jsonl = JsonLinesWriter(sys.stdout) if args.json else None
         recorder = None
         if args.record is not None:
-            recorder = McapRecorder(
+            recorder = _start_recorder(
+                McapRecorder,
                 args.record,
                 overwrite=args.overwrite,
                 metadata={
@@ -327,8 +328,27 @@ def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: b
             file=sys.stderr,
         )
         log.info("summary: %s", json.dumps(summary))
+        if recorder is not None and recorder.failed is not None:
+            print(
+                f"obstacle-fusion run: recording failed: {recorder.failed}; "
+                f"{recorder.dropped} messages not recorded (exit {EXIT_RECORDING_FAILED})",
+                file=sys.stderr,
+            )
+            if result.exit_code == 0:
+                return EXIT_RECORDING_FAILED
         return result.exit_code
     return 0
+
+
+EXIT_RECORDING_FAILED = 4  # the run went on to its end, but --record stopped early
+
+
+def _start_recorder(cls: Any, path: Path, **kwargs: Any) -> Any:
+    """The recorder, or a UserError when the file cannot even be started (disk full)."""
+    try:
+        return cls(path, **kwargs)
+    except OSError as exc:
+        raise UserError(f"cannot start the recording {path}: {exc.strerror or exc}") from None
 
 
 def _camera_dict(camera: Any) -> dict[str, Any] | None:

@@ -10,11 +10,16 @@ received it; both in nanoseconds. The offset to Unix time is in the file's metad
 Chunks are closed at least every ``flush_interval_s`` and the file flushed, so a crash
 loses at most that much: everything before it stays readable (replay reads such a file
 and says it was cut short). A reconnect is not a crash: the same file keeps going.
+
+A write that fails (disk full, a removed USB stick) stops the recording, never the run:
+``McapRecorder.failed`` says why, it is logged once, the file is closed as far as it got
+(``obstacle-fusion recover`` makes it an indexed file again), and later writes are dropped.
 """
 
 from __future__ import annotations
 
 import base64
+import errno
 import json
 import logging
 import math
@@ -185,6 +190,8 @@ class McapRecorder:
         if image_format not in ("jpeg", "png"):
             raise UserError(f"image format must be jpeg or png, got {image_format!r}")
         self.path = Path(path)
+        self.failed: str | None = None  # why the recording stopped early, if it did
+        self.dropped = 0  # messages not written after a failure
         try:  # "x": an earlier recording is never truncated unless asked
             self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115
         except FileExistsError:
@@ -230,17 +237,40 @@ class McapRecorder:
         self._last_flush = time.monotonic()
         self._closed = False
 
+    def _fail(self, exc: OSError) -> None:
+        """The file cannot take more: say so once, close it as far as it got, go on."""
+        reason = exc.strerror or str(exc)
+        if exc.errno is not None and exc.errno in errno.errorcode:
+            reason = f"{reason} ({errno.errorcode[exc.errno]})"
+        self.failed = (
+            f"the recording {self.path} stopped: {reason}; it holds what was written before "
+            f"(`obstacle-fusion recover {self.path} FIXED.mcap` makes it an indexed file)"
+        )
+        log.error("%s; sensing goes on without it", self.failed)
+        self._closed = True
+        try:
+            self._file.close()
+        except OSError:
+            pass  # the buffered tail could not be written either; what is on disk stays
+
     def _add(self, topic: str, payload: dict[str, Any], publish_t: float, log_t: float) -> None:
         if self._closed:
+            if self.failed is not None:
+                self.dropped += 1
             return
         self._seq[topic] += 1
-        self._writer.add_message(
-            channel_id=self._channels[topic],
-            log_time=_ns(log_t),
-            publish_time=_ns(publish_t),
-            data=_dumps(payload),
-            sequence=self._seq[topic],
-        )
+        try:
+            self._writer.add_message(
+                channel_id=self._channels[topic],
+                log_time=_ns(log_t),
+                publish_time=_ns(publish_t),
+                data=_dumps(payload),
+                sequence=self._seq[topic],
+            )
+        except OSError as exc:
+            self.dropped += 1
+            self._fail(exc)
+            return
         self.counts[topic] += 1
         now = time.monotonic()
         if now - self._last_flush >= self.flush_interval_s:
@@ -282,8 +312,12 @@ class McapRecorder:
         """Close the open chunk and push everything to the file (readable up to here)."""
         if self._closed:
             return
-        self._writer.flush()
-        self._file.flush()
+        try:
+            self._writer.flush()
+            self._file.flush()
+        except OSError as exc:
+            self._fail(exc)
+            return
         self._last_flush = time.monotonic()
 
     def close(self) -> None:
@@ -291,9 +325,13 @@ class McapRecorder:
             return
         try:
             self._writer.finish()
+        except OSError as exc:
+            self._fail(exc)
+            return
         finally:
-            self._closed = True
-            self._file.close()
+            if self.failed is None:
+                self._closed = True
+                self._file.close()
 
     def __enter__(self) -> McapRecorder:
         return self
