@@ -346,3 +346,36 @@ def test_good_crc_with_a_wrong_length_gets_nack_bad_length(
     assert isinstance(reply, Nack), reply
     assert reply.error == Error.BAD_LENGTH
     assert get_config(port) == before
+
+
+def test_unknown_ids_are_dropped_silently_and_device_ids_get_nack_unknown_command(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
+    """As protocol/README.md's table says: an id with no schema cannot pass the CRC (its
+    seed is unknown), so it is dropped and counted in rx_errors, with no answer; a known id
+    that is no command (RANGE sent to the device) passes it and gets NACK(unknown_command)."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS, encode
+    from obstacle_fusion.protocol.generated import Heartbeat
+
+    readme = (Path(__file__).resolve().parents[2] / "protocol" / "README.md").read_text()
+    assert "| an id the firmware has no schema for | nothing:" in readme
+    assert "| a known id that is not a command (HELLO, RANGE, ...) | NACK(unknown_command) |" in readme
+    _, port, _, _ = boot(emulator_factory, open_port, uno_elf, distance_m=1.0)
+    hb, _ = port.read_until(lambda m: isinstance(m, Heartbeat), 5.0)
+    assert isinstance(hb, Heartbeat)
+    body = bytes((0x7E, 0x44, 1, 2, 3))
+    crc = binascii.crc_hqx(body, 0xFFFF)
+    port.write_raw(bytes(cobs.encode(body + crc.to_bytes(2, "big"))) + b"\x00")
+    later, seen = port.read_until(
+        lambda m: isinstance(m, Heartbeat) and m.rx_errors > hb.rx_errors, 5.0
+    )
+    assert isinstance(later, Heartbeat) and later.rx_errors == hb.rx_errors + 1
+    assert not [m for m in seen if isinstance(m, Nack | Ack)]
+    assert 0x7E not in CRC_SEEDS
+    port.write_raw(encode(Range(1, 0, 2, 3, 0), 0x45))
+    reply, _ = port.read_until(lambda m: isinstance(m, Nack | Ack) and m.command_seq == 0x45, 5.0)
+    assert isinstance(reply, Nack) and reply.command_id == Range.MSG_ID
+    assert reply.error == Error.UNKNOWN_COMMAND
