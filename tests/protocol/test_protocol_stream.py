@@ -140,7 +140,7 @@ def test_a_too_long_run_is_oversized_however_it_is_chunked() -> None:
         assert feed_all(decoder, pieces) == [good], pieces
         s = decoder.stats
         assert (s.oversized, s.cobs_errors, s.crc_errors, s.frames) == (1, 0, 0, 1), pieces
-        assert s.bytes_discarded == len(long_run) + 1, pieces
+        assert s.resyncs == 0 and s.bytes_discarded == len(long_run) + 1, pieces
 
 
 def test_a_frame_right_after_long_noise_is_recovered_however_it_is_chunked() -> None:
@@ -198,3 +198,92 @@ def test_every_byte_is_in_a_good_frame_pending_or_counted_as_dropped(
     whole = StreamDecoder()
     assert whole.feed(bytes(stream)) == got
     assert whole.stats == s
+
+
+def test_the_longest_frame_is_checked_and_one_byte_more_is_oversized() -> None:
+    """A run of MAX_FRAME - 1 bytes (the longest a frame can be without its 0x00) is
+    decoded and checked (here: its CRC fails); one byte more is oversized, in any chunking."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+    from obstacle_fusion.protocol.generated import MAX_BODY, MAX_FRAME
+
+    body = bytes((Log.MSG_ID, 1)) + b"y" * (MAX_BODY - 4)
+    crc = binascii.crc_hqx(body, CRC_SEEDS[Log.MSG_ID]) ^ 0x0101  # a wrong CRC
+    longest = bytes(cobs.encode(body + crc.to_bytes(2, "big")))
+    assert len(longest) == MAX_FRAME - 1
+    too_long = bytes(cobs.encode(b"z" + body + crc.to_bytes(2, "big")))
+    assert len(too_long) == MAX_FRAME
+    for run, counter in ((longest, "crc_errors"), (too_long, "oversized")):
+        for pieces in _every_chunking(run + b"\x00"):
+            decoder = StreamDecoder()
+            assert feed_all(decoder, pieces) == []
+            s = decoder.stats
+            assert s.bad_frames == getattr(s, counter) == 1, (counter, pieces)
+            assert s.bytes_discarded == len(run) + 1
+
+
+def test_every_message_id_byte_is_handled() -> None:
+    """A frame whose first byte is any id 0..255 (with a right-looking CRC) never raises:
+    the unknown ones are counted, the known fixed-length ones decode."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+    from obstacle_fusion.protocol.generated import MESSAGES
+
+    for msg_id in range(256):
+        body = bytes((msg_id, 1)) + bytes(14)
+        crc = binascii.crc_hqx(body, CRC_SEEDS.get(msg_id, 0xFFFF))
+        decoder = StreamDecoder()
+        decoder.feed(bytes(cobs.encode(body + crc.to_bytes(2, "big"))) + b"\x00")
+        s = decoder.stats
+        if msg_id not in MESSAGES:
+            assert s.unknown_ids == 1 and s.frames == 0, msg_id
+        else:
+            assert s.frames + s.bad_lengths == 1, msg_id
+
+
+def test_stats_as_dict_names_every_counter() -> None:
+    decoder = StreamDecoder()
+    decoder.feed(b"\x00\x03\x01\x02\x00" + encode(Ack(command_id=1, command_seq=2), 0))
+    d = decoder.stats.as_dict()
+    assert d["frames"] == 1 and d["stray_zeros"] == 1 and d["truncated"] == 1
+    assert d["bytes"] == decoder.stats.bytes and set(d) >= {"resyncs", "bytes_discarded"}
+
+
+def test_lost_frames_are_counted_for_text_messages_and_after_a_resync() -> None:
+    """Sequence gaps are counted on every path, across the 255 -> 0 wrap: LOG (a text
+    message, decoded off the fast path) and a frame recovered from behind noise."""
+    logs = [encode(Log(level=1, text=f"m{i}"), i) for i in (0, 1, 3, 254)]
+    decoder = StreamDecoder()
+    assert len(decoder.feed(b"".join(logs))) == 4
+    assert decoder.stats.seq_gaps == 1 + 250
+    decoder.feed(b"\x13\x37" + encode(Ack(command_id=1, command_seq=1), 1))  # 255, 0 lost
+    assert decoder.stats.resyncs == 1 and decoder.stats.seq_gaps == 1 + 250 + 2
+    assert decoder.last_seq == 1
+
+
+def test_a_short_run_that_is_no_cobs_is_a_cobs_error_not_oversized() -> None:
+    from obstacle_fusion.protocol.generated import MAX_FRAME
+
+    for run in (b"\x05\x01", b"\x40" + b"\x01" * (MAX_FRAME - 2)):  # the longest possible
+        assert len(run) < MAX_FRAME
+        decoder = StreamDecoder()
+        assert decoder.feed(run + b"\x00") == []
+        assert decoder.stats.cobs_errors == 1 and decoder.stats.oversized == 0, run
+
+
+def test_a_hello_starts_a_new_count_and_only_a_hello() -> None:
+    """HELLO (a new session: the device restarted its numbering) is never a gap; any other
+    frame is, even one whose seq happens to equal HELLO's id."""
+    from obstacle_fusion.protocol.generated import Hello
+
+    hello = Hello(1, 2, 0, 1, 0, 1, 16_000_000, 2_000_000, 1)
+    decoder = StreamDecoder()
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), 200) + encode(hello, 0))
+    assert decoder.stats.seq_gaps == 0
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), 255))  # 1..254 lost
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), Hello.MSG_ID))  # 0 .. lost
+    assert decoder.stats.seq_gaps == 254 + ((Hello.MSG_ID - 255 - 1) & 0xFF)
