@@ -176,3 +176,75 @@ def test_an_mcu_reboot_without_hello_is_detected_and_relearned() -> None:
         model.add_sync(t, t + 0.003, 500_000 + k * 200_000, 500_100 + k * 200_000)
     assert model.jumps == 1
     assert model.to_host(500_000 + 4 * 200_000) == pytest.approx(1010.8015, abs=1e-3)
+
+
+# ------------------------------------------------------------ the round trips' rules
+def _sync(model: ClockModel, host_mid: float, mcu_us: int, width_s: float, delta_s: float) -> None:
+    """A round trip whose admissible interval (after the wire times) is width_s wide and
+    centred delta_s after the true host instant host_mid of MCU time mcu_us."""
+    lo = host_mid + delta_s - width_s / 2
+    model.add_sync(lo - model.request_wire_s, lo + width_s + model.reply_wire_s, mcu_us, mcu_us)
+
+
+def _truth(mcu_us: int) -> float:
+    return 1000.0 + mcu_us * 1e-6  # no drift: host = 1000 s + MCU seconds
+
+
+def test_one_wrong_round_trip_cannot_drag_the_offset() -> None:
+    """Nine round trips agree, one is 5 ms off with the same slack: the weighted median
+    keeps the offset exact, where a mean would move it by 0.5 ms."""
+    model = ClockModel()
+    for k in range(10):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.005 if k == 4 else 0.0)
+    est = model.estimate()
+    assert est is not None and est.source == "sync"
+    assert model.to_host(5_500_000) == pytest.approx(_truth(5_500_000), abs=2e-5)
+
+
+def test_poor_round_trips_are_left_out() -> None:
+    """Round trips far slower than the rest (a busy host) carry little: they are dropped
+    before the fit, so they neither tilt the drift nor widen the uncertainty."""
+    model = ClockModel()
+    for k in range(12):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+    for k in (12, 13):  # two slow ones at the end, 30 ms wide, their middles 12 ms late
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.030, 0.012)
+    est = model.estimate()
+    assert est is not None
+    assert abs(est.drift_ppm) < 20
+    assert est.uncertainty_s < 0.3e-3
+    assert model.to_host(14_000_000) == pytest.approx(_truth(14_000_000), abs=5e-5)
+
+
+def test_the_least_slack_round_trip_of_each_second_is_the_one_used() -> None:
+    """Each second has a tight round trip then a looser one whose middle is 1 ms late:
+    the tight one is kept, so the offset stays within 0.1 ms."""
+    model = ClockModel()
+    for k in range(10):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+        us2 = us + 300_000
+        _sync(model, _truth(us2), us2, 0.0025, 0.001)
+    assert model.to_host(6_000_000) == pytest.approx(_truth(6_000_000), abs=1e-4)
+
+
+def test_uncertainty_and_delay_figures() -> None:
+    """The estimate's uncertainty is the round trips' spread and half the best slack, and
+    min_oneway_delay_s the hull's offset over the round trips' line."""
+    model = ClockModel()
+    for k in range(10):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+    est = model.estimate()
+    assert est is not None
+    assert est.uncertainty_s == pytest.approx(0.0004 / 3**0.5, rel=1e-3)
+    assert est.min_oneway_delay_s is None and est.n_sync == 10 and est.n_oneway == 0
+    for k in range(40):  # RANGE frames 3 ms after their echo's end, over 4 s
+        us = 10_000_000 + k * 100_000
+        model.add_oneway(_truth(us) + 0.003 + (k % 3) * 1e-4, us)
+    est = model.estimate()
+    assert est is not None and est.source == "sync+oneway" and est.n_oneway == 40
+    assert est.min_oneway_delay_s == pytest.approx(0.003, abs=1e-6)
