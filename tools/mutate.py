@@ -54,7 +54,7 @@ _FLIP: dict[type, type] = {
     ast.In: ast.NotIn,
     ast.NotIn: ast.In,
 }
-_SYMBOL = {
+_SYMBOL: dict[type, str] = {
     ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==", ast.NotEq: "!=",
     ast.Is: "is", ast.IsNot: "is not", ast.In: "in", ast.NotIn: "not in",
 }
@@ -104,7 +104,9 @@ def _sites(tree: ast.AST, numbers: str = "all") -> Iterator[tuple[list[int], str
             for k, op in enumerate(node.ops):
                 if type(op) in _FLIP:
                     yield path, "compare", str(k), line
-        elif isinstance(node, ast.Constant) and type(node.value) in (int, float):
+        elif isinstance(node, ast.Constant) and isinstance(node.value, int | float) and not (
+            isinstance(node.value, bool)
+        ):
             values = _numbers(node.value)
             for v in values[:1] if numbers == "one" else values:
                 yield path, "number", repr(v), line
@@ -123,6 +125,7 @@ def _sites(tree: ast.AST, numbers: str = "all") -> Iterator[tuple[list[int], str
 def _numbers(value: int | float) -> list[int | float]:
     if isinstance(value, bool):
         return []
+    out: list[int | float]
     if isinstance(value, int):
         out = [value + 1, value - 1, value * 2] if value else [1]
     else:
@@ -144,8 +147,9 @@ def _apply(tree: ast.AST, path: list[int], kind: str, variant: str) -> tuple[ast
         assert isinstance(node, ast.Compare)
         k = int(variant)
         old = type(node.ops[k])
-        node.ops[k] = _FLIP[old]()
-        return tree, f"{_SYMBOL[old]} -> {_SYMBOL[_FLIP[old]]}"
+        new = _FLIP[old]
+        node.ops[k] = new()
+        return tree, f"{_SYMBOL[old]} -> {_SYMBOL[new]}"
     if kind == "number":
         assert isinstance(node, ast.Constant)
         old_value = node.value

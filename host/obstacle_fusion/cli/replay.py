@@ -43,6 +43,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
     )
+    p.add_argument(
+        "--ros2-bag",
+        type=Path,
+        metavar="OUT",
+        help="also write a ROS 2 bag folder (MCAP storage): the recorded ranges and images, "
+        "CameraInfo, and the replayed detections as vision_msgs/Detection3DArray",
+    )
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --ros2-bag")
     p.set_defaults(func=run)
 
 
@@ -68,6 +76,11 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from obstacle_fusion.fusion import Fusion, RangePairer
+    from obstacle_fusion.outputs.foxglove_schemas import (
+        FoxgloveTopics,
+        recording_monotonic_to_unix_ns,
+        recording_unix_offset_ns,
+    )
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import (
         TOPIC_IMAGE,
@@ -75,16 +88,20 @@ def run(args: argparse.Namespace) -> int:
         decode_image,
         read_recording,
     )
-    from obstacle_fusion.protocol.generated import Range
     from obstacle_fusion.sonar import SonarConverter
-    from obstacle_fusion.sources.frames import Frame
     from obstacle_fusion.vision.camera import CameraModel, CameraModelError
-    from obstacle_fusion.vision.measure import Measurer
     from obstacle_fusion.vision.rig import Rig
 
     if str(args.recording) == "-":
         raise UserError("replay reads a file, not standard input: save the recording first")
+    _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import require_rosbags
+
+        require_rosbags()
     rec = read_recording(args.recording)
+    # New recordings hold Unix-epoch times; the fusion runs on the host-monotonic ones.
+    offset_ns = recording_unix_offset_ns(rec.metadata)
     meta = rec.metadata.get("run", {})
     msgs = [m for m in rec.messages if m.topic in (TOPIC_IMAGE, TOPIC_RANGE)]
     if not msgs:
@@ -128,7 +145,6 @@ def run(args: argparse.Namespace) -> int:
         stop = float(meta["stop_distance_m"])
 
     now = [0.0]
-    measurer: Any = None
     converters: dict[int, SonarConverter] = {}
     fusion = Fusion(
         measurer=None,
@@ -138,57 +154,33 @@ def run(args: argparse.Namespace) -> int:
         clock=lambda: now[0],
     )
     out = JsonLinesWriter(sys.stdout)
-    index = 0
-    bad_images = 0
-    foreign_ranges = 0
-    for m in sorted(msgs, key=lambda m: m.log_time_ns):
-        now[0] = m.log_time_ns / 1e9
-        d = m.data
-        if m.topic == TOPIC_RANGE:
-            hz = int(d.get("timer_hz") or 2_000_000)
-            conv = converters.get(hz)
-            if conv is None:
-                conv = converters[hz] = SonarConverter(
-                    timer_hz=hz,
-                    temperature_c=temperature,
-                    median_window=args.median,
-                    half_spacing_m=half_spacing,
-                )
-            fields = _range_fields(d)
-            t_trigger, t_receipt = d.get("t_trigger_host"), d.get("t_receipt")
-            scale = d.get("time_scale") or 1.0
-            if fields is None or not all(
-                v is None or isinstance(v, int | float) for v in (t_trigger, t_receipt, scale)
-            ):
-                foreign_ranges += 1
-                continue
-            measurement, sensor_id, trigger_us, echo_ticks, status = fields
-            raw = Range(
-                measurement, sensor_id, trigger_us, echo_ticks, _STATUS_CODES.get(status, 255)
-            )
-            reading = conv.convert(raw, t_trigger, t_receipt, time_scale=float(scale))
-            records = fusion.add_reading(reading)
+    ros2: Any = None
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import Ros2BagWriter
 
-        else:
-            image = decode_image(d)
-            if image is None:
-                bad_images += 1
-                continue
-            if measurer is None:
-                cam = camera
-                if cam is None:
-                    from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
-
-                    cam = synthetic_camera_model(image.shape[1], image.shape[0])
-                measurer = Measurer(cam, rig, method)
-                fusion.measurer = measurer
-            frame = Frame(image, m.publish_time_ns / 1e9, index, str(d.get("frame_id", "")))
-            index += 1
-            records = fusion.add_frame(frame)
-        for r in records:
-            out.write(r)
-    for r in fusion.flush():
-        out.write(r)
+        topics = FoxgloveTopics(
+            rig=rig, camera=camera, unix_offset_ns=recording_monotonic_to_unix_ns(rec.metadata)
+        )
+        ros2 = Ros2BagWriter(args.ros2_bag, topics=topics, overwrite=args.overwrite)
+    try:
+        index, bad_images, foreign_ranges = _replay(
+            args,
+            msgs,
+            offset_ns,
+            now,
+            fusion,
+            out,
+            ros2,
+            converters,
+            temperature,
+            half_spacing,
+            camera,
+            rig,
+            method,
+        )
+    finally:
+        if ros2 is not None:
+            ros2.close()
     s = fusion.stats
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
@@ -196,6 +188,13 @@ def run(args: argparse.Namespace) -> int:
         f"{s.vision_errors} vision errors",
         file=sys.stderr,
     )
+    if ros2 is not None:
+        print(
+            f"obstacle-fusion replay: wrote the ROS 2 bag {args.ros2_bag} ("
+            + ", ".join(f"{n} on {t}" for t, n in ros2.counts.items())
+            + ")",
+            file=sys.stderr,
+        )
     skipped = dict(rec.skipped)
     if bad_images:
         skipped[f"{TOPIC_IMAGE} (no image data)"] = bad_images
@@ -229,6 +228,97 @@ def run(args: argparse.Namespace) -> int:
         )
         return EXIT_DAMAGED
     return 0
+
+
+def _replay(
+    args: argparse.Namespace,
+    msgs: list[Any],
+    offset_ns: int,
+    now: list[float],
+    fusion: Any,
+    out: Any,
+    ros2: Any,
+    converters: dict[int, Any],
+    temperature: float,
+    half_spacing: float,
+    camera: Any,
+    rig: Any,
+    method: str,
+) -> tuple[int, int, int]:
+    import base64
+
+    from obstacle_fusion.outputs.mcap_file import TOPIC_RANGE, decode_image
+    from obstacle_fusion.protocol.generated import Range
+    from obstacle_fusion.sonar import SonarConverter
+    from obstacle_fusion.sources.frames import Frame
+    from obstacle_fusion.vision.measure import Measurer
+
+    measurer: Any = None
+    index = 0
+    bad_images = 0
+    foreign_ranges = 0
+    for m in sorted(msgs, key=lambda m: m.log_time_ns):
+        now[0] = (m.log_time_ns - offset_ns) / 1e9
+        d = m.data
+        if m.topic == TOPIC_RANGE:
+            hz = int(d.get("timer_hz") or 2_000_000)
+            conv = converters.get(hz)
+            if conv is None:
+                conv = converters[hz] = SonarConverter(
+                    timer_hz=hz,
+                    temperature_c=temperature,
+                    median_window=args.median,
+                    half_spacing_m=half_spacing,
+                )
+            fields = _range_fields(d)
+            t_trigger, t_receipt = d.get("t_trigger_host"), d.get("t_receipt")
+            scale = d.get("time_scale") or 1.0
+            if fields is None or not all(
+                v is None or isinstance(v, int | float) for v in (t_trigger, t_receipt, scale)
+            ):
+                foreign_ranges += 1
+                continue
+            measurement, sensor_id, trigger_us, echo_ticks, status = fields
+            raw = Range(
+                measurement, sensor_id, trigger_us, echo_ticks, _STATUS_CODES.get(status, 255)
+            )
+            reading = conv.convert(raw, t_trigger, t_receipt, time_scale=float(scale))
+            records = fusion.add_reading(reading)
+            if ros2 is not None:
+                ros2.write_range(reading, log_t=now[0])
+
+        else:
+            image = decode_image(d)
+            if image is None:
+                bad_images += 1
+                continue
+            if measurer is None:
+                cam = camera
+                if cam is None:
+                    from obstacle_fusion.sim.synthetic_camera import synthetic_camera_model
+
+                    cam = synthetic_camera_model(image.shape[1], image.shape[0])
+                measurer = Measurer(cam, rig, method)
+                fusion.measurer = measurer
+                if ros2 is not None:
+                    ros2.topics.set_camera(cam)
+            t_frame = (m.publish_time_ns - offset_ns) / 1e9
+            if ros2 is not None:
+                h, w = image.shape[:2]
+                jpeg = base64.b64decode(d["data"])
+                ros2.write_image(jpeg, str(d.get("format", "jpeg")), w, h, t_frame, now[0])
+            frame = Frame(image, t_frame, index, str(d.get("frame_id", "")))
+            index += 1
+            records = fusion.add_frame(frame)
+        for r in records:
+            out.write(r)
+            if ros2 is not None:
+                ros2.write_record(r)
+    for r in fusion.flush():
+        out.write(r)
+        if ros2 is not None:
+            ros2.write_record(r)
+    return index, bad_images, foreign_ranges
 
 
 def rig_from_metadata(text: str, recording: Path) -> Any:
