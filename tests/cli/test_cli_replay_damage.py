@@ -60,8 +60,10 @@ def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _damage_middle(src: Path, dst: Path, n: int = 40) -> None:
+    """n bytes overwritten inside the middle camera image's data (as a bad sector would)."""
     data = bytearray(src.read_bytes())
-    mid = len(data) // 2
+    hits = [i for i in range(len(data)) if data.startswith(b'"data":"', i)]
+    mid = hits[len(hits) // 2] + 100
     data[mid : mid + n] = b"\xa5" * n
     dst.write_bytes(bytes(data))
 

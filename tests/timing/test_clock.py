@@ -248,3 +248,14 @@ def test_uncertainty_and_delay_figures() -> None:
     est = model.estimate()
     assert est is not None and est.source == "sync+oneway" and est.n_oneway == 40
     assert est.min_oneway_delay_s == pytest.approx(0.003, abs=1e-6)
+
+
+def test_the_estimate_maps_as_the_model_does() -> None:
+    sim = LinkSim(ppm=3000.0, seed=8)
+    sim.generate(duration_s=12.0)
+    model = ClockModel()
+    sim.run(model)
+    est = model.estimate()
+    assert est is not None
+    for raw, _ in sim.truth[-20:]:
+        assert est.map_us(model.unwrap(raw)) == model.to_host(raw)
