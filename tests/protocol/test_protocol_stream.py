@@ -287,3 +287,28 @@ def test_a_hello_starts_a_new_count_and_only_a_hello() -> None:
     decoder.feed(encode(Ack(command_id=1, command_seq=0), 255))  # 1..254 lost
     decoder.feed(encode(Ack(command_id=1, command_seq=0), Hello.MSG_ID))  # 0 .. lost
     assert decoder.stats.seq_gaps == 254 + ((Hello.MSG_ID - 255 - 1) & 0xFF)
+
+
+def test_the_shortest_frame_is_recovered_from_behind_noise() -> None:
+    """STOP has no payload: its frame is 5 bytes with the 0x00, the shortest there is."""
+    from obstacle_fusion.protocol.generated import Stop
+
+    frame = encode(Stop(), 9)
+    assert len(frame) == 6
+    decoder = StreamDecoder()
+    assert decoder.feed(b"\x13\x37\x42" + frame) == [Stop()]
+    assert decoder.stats.resyncs == 1 and decoder.stats.bytes_discarded == 3
+
+
+def test_gaps_use_the_sequence_byte_not_the_id_or_payload() -> None:
+    """A LOG numbered like HELLO's id is no HELLO; a resynced frame's gap comes from its
+    seq byte, not from its payload."""
+    from obstacle_fusion.protocol.generated import Hello
+
+    decoder = StreamDecoder()
+    decoder.feed(encode(Log(level=1, text="a"), 5) + encode(Log(level=1, text="b"), Hello.MSG_ID))
+    assert decoder.stats.seq_gaps == (Hello.MSG_ID - 5 - 1) & 0xFF
+    decoder = StreamDecoder()
+    decoder.feed(encode(Ack(command_id=0x41, command_seq=0), 3))
+    decoder.feed(b"\x13\x37" + encode(Ack(command_id=0x41, command_seq=0), 6))
+    assert decoder.stats.resyncs == 1 and decoder.stats.seq_gaps == 2
