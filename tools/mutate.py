@@ -273,6 +273,9 @@ def main() -> int:
     parser.add_argument("--only-line", type=int, action="append", help="mutants on this line")
     parser.add_argument("--json", type=Path, help="write every mutant's result here")
     parser.add_argument(
+        "--rerun", type=Path, help="only the mutants that survived in this earlier --json"
+    )
+    parser.add_argument(
         "--numbers", choices=("all", "one"), default="all",
         help="one: a single variant per number (n + 1, or 2 x for a float) to go faster",
     )
@@ -287,6 +290,13 @@ def main() -> int:
         runner = run_tests_forked
     tests = shlex.split(args.tests)
     named = json.loads(args.named.read_text()) if args.named else []
+    again: set[tuple[int, str, str]] | None = None
+    if args.rerun:
+        again = {
+            (int(r["line"]), str(r["kind"]), str(r["what"]))
+            for r in json.loads(args.rerun.read_text())
+            if r["verdict"] == "survived"
+        }
     results: list[dict[str, object]] = []
     originals: dict[Path, str] = {}
 
@@ -308,7 +318,8 @@ def main() -> int:
             originals[target] = target.read_text()
             todo = [
                 m for m in mutants(target, named, args.numbers)
-                if not args.only_line or m.line in args.only_line
+                if (not args.only_line or m.line in args.only_line)
+                and (again is None or (m.line, m.kind, m.what) in again)
             ]
             killed = survived = 0
             print(f"{target.relative_to(ROOT)}: {len(todo)} mutants", flush=True)
