@@ -389,3 +389,31 @@ def test_two_one_way_arrivals_already_give_an_estimate() -> None:
     model.add_oneway(100.103, 1_100_000)
     est = model.estimate()
     assert est is not None and est.source == "oneway" and est.n_oneway == 2
+
+
+def test_the_poor_round_trip_limit_is_twice_the_median_width_plus_0_2_ms() -> None:
+    """Twelve round trips 0.8 ms wide, then one 1.9 ms wide whose middle is 0.5 ms late:
+    over the limit (2 x 0.8 + 0.2 = 1.8 ms) it is left out, so the drift fitted through the
+    round trips alone stays at zero."""
+    model = ClockModel()
+    for k in range(12):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+    us = 13_000_000
+    _sync(model, _truth(us), us, 0.0019, 0.0005)
+    est = model.estimate()
+    assert est is not None and est.source == "sync"
+    assert abs(est.drift_ppm) < 2
+
+
+def test_three_round_trips_from_the_past_mean_a_reboot() -> None:
+    model = ClockModel()
+    for k in range(10):
+        t = 1000.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 100_000_000 + k * 200_000, 100_000_100 + k * 200_000)
+    for k in range(2):
+        t = 1010.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 500_000 + k * 200_000, 500_100 + k * 200_000)
+    assert model.jumps == 0
+    model.add_sync(1010.4, 1010.403, 900_000, 900_100)
+    assert model.jumps == 1
