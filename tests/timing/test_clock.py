@@ -417,3 +417,13 @@ def test_three_round_trips_from_the_past_mean_a_reboot() -> None:
     assert model.jumps == 0
     model.add_sync(1010.4, 1010.403, 900_000, 900_100)
     assert model.jumps == 1
+
+
+def test_eight_one_way_arrivals_over_two_seconds_already_give_the_drift() -> None:
+    model = ClockModel()
+    for k in range(8):  # MCU 5000 ppm fast, 0.4 s apart: 2.8 s
+        us = 1_000_000 + k * 402_000
+        model.add_oneway(100.0 + k * 0.4 + 0.002 + (k % 2) * 1e-4, us)
+    est = model.estimate()
+    assert est is not None and est.n_oneway == 8
+    assert est.drift_ppm == pytest.approx(5000.0, abs=300)
