@@ -21,7 +21,6 @@ from obstacle_fusion.protocol.generated import (
     Hello,
     Message,
     Nack,
-    Range,
     SetConfig,
     TimeSync,
     TimeSyncReply,
@@ -118,9 +117,9 @@ def test_a_large_host_write_is_fed_whole_and_later_commands_answered(
         port.close()
         port = open_port(emu)
         time.sleep(0.1)
-        before = emu.control.stats()["rx_fed"]
+        want = emu.control.stats()["rx_fed"] + len(blob)
         flood(emu, port, blob)
-        assert wait_for(lambda: emu.control.stats()["rx_fed"] >= before + len(blob), 10.0), (round_, rx_figures(emu))
+        assert wait_for(lambda w=want: emu.control.stats()["rx_fed"] >= w, 10.0), (round_, rx_figures(emu))
         port.collect(0.3)
         reply = answered(port, TimeSync(token=99), TimeSyncReply)
         assert isinstance(reply, TimeSyncReply) and reply.token == 99, (round_, rx_figures(emu), port.decoder.stats)
