@@ -123,3 +123,32 @@ def test_a_large_host_write_is_fed_whole_and_later_commands_answered(
         port.collect(0.3)
         reply = answered(port, TimeSync(token=99), TimeSyncReply)
         assert isinstance(reply, TimeSyncReply) and reply.token == 99, (round_, rx_figures(emu), port.decoder.stats)
+
+
+# --- defect 10 c: the gap between triggers is never under the cycle ----------------------------
+
+
+def test_trigger_gaps_never_under_the_cycle(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+    """Two sensors in turn at the shortest cycle (29 ms): sensor 0's far obstacle gives a
+    27 ms echo, so the 2 ms guard holds the next trigger back about 0.5 ms; sensor 1's
+    near one lets the trigger after it go on time. Phase-keeping firmware answered each
+    late trigger with a 28.5 ms gap; the truth log's TRIG edges (cycle-exact) show none."""
+    width_s = 0.029 + 0.0005 - 0.002 - 0.00046  # cycle + lateness - guard - (pulse + burst)
+    v = 331.3 * (1 + 20.0 / 273.15) ** 0.5
+    emu, port = boot(emulator_factory, open_port, uno_elf, distance_m=0.5, sensors=2, max_range_m=6.0)
+    emu.control.set_distance(width_s * v / 2, sensor=0)
+    cfg = dict(DEFAULTS, cycle_ms=29, sensor_mask=0b11, echo_timeout_us=28000, max_echo_us=28000)
+    reply = answered(port, SetConfig(**cfg), Ack)
+    assert isinstance(reply, Ack), reply
+    start = emu.control.sim_time()
+    assert wait_for(lambda: emu.control.sim_time() > start + 1.5, 20.0)
+    truth = [t for t in emu.truth.read() if t.trigger_s > start + 0.1]
+    assert len(truth) >= 40
+    gaps_us = [(b.trigger_s - a.trigger_s) * 1e6 for a, b in zip(truth, truth[1:], strict=False)]
+    assert min(gaps_us) >= 29_000 - 2, sorted(gaps_us)[:5]  # 1 us: the MCU clock's resolution
+    # The scenario really holds triggers back: after each of sensor 0's long echoes.
+    late = [g for a, g in zip(truth, gaps_us, strict=False) if a.sensor_id == 0]
+    assert late and all(29_300 < g < 31_100 for g in late), sorted(late)[-8:]
+    # ...and the others follow within the poll latency (no drift beyond it).
+    on_time = [g for a, g in zip(truth, gaps_us, strict=False) if a.sensor_id == 1]
+    assert on_time and all(g < 29_000 + 100 for g in on_time), on_time[:5]
