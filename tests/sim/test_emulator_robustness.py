@@ -19,8 +19,11 @@ from obstacle_fusion.protocol.generated import (
     Config,
     GetInfo,
     Hello,
+    Log,
+    LogLevel,
     Message,
     Nack,
+    Range,
     SetConfig,
     TimeSync,
     TimeSyncReply,
@@ -152,3 +155,32 @@ def test_trigger_gaps_never_under_the_cycle(emulator_factory: Factory, open_port
     # ...and the others follow within the poll latency (no drift beyond it).
     on_time = [g for a, g in zip(truth, gaps_us, strict=False) if a.sensor_id == 1]
     assert on_time and all(g < 29_000 + 100 for g in on_time), on_time[:5]
+
+
+# --- defect 10 b: the watchdog reset is reported on an Uno started through Optiboot -----------
+
+
+def logs_after_boot(port: FirmwarePort) -> list[Message]:
+    """What follows HELLO + CONFIG after a reset, up to the first RANGE."""
+    hello, seen = port.read_until(lambda m: isinstance(m, Hello), 5.0)
+    assert isinstance(hello, Hello), f"no HELLO after the reset; got {seen[-5:]}"
+    _, seen = port.read_until(lambda m: isinstance(m, Range), 5.0)
+    return [m for m in seen if isinstance(m, Log)]
+
+
+@pytest.mark.parametrize("optiboot", [True, False], ids=["optiboot", "no_bootloader"])
+def test_watchdog_reset_is_reported(emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot: bool) -> None:
+    """Optiboot clears MCUSR before it starts the application and hands the reset cause
+    over in r2 (the emulator's --optiboot does the same at every reset). The firmware
+    must read r2 when MCUSR is 0: "watchdog reset" after a watchdog reset, nothing after
+    the reset button or at power-up, with or without the bootloader."""
+    emu, port = boot(emulator_factory, open_port, uno_elf, distance_m=1.0, optiboot=optiboot)
+    _, seen = port.read_until(lambda m: isinstance(m, Range), 5.0)
+    assert not [m for m in seen if isinstance(m, Log)]  # power-up: no warning
+    emu.control.reset(watchdog=True)
+    logs = logs_after_boot(port)
+    assert [(m.level, m.text) for m in logs] == [(LogLevel.WARNING, "watchdog reset")]
+    emu.control.reset()  # the reset button: no warning (the cause in r2 is EXTRF)
+    assert logs_after_boot(port) == []
+    emu.control.reset(watchdog=True)  # and again, the hand-over is made at every reset
+    assert len(logs_after_boot(port)) == 1

@@ -41,12 +41,27 @@ static of_ring_t tx_ring;
 
 /* MCUSR as it was at reset; .noinit, since it is saved before RAM is initialised. */
 static uint8_t reset_cause __attribute__((section(".noinit")));
+/* r2 as the application found it: Optiboot (>= 4.6, the Uno's bootloader) clears MCUSR
+ * before it starts the application and hands the reset cause over in r2. */
+static uint8_t boot_r2 __attribute__((section(".noinit")));
 
-/* The watchdog stays on across a watchdog reset: turn it off before main runs. */
+/* The very first code after the reset vector, before anything touches r2. */
+void save_r2(void) __attribute__((naked, used, section(".init0")));
+void save_r2(void)
+{
+    __asm__ volatile("sts %0, r2" : "=m"(boot_r2));
+}
+
+/* The watchdog stays on across a watchdog reset: turn it off before main runs. MCUSR is
+ * 0 only when a bootloader cleared it (every reset sets one of its flags): then the cause
+ * is the one the bootloader passed in r2. */
 void wdt_init(void) __attribute__((naked, used, section(".init3")));
 void wdt_init(void)
 {
     reset_cause = MCUSR;
+    if (reset_cause == 0u) {
+        reset_cause = boot_r2;
+    }
     MCUSR = 0;
     wdt_disable();
 }
