@@ -184,3 +184,40 @@ def test_watchdog_reset_is_reported(emulator_factory: Factory, open_port: Opener
     assert logs_after_boot(port) == []
     emu.control.reset(watchdog=True)  # and again, the hand-over is made at every reset
     assert len(logs_after_boot(port)) == 1
+
+
+# --- item 8: the virtual HC-SR04's physics against a published table ---------------------------
+
+# Speed of sound in dry air at 1 atm, m/s, by temperature in C: the table "Effect of
+# temperature on properties of air" of Wikipedia's "Speed of sound" article
+# (https://en.wikipedia.org/wiki/Speed_of_sound), the values handbooks quote (e.g. 331.3
+# m/s at 0 C, 343.2 at 20 C). Written out here, not computed: an error in the emulator's
+# formula (or in a copy of the host's) cannot hide behind the same formula in the test.
+PUBLISHED_SPEED_OF_SOUND = {
+    -10.0: 325.18,
+    0.0: 331.30,
+    10.0: 337.31,
+    20.0: 343.21,
+    30.0: 349.02,
+    35.0: 351.88,
+}
+
+
+def test_virtual_sensor_echo_matches_a_published_speed_of_sound(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
+    distance = 2.0
+    emu, port = boot(emulator_factory, open_port, uno_elf, distance_m=distance)
+    for celsius, speed in PUBLISHED_SPEED_OF_SOUND.items():
+        emu.control.set_temperature(celsius)
+        start = emu.control.sim_time()
+        assert wait_for(lambda s=start: emu.control.sim_time() > s + 0.2, 10.0)
+        truth = [t for t in emu.truth.read() if t.trigger_s > start and t.temperature_c == celsius]
+        assert len(truth) >= 2, celsius
+        for t in truth:
+            assert t.kind == "echo" and t.distance_m == pytest.approx(distance)
+            # The echo is the round trip: 2 d / v, to within the table's rounding (0.01 m/s
+            # is 3e-5) and one CPU cycle (62.5 ns in 11.6 ms, 5e-6).
+            assert t.echo_s == pytest.approx(2 * distance / speed, rel=5e-5), (celsius, t)
+            # ...and the firmware's ticks (0.5 us) say the same, whatever it computes.
+            assert t.echo_ticks == pytest.approx(2 * distance / speed * 2e6, abs=1.0)
