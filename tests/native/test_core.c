@@ -834,6 +834,92 @@ static void test_gap_never_under_cycle(void)
     CHECK(longest <= 58000u + 1600u);   /* ...and no more than that */
 }
 
+static void test_encode_bounds(void)
+{
+    /* of_frame_encode() needs len + 6 bytes (COBS overhead and delimiter): exactly that
+     * is enough, one byte less is refused with nothing written past it, for every length
+     * up to OF_MAX_PAYLOAD; longer payloads and unknown ids are refused. */
+    uint8_t payload[OF_MAX_PAYLOAD + 1];
+    uint8_t buf[OF_MAX_FRAME + 16];
+    for (size_t i = 0; i < sizeof payload; i++) {
+        payload[i] = (uint8_t)(0x11u + i); /* no zero: the frame is exactly len + 6 */
+    }
+    for (size_t len = 0; len <= OF_MAX_PAYLOAD; len++) {
+        memset(buf, 0xA5, sizeof buf);
+        CHECK_EQ(of_frame_encode(buf, len + 5u, OF_MSG_LOG, 7, payload, len), 0);
+        CHECK_EQ(buf[len + 5u], 0xA5);
+        size_t n = of_frame_encode(buf, len + 6u, OF_MSG_LOG, 7, payload, len);
+        CHECK_EQ(n, len + 6u);
+        CHECK_EQ(buf[n - 1u], 0);
+        CHECK_EQ(buf[n], 0xA5); /* nothing past the frame */
+        of_frame_decoder_t d;
+        of_frame_t f;
+        of_frame_decoder_init(&d);
+        of_feed_result_t r = OF_FEED_NONE;
+        for (size_t i = 0; i < n; i++) {
+            r = of_frame_decoder_feed(&d, buf[i], &f);
+        }
+        CHECK_EQ(r, OF_FEED_FRAME);
+        CHECK_EQ(f.len, len);
+        CHECK(memcmp(f.payload, payload, len) == 0);
+    }
+    CHECK_EQ(of_frame_encode(buf, sizeof buf, OF_MSG_LOG, 7, payload, OF_MAX_PAYLOAD + 1u), 0);
+    CHECK_EQ(of_frame_encode(buf, sizeof buf, 0x7F, 7, payload, 1), 0);
+    /* The largest frame fits OF_MAX_FRAME + delimiter: the receive buffer takes it. */
+    CHECK_EQ(of_frame_encode(buf, sizeof buf, OF_MSG_LOG, 7, payload, OF_MAX_PAYLOAD),
+             OF_MAX_FRAME + 0u);
+}
+
+static void test_timeout_boundaries(void)
+{
+    /* The ranger's timeouts to the microsecond and the tick, polled by hand: ECHO not
+     * risen `echo_timeout_us` after the trigger is not yet a timeout, one microsecond
+     * later it is; high for exactly the timeout's ticks is not yet, one tick more is. */
+    of_ranger_t r;
+    of_ranger_config_t cfg = {60000u, 23324u, 40000u, 1u};
+    of_range_t out;
+    uint32_t wake;
+
+    fake_reset(0);
+    fake.sensor[0].width_ticks = FAKE_NEVER; /* ECHO never rises */
+    of_ranger_init(&r);
+    fake_advance_to(10000);
+    of_ranger_start(&r, hal_micros());
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake)); /* ECHO seen low: the guard starts */
+    CHECK_EQ(fake.triggers, 0);
+    fake_advance_to(10000u + OF_GUARD_US * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake)); /* guard over: triggers */
+    CHECK_EQ(fake.triggers, 1);
+    uint64_t t0 = fake.trigger_at[0];
+    CHECK_EQ(wake, r.trigger_us + 40000u + 1u);
+    fake_advance_to(t0 + 40000u * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    fake_advance_to(t0 + 40000u * 2u + 2u);
+    CHECK(of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(out.status, OF_RANGE_STATUS_TIMEOUT);
+    CHECK_EQ(out.echo_ticks, 0);
+
+    fake_reset(0);
+    fake.sensor[0].width_ticks = 200000u; /* rises, falls far too late */
+    fake.capture_latency = 0;
+    of_ranger_init(&r);
+    fake_advance_to(10000);
+    of_ranger_start(&r, hal_micros());
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    fake_advance_to(10000u + OF_GUARD_US * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(fake.triggers, 1);
+    uint64_t rise = fake.trigger_at[0] + 20u + fake.sensor[0].burst_ticks;
+    fake_advance_to(rise + 80000u); /* high for exactly 40000 us */
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(r.state, OF_RANGER_WAIT_FALL);
+    CHECK_EQ(wake, hal_micros() + 1u);
+    fake_advance_to(rise + 80001u);
+    CHECK(of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(out.status, OF_RANGE_STATUS_TIMEOUT);
+    CHECK_EQ(out.echo_ticks, 80001u); /* the ticks measured so far */
+}
+
 /* ------------------------------------------------------------------ runner */
 
 struct test {
@@ -857,6 +943,8 @@ static const struct test tests[] = {
     {"heartbeat_and_state", test_heartbeat_and_state},
     {"rx_flood", test_rx_flood},
     {"gap_never_under_cycle", test_gap_never_under_cycle},
+    {"encode_bounds", test_encode_bounds},
+    {"timeout_boundaries", test_timeout_boundaries},
 };
 
 int main(int argc, char **argv)
