@@ -12,7 +12,8 @@ touched) with ONE change in firmware/core/of_ranger.c, of_frame.c, of_app.c or o
   del     a `x++;` / `x--;` statement deleted
 
 A mutant is run against the native core tests (tests/native/test_core.c + the fake board,
-compiled with ASan/UBSan); if they all pass, the mutated Uno image is built and the fast
+compiled with ASan/UBSan) and the fuzz target's oracles on a fixed set of generated inputs
+(tests/native/fuzz_replay.c); if they all pass, the mutated Uno image is built and the fast
 emulator tests are run with it (OF_FIRMWARE_ELF). Killed: a test failed, crashed or timed
 out. Stillborn: does not compile (not counted). Survived: everything passed. Prints a
 table and the score; --json writes every mutant's result.
@@ -219,6 +220,16 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool) -> Result:
     rc, out = run([str(binary)], 120)
     if rc != 0:
         return result("killed-native", out if rc != -999 else "timeout")
+    replay = work / "fuzz_replay"
+    srcs = [str(NATIVE / "fuzz_replay.c"), str(NATIVE / "fake_hal.c"),
+            *(str(fw / "core" / s) for s in NATIVE_SOURCES)]
+    cmd = ["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{fw / 'core'}", *srcs, "-o", str(replay)]
+    rc, out = run(cmd, 120)
+    if rc != 0:
+        return result("stillborn", out)
+    rc, out = run([str(replay)], 120)
+    if rc != 0:
+        return result("killed-native", "fuzz_replay: " + (out if rc != -999 else "timeout"))
     if not emulator:
         return result("survived", "native tests pass")
     rc, out = run(["make", "-s", "-C", str(fw), "BOARD=uno", f"BUILD_DIR={work / 'build'}"], 300)

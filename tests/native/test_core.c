@@ -920,6 +920,91 @@ static void test_timeout_boundaries(void)
     CHECK_EQ(out.echo_ticks, 80001u); /* the ticks measured so far */
 }
 
+static void test_next_sensor_exhaustive(void)
+{
+    /* Round robin against a reference for every mask and position, including a mask of
+     * one sensor only (the next after `last` is `last` itself). */
+    for (uint8_t mask = 1; mask < 16; mask++) {
+        for (uint8_t last = 0; last < 4; last++) {
+            uint8_t want = 0xFF;
+            for (uint8_t i = 1; i <= 4 && want == 0xFF; i++) {
+                uint8_t s = (uint8_t)((last + i) % 4);
+                if (mask & (1u << s)) {
+                    want = s;
+                }
+            }
+            CHECK_EQ(of_ranger_next_sensor(mask, last), want);
+        }
+    }
+}
+
+static void test_ranger_wake_times(void)
+{
+    /* The ranger's answer to "when must I be called again?" in each state, exactly: a
+     * later wake delays a trigger or a report, an earlier one wastes a poll. */
+    of_ranger_t r;
+    of_ranger_config_t cfg = {60000u, 23324u, 40000u, 1u};
+    of_range_t out;
+    uint32_t wake;
+
+    fake_reset(0);
+    of_ranger_init(&r);
+    fake_advance_to(10000);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake)); /* not running */
+    CHECK_EQ(wake, hal_micros() + 1000000u);
+    of_ranger_start(&r, hal_micros() + 300u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake)); /* not due yet */
+    CHECK_EQ(wake, r.next_due_us);
+    fake_advance_to(10000u + 600u);                /* due, low for 300 us only */
+    uint32_t low_since = r.low_since_us;
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(fake.triggers, 0);
+    CHECK_EQ(wake, low_since + OF_GUARD_US);
+    fake.echo_high = true;                         /* the line goes high: look again in 1 ms */
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(wake, hal_micros() + 1000u);
+    fake.echo_high = false;
+    uint32_t seen_low = hal_micros();
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(wake, seen_low + OF_GUARD_US);
+    fake_advance_to(fake.now + OF_GUARD_US * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake)); /* triggers */
+    CHECK_EQ(fake.triggers, 1);
+    CHECK_EQ(wake, r.trigger_us + 40000u + 1u);
+    CHECK_EQ(r.next_due_us, r.trigger_us + 60000u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake)); /* waiting for the rise */
+    CHECK_EQ(wake, r.trigger_us + 40000u + 1u);
+    fake_advance_to(fake.now + 1000u);             /* risen 450 us after the pulse */
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(r.state, OF_RANGER_WAIT_FALL);
+    uint32_t high_for = hal_ticks() - r.rise_ticks;
+    CHECK_EQ(wake, hal_micros() + (80000u - high_for) / 2u + 1u);
+}
+
+static void test_stuck_echo_boundary(void)
+{
+    /* ECHO high all the time (a hung sensor, a floating line): the firmware triggers
+     * anyway exactly OF_STUCK_ECHO_US after the due time, not a microsecond earlier. */
+    of_ranger_t r;
+    of_ranger_config_t cfg = {60000u, 23324u, 40000u, 1u};
+    of_range_t out;
+    uint32_t wake;
+    fake_reset(0);
+    of_ranger_init(&r);
+    fake.echo_high = true;
+    fake_advance_to(10000);
+    uint32_t due = hal_micros();
+    of_ranger_start(&r, due);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    fake_advance_to(10000u + (OF_STUCK_ECHO_US - 1u) * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(fake.triggers, 0);
+    fake_advance_to(10000u + OF_STUCK_ECHO_US * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(fake.triggers, 1);
+    CHECK_EQ(r.trigger_us, due + OF_STUCK_ECHO_US);
+}
+
 /* ------------------------------------------------------------------ runner */
 
 struct test {
@@ -945,6 +1030,9 @@ static const struct test tests[] = {
     {"gap_never_under_cycle", test_gap_never_under_cycle},
     {"encode_bounds", test_encode_bounds},
     {"timeout_boundaries", test_timeout_boundaries},
+    {"next_sensor_exhaustive", test_next_sensor_exhaustive},
+    {"ranger_wake_times", test_ranger_wake_times},
+    {"stuck_echo_boundary", test_stuck_echo_boundary},
 };
 
 int main(int argc, char **argv)
