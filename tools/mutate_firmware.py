@@ -197,7 +197,24 @@ def run(cmd: list[str], timeout: float, env: dict[str, str] | None = None,
     return proc.returncode, (proc.stdout + proc.stderr)[-2000:]
 
 
-def test_mutant(mu: Mutant, work: Path, emulator: bool) -> Result:
+def compile_objects(work: Path) -> dict[str, Path]:
+    """The unmutated sources compiled once: test programs, fake board, every core file."""
+    objs = work / "base"
+    objs.mkdir(parents=True, exist_ok=True)
+    out: dict[str, Path] = {}
+    sources = [NATIVE / "test_core.c", NATIVE / "fuzz_replay.c", NATIVE / "fake_hal.c",
+               *(CORE / s for s in NATIVE_SOURCES)]
+    for src in sources:
+        obj = objs / (src.stem + ".o")
+        rc, text = run(["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{CORE}", "-c", str(src), "-o", str(obj)],
+                       120)
+        if rc != 0:
+            raise SystemExit(f"mutate_firmware: the unmutated {src.name} does not build:\n{text}")
+        out[src.name] = obj
+    return out
+
+
+def test_mutant(mu: Mutant, work: Path, emulator: bool, base: dict[str, Path]) -> Result:
     t0 = time.monotonic()
     fw = work / "firmware"
     if fw.exists():
@@ -210,26 +227,21 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool) -> Result:
         return Result(mu.name, mu.file, mu.line, mu.op, status, detail.strip()[-300:],
                       round(time.monotonic() - t0, 1))
 
-    binary = work / "test_core"
-    srcs = [str(NATIVE / "test_core.c"), str(NATIVE / "fake_hal.c"),
-            *(str(fw / "core" / s) for s in NATIVE_SOURCES)]
-    cmd = ["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{fw / 'core'}", *srcs, "-o", str(binary)]
-    rc, out = run(cmd, 120)
+    mutated = work / "mutated.o"
+    rc, out = run(["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{fw / 'core'}", "-c",
+                   str(fw / "core" / mu.file), "-o", str(mutated)], 120)
     if rc != 0:
         return result("stillborn", out)
-    rc, out = run([str(binary)], 120)
-    if rc != 0:
-        return result("killed-native", out if rc != -999 else "timeout")
-    replay = work / "fuzz_replay"
-    srcs = [str(NATIVE / "fuzz_replay.c"), str(NATIVE / "fake_hal.c"),
-            *(str(fw / "core" / s) for s in NATIVE_SOURCES)]
-    cmd = ["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{fw / 'core'}", *srcs, "-o", str(replay)]
-    rc, out = run(cmd, 120)
-    if rc != 0:
-        return result("stillborn", out)
-    rc, out = run([str(replay)], 120)
-    if rc != 0:
-        return result("killed-native", "fuzz_replay: " + (out if rc != -999 else "timeout"))
+    core = [str(mutated) if name == mu.file else str(base[name]) for name in NATIVE_SOURCES]
+    for program in ("test_core", "fuzz_replay"):
+        binary = work / program
+        objs = [str(base[program + ".c"]), str(base["fake_hal.c"]), *core]
+        rc, out = run(["gcc", *CFLAGS, *objs, "-o", str(binary)], 120)
+        if rc != 0:
+            return result("stillborn", out)
+        rc, out = run([str(binary)], 120)
+        if rc != 0:
+            return result("killed-native", f"{program}: " + (out if rc != -999 else "timeout"))
     if not emulator:
         return result("survived", "native tests pass")
     rc, out = run(["make", "-s", "-C", str(fw), "BOARD=uno", f"BUILD_DIR={work / 'build'}"], 300)
@@ -264,8 +276,9 @@ def main() -> int:
         return 0
     results: list[Result] = []
     with tempfile.TemporaryDirectory(prefix="mutate-fw-") as tmp:
+        base = compile_objects(Path(tmp))
         for i, mu in enumerate(mutants, 1):
-            res = test_mutant(mu, Path(tmp), emulator=not args.native_only)
+            res = test_mutant(mu, Path(tmp), emulator=not args.native_only, base=base)
             results.append(res)
             print(f"[{i}/{len(mutants)}] {res.status:16} {res.seconds:6.1f}s {mu.name}", flush=True)
             if args.json:
