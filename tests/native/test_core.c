@@ -198,6 +198,12 @@ static void test_power_up(void)
     run_us(2000);
     CHECK_EQ(fake.triggers, 1);
     CHECK_EQ(count_id(OF_MSG_LOG), 0);
+    /* The same when the clock is far from 0 at power-up (a slow start, a warm reset). */
+    boot((uint64_t)5000000u * 2u);
+    run_us(1900);
+    CHECK_EQ(fake.triggers, 0);
+    run_us(200);
+    CHECK_EQ(fake.triggers, 1);
 
     /* After a watchdog reset the board says so, after HELLO and CONFIG. */
     fake_reset(0);
@@ -680,6 +686,9 @@ static void test_heartbeat_and_state(void)
         CHECK_EQ(h.uptime_ms, 1000u * (uint32_t)(k + 1));
         CHECK_EQ(h.state, OF_RUN_STATE_RUNNING);
         CHECK_EQ(h.rx_errors, 0);
+        CHECK_EQ(h.tx_overruns, 0);
+        CHECK_EQ(h.frames_sent, (uint32_t)(f - frames)); /* every frame before it, none lost */
+        CHECK_EQ(f->seq, (uint8_t)(f - frames));
     }
     /* STOP: ACK, no RANGE afterwards, heartbeat says stopped; START resumes. */
     clear_frames();
@@ -922,6 +931,16 @@ static void test_timeout_boundaries(void)
 
 static void test_next_sensor_exhaustive(void)
 {
+    /* From power-up, the round robin starts with the lowest sensor of the mask. */
+    for (uint8_t mask = 1; mask < 16; mask++) {
+        of_ranger_t r;
+        of_ranger_init(&r);
+        uint8_t lowest = 0;
+        while (!(mask & (1u << lowest))) {
+            lowest++;
+        }
+        CHECK_EQ(of_ranger_next_sensor(mask, r.last_sensor), lowest);
+    }
     /* Round robin against a reference for every mask and position, including a mask of
      * one sensor only (the next after `last` is `last` itself). */
     for (uint8_t mask = 1; mask < 16; mask++) {
