@@ -12,8 +12,9 @@ touched) with ONE change in firmware/core/of_ranger.c, of_frame.c, of_app.c or o
   del     a `x++;` / `x--;` statement deleted
 
 A mutant is run against the native core tests (tests/native/test_core.c + the fake board,
-compiled with ASan/UBSan) and the fuzz target's oracles on a fixed set of generated inputs
-(tests/native/fuzz_replay.c); if they all pass, the mutated Uno image is built and the fast
+compiled with ASan/UBSan), the fuzz target's oracles on a fixed set of generated inputs
+(tests/native/fuzz_replay.c) and the codec's golden-vector and stream tests
+(tests/protocol_c); if they all pass, the mutated Uno image is built and the fast
 emulator tests are run with it (OF_FIRMWARE_ELF). Killed: a test failed, crashed or timed
 out. Stillborn: does not compile (not counted). Survived: everything passed. Prints a
 table and the score; --json writes every mutant's result.
@@ -41,6 +42,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 CORE = ROOT / "firmware" / "core"
 NATIVE = ROOT / "tests" / "native"
+PROTOCOL_C = ROOT / "tests" / "protocol_c"
+PROTOCOL_TESTS = ("golden_test.c", "stream_test.c")
 TARGETS = ("of_ranger.c", "of_frame.c", "of_app.c", "of_ring.c")
 NATIVE_SOURCES = ("of_app.c", "of_ranger.c", "of_ring.c", "of_frame.c")
 HEADERS = ("of_ranger.h", "of_app.h", "of_frame.h", "of_protocol.h", "of_ring.h")
@@ -203,7 +206,7 @@ def compile_objects(work: Path) -> dict[str, Path]:
     objs.mkdir(parents=True, exist_ok=True)
     out: dict[str, Path] = {}
     sources = [NATIVE / "test_core.c", NATIVE / "fuzz_replay.c", NATIVE / "fake_hal.c",
-               *(CORE / s for s in NATIVE_SOURCES)]
+               *(PROTOCOL_C / p for p in PROTOCOL_TESTS), *(CORE / s for s in NATIVE_SOURCES)]
     for src in sources:
         obj = objs / (src.stem + ".o")
         rc, text = run(["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{CORE}", "-c", str(src), "-o", str(obj)],
@@ -237,6 +240,17 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool, base: dict[str, Path]) -
         binary = work / program
         objs = [str(base[program + ".c"]), str(base["fake_hal.c"]), *core]
         rc, out = run(["gcc", *CFLAGS, *objs, "-o", str(binary)], 120)
+        if rc != 0:
+            return result("stillborn", out)
+        rc, out = run([str(binary)], 120)
+        if rc != 0:
+            return result("killed-native", f"{program}: " + (out if rc != -999 else "timeout"))
+    # The codec against the golden vectors and a noisy stream (tests/protocol_c): the
+    # firmware's own decoder cannot catch a change it shares (a CRC polynomial, say).
+    for program in PROTOCOL_TESTS:
+        binary = work / Path(program).stem
+        rc, out = run(["gcc", *CFLAGS, str(base[program]),
+                       core[NATIVE_SOURCES.index("of_frame.c")], "-o", str(binary)], 120)
         if rc != 0:
             return result("stillborn", out)
         rc, out = run([str(binary)], 120)
