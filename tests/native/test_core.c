@@ -1024,6 +1024,86 @@ static void test_stuck_echo_boundary(void)
     CHECK_EQ(r.trigger_us, due + OF_STUCK_ECHO_US);
 }
 
+static void test_app_poll_limits_and_wake(void)
+{
+    /* At most OF_RX_BYTES_PER_POLL received bytes are decoded per poll (a flood cannot
+     * hold the ranger off), and the poll asks to be woken for the earlier of the ranger's
+     * and the heartbeat's next deadline. */
+    boot(0);
+    run_us(1000);
+    static uint8_t junk[100];
+    memset(junk, 0x41, sizeof junk);
+    uint16_t before = fake.rx_tail;
+    fake_rx_bytes(junk, sizeof junk);
+    (void)of_app_poll(&app);
+    CHECK_EQ((uint16_t)(fake.rx_tail - before), OF_RX_BYTES_PER_POLL);
+    (void)of_app_poll(&app);
+    CHECK_EQ((uint16_t)(fake.rx_tail - before), 2u * OF_RX_BYTES_PER_POLL);
+
+    boot(0);
+    send_cmd(OF_MSG_STOP, NULL, 0);
+    run_us(1000);
+    uint32_t wake = of_app_poll(&app); /* stopped: the heartbeat is the only deadline */
+    CHECK_EQ(wake, app.next_heartbeat_us);
+    CHECK_EQ(app.next_heartbeat_us, true_us(0) + 1000000u);
+    send_set_config(60, 1, 23324, 40000, 0); /* no heartbeat: the ranger's idle second */
+    run_us(1000);
+    send_cmd(OF_MSG_STOP, NULL, 0);
+    run_us(1000);
+    wake = of_app_poll(&app);
+    CHECK_EQ(wake, hal_micros() + 1000000u);
+    send_cmd(OF_MSG_START, NULL, 0);
+    run_us(100);
+    wake = of_app_poll(&app); /* due now; STOP forgot the line's history: the guard */
+    CHECK_EQ(app.ranger.low_seen, 1);
+    CHECK_EQ(wake, app.ranger.low_since_us + OF_GUARD_US);
+    run_us(OF_GUARD_US);
+    CHECK_EQ(fake.triggers, 1);
+    wake = of_app_poll(&app); /* waiting for the rise */
+    CHECK_EQ(wake, app.ranger.trigger_us + 40000u + 1u);
+}
+
+static void test_heartbeat_schedule(void)
+{
+    /* SET_CONFIG restarts the heartbeat period from its own arrival; after a stall of
+     * several periods (no poll), one heartbeat goes out and the next follows a whole
+     * period later: no burst. */
+    boot(0);
+    run_us(300000);
+    send_set_config(60, 1, 23324, 40000, 250);
+    run_us(2);
+    uint32_t t_cfg = app.next_heartbeat_us - 250000u;
+    clear_frames();
+    run_us(1000000);
+    take();
+    CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 4);
+    for (int k = 0; k < 4; k++) {
+        of_heartbeat_t h;
+        CHECK(of_heartbeat_unpack(&h, nth(OF_MSG_HEARTBEAT, k)->payload, OF_MSG_HEARTBEAT_LEN));
+        uint32_t at = t_cfg + 250000u * (uint32_t)(k + 1);
+        /* uptime counts whole ms since power-up (true_us(0)); a heartbeat may wait up to
+         * 1 ms for a trigger that is due */
+        CHECK(h.uptime_ms >= (at - true_us(0)) / 1000u);
+        CHECK(h.uptime_ms <= (at - true_us(0)) / 1000u + 2u);
+    }
+    clear_frames();
+    uint64_t stall_from = fake.now;
+    fake_advance_to(fake.now + 2u * 1100000u); /* 1.1 s without a poll */
+    run_us(100);
+    take();
+    CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 1);
+    of_heartbeat_t h;
+    CHECK(of_heartbeat_unpack(&h, nth(OF_MSG_HEARTBEAT, 0)->payload, OF_MSG_HEARTBEAT_LEN));
+    CHECK_EQ(h.uptime_ms, (uint32_t)(fake_us(stall_from + 2u * 1100000u) / 1000u));
+    clear_frames();
+    run_us(240000);
+    take();
+    CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 0);
+    run_us(20000);
+    take();
+    CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 1);
+}
+
 /* ------------------------------------------------------------------ runner */
 
 struct test {
@@ -1052,6 +1132,8 @@ static const struct test tests[] = {
     {"next_sensor_exhaustive", test_next_sensor_exhaustive},
     {"ranger_wake_times", test_ranger_wake_times},
     {"stuck_echo_boundary", test_stuck_echo_boundary},
+    {"app_poll_limits_and_wake", test_app_poll_limits_and_wake},
+    {"heartbeat_schedule", test_heartbeat_schedule},
 };
 
 int main(int argc, char **argv)
