@@ -1000,6 +1000,31 @@ static void test_ranger_wake_times(void)
     CHECK_EQ(wake, hal_micros() + (80000u - high_for) / 2u + 1u);
 }
 
+static void test_rise_between_two_looks(void)
+{
+    /* The echo timeout is due, but the rise is captured between the ranger's two looks
+     * at the edges: it is judged on the next poll (an echo), not reported as a timeout. */
+    of_ranger_t r;
+    of_ranger_config_t cfg = {60000u, 23324u, 40000u, 1u};
+    of_range_t out;
+    uint32_t wake;
+    fake_reset(0);
+    fake.sensor[0].width_ticks = FAKE_NEVER;
+    of_ranger_init(&r);
+    fake_advance_to(10000);
+    of_ranger_start(&r, hal_micros());
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    fake_advance_to(10000u + OF_GUARD_US * 2u);
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(fake.triggers, 1);
+    fake_advance_to(fake.trigger_at[0] + 40001u * 2u);
+    fake.rise_in_edges_call = 2;
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(wake, hal_micros());
+    CHECK(!of_ranger_poll(&r, &cfg, &out, &wake));
+    CHECK_EQ(r.state, OF_RANGER_WAIT_FALL);
+}
+
 static void test_stuck_echo_boundary(void)
 {
     /* ECHO high all the time (a hung sensor, a floating line): the firmware triggers
@@ -1039,6 +1064,15 @@ static void test_app_poll_limits_and_wake(void)
     CHECK_EQ((uint16_t)(fake.rx_tail - before), OF_RX_BYTES_PER_POLL);
     (void)of_app_poll(&app);
     CHECK_EQ((uint16_t)(fake.rx_tail - before), 2u * OF_RX_BYTES_PER_POLL);
+
+    /* uptime_ms counts whole milliseconds since power-up, to the microsecond */
+    boot(0);
+    fake_advance_to(1999u * 2u);
+    (void)of_app_poll(&app);
+    CHECK_EQ(app.uptime_ms, 1);
+    fake_advance_to(2000u * 2u);
+    (void)of_app_poll(&app);
+    CHECK_EQ(app.uptime_ms, 2);
 
     boot(0);
     send_cmd(OF_MSG_STOP, NULL, 0);
@@ -1132,6 +1166,7 @@ static const struct test tests[] = {
     {"next_sensor_exhaustive", test_next_sensor_exhaustive},
     {"ranger_wake_times", test_ranger_wake_times},
     {"stuck_echo_boundary", test_stuck_echo_boundary},
+    {"rise_between_two_looks", test_rise_between_two_looks},
     {"app_poll_limits_and_wake", test_app_poll_limits_and_wake},
     {"heartbeat_schedule", test_heartbeat_schedule},
 };
