@@ -22,7 +22,7 @@ table and the score; --json writes every mutant's result.
     .venv/bin/python tools/mutate_firmware.py --list                  # the mutants only
     .venv/bin/python tools/mutate_firmware.py --json mutants.json     # run them all
     .venv/bin/python tools/mutate_firmware.py --only of_ranger.c:88   # one line's mutants
-    .venv/bin/python tools/mutate_firmware.py --rerun mutants.json    # its survivors again
+    .venv/bin/python tools/mutate_firmware.py --rerun mutants.json    # those past native, again
 """
 
 from __future__ import annotations
@@ -258,6 +258,9 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool, base: dict[str, Path]) -
             return result("killed-native", f"{program}: " + (out if rc != -999 else "timeout"))
     if not emulator:
         return result("survived", "native tests pass")
+    # A fresh build directory: copytree keeps the files' times, so make would keep the
+    # objects of an earlier mutant of another file.
+    shutil.rmtree(work / "build", ignore_errors=True)
     rc, out = run(["make", "-s", "-C", str(fw), "BOARD=uno", f"BUILD_DIR={work / 'build'}"], 300)
     if rc != 0:
         return result("stillborn", "the Uno build fails: " + out)
@@ -276,12 +279,13 @@ def main() -> int:
     parser.add_argument("--native-only", action="store_true", help="skip the emulator tests")
     parser.add_argument("--json", type=Path, help="write every result here")
     parser.add_argument("--rerun", type=Path,
-                        help="only the mutants that survived in this earlier --json file")
+                        help="only the mutants that reached the emulator stage (survived or "
+                        "killed there) in this earlier --json file")
     args = parser.parse_args()
     mutants = all_mutants(args.only)
     if args.rerun:
         earlier = json.loads(args.rerun.read_text())
-        survived = {r["mutant"] for r in earlier if r["status"] == "survived"}
+        survived = {r["mutant"] for r in earlier if r["status"] in ("survived", "killed-emulator")}
         mutants = [mu for mu in mutants if mu.name in survived]
     if args.list:
         for mu in mutants:
