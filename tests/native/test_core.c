@@ -812,6 +812,20 @@ static void test_rx_flood(void)
     CHECK_EQ(seen[54], 0);
     CHECK_EQ(stamp, 7100u);
     CHECK_EQ(seen[55], 0x42);
+    /* Every byte of a stamp survives the ring, and a data byte leaves the stamp alone. */
+    static const uint32_t stamps[] = {0xF1E2D3C4u, 0x01020304u, 0x80000001u, 0xFFFFFFFFu};
+    for (unsigned k = 0; k < 4; k++) {
+        of_rx_put(&rx, 0x33, 0xDEADBEEFu);
+        of_rx_put(&rx, 0, stamps[k]);
+        stamp = 0x55555555u;
+        CHECK(of_rx_get(&rx, &b, &stamp));
+        CHECK_EQ(b, 0x33);
+        CHECK_EQ(stamp, 0x55555555u);
+        CHECK(of_rx_get(&rx, &b, &stamp));
+        CHECK_EQ(b, 0);
+        CHECK_EQ(stamp, stamps[k]);
+        CHECK(!of_rx_get(&rx, &b, &stamp));
+    }
 }
 
 static void test_gap_never_under_cycle(void)
