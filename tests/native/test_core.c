@@ -509,6 +509,9 @@ static void test_config_validation(void)
         {10001, 1, 500, 40000, 1000, OF_ERROR_BAD_CYCLE},
         {40, 1, 500, 40000, 1000, OF_ERROR_BAD_CYCLE}, /* cycle*1000 must exceed timeout */
         {41, 1, 500, 40000, 1000, OF_ERROR_NONE},
+        {60, 1, 500, 59999, 1000, OF_ERROR_NONE},   /* 60 ms is 60000 us, not 59940 */
+        {60, 1, 500, 60000, 1000, OF_ERROR_BAD_CYCLE},
+        {60, 1, 1, 40000, 1000, OF_ERROR_NONE},     /* the smallest max_echo_us */
         {60, 1, 0, 40000, 1000, OF_ERROR_BAD_MAX_ECHO},
         {60, 1, 40001, 40000, 1000, OF_ERROR_BAD_MAX_ECHO},
         {60, 1, 40000, 40000, 1000, OF_ERROR_NONE},
@@ -1152,6 +1155,80 @@ static void test_heartbeat_schedule(void)
     CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 1);
 }
 
+static void test_decoder_edges(void)
+{
+    /* An unknown id is an error whatever its CRC (here one seeded as if its extra were
+     * 0xFF, i.e. -1), and the firmware answers nothing. */
+    of_frame_decoder_t d;
+    of_frame_t f;
+    uint8_t body[6] = {0x30, 0x05, 0xAA, 0xBB, 0, 0};
+    uint16_t crc = of_crc16_update(OF_CRC_INIT, 0xFF);
+    for (int i = 0; i < 4; i++) {
+        crc = of_crc16_update(crc, body[i]);
+    }
+    body[4] = (uint8_t)(crc >> 8);
+    body[5] = (uint8_t)crc;
+    uint8_t cobs[8];
+    size_t w = 1, code_at = 0;
+    uint8_t code = 1;
+    for (int i = 0; i < 6; i++) {
+        if (body[i] == 0) {
+            cobs[code_at] = code;
+            code_at = w++;
+            code = 1;
+        } else {
+            cobs[w++] = body[i];
+            code++;
+        }
+    }
+    cobs[code_at] = code;
+    of_frame_decoder_init(&d);
+    for (size_t i = 0; i < w; i++) {
+        CHECK_EQ(of_frame_decoder_feed(&d, cobs[i], &f), OF_FEED_NONE);
+    }
+    CHECK_EQ(of_frame_decoder_feed(&d, 0x00, &f), OF_FEED_ERROR);
+    /* ...and the firmware stays silent about it, counting an rx error. */
+    boot(0);
+    run_us(1000);
+    clear_frames();
+    fake_rx_bytes(cobs, (uint16_t)w);
+    static const uint8_t zero = 0;
+    fake_rx_bytes(&zero, 1);
+    run_us(1000);
+    take();
+    CHECK_EQ(app.rx_errors, 1);
+    CHECK_EQ(count_id(OF_MSG_NACK), 0);
+}
+
+static void test_heartbeat_waits_for_a_due_trigger(void)
+{
+    /* A heartbeat due less than 1 ms before a trigger goes out after it (on the Uno,
+     * encoding it takes a few hundred us, which would push the trigger). Here the
+     * heartbeat period restarts 0.5 ms before the ranging period does, because the guard
+     * holds the trigger after SET_CONFIG back by that much. */
+    boot(0);
+    while (fake.last_fall_at == 0) {
+        run_us(100);
+    }
+    uint64_t fall_us = fake_us(fake.last_fall_at);
+    run_us(fall_us + 1500u - fake_us(fake.now));
+    CHECK_EQ(fake.triggers, 1);
+    send_set_config(100, 1, 23324, 40000, 100);
+    clear_frames();
+    while (fake.triggers < 3) {
+        run_us(5);
+        take();
+        CHECK(fake.triggers == 3 || count_id(OF_MSG_HEARTBEAT) == 0);
+    }
+    CHECK_EQ(fake.triggers, 3);
+    run_us(50);
+    take();
+    CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 1); /* right after the trigger */
+    /* the trigger kept its period from the one the guard held back */
+    CHECK(fake.trigger_at[2] - fake.trigger_at[1] >= 200000u - 1u);
+    CHECK(fake.trigger_at[2] - fake.trigger_at[1] <= 200000u + 40u);
+}
+
 /* ------------------------------------------------------------------ runner */
 
 struct test {
@@ -1183,6 +1260,8 @@ static const struct test tests[] = {
     {"rise_between_two_looks", test_rise_between_two_looks},
     {"app_poll_limits_and_wake", test_app_poll_limits_and_wake},
     {"heartbeat_schedule", test_heartbeat_schedule},
+    {"decoder_edges", test_decoder_edges},
+    {"heartbeat_waits_for_a_due_trigger", test_heartbeat_waits_for_a_due_trigger},
 };
 
 int main(int argc, char **argv)
