@@ -758,6 +758,38 @@ static void rx_drain(of_rx_ring_t *rx, of_frame_decoder_t *d, int *good, int *ba
     }
 }
 
+static void test_ring_basics(void)
+{
+    /* A fresh ring is empty; it holds exactly its size; all-or-nothing puts; FIFO order
+     * across the index wrap. */
+    static volatile uint8_t buf[8];
+    for (int i = 0; i < 8; i++) {
+        buf[i] = 0xEE; /* what a fresh ring must never hand out */
+    }
+    of_ring_t r;
+    uint8_t b;
+    of_ring_init(&r, buf, sizeof buf);
+    CHECK_EQ(of_ring_count(&r), 0);
+    CHECK_EQ(of_ring_free(&r), 8);
+    CHECK(!of_ring_get(&r, &b));
+    uint8_t next_in = 0, next_out = 0;
+    for (int round = 0; round < 100; round++) {
+        uint8_t n = (uint8_t)(1 + round % 8);
+        uint8_t data[8];
+        for (uint8_t i = 0; i < n; i++) {
+            data[i] = next_in++;
+        }
+        CHECK(of_ring_put(&r, data, n));
+        CHECK(!of_ring_put(&r, data, (uint8_t)(of_ring_free(&r) + 1u)));
+        CHECK_EQ(of_ring_count(&r), n);
+        for (uint8_t i = 0; i < n; i++) {
+            CHECK(of_ring_get(&r, &b));
+            CHECK_EQ(b, next_out++);
+        }
+        CHECK(!of_ring_get(&r, &b));
+    }
+}
+
 static void test_rx_flood(void)
 {
     /* A host flood overflows the 64-byte receive ring: frames are lost, but a delimiter
@@ -1250,6 +1282,7 @@ static const struct test tests[] = {
     {"tx_overrun", test_tx_overrun},
     {"time_sync", test_time_sync},
     {"heartbeat_and_state", test_heartbeat_and_state},
+    {"ring_basics", test_ring_basics},
     {"rx_flood", test_rx_flood},
     {"gap_never_under_cycle", test_gap_never_under_cycle},
     {"encode_bounds", test_encode_bounds},
