@@ -45,11 +45,14 @@ static uint8_t reset_cause __attribute__((section(".noinit")));
  * before it starts the application and hands the reset cause over in r2. */
 static uint8_t boot_r2 __attribute__((section(".noinit")));
 
-/* The very first code after the reset vector, before anything touches r2. */
+/* The very first code after the reset vector, before anything touches r2; then r2 is
+ * cleared, and the Makefile keeps the compiler off it (-ffixed-r2), so a bootloader that
+ * does not pass the cause (Optiboot < 4.6, e.g. the 4.4 of Arduino's own hex) hands over
+ * 0 after a warm reset, not a stale value that could read as WDRF. */
 void save_r2(void) __attribute__((naked, used, section(".init0")));
 void save_r2(void)
 {
-    __asm__ volatile("sts %0, r2" : "=m"(boot_r2));
+    __asm__ volatile("sts %0, r2\n\tclr r2" : "=m"(boot_r2));
 }
 
 /* The watchdog stays on across a watchdog reset: turn it off before main runs. MCUSR is
@@ -59,7 +62,7 @@ void wdt_init(void) __attribute__((naked, used, section(".init3")));
 void wdt_init(void)
 {
     reset_cause = MCUSR;
-    if (reset_cause == 0u) {
+    if (reset_cause == 0u && (boot_r2 & 0xF0u) == 0u) { /* MCUSR's bits 7..4 read 0 */
         reset_cause = boot_r2;
     }
     MCUSR = 0;
