@@ -22,6 +22,11 @@ command -v gcc >/dev/null || need_apt+=(gcc libc6-dev)
 command -v clang >/dev/null || need_apt+=(clang)
 compgen -G "/usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-*.a" >/dev/null \
   || need_apt+=(libclang-rt-dev)
+# The Uno's own bootloader (Optiboot's source, built by tools/emulator) and avrdude: the
+# emulator boots it and `obstacle-fusion flash` writes through it (the flashing test).
+[ -f /usr/share/arduino/hardware/arduino/avr/bootloaders/optiboot/optiboot.c ] \
+  || need_apt+=(arduino-core-avr)
+command -v avrdude >/dev/null || need_apt+=(avrdude)
 # Optional: QEMU boots the blue pill image for a smoke test (skipped without it).
 command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm)
 if [ ${#need_apt[@]} -gt 0 ]; then
@@ -41,7 +46,7 @@ stamp=.venv/.installed-$(sha1sum pyproject.toml | cut -c1-12)
 if [ ! -f "$stamp" ]; then
   log "installing the Python package and its test tools into .venv"
   .venv/bin/python -m pip install -q --upgrade pip >/dev/null
-  .venv/bin/python -m pip install -q -e '.[dev]'
+  .venv/bin/python -m pip install -q -e '.[dev,all]'
   rm -f .venv/.installed-*
   touch "$stamp"
 fi

@@ -14,7 +14,33 @@ The package follows the data on a robot, in order:
 
 Apart from the robot's path: ``sim`` (the firmware emulator wrapper, the emulated robot,
 scenarios, the scene renderer and the synthetic camera), used when no board or camera is
-attached and by the tests; ``cli`` is the ``obstacle-fusion`` command line.
+attached and by the tests; ``cli`` is the ``obstacle-fusion`` command line; ``api`` the
+Python API for robot code (``ObstacleSensor``, ``AsyncObstacleSensor``), importable from
+here without loading anything heavy until it is used.
 """
 
+from __future__ import annotations
+
+from typing import Any
+
 __version__ = "0.1.0"
+__all__ = ["AsyncObstacleSensor", "ObstacleRecord", "ObstacleSensor", "__version__"]
+
+_LAZY = {
+    "ObstacleSensor": "obstacle_fusion.api",
+    "AsyncObstacleSensor": "obstacle_fusion.api",
+    "ObstacleRecord": "obstacle_fusion.fusion",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """``obstacle_fusion.ObstacleSensor`` and friends, imported on first use (PEP 562); by
+    name only, so the package imports nothing of its own (no import cycle through it)."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'obstacle_fusion' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value

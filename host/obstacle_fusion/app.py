@@ -4,6 +4,9 @@ Nothing here blocks on a device: the link has its reader thread and queue, the f
 source gets a grabber thread and a short queue (a slow consumer drops the oldest frame,
 counted, rather than pairing stale ones). One loop drains both, keeps the clock model fed,
 converts ranges, pairs frames, measures, and publishes to every output.
+
+With no frame source (a robot with only the sonar) every range is published as a record on
+its own (status "range", "clear" or "sonar_error"), and OpenCV is never loaded.
 """
 
 from __future__ import annotations
@@ -15,14 +18,13 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
 from obstacle_fusion.link.connection import Link, Received, describe_hello
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
+from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
-from obstacle_fusion.outputs.mcap_file import McapRecorder
-from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 from obstacle_fusion.protocol.generated import (
     Config,
     Hello,
@@ -35,6 +37,10 @@ from obstacle_fusion.sim.emulated_robot import EmulatedRobot
 from obstacle_fusion.sonar import SonarConverter
 from obstacle_fusion.sources.frames import Frame, FrameSource
 from obstacle_fusion.timing.clock import ClockModel
+
+if TYPE_CHECKING:  # imported where they are made: a sonar-only run never loads OpenCV
+    from obstacle_fusion.outputs.mcap_file import McapRecorder
+    from obstacle_fusion.outputs.video import AnnotatedVideoWriter
 
 log = logging.getLogger(__name__)
 
@@ -110,7 +116,7 @@ class App:
         self,
         settings: RunSettings,
         link: Link,
-        source: FrameSource,
+        source: FrameSource | None,
         measurer: Any = None,
         *,
         jsonl: JsonLinesWriter | None = None,
@@ -119,6 +125,11 @@ class App:
         view: ConsoleView | None = None,
         robot: EmulatedRobot | None = None,
         extra_fields: Callable[[ObstacleRecord], dict[str, Any]] | None = None,
+        live: Any = None,
+        ros2: Any = None,
+        topics: FoxgloveTopics | None = None,
+        on_record: Callable[[ObstacleRecord], None] | None = None,
+        on_connect: Callable[[], None] | None = None,
     ) -> None:
         self.s = settings
         self.link = link
@@ -129,6 +140,14 @@ class App:
         self.view = view
         self.robot = robot
         self.extra_fields = extra_fields
+        self.live = live  # a Foxglove WebSocket server (anything with write(TopicMessage))
+        self.ros2 = ros2  # a Ros2BagWriter
+        # One encoder for the recording and the live view: the same bytes go to both.
+        self.topics = topics or (recorder.topics if recorder is not None else FoxgloveTopics())
+        self._sinks = [s for s in (recorder, live) if s is not None]
+        self.on_record = on_record  # called in the loop's thread for each published record
+        self.on_connect = on_connect  # called once the link is up (each time it comes up)
+        self._stop_requested = threading.Event()
         self.clock = ClockModel(baud=link.baud)
         self.converter = SonarConverter(
             temperature_c=settings.temperature_c,
@@ -142,7 +161,7 @@ class App:
             max_wait_s=settings.max_wait_s,
             method=settings.method,
         )
-        self.grabber = FrameGrabber(source)
+        self.grabber = FrameGrabber(source) if source is not None else None
         self.session = 0
         self.timer_hz = 2_000_000
         self._unmapped: list[Received] = []
@@ -203,16 +222,26 @@ class App:
             scale = est.slope if est is not None and est.source != "none" else 1.0
             reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
-            if self.recorder is not None:
-                self.recorder.write_range(reading, self.timer_hz, item.session, log_t=item.t_host)
-            out += self.fusion.add_reading(reading)
+            if self._sinks:
+                self._emit(self.topics.reading(reading, self.timer_hz, item.session, item.t_host))
+            if self.ros2 is not None:
+                self.ros2.write_range(reading, log_t=item.t_host)
+            if self.source is None:
+                out.append(self.fusion.range_record(reading))
+            else:
+                out += self.fusion.add_reading(reading)
         self._unmapped.clear()
         return out
 
+    def _emit(self, msgs: list[TopicMessage]) -> None:
+        for sink in self._sinks:
+            for m in msgs:
+                sink.write(m)
+
     def _event(self, name: str, detail: dict[str, Any]) -> None:
         log.info("%s: %s", name, detail)
-        if self.recorder is not None:
-            self.recorder.write_event(name, detail)
+        if self._sinks:
+            self._emit([self.topics.event(name, detail)])
 
     # ------------------------------------------------------------------ frames and records
     def _on_frame(self, frame: Frame) -> list[ObstacleRecord]:
@@ -222,10 +251,23 @@ class App:
             prepare = getattr(self.fusion.measurer, "prepare", None)
             if prepare is not None:
                 prepare(frame.image)
+            measurer = self.fusion.measurer
+            camera = getattr(measurer, "camera_model", None) or getattr(measurer, "camera", None)
+            if camera is not None:
+                self.topics.set_camera(camera)
             self._prepared = True
         self.rates["frames"].tick()
-        if self.recorder is not None:
-            self.recorder.write_frame(frame, log_t=time.monotonic())
+        if self._sinks or self.ros2 is not None:
+            now = time.monotonic()
+            h, w = frame.image.shape[:2]
+            data = encode_image(frame.image, self.topics.image_format, self.topics.jpeg_quality)
+            if data is None:
+                log.warning("could not encode frame %d; not recorded", frame.index)
+            else:
+                if self._sinks:
+                    self._emit(self.topics.encoded_frame(data, w, h, frame.t_host, now))
+                if self.ros2 is not None:
+                    self.ros2.write_image(data, self.topics.image_format, w, h, frame.t_host, now)
         if self.video is not None:
             self._images[frame.index] = frame.image
         return self.fusion.add_frame(frame)
@@ -237,8 +279,12 @@ class App:
             extra = self.extra_fields(rec) if self.extra_fields else None
             if self.jsonl is not None:
                 self.jsonl.write(rec, extra)
-            if self.recorder is not None:
-                self.recorder.write_obstacle(rec)
+            if self._sinks:
+                self._emit(self.topics.record(rec))
+            if self.ros2 is not None:
+                self.ros2.write_record(rec)
+            if self.on_record is not None:
+                self.on_record(rec)
             if self.video is not None:
                 image = self._images.pop(rec.frame_index, None)
                 if image is not None:
@@ -275,12 +321,19 @@ class App:
                 "connected" if connected else "disconnected",
                 {"port": self.link.counters.port, "counters": self.link.counters.as_dict()},
             )
+            if connected and self.on_connect is not None:
+                self.on_connect()
         if self.robot is not None and connected:
             self.robot.probe_t0()
 
     # ------------------------------------------------------------------ the loop
     def _wait_for_first_range(self, deadline: float) -> None:
-        """Start the camera once ranges flow, so the first frames have a range to pair with."""
+        """Start the camera once ranges flow, so the first frames have a range to pair with.
+
+        Sonar only (no camera) there is nothing to wait for: ranges are never paired, so
+        waiting for one would only hold the run's start back by the whole time-out."""
+        if self.grabber is None:
+            return
         while time.monotonic() < deadline:
             if self.link.error is not None:
                 raise self.link.error
@@ -297,15 +350,21 @@ class App:
             "no sonar range within %.1f s; starting the camera anyway", self.s.first_range_timeout_s
         )
 
+    def stop(self) -> None:
+        """End run() at its next turn (from another thread), as the duration would."""
+        self._stop_requested.set()
+
     def run(self) -> RunResult:
         start = time.monotonic()
         exit_code = 0
         self.link.start()
+        grabber = self.grabber
         try:
             self._wait_for_first_range(start + self.s.first_range_timeout_s)
-            self.grabber.start()
+            if grabber is not None:
+                grabber.start()
             run_start = time.monotonic()
-            while True:
+            while not self._stop_requested.is_set():
                 now = time.monotonic()
                 if self.s.duration_s is not None and now - run_start >= self.s.duration_s:
                     break
@@ -321,9 +380,9 @@ class App:
                     records += self._on_message(item)
                 records += self._map_ranges(now)
                 got_frame = False
-                while True:
+                while grabber is not None:
                     try:
-                        frame = self.grabber.queue.get_nowait()
+                        frame = grabber.queue.get_nowait()
                     except queue.Empty:
                         break
                     got_frame = True
@@ -337,17 +396,18 @@ class App:
                 if self.jsonl is not None and self.jsonl.broken:
                     log.info("the JSON reader went away (closed pipe); stopping")
                     break
-                if self.grabber.error is not None:
-                    raise self.grabber.error
-                if self.grabber.finished.is_set() and self.grabber.queue.empty():
+                if grabber is not None and grabber.error is not None:
+                    raise grabber.error
+                if grabber is not None and grabber.finished.is_set() and grabber.queue.empty():
                     self._publish(self.fusion.flush())
-                    log.info("frame source ended: %s", self.source.end_reason)
+                    log.info("frame source ended: %s", getattr(self.source, "end_reason", ""))
                     break
                 self._update_view()
                 if not got_frame and not records:
                     time.sleep(0.002)
         finally:
-            self.grabber.stop()
+            if grabber is not None:
+                grabber.stop()
             try:
                 for item in self.link.drain():
                     self._publish(self._on_message(item))
@@ -363,7 +423,7 @@ class App:
         return {
             "link": self.link.counters.as_dict(),
             "fusion": self.fusion.stats.as_dict(),
-            "frames_dropped": self.grabber.dropped,
+            "frames_dropped": self.grabber.dropped if self.grabber is not None else 0,
             "ranges_mapped": self.ranges_mapped,
             "ranges_dropped_before_clock": self.ranges_unmapped_dropped,
             "clock": None

@@ -42,6 +42,10 @@ class ObstacleStatus(StrEnum):
     SONAR_ERROR = "sonar_error"  # the nearest reading failed (timeout, too close)
     UNPAIRED = "unpaired"  # no reading near enough in time: nothing claimed
     VISION_ERROR = "vision_error"  # paired, but the vision refused or failed: nothing claimed
+    RANGE = "range"  # sonar only (no camera): a distance, no height or width
+
+
+SONAR_ONLY_SOURCE = "sonar"  # a range record's `source` (no frame: frame_index is -1)
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,6 +86,8 @@ class ObstacleRecord:
     vision_ms: float | None = None
     t_published: float | None = None
     reason: str | None = None
+    #: the image edges the method chose (x0, y0, x1, y1 px), for drawing; not in to_dict()
+    edges_px: tuple[tuple[float, float, float, float], ...] = ()
 
     @property
     def latency_s(self) -> float | None:
@@ -93,6 +99,7 @@ class ObstacleRecord:
         d["trigger_us"] = list(self.trigger_us)
         d["box_px"] = list(self.box_px) if self.box_px is not None else None
         d["latency_s"] = self.latency_s
+        del d["edges_px"]
         return d
 
 
@@ -262,6 +269,7 @@ class Fusion:
         stats = self.stats
         height = width = depth = vision_ms = None
         box = None
+        edges: tuple[tuple[float, float, float, float], ...] = ()
         confidence = 0.0
         method = self.method
         reason = pairing.reason
@@ -313,6 +321,10 @@ class Fusion:
                     confidence = float(getattr(m, "confidence", 1.0) or 0.0)
                     raw_box = getattr(m, "box_px", None)
                     box = tuple(float(v) for v in raw_box) if raw_box is not None else None
+                    edges = tuple(
+                        (float(a), float(b), float(c), float(d))
+                        for a, b, c, d in (getattr(m, "lines", None) or ())
+                    )
                 else:
                     status = ObstacleStatus.NOT_DETECTED
                     stats.not_detected += 1
@@ -345,6 +357,51 @@ class Fusion:
             depth_m=depth,
             method=method,
             vision_ms=vision_ms,
+            t_published=self.clock(),
+            reason=reason,
+            edges_px=edges,
+        )
+
+    def range_record(self, reading: SonarReading) -> ObstacleRecord:
+        """A record for one reading alone: the sonar-only mode, with no camera to pair.
+
+        Its instant is the reading's reflection time; the status says what the sonar heard
+        (RANGE with a distance, CLEAR, or SONAR_ERROR); the alert is the same rule."""
+        stats = self.stats
+        stats.readings += 1
+        reason = None
+        if reading.distance_m is not None and reading.status is SonarStatus.OK:
+            status = ObstacleStatus.RANGE
+        elif reading.status in (SonarStatus.NO_ECHO, SonarStatus.OUT_OF_RANGE):
+            status = ObstacleStatus.CLEAR
+            stats.clear += 1
+        else:
+            status = ObstacleStatus.SONAR_ERROR
+            stats.sonar_errors += 1
+            reason = f"sonar reading: {reading.status}"
+        distance = reading.distance_m if status is ObstacleStatus.RANGE else None
+        alert = self.stop_distance_m is not None and distance is not None and (
+            distance <= self.stop_distance_m
+        )
+        if alert:
+            stats.alerts += 1
+        stats.published += 1
+        t = reading.t_host if reading.t_host is not None else self.clock()
+        return ObstacleRecord(
+            t_host=t,
+            distance_m=distance,
+            height_m=None,
+            width_m=None,
+            confidence=1.0 if distance is not None else 0.0,
+            status=str(status),
+            alert=bool(alert),
+            frame_index=-1,
+            source=SONAR_ONLY_SOURCE,
+            pairing=str(PairKind.NONE),
+            pair_dt_s=None,
+            sonar_status=str(reading.status),
+            measurements=(reading.measurement,),
+            trigger_us=(reading.trigger_us,),
             t_published=self.clock(),
             reason=reason,
         )

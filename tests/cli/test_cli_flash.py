@@ -184,10 +184,65 @@ def test_bluepill_port_without_stm32flash_is_not_ignored_silently(
         os.close(controller)
         os.close(device)
     assert "stm32flash" in caplog.text and "ST-Link" in caplog.text
-    assert ran and ran[0][-1].startswith("PORT=")
+    assert ran[0][:2] == ["/usr/bin/make", "-C"] and ran[0][-1] == "BOARD=bluepill"  # the build
+    assert ran[1][:3] == ["st-flash", "--reset", "write"]  # then the ST-Link, not the port
+    assert ran[1][3].endswith("bluepill/obstacle-fusion.bin") and len(ran) == 2
 
 
 def subprocess_ok():  # type: ignore[no-untyped-def]
     import subprocess
 
     return subprocess.CompletedProcess([], 0)
+
+
+def test_installed_without_sources_the_shipped_image_is_flashed_without_a_compiler(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """As after `pip install .`: no firmware sources, no avr-gcc, no make; avrdude alone."""
+    from obstacle_fusion import bundled
+
+    shipped = tmp_path / "site" / "obstacle_fusion" / "_data" / "firmware" / "uno"
+    shipped.mkdir(parents=True)
+    (shipped / "obstacle-fusion.hex").write_text(":00000001FF\n")
+    monkeypatch.setattr(bundled, "checkout_root", lambda: None)
+    monkeypatch.setattr(bundled, "DATA_DIR", tmp_path / "site" / "obstacle_fusion" / "_data")
+    bindir = tmp_path / "bin"
+    bindir.mkdir()
+    calls = tmp_path / "calls.log"
+    fake_tool(bindir, "avrdude", calls)
+    monkeypatch.setenv("PATH", str(bindir))  # no make, no avr-gcc
+    controller, device = os.openpty()
+    try:
+        assert main(["flash", "--board", "uno", "--port", os.ttyname(device)]) == 0
+    finally:
+        os.close(controller)
+        os.close(device)
+    line = calls.read_text().strip()
+    assert f"flash:w:{shipped / 'obstacle-fusion.hex'}:i" in line and "-c arduino" in line
+
+
+def test_installed_without_an_image_for_the_board_says_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from obstacle_fusion import bundled
+
+    monkeypatch.setattr(bundled, "checkout_root", lambda: None)
+    monkeypatch.setattr(bundled, "DATA_DIR", tmp_path / "nothing")
+    monkeypatch.setattr(flash_cli.shutil, "which", lambda name, *a, **k: f"/usr/bin/{name}")
+    assert main(["flash", "--board", "bluepill"]) == 2
+    err = capsys.readouterr().err
+    assert "ships no bluepill firmware image" in err and "--image" in err
+
+
+def test_an_image_given_is_flashed_as_is(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    ran: list[list[str]] = []
+    monkeypatch.setattr(flash_cli.shutil, "which", lambda name, *a, **k: f"/usr/bin/{name}")
+    monkeypatch.setattr(flash_cli.subprocess, "run", lambda cmd: ran.append(cmd) or subprocess_ok())
+    image = tmp_path / "mine.bin"
+    image.write_bytes(b"\x00" * 16)
+    assert main(["flash", "--board", "bluepill", "--image", str(image)]) == 0
+    assert ran == [["st-flash", "--reset", "write", str(image), "0x08000000"]]  # no build
+    assert main(["flash", "--board", "bluepill", "--image", str(tmp_path / "no.bin")]) == 2
+    assert "does not exist" in capsys.readouterr().err

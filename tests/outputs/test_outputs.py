@@ -17,13 +17,16 @@ from obstacle_fusion.errors import UserError
 from obstacle_fusion.fusion import ObstacleRecord
 from obstacle_fusion.link.connection import Link
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status, status_line
+from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, recording_unix_offset_ns
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
 from obstacle_fusion.outputs.mcap_file import (
+    TOPIC_EVENT,
     TOPIC_IMAGE,
     TOPIC_OBSTACLE,
     TOPIC_RANGE,
     McapRecorder,
     decode_image,
+    event_of_log,
     read_recording,
 )
 from obstacle_fusion.outputs.video import AnnotatedVideoWriter
@@ -64,7 +67,9 @@ def _frame(t: float, i: int) -> Frame:
 def test_mcap_is_a_valid_foxglove_file_with_acquisition_publish_times(tmp_path: Path) -> None:
     path = tmp_path / "run.mcap"
     conv = SonarConverter()
-    with McapRecorder(path, metadata={"camera": {"fx": "400"}}) as rec:
+    unix = 1_700_000_000_000_000_000  # the run's host-monotonic -> Unix offset, ns
+    topics = FoxgloveTopics(unix_offset_ns=unix)
+    with McapRecorder(path, metadata={"camera": {"fx": "400"}}, topics=topics) as rec:
         for i in range(5):
             rec.write_frame(_frame(10.0 + i * 0.1, i), log_t=10.02 + i * 0.1)
             reading = conv.convert(Range(i, 0, 1000 * i, 11662, 0), t_trigger_host=10.0 + i * 0.06)
@@ -82,18 +87,22 @@ def test_mcap_is_a_valid_foxglove_file_with_acquisition_publish_times(tmp_path: 
     images = [(c, m) for _, c, m in msgs if c.topic == TOPIC_IMAGE]
     assert len(images) == 5 and images[0][0].message_encoding == "json"
     first = json.loads(images[0][1].data)
-    assert first["format"] == "jpeg" and first["timestamp"] == {"sec": 10, "nsec": 0}
-    assert images[0][1].publish_time == 10_000_000_000
-    assert images[0][1].log_time == 10_020_000_000
+    assert first["format"] == "jpeg" and first["timestamp"] == {"sec": 1_700_000_010, "nsec": 0}
+    assert first["frame_id"] == "camera"
+    assert images[0][1].publish_time == unix + 10_000_000_000  # Unix-epoch ns
+    assert images[0][1].log_time == unix + 10_020_000_000
     jpeg = base64.b64decode(first["data"])
     assert jpeg[:2] == b"\xff\xd8"
     ranges = [json.loads(m.data) for _, c, m in msgs if c.topic == TOPIC_RANGE]
     assert ranges[1]["echo_ticks"] == 11662 and ranges[1]["timer_hz"] == 2_000_000
     assert ranges[1]["status"] == "ok" and ranges[1]["distance_m"] == pytest.approx(1.0, abs=0.01)
     obst = [(m, json.loads(m.data)) for _, c, m in msgs if c.topic == TOPIC_OBSTACLE]
-    assert obst[0][1]["height_m"] == 0.4 and obst[0][0].publish_time == 1_500_000_000
+    assert obst[0][1]["height_m"] == 0.4 and obst[0][0].publish_time == unix + 1_500_000_000
+    assert obst[0][1]["t_host"] == 1.5  # the monotonic instant stays in the record
     back = read_recording(path)
     assert back.complete and back.metadata["camera"] == {"fx": "400"}
+    assert back.metadata["obstacle_fusion"]["unix_offset_ns"] == str(unix)
+    assert recording_unix_offset_ns(back.metadata) == unix
     img = decode_image(next(m.data for m in back.messages if m.topic == TOPIC_IMAGE))
     assert img is not None and img.shape == (120, 160, 3)
 
@@ -114,7 +123,7 @@ def test_a_crashed_recording_keeps_everything_flushed(tmp_path: Path) -> None:
     half = tmp_path / "half.mcap"
     half.write_bytes(data[: len(data) - 500])
     back = read_recording(half)
-    assert not back.complete and 1 <= len(back.messages) < 6
+    assert not back.complete and 1 <= len([m for m in back.messages if m.topic == TOPIC_IMAGE]) < 6
     rec.close()
     assert read_recording(path).complete
 
@@ -158,7 +167,8 @@ def test_a_recording_across_a_reconnect_holds_both_sides(tmp_path: Path) -> None
     assert back.complete
     sessions = {m.data["session"] for m in back.messages if m.topic == TOPIC_RANGE}
     assert sessions == {1, 2}
-    assert any(m.data.get("event") == "disconnected" for m in back.messages)
+    events = [event_of_log(m.data) for m in back.messages if m.topic == TOPIC_EVENT]
+    assert ("disconnected", {"port": board.path}) in events
 
 
 def test_json_lines_one_object_per_line_and_no_nan() -> None:

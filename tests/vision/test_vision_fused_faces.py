@@ -3,11 +3,14 @@ floor seams that lean to the vanishing point, and a face's shade band by band.""
 
 from __future__ import annotations
 
+import logging
+
 import cv2
 import numpy as np
 import pytest
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import FusedMethod, _Candidate
+from obstacle_fusion.vision.fused import FusedMethod
+from obstacle_fusion.vision.fused.scoring import Candidate, band_face_share, sides_vertical
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
@@ -83,13 +86,13 @@ def test_sides_leaning_to_the_vanishing_point_are_no_face() -> None:
     v = method.view
     rb, vt = int(v.cy + 120), int(v.cy + 104)
     ul, ur = int(v.cx + 25), int(v.cx + 45)
-    cand = _Candidate(1.0, rb, ul, ur, vt, 1.0)
+    cand = Candidate(1.0, rb, ul, ur, vt, 1.0)
     rows = np.arange(CAM.height, dtype=float)
     vertical = _edge_image(method, [np.full(CAM.height, ul), np.full(CAM.height, ur)])
-    assert method._sides_vertical(vertical, cand)
+    assert sides_vertical(method.view, vertical, cand)
     mid = 0.5 * (rb + vt)  # the column peak is where a seam crosses the strip's middle
     seams = [c + (rows - mid) * (c - v.cx) / (mid - v.cy) for c in (ul, ur)]
-    assert not method._sides_vertical(_edge_image(method, seams), cand)
+    assert not sides_vertical(method.view, _edge_image(method, seams), cand)
 
 
 def test_sides_near_the_centre_column_are_not_judged() -> None:
@@ -98,11 +101,11 @@ def test_sides_near_the_centre_column_are_not_judged() -> None:
     v = method.view
     rb, vt = int(v.cy + 120), int(v.cy + 80)
     ul, ur = int(v.cx - 4), int(v.cx + 6)
-    cand = _Candidate(1.0, rb, ul, ur, vt, 1.0)
+    cand = Candidate(1.0, rb, ul, ur, vt, 1.0)
     rows = np.arange(CAM.height, dtype=float)
     mid = 0.5 * (rb + vt)
     seams = [c + (rows - mid) * (c - v.cx) / (mid - v.cy) for c in (ul, ur)]
-    assert method._sides_vertical(_edge_image(method, seams), cand)
+    assert sides_vertical(method.view, _edge_image(method, seams), cand)
 
 
 def test_a_band_of_wall_inside_a_candidate_face_is_seen_band_by_band() -> None:
@@ -119,7 +122,7 @@ def test_a_band_of_wall_inside_a_candidate_face_is_seen_band_by_band() -> None:
     def shares(ul: int, ur: int) -> float:
         m = max(1, (ur - ul) // 8)
         ps = [(ul, ur, ul + m, ur - m)]
-        return float(FusedMethod._band_face_share(grey, ps, tops, pp, rb, kf, noise)[0])
+        return float(band_face_share(grey, ps, tops, pp, rb, kf, noise)[0])
 
     assert shares(100, 160) > 0.95
     wide = shares(80, 160)
@@ -128,3 +131,22 @@ def test_a_band_of_wall_inside_a_candidate_face_is_seen_band_by_band() -> None:
     c0, c1 = 80 + 10, 160 - 10
     means = grey[top:rb, c0:c1].mean(axis=1)
     assert np.all(np.abs(means - 120.0) <= max(8.0, 0.08 * 120.0))
+
+
+def test_debug_logging_of_every_stage_is_under_the_fused_logger(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """`-vv` with logger obstacle_fusion.vision.fused shows the search, each pair's scores
+    and the chosen face's confidence, though each stage logs from its own module."""
+    image, cam, rig, _, _ = _rug_scene(1.2, 5)
+    with caplog.at_level(logging.DEBUG, logger="obstacle_fusion.vision.fused"):
+        res = Measurer(cam, rig).measure(image, rig.range_from_depth(1.2))
+    assert res.detected
+    by_module = {r.name: r.getMessage() for r in caplog.records}
+    assert set(by_module) >= {
+        "obstacle_fusion.vision.fused.search",
+        "obstacle_fusion.vision.fused.scoring",
+        "obstacle_fusion.vision.fused.confidence",
+    }
+    assert all(name.startswith("obstacle_fusion.vision.fused.") for name in by_module)
+    assert "ambiguity" in by_module["obstacle_fusion.vision.fused.confidence"]

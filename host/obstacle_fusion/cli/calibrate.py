@@ -40,6 +40,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "-o", "--output", default="camera.yaml", help="camera file to write (default camera.yaml)"
     )
     parser.add_argument(
+        "--ros-yaml",
+        type=Path,
+        metavar="FILE",
+        help="also write the calibration as ROS camera_info YAML (camera_calibration_parsers)",
+    )
+    parser.add_argument(
         "--fix-k3",
         action="store_true",
         help="fit k1 k2 p1 p2 only (as the paper's MATLAB toolbox); wise with few photos",
@@ -73,6 +79,14 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"-o {out} is a directory; give a file name such as {out}/camera.yaml")
     if not out.parent.exists():
         raise UserError(f"cannot write {out}: folder {out.parent} does not exist")
+    ros_yaml: Path | None = args.ros_yaml
+    if ros_yaml is not None:
+        if ros_yaml.is_dir():
+            raise UserError(f"--ros-yaml {ros_yaml} is a directory; give a file name")
+        if not ros_yaml.parent.exists():
+            raise UserError(f"cannot write {ros_yaml}: folder {ros_yaml.parent} does not exist")
+        if ros_yaml.resolve() == out.resolve():
+            raise UserError("--ros-yaml and -o name the same file; give two names")
     flags = cv2.CALIB_FIX_K3 if args.fix_k3 else 0
     result = calibrate_files(
         args.images,
@@ -92,7 +106,13 @@ def run(args: argparse.Namespace) -> int:
             "flags": int(flags),
         },
     )
+    if ros_yaml is not None:
+        from obstacle_fusion.outputs.ros2_bag import camera_info_yaml
+
+        ros_yaml.write_text(camera_info_yaml(cam), encoding="utf-8")
     _print_summary(result, out)
+    if ros_yaml is not None:
+        print(f"wrote {ros_yaml} (ROS camera_info)")
     return 0
 
 

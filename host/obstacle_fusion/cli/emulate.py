@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+from obstacle_fusion import bundled
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.sim.emulator import EmulatorConfig, check_built, emulator_binary
 
@@ -54,7 +55,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "the pseudo-terminal's path and run until Ctrl-C or --duration. Open the printed "
         "path with `obstacle-fusion run --port PATH` or any serial program.",
     )
-    p.add_argument("--elf", type=Path, help="firmware ELF (default: the `make setup` build)")
+    p.add_argument(
+        "--elf", type=Path, help="firmware ELF (default: the `make setup` build or the package's)"
+    )
+    p.add_argument(
+        "--bootloader",
+        type=Path,
+        nargs="?",
+        const=Path("optiboot"),
+        metavar="HEX",
+        help="boot the Uno's bootloader first, as a real Uno does (default HEX: Optiboot as "
+        "`make setup` builds it); with no --elf the flash is empty, ready for "
+        "`obstacle-fusion flash --board uno --port PTY`",
+    )
     world = p.add_argument_group("world")
     world.add_argument(
         "--distance", type=_distance, default=1.0, help="obstacle distance in m, or none"
@@ -111,7 +124,20 @@ def run(args: argparse.Namespace) -> int:
         args.elf, "firmware ELF", " (`make setup` builds firmware/build/uno/obstacle-fusion.elf)"
     )
     _check_given_file(args.scene, "scene file")
-    elf, binary = check_built(args.elf, emulator_binary())
+    boot: Path | None = args.bootloader
+    if boot == Path("optiboot") and not boot.exists():
+        boot = bundled.optiboot_hex()
+        if boot is None:
+            raise UserError(
+                "no Optiboot build found: install arduino-core-avr (its source) and run "
+                "`make -C tools/emulator optiboot`, or give --bootloader HEX"
+            )
+    _check_given_file(boot, "bootloader")
+    if boot is not None and args.elf is None:
+        elf: Path | None = None
+        binary = bundled.ensure_emulator(emulator_binary())
+    else:
+        elf, binary = check_built(args.elf, emulator_binary())
     if args.duration is not None and not (0 < args.duration < math.inf):
         raise UserError(f"--duration must be a number of seconds > 0, got {args.duration}")
     config = EmulatorConfig(
@@ -132,6 +158,9 @@ def run(args: argparse.Namespace) -> int:
         wait_client=args.wait_client,
         seed=args.seed,
         verbose=args.verbose,
+        bootloader=boot,
+        application=elf is not None,
+        reset_on_open=boot is not None,  # DTR: opening the port resets into the bootloader
     )
     cmd = [str(binary), *config.arguments(elf, args.truth, args.pty_file, args.control)]
     # The emulator prints the pty path on our stdout itself; we only bound its life.

@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
                 "paper's 4:3 one, which cannot measure another aspect; calibrate this camera "
                 "(obstacle-fusion calibrate) and pass --calib FILE"
             ) from None
-    rig = Rig.load(args.rig) if args.rig else Rig()
+    rig = Rig.load(args.rig) if args.rig else None
     result = Measurer(camera, rig, args.method, args.min_confidence).measure(image, args.range_m)
     if args.annotate:
         if not cv2.imwrite(str(args.annotate), annotate(image, result)):

@@ -43,6 +43,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
     )
+    p.add_argument(
+        "--ros2-bag",
+        type=Path,
+        metavar="OUT",
+        help="also write a ROS 2 bag folder (MCAP storage): the recorded ranges and images, "
+        "CameraInfo, and the replayed detections as vision_msgs/Detection3DArray",
+    )
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --ros2-bag")
     p.set_defaults(func=run)
 
 
@@ -53,6 +61,11 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from obstacle_fusion.fusion import Fusion, RangePairer
+    from obstacle_fusion.outputs.foxglove_schemas import (
+        FoxgloveTopics,
+        recording_monotonic_to_unix_ns,
+        recording_unix_offset_ns,
+    )
     from obstacle_fusion.outputs.jsonl import JsonLinesWriter
     from obstacle_fusion.outputs.mcap_file import (
         TOPIC_IMAGE,
@@ -60,14 +73,18 @@ def run(args: argparse.Namespace) -> int:
         decode_image,
         read_recording,
     )
-    from obstacle_fusion.protocol.generated import Range
     from obstacle_fusion.sonar import SonarConverter
-    from obstacle_fusion.sources.frames import Frame
     from obstacle_fusion.vision.camera import CameraModel, CameraModelError
-    from obstacle_fusion.vision.measure import Measurer
     from obstacle_fusion.vision.rig import Rig
 
+    _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import require_rosbags
+
+        require_rosbags()
     rec = read_recording(args.recording)
+    # New recordings hold Unix-epoch times; the fusion runs on the host-monotonic ones.
+    offset_ns = recording_unix_offset_ns(rec.metadata)
     meta = rec.metadata.get("run", {})
     msgs = [m for m in rec.messages if m.topic in (TOPIC_IMAGE, TOPIC_RANGE)]
     if not msgs:
@@ -111,7 +128,6 @@ def run(args: argparse.Namespace) -> int:
         stop = float(meta["stop_distance_m"])
 
     now = [0.0]
-    measurer: Any = None
     converters: dict[int, SonarConverter] = {}
     fusion = Fusion(
         measurer=None,
@@ -121,10 +137,84 @@ def run(args: argparse.Namespace) -> int:
         clock=lambda: now[0],
     )
     out = JsonLinesWriter(sys.stdout)
+    ros2: Any = None
+    if args.ros2_bag is not None:
+        from obstacle_fusion.outputs.ros2_bag import Ros2BagWriter
+
+        topics = FoxgloveTopics(
+            rig=rig, camera=camera, unix_offset_ns=recording_monotonic_to_unix_ns(rec.metadata)
+        )
+        ros2 = Ros2BagWriter(args.ros2_bag, topics=topics, overwrite=args.overwrite)
+    try:
+        index, bad_images = _replay(
+            args,
+            msgs,
+            offset_ns,
+            now,
+            fusion,
+            out,
+            ros2,
+            converters,
+            temperature,
+            half_spacing,
+            camera,
+            rig,
+            method,
+        )
+    finally:
+        if ros2 is not None:
+            ros2.close()
+    s = fusion.stats
+    print(
+        f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
+        f"ranges; {s.paired} paired, {s.unpaired} unpaired, {s.detected} measured, "
+        f"{s.vision_errors} vision errors"
+        + (f", {bad_images} undecodable frames" if bad_images else ""),
+        file=sys.stderr,
+    )
+    if ros2 is not None:
+        print(
+            f"obstacle-fusion replay: wrote the ROS 2 bag {args.ros2_bag} ("
+            + ", ".join(f"{n} on {t}" for t, n in ros2.counts.items())
+            + ")",
+            file=sys.stderr,
+        )
+    if not rec.complete:
+        raise UserError(
+            f"{args.recording}: {rec.problem}. The {len(msgs)} messages before the cut were "
+            "replayed above; anything after it is lost"
+        )
+    return 0
+
+
+def _replay(
+    args: argparse.Namespace,
+    msgs: list[Any],
+    offset_ns: int,
+    now: list[float],
+    fusion: Any,
+    out: Any,
+    ros2: Any,
+    converters: dict[int, Any],
+    temperature: float,
+    half_spacing: float,
+    camera: Any,
+    rig: Any,
+    method: str,
+) -> tuple[int, int]:
+    import base64
+
+    from obstacle_fusion.outputs.mcap_file import TOPIC_RANGE, decode_image
+    from obstacle_fusion.protocol.generated import Range
+    from obstacle_fusion.sonar import SonarConverter
+    from obstacle_fusion.sources.frames import Frame
+    from obstacle_fusion.vision.measure import Measurer
+
+    measurer: Any = None
     index = 0
     bad_images = 0
     for m in sorted(msgs, key=lambda m: m.log_time_ns):
-        now[0] = m.log_time_ns / 1e9
+        now[0] = (m.log_time_ns - offset_ns) / 1e9
         d = m.data
         if m.topic == TOPIC_RANGE:
             hz = int(d.get("timer_hz") or 2_000_000)
@@ -150,6 +240,8 @@ def run(args: argparse.Namespace) -> int:
                 time_scale=float(d.get("time_scale") or 1.0),
             )
             records = fusion.add_reading(reading)
+            if ros2 is not None:
+                ros2.write_range(reading, log_t=now[0])
 
         else:
             image = decode_image(d)
@@ -164,27 +256,25 @@ def run(args: argparse.Namespace) -> int:
                     cam = synthetic_camera_model(image.shape[1], image.shape[0])
                 measurer = Measurer(cam, rig, method)
                 fusion.measurer = measurer
-            frame = Frame(image, m.publish_time_ns / 1e9, index, str(d.get("frame_id", "")))
+                if ros2 is not None:
+                    ros2.topics.set_camera(cam)
+            t_frame = (m.publish_time_ns - offset_ns) / 1e9
+            if ros2 is not None:
+                h, w = image.shape[:2]
+                jpeg = base64.b64decode(d["data"])
+                ros2.write_image(jpeg, str(d.get("format", "jpeg")), w, h, t_frame, now[0])
+            frame = Frame(image, t_frame, index, str(d.get("frame_id", "")))
             index += 1
             records = fusion.add_frame(frame)
         for r in records:
             out.write(r)
+            if ros2 is not None:
+                ros2.write_record(r)
     for r in fusion.flush():
         out.write(r)
-    s = fusion.stats
-    print(
-        f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
-        f"ranges; {s.paired} paired, {s.unpaired} unpaired, {s.detected} measured, "
-        f"{s.vision_errors} vision errors"
-        + (f", {bad_images} undecodable frames" if bad_images else ""),
-        file=sys.stderr,
-    )
-    if not rec.complete:
-        raise UserError(
-            f"{args.recording}: {rec.problem}. The {len(msgs)} messages before the cut were "
-            "replayed above; anything after it is lost"
-        )
-    return 0
+        if ros2 is not None:
+            ros2.write_record(r)
+    return index, bad_images
 
 
 def rig_from_metadata(text: str, recording: Path) -> Any:

@@ -8,11 +8,11 @@ import json
 import logging
 import signal
 import sys
-from contextlib import ExitStack
 from pathlib import Path
 from types import FrameType
 from typing import Any
 
+from obstacle_fusion.api import LazyMeasurer as _LazyMeasurer  # noqa: F401 - kept for tests
 from obstacle_fusion.cli import _args
 from obstacle_fusion.errors import UserError
 
@@ -26,10 +26,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         description="Pair every camera frame with the sonar range of its capture instant and "
         "measure the obstacle. With no --port and no --camera it runs the emulated robot: the "
         "real firmware under simavr with a virtual HC-SR04 playing a demo scene, and a "
-        "synthetic camera filming the same scene.",
+        "synthetic camera filming the same scene. With --port and no --camera it runs on the "
+        "sonar alone: one range record per reading, no vision.",
     )
     hw = p.add_argument_group("hardware (omit both for the emulated robot)")
-    hw.add_argument("--port", help="the board's serial port (default with --camera: auto-find)")
+    hw.add_argument(
+        "--port",
+        help="the board's serial port (default with --camera: auto-find; alone: sonar only)",
+    )
     hw.add_argument("--baud", type=_args.positive_int, default=115200)
     hw.add_argument(
         "--camera", help="camera index or /dev/videoN, a video file, or a folder of images"
@@ -76,7 +80,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     out.add_argument("--json", action="store_true", help="JSON lines on standard output")
     out.add_argument("--record", type=Path, metavar="FILE.mcap", help="MCAP recording")
-    out.add_argument("--video", type=Path, metavar="OUT.mp4", help="annotated video")
+    out.add_argument(
+        "--video", type=Path, metavar="OUT.mp4", help="annotated video (H.264 MP4; .avi: MJPEG)"
+    )
+    out.add_argument(
+        "--foxglove",
+        metavar="[HOST:]PORT",
+        help="serve the run live to Foxglove over WebSocket (host default 127.0.0.1; "
+        "e.g. 8765, or 0.0.0.0:8765 for other machines)",
+    )
+    out.add_argument(
+        "--ros2-bag",
+        type=Path,
+        metavar="OUT",
+        help="write a ROS 2 bag folder (MCAP storage): Range, CompressedImage, CameraInfo, "
+        "Detection3DArray, tf_static",
+    )
     out.add_argument(
         "--stop-distance", type=_args.stop_distance_m, metavar="M", help="alert below this"
     )
@@ -87,7 +106,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         help="exit with CODE (1..125) at the first alert",
     )
     out.add_argument(
-        "--overwrite", action="store_true", help="replace an existing --record or --video file"
+        "--overwrite",
+        action="store_true",
+        help="replace an existing --record, --video or --ros2-bag output",
     )
     out.add_argument("--quiet", action="store_true", help="no live console view")
     emu = p.add_argument_group("emulated robot")
@@ -96,55 +117,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--scenario", type=Path, help="TOML scenario for the emulated robot (default: the demo)"
     )
     p.set_defaults(func=run)
-
-
-class _LazyMeasurer:
-    """Builds the measurer on the first frame, when the frame size is known."""
-
-    def __init__(self, camera: Any, rig: Any, method: str, calib: Path | None = None) -> None:
-        self.camera = camera
-        self.rig = rig
-        self.method = method
-        self.calib = calib
-        self._impl: Any = None
-
-    def prepare(self, image: Any) -> None:
-        """Check the calibration against the frame size; a UserError ends the run (exit 2)
-        before a single record claims "nothing there" for a camera it cannot measure."""
-        if self._impl is not None:
-            return
-        from obstacle_fusion.vision.camera import CameraModel, CameraModelError
-        from obstacle_fusion.vision.measure import Measurer
-
-        h, w = image.shape[:2]
-        if self.camera is None:
-            try:
-                camera = CameraModel.paper(w, h)
-            except CameraModelError:
-                raise UserError(
-                    f"no --calib given, and the frames are {w}x{h}: the default camera is the "
-                    "paper's 4:3 one, which cannot measure frames of another aspect; calibrate "
-                    "this camera (obstacle-fusion calibrate) and pass --calib FILE"
-                ) from None
-            log.warning(
-                "no --calib: measuring with the paper's lens at %dx%d; heights and widths will "
-                "be only as right as that guess (run obstacle-fusion calibrate)",
-                w,
-                h,
-            )
-        else:
-            try:
-                camera = self.camera.scaled_to(w, h)
-            except CameraModelError as exc:
-                raise UserError(
-                    f"--calib {self.calib}: it does not fit the camera's {w}x{h} frames: {exc}"
-                ) from None
-        self._impl = Measurer(camera, self.rig, self.method)
-
-    def measure(self, image: Any, range_m: float) -> Any:
-        if self._impl is None:
-            self.prepare(image)
-        return self._impl.measure(image, range_m)
 
 
 class _Terminated(KeyboardInterrupt):
@@ -156,15 +128,10 @@ def _sigterm(signum: int, frame: FrameType | None) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from obstacle_fusion.app import RunSettings
-    from obstacle_fusion.vision.camera import CameraModel
-    from obstacle_fusion.vision.rig import Rig
+    from obstacle_fusion.api import ObstacleSensor
 
-    if args.port and not args.camera:
-        raise UserError(
-            "--port needs --camera too (a camera index, /dev/videoN, a video file or an image "
-            "folder); with neither, the emulated robot runs"
-        )
+    if args.video is not None and args.port and not args.camera:
+        raise UserError("--video needs --camera: with --port alone the run is sonar only")
     if not 0.0 <= args.max_wait_ms <= 5000.0:
         raise UserError(f"--max-wait-ms must be within 0..5000, got {args.max_wait_ms}")
     if not 0.0 <= args.half_spacing_mm <= 50.0:
@@ -183,160 +150,112 @@ def run(args: argparse.Namespace) -> int:
             )
     _args.refuse_overwrite(args.record, "--record", args.overwrite)
     _args.refuse_overwrite(args.video, "--video", args.overwrite)
-    rig = Rig.load(args.rig) if args.rig else Rig()
-    camera = CameraModel.load(args.calib) if args.calib else None
+    _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
     demo = not args.port and not args.camera
-    settings = RunSettings(
-        duration_s=args.duration,
-        stop_distance_m=args.stop_distance,
-        exit_on_alert=args.exit_on_alert,
-        temperature_c=20.0 if args.temperature is None else args.temperature,
-        median_window=args.median,
-        half_spacing_m=args.half_spacing_mm / 1e3,
-        pair_tolerance_s=args.pair_tolerance_ms / 1e3,
-        max_wait_s=args.max_wait_ms / 1e3,
+    scenario = None
+    if demo:
+        from obstacle_fusion.sim.scenario import demo_scenario, load_scenario
+
+        scenario = load_scenario(args.scenario) if args.scenario else demo_scenario()
+        if args.temperature is not None and args.temperature != scenario.temperature_c:
+            print(
+                f"obstacle-fusion run: --temperature {args.temperature:g} C replaces the "
+                f"scenario's {scenario.temperature_c:g} C, for the emulated air and the "
+                "host's conversion alike",
+                file=sys.stderr,
+            )
+            scenario = dataclasses.replace(scenario, temperature_c=args.temperature)
+    # the sensor checks its outputs (a taken --foxglove port, a missing extra, a video it
+    # cannot write) here, before anything starts
+    sensor = ObstacleSensor(
+        port=args.port,
+        camera=args.camera,
+        calib=args.calib,
+        rig=args.rig,
+        baud=args.baud,
         method=args.method,
-        mode="emulator" if demo else "robot",
+        stop_distance=args.stop_distance,
+        exit_on_alert=args.exit_on_alert,
+        temperature=args.temperature,
+        median=args.median,
+        half_spacing_mm=args.half_spacing_mm,
+        pair_tolerance_ms=args.pair_tolerance_ms,
+        max_wait_ms=args.max_wait_ms,
+        width=args.width,
+        height=args.height,
+        fps=args.fps,
+        camera_latency_ms=args.camera_latency_ms,
+        scenario=scenario,
+        clock_ppm=args.clock_ppm,
+        duration=args.duration,
+        record=args.record,
+        video=args.video,
+        foxglove=args.foxglove,
+        ros2_bag=args.ros2_bag,
+        overwrite=args.overwrite,
+        json_stream=sys.stdout if args.json else None,
+        console=None if args.quiet else sys.stderr,
     )
+    if scenario is not None:
+        print(
+            "obstacle-fusion run: no --port or --camera given: running the emulated robot "
+            "(the real Uno firmware under simavr, a virtual HC-SR04 and a synthetic camera "
+            f"playing the '{scenario.name}' scene, {scenario.duration_s:g} s, "
+            f"{scenario.temperature_c:g} C)",
+            file=sys.stderr,
+        )
+    elif not args.camera:
+        print(
+            f"obstacle-fusion run: no --camera given: sonar only on {args.port} (one range "
+            "record per reading, no height or width)",
+            file=sys.stderr,
+        )
     if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
         signal.signal(signal.SIGTERM, _sigterm)
     try:
-        return _run(args, settings, rig, camera, demo)
+        result = sensor.run(on_ready=_say_ready)
     except KeyboardInterrupt as exc:
         print("obstacle-fusion run: stopped; outputs closed", file=sys.stderr)
         return 143 if isinstance(exc, _Terminated) else 130
-
-
-def _run(args: argparse.Namespace, settings: Any, rig: Any, camera: Any, demo: bool) -> int:
-    from obstacle_fusion.app import App
-    from obstacle_fusion.link.connection import Link, resolve_port
-    from obstacle_fusion.outputs.console import ConsoleView
-    from obstacle_fusion.outputs.jsonl import JsonLinesWriter
-    from obstacle_fusion.outputs.mcap_file import McapRecorder
-    from obstacle_fusion.outputs.video import AnnotatedVideoWriter
-
-    with ExitStack() as stack:
-        robot = None
-        extra = None
-        if demo:
-            from obstacle_fusion.sim.emulated_robot import EmulatedRobot
-            from obstacle_fusion.sim.scenario import demo_scenario, load_scenario
-            from obstacle_fusion.sim.synthetic_camera import SyntheticCamera, synthetic_camera_model
-
-            scenario = load_scenario(args.scenario) if args.scenario else demo_scenario()
-            if args.temperature is not None and args.temperature != scenario.temperature_c:
-                print(
-                    f"obstacle-fusion run: --temperature {args.temperature:g} C replaces the "
-                    f"scenario's {scenario.temperature_c:g} C, for the emulated air and the "
-                    "host's conversion alike",
-                    file=sys.stderr,
-                )
-                scenario = dataclasses.replace(scenario, temperature_c=args.temperature)
-            print(
-                "obstacle-fusion run: no --port or --camera given: running the emulated robot "
-                "(the real Uno firmware under simavr, a virtual HC-SR04 and a synthetic camera "
-                f"playing the '{scenario.name}' scene, {scenario.duration_s:g} s, "
-                f"{scenario.temperature_c:g} C)",
-                file=sys.stderr,
-            )
-            robot = EmulatedRobot(scenario, clock_ppm=args.clock_ppm).start()
-            stack.callback(robot.stop)
-            print(
-                f"obstacle-fusion run: emulator pid {robot.pid} on {robot.port()}",
-                file=sys.stderr,
-                flush=True,
-            )
-            if camera is None:
-                camera = synthetic_camera_model(args.width or 500, args.height or 375)
-            source: Any = SyntheticCamera(
-                scenario, camera, rig, fps=args.fps or 15.0, scene_time=robot.scene_time
-            )
-            settings.temperature_c = scenario.temperature_c
-            if settings.duration_s is None:
-                settings.duration_s = scenario.duration_s
-            port: Any = robot.port
-            synthetic = source
-
-            def extra(rec: Any) -> dict[str, Any]:
-                return {"scene_t_s": synthetic.scene_time_of(rec.frame_index)}
-
-        else:
-            from obstacle_fusion.sources.opencv_sources import open_source
-
-            port = resolve_port(args.port)
-            source = open_source(
-                args.camera,
-                width=args.width,
-                height=args.height,
-                fps=args.fps,
-                latency_s=args.camera_latency_ms / 1e3,
-                realtime=True,
-            )
-        stack.callback(source.close)
-        link = Link(port, baud=args.baud)
-        jsonl = JsonLinesWriter(sys.stdout) if args.json else None
-        recorder = None
-        if args.record is not None:
-            recorder = McapRecorder(
-                args.record,
-                overwrite=args.overwrite,
-                metadata={
-                    "run": {
-                        "mode": settings.mode,
-                        "method": args.method,
-                        "temperature_c": str(settings.temperature_c),
-                        "half_spacing_m": str(settings.half_spacing_m),
-                        "stop_distance_m": str(args.stop_distance),
-                        "rig": json.dumps(dataclasses.asdict(rig)),
-                        "camera": json.dumps(_camera_dict(camera)),
-                    }
-                },
-            )
-            stack.callback(recorder.close)
-        video = None
-        if args.video is not None:
-            video = AnnotatedVideoWriter(args.video, fps=args.fps or 15.0, overwrite=args.overwrite)
-            stack.callback(video.close)
-        view = None if args.quiet else ConsoleView(sys.stderr)
-        if view is not None:
-            stack.callback(view.close)
-        app = App(
-            settings,
-            link,
-            source,
-            _LazyMeasurer(camera, rig, args.method, args.calib),
-            jsonl=jsonl,
-            recorder=recorder,
-            video=video,
-            view=view,
-            robot=robot,
-            extra_fields=extra,
+    summary = result.stats
+    f, link = summary["fusion"], summary["link"]
+    link_text = (
+        f"link: {link['frames']} frames, {link['crc_errors']} CRC errors, {link['seq_gaps']} "
+        f"lost, {link['reconnects']} reconnects"
+    )
+    if sensor.mode == "sonar-only":
+        ranges = f["published"] - f["clear"] - f["sonar_errors"]
+        print(
+            f"obstacle-fusion run: {f['published']} range records, {ranges} with a distance, "
+            f"{f['clear']} clear, {f['sonar_errors']} sonar errors, {f['alerts']} alerts; "
+            f"{link_text}",
+            file=sys.stderr,
         )
-        result = app.run()
-        if view is not None:
-            view.close()  # the table's last line ends before the summary starts
-        summary = result.stats
-        f = summary["fusion"]
+    else:
         print(
             f"obstacle-fusion run: {f['published']} records, {f['paired']} paired "
             f"({100 * f['paired_fraction']:.1f}%), {f['unpaired']} unpaired, "
             f"{f['detected']} measured, {f['vision_errors']} vision errors, {f['alerts']} "
-            f"alerts; link: {summary['link']['frames']} frames, "
-            f"{summary['link']['crc_errors']} CRC errors, {summary['link']['seq_gaps']} lost, "
-            f"{summary['link']['reconnects']} reconnects",
+            f"alerts; {link_text}",
             file=sys.stderr,
         )
-        log.info("summary: %s", json.dumps(summary))
-        return result.exit_code
-    return 0
+    log.info("summary: %s", json.dumps(summary))
+    return result.exit_code
 
 
-def _camera_dict(camera: Any) -> dict[str, Any] | None:
-    if camera is None:
-        return None
-    return {
-        "camera_matrix": [list(map(float, row)) for row in camera.camera_matrix],
-        "dist_coeffs": [float(v) for v in camera.dist_coeffs],
-        "width": camera.width,
-        "height": camera.height,
-    }
+def _say_ready(sensor: Any) -> None:
+    """Once everything is open: where the emulated robot runs (a test kills it by this pid)
+    and where the live Foxglove view is served."""
+    if sensor.robot is not None:
+        print(
+            f"obstacle-fusion run: emulator pid {sensor.robot.pid} on {sensor.robot.port()}",
+            file=sys.stderr,
+            flush=True,
+        )
+    if sensor.live is not None:
+        print(
+            f"obstacle-fusion run: Foxglove live on {sensor.live.url} (Foxglove: Open connection "
+            "-> Foxglove WebSocket)",
+            file=sys.stderr,
+            flush=True,
+        )

@@ -1,11 +1,13 @@
 """MCAP recording that Foxglove opens as it is, and reading it back for replay.
 
-Frames go on /camera/image as foxglove.CompressedImage (JSON encoding, image bytes in
-base64 as Foxglove's JSON-schema convention says); sonar readings on /sonar/range and
-obstacle records on /obstacle as JSON-schema messages; link events (handshakes,
-disconnects, counters) on /link/event. publish_time is the acquisition instant on the
-host's monotonic clock (frame capture, echo reflection), log_time the moment the host
-received it; both in nanoseconds. The offset to Unix time is in the file's metadata.
+The topics and their schemas are those of :mod:`obstacle_fusion.outputs.foxglove_schemas`
+(standard Foxglove schemas where one exists: the image, its annotations, the 3D scene, the
+transforms, the link log; JSON-schema messages for the sonar range and the obstacle
+record), JSON-encoded. publish_time is the acquisition instant (frame capture, echo
+reflection), log_time the moment the host had it; both in Unix-epoch nanoseconds, mapped
+from the host's monotonic clock with the offset kept in the file's metadata
+(``obstacle_fusion``: ``time_base``, ``unix_offset_ns``). Recordings made before that
+stored monotonic times; :func:`recording_unix_offset_ns` tells them apart.
 
 Chunks are closed at least every ``flush_interval_s`` and the file flushed, so a crash
 loses at most that much: everything before it stays readable (replay reads such a file
@@ -17,153 +19,57 @@ from __future__ import annotations
 import base64
 import json
 import logging
-import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-import cv2
 import numpy as np
 
 from obstacle_fusion import __version__
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.fusion import ObstacleRecord
+from obstacle_fusion.outputs.foxglove_schemas import (
+    OBSTACLE_SCHEMA,
+    RANGE_SCHEMA,
+    TOPIC_ANNOTATIONS,
+    TOPIC_CALIBRATION,
+    TOPIC_EVENT,
+    TOPIC_IMAGE,
+    TOPIC_OBSTACLE,
+    TOPIC_RANGE,
+    TOPIC_SCENE,
+    TOPIC_TF,
+    FoxgloveTopics,
+    TopicMessage,
+    event_of_log,
+    recording_unix_offset_ns,
+    topic_schemas,
+)
 from obstacle_fusion.sonar import SonarReading
 from obstacle_fusion.sources.frames import Frame
 
 log = logging.getLogger(__name__)
 
-TOPIC_IMAGE = "/camera/image"
-TOPIC_RANGE = "/sonar/range"
-TOPIC_OBSTACLE = "/obstacle"
-TOPIC_EVENT = "/link/event"
-
-_TIME = {
-    "type": "object",
-    "title": "time",
-    "properties": {
-        "sec": {"type": "integer", "minimum": 0},
-        "nsec": {"type": "integer", "minimum": 0, "maximum": 999999999},
-    },
-}
-_NUM = {"type": ["number", "null"]}
-
-COMPRESSED_IMAGE_SCHEMA = {
-    "title": "foxglove.CompressedImage",
-    "description": "A compressed image",
-    "type": "object",
-    "properties": {
-        "timestamp": {**_TIME, "description": "Timestamp of image"},
-        "frame_id": {"type": "string", "description": "Frame of reference for the image"},
-        "data": {
-            "type": "string",
-            "contentEncoding": "base64",
-            "description": "Compressed image data",
-        },
-        "format": {"type": "string", "description": "Image format"},
-    },
-}
-
-RANGE_SCHEMA = {
-    "title": "obstacle_fusion.SonarRange",
-    "description": "One HC-SR04 measurement: raw MCU values and the host's conversion",
-    "type": "object",
-    "properties": {
-        "timestamp": _TIME,
-        "t_host": _NUM,
-        "t_trigger_host": _NUM,
-        "t_receipt": _NUM,
-        "trigger_us": {"type": "integer"},
-        "measurement": {"type": "integer"},
-        "sensor_id": {"type": "integer"},
-        "echo_ticks": {"type": "integer"},
-        "timer_hz": {"type": "integer"},
-        "echo_s": {"type": "number"},
-        "status": {"type": "string"},
-        "distance_m": _NUM,
-        "raw_distance_m": _NUM,
-        "slant_m": _NUM,
-        "time_scale": {"type": "number"},
-        "session": {"type": "integer"},
-    },
-}
-
-OBSTACLE_SCHEMA = {
-    "title": "obstacle_fusion.Obstacle",
-    "description": "The obstacle in front at one frame's capture instant",
-    "type": "object",
-    "properties": {
-        "timestamp": _TIME,
-        "t_host": {"type": "number"},
-        "distance_m": _NUM,
-        "height_m": _NUM,
-        "width_m": _NUM,
-        "confidence": {"type": "number"},
-        "status": {"type": "string"},
-        "alert": {"type": "boolean"},
-        "frame_index": {"type": "integer"},
-        "pairing": {"type": "string"},
-        "pair_dt_s": _NUM,
-        "sonar_status": {"type": ["string", "null"]},
-        "latency_s": _NUM,
-    },
-}
-
-EVENT_SCHEMA = {
-    "title": "obstacle_fusion.LinkEvent",
-    "description": "Link lifecycle and health: handshake, disconnect, counters, clock",
-    "type": "object",
-    "properties": {
-        "timestamp": _TIME,
-        "event": {"type": "string"},
-        "detail": {"type": "object"},
-    },
-}
-
-
-def _stamp(t: float) -> dict[str, int]:
-    ns = max(int(round(t * 1e9)), 0)
-    return {"sec": ns // 1_000_000_000, "nsec": ns % 1_000_000_000}
-
-
-def _ns(t: float | None) -> int:
-    return max(int(round((t or 0.0) * 1e9)), 0)
-
-
-def _clean(value: Any) -> Any:
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: _clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_clean(v) for v in value]
-    return value
-
-
-def _dumps(obj: dict[str, Any]) -> bytes:
-    return json.dumps(_clean(obj), separators=(",", ":"), allow_nan=False).encode()
-
-
-def reading_to_dict(r: SonarReading, timer_hz: int, session: int) -> dict[str, Any]:
-    return {
-        "timestamp": _stamp(r.t_host or 0.0),
-        "t_host": r.t_host,
-        "t_trigger_host": r.t_trigger_host,
-        "t_receipt": r.t_receipt,
-        "trigger_us": r.trigger_us,
-        "measurement": r.measurement,
-        "sensor_id": r.sensor_id,
-        "echo_ticks": r.echo_ticks,
-        "timer_hz": timer_hz,
-        "echo_s": r.echo_s,
-        "status": str(r.status),
-        "distance_m": r.distance_m,
-        "raw_distance_m": r.raw_distance_m,
-        "slant_m": r.slant_m,
-        "time_scale": r.time_scale,
-        "session": session,
-    }
+__all__ = [
+    "OBSTACLE_SCHEMA",
+    "RANGE_SCHEMA",
+    "TOPIC_ANNOTATIONS",
+    "TOPIC_CALIBRATION",
+    "TOPIC_EVENT",
+    "TOPIC_IMAGE",
+    "TOPIC_OBSTACLE",
+    "TOPIC_RANGE",
+    "TOPIC_SCENE",
+    "TOPIC_TF",
+    "McapRecorder",
+    "RecordedMessage",
+    "Recording",
+    "decode_image",
+    "event_of_log",
+    "read_recording",
+    "recording_unix_offset_ns",
+]
 
 
 class McapRecorder:
@@ -179,11 +85,11 @@ class McapRecorder:
         chunk_size: int = 1 << 20,
         metadata: dict[str, dict[str, str]] | None = None,
         overwrite: bool = False,
+        topics: FoxgloveTopics | None = None,
     ) -> None:
         from mcap.writer import CompressionType, Writer
 
-        if image_format not in ("jpeg", "png"):
-            raise UserError(f"image format must be jpeg or png, got {image_format!r}")
+        self.topics = topics or FoxgloveTopics(image_format=image_format, jpeg_quality=jpeg_quality)
         self.path = Path(path)
         try:  # "x": an earlier recording is never truncated unless asked
             self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115
@@ -194,23 +100,14 @@ class McapRecorder:
             ) from None
         except OSError as exc:
             raise UserError(f"cannot write the recording {self.path}: {exc.strerror}") from exc
-        self.image_format = image_format
-        self._ext = ".jpg" if image_format == "jpeg" else ".png"
-        self._params = (
-            [int(cv2.IMWRITE_JPEG_QUALITY), jpeg_quality] if image_format == "jpeg" else []
-        )
+        self.image_format = self.topics.image_format
         self.flush_interval_s = flush_interval_s
         self._writer = Writer(self._file, chunk_size=chunk_size, compression=CompressionType.NONE)
         self._writer.start(profile="", library=f"obstacle-fusion {__version__}")
         self._channels: dict[str, int] = {}
-        for topic, schema in (
-            (TOPIC_IMAGE, COMPRESSED_IMAGE_SCHEMA),
-            (TOPIC_RANGE, RANGE_SCHEMA),
-            (TOPIC_OBSTACLE, OBSTACLE_SCHEMA),
-            (TOPIC_EVENT, EVENT_SCHEMA),
-        ):
+        for topic, (name, schema) in topic_schemas().items():
             sid = self._writer.register_schema(
-                name=str(schema["title"]), encoding="jsonschema", data=json.dumps(schema).encode()
+                name=name, encoding="jsonschema", data=json.dumps(schema).encode()
             )
             self._channels[topic] = self._writer.register_channel(
                 topic=topic, message_encoding="json", schema_id=sid
@@ -220,8 +117,7 @@ class McapRecorder:
         meta = {
             "obstacle_fusion": {
                 "version": __version__,
-                "time_base": "host monotonic clock, nanoseconds",
-                "monotonic_to_unix_offset_s": f"{time.time() - time.monotonic():.6f}",
+                **self.topics.metadata(),
             }
         }
         meta.update(metadata or {})
@@ -230,15 +126,19 @@ class McapRecorder:
         self._last_flush = time.monotonic()
         self._closed = False
 
-    def _add(self, topic: str, payload: dict[str, Any], publish_t: float, log_t: float) -> None:
+    def write(self, msg: TopicMessage) -> None:
+        """One message as the encoder made it (the App shares them with the live view)."""
+        self._add(msg.topic, msg.data, msg.publish_time_ns, msg.log_time_ns)
+
+    def _add(self, topic: str, data: bytes, publish_ns: int, log_ns: int) -> None:
         if self._closed:
             return
         self._seq[topic] += 1
         self._writer.add_message(
             channel_id=self._channels[topic],
-            log_time=_ns(log_t),
-            publish_time=_ns(publish_t),
-            data=_dumps(payload),
+            log_time=log_ns,
+            publish_time=publish_ns,
+            data=data,
             sequence=self._seq[topic],
         )
         self.counts[topic] += 1
@@ -247,36 +147,25 @@ class McapRecorder:
             self.flush()
 
     def write_frame(self, frame: Frame, log_t: float | None = None) -> None:
-        ok, buf = cv2.imencode(self._ext, frame.image, self._params)
-        if not ok:
+        log_time = log_t if log_t is not None else frame.t_host
+        msgs = self.topics.frame(frame.image, frame.t_host, log_time)
+        if not msgs:
             log.warning("could not encode frame %d; not recorded", frame.index)
-            return
-        payload = {
-            "timestamp": _stamp(frame.t_host),
-            "frame_id": frame.source,
-            "data": base64.b64encode(buf.tobytes()).decode("ascii"),
-            "format": self.image_format,
-        }
-        self._add(TOPIC_IMAGE, payload, frame.t_host, log_t if log_t is not None else frame.t_host)
+        for m in msgs:
+            self.write(m)
 
     def write_range(
         self, reading: SonarReading, timer_hz: int, session: int, log_t: float | None = None
     ) -> None:
-        payload = reading_to_dict(reading, timer_hz, session)
-        publish = reading.t_host if reading.t_host is not None else (log_t or 0.0)
-        self._add(TOPIC_RANGE, payload, publish, log_t if log_t is not None else publish)
+        for m in self.topics.reading(reading, timer_hz, session, log_t):
+            self.write(m)
 
     def write_obstacle(self, record: ObstacleRecord, log_t: float | None = None) -> None:
-        payload = record.to_dict()
-        payload["timestamp"] = _stamp(record.t_host)
-        log_time = log_t if log_t is not None else (record.t_published or record.t_host)
-        self._add(TOPIC_OBSTACLE, payload, record.t_host, log_time)
+        for m in self.topics.record(record, log_t):
+            self.write(m)
 
     def write_event(self, event: str, detail: dict[str, Any], t: float | None = None) -> None:
-        now = time.monotonic() if t is None else t
-        self._add(
-            TOPIC_EVENT, {"timestamp": _stamp(now), "event": event, "detail": detail}, now, now
-        )
+        self.write(self.topics.event(event, detail, t))
 
     def flush(self) -> None:
         """Close the open chunk and push everything to the file (readable up to here)."""
@@ -322,6 +211,8 @@ class Recording:
 
 
 def decode_image(data: dict[str, Any]) -> np.ndarray | None:
+    import cv2
+
     raw = np.frombuffer(base64.b64decode(data["data"]), np.uint8)
     image = cv2.imdecode(raw, cv2.IMREAD_COLOR)
     return None if image is None else np.asarray(image)

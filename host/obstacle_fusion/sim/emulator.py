@@ -1,4 +1,4 @@
-"""Start and stop the firmware emulator (tools/emulator/build/of-emulator) from Python.
+"""Start and stop the firmware emulator (of-emulator) from Python.
 
 The emulator runs the real firmware ELF under simavr with a virtual HC-SR04 and exposes
 USART0 on a pseudo-terminal that the host opens like a board. This module gives that
@@ -24,13 +24,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
 
+from obstacle_fusion import bundled
 from obstacle_fusion.errors import UserError
 
 log = logging.getLogger(__name__)
 
-REPO_ROOT = Path(__file__).resolve().parents[3]
-DEFAULT_BINARY = REPO_ROOT / "tools" / "emulator" / "build" / "of-emulator"
-DEFAULT_ELF = REPO_ROOT / "firmware" / "build" / "uno" / "obstacle-fusion.elf"
+REPO_ROOT = bundled.REPO_ROOT  # the clone, in an editable install (tests, benchmarks)
 TIMER_HZ = 2_000_000  # Uno Timer1 with prescaler 8: the unit of the truth log's echo_ticks
 
 
@@ -39,29 +38,37 @@ class EmulatorError(UserError):
 
 
 def emulator_binary() -> Path:
-    """The emulator program: $OF_EMULATOR, else the one `make setup` builds."""
-    return Path(os.environ.get("OF_EMULATOR", DEFAULT_BINARY))
+    """The emulator program: $OF_EMULATOR, the clone's `make setup` build, or (installed
+    from a wheel) the per-user build of the shipped sources, made on first use."""
+    return bundled.default_emulator_binary()
 
 
 def firmware_elf() -> Path:
-    """The Uno firmware image: $OF_FIRMWARE_ELF, else the one `make setup` builds."""
-    return Path(os.environ.get("OF_FIRMWARE_ELF", DEFAULT_ELF))
+    """The Uno firmware ELF: $OF_FIRMWARE_ELF, the clone's build, or the package's copy."""
+    return bundled.default_firmware_elf()
 
 
 def check_built(elf: Path | None = None, binary: Path | None = None) -> tuple[Path, Path]:
-    """Both files the emulator needs, or a UserError that says how to build them."""
-    binary = binary or emulator_binary()
+    """Both files the emulator needs (building the emulator on first use when installed
+    from a wheel), or a UserError that says how to get them."""
+    binary = bundled.ensure_emulator(binary or emulator_binary())
     elf = elf or firmware_elf()
+    in_clone = bundled.checkout_root() is not None
     if not binary.is_file() or not os.access(binary, os.X_OK):
-        raise EmulatorError(
-            f"the emulator is not built ({binary} is missing); run `make setup` "
-            "(or `make -C tools/emulator`)"
+        how = (
+            "run `make setup` (or `make -C tools/emulator`)"
+            if in_clone
+            else "set OF_EMULATOR to an emulator program, or reinstall the package"
         )
+        raise EmulatorError(f"the emulator is not built ({binary} is missing); {how}")
     if not elf.is_file():
-        raise EmulatorError(
-            f"the firmware ELF is not built ({elf} is missing); run `make setup` "
-            "(or `make -C firmware BOARD=uno`)"
+        how = (
+            "run `make setup` (or `make -C firmware BOARD=uno`)"
+            if in_clone
+            else "this install was built without avr-gcc (install gcc-avr avr-libc "
+            "binutils-avr and reinstall), or set OF_FIRMWARE_ELF to a firmware ELF"
         )
+        raise EmulatorError(f"the firmware ELF is not built ({elf} is missing); {how}")
     return elf, binary
 
 
@@ -96,12 +103,16 @@ class EmulatorConfig:
     exit_with_parent: bool = True  # no orphans when the starting process dies
     seed: int = 1
     quirk_fixes: bool = True
+    # The Uno's bootloader (Intel HEX, e.g. Optiboot): every reset starts there, as with the
+    # BOOTRST fuse; with application=False the flash holds nothing else (a board to flash).
+    bootloader: Path | None = None
+    application: bool = True
     verbose: int = 0
     extra_args: tuple[str, ...] = ()
 
     def arguments(
         self,
-        elf: Path,
+        elf: Path | None,
         truth: Path | None = None,
         pty_file: Path | None = None,
         control: Path | None = None,
@@ -153,8 +164,10 @@ class EmulatorConfig:
         opt("--truth", truth)
         opt("--pty-file", pty_file)
         opt("--control", control)
+        opt("--bootloader", self.bootloader)
         args.extend(self.extra_args)
-        args.append(str(elf))
+        if elf is not None:
+            args.append(str(elf))
         return args
 
 
@@ -344,7 +357,13 @@ class Emulator:
     _own_workdir: bool = False
 
     def start(self) -> Emulator:
-        elf, binary = check_built(self.config.elf, self.binary)
+        if self.config.bootloader is not None and not self.config.application:
+            binary = bundled.ensure_emulator(self.binary or emulator_binary())
+            elf: Path | None = None
+            if not self.config.bootloader.is_file():
+                raise EmulatorError(f"no such bootloader: {self.config.bootloader}")
+        else:
+            elf, binary = check_built(self.config.elf, self.binary)
         if self.workdir is None:
             # Short path: a UNIX socket path must fit in 108 bytes.
             self.workdir = Path(tempfile.mkdtemp(prefix="ofemu-"))

@@ -2,7 +2,7 @@
 
 - ``types``        the shared types every method uses (Measurement, View, Line, Timer)
 - ``measure``      the method registry and ``Measurer``, the one entry point
-- ``fused``        the sonar-guided method; ``paper`` the paper's pipeline
+- ``fused``        the sonar-guided method, one module per stage; ``paper`` the paper's pipeline
 - ``camera``, ``calibration``, ``chessboard``  the camera model and its calibration
 - ``rig``          where the camera and sonar sit on the robot
 - ``annotate``     drawing a measurement onto a frame

@@ -8,6 +8,8 @@ buffers) is built once per image size and reused for every frame.
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import logging
 from collections.abc import Callable
 from typing import Any
@@ -19,6 +21,8 @@ import numpy.typing as npt
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
+from obstacle_fusion.vision.fused.channel import face_floor_grey
+from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.rig import Rig, check_range
 from obstacle_fusion.vision.types import Measurement, Method, Timer, View
@@ -58,6 +62,12 @@ class Measurer:
         if min_confidence is not None and not 0.0 <= min_confidence <= 1.0:
             raise UserError(f"min_confidence must be within 0..1, got {min_confidence}")
         self.camera = camera
+        # No rig given: the fused method finds the floor contact in each frame instead of
+        # trusting a guessed camera height ("estimated"); the paper's method never uses the
+        # camera height, so it runs with the default rig ("default").
+        self.rig_source = (
+            "file" if rig is not None else ("estimated" if method == "fused" else "default")
+        )
         self.rig = rig if rig is not None else Rig()
         self.method = method
         self.min_confidence = min_confidence  # None: the method's default (fused only)
@@ -72,6 +82,47 @@ class Measurer:
             self._per_size[key] = impl
         return impl
 
+    def _run_estimated(
+        self, impl: Method, image: npt.NDArray[Any], range_m: float, timer: Timer
+    ) -> Measurement:
+        """Each floor-contact row found in the image, lowest first, is one camera height to
+        try; the first that gives a face wins (below the face there is only floor, so the
+        lowest step that stands a face on it is the contact: ranking the rows by confidence
+        instead picked steps inside the face or the box's top on independently made rooms)."""
+        view: View = impl.view  # type: ignore[attr-defined]
+        depth = self.rig.face_depth(range_m)
+        rows = contact_rows(image, view, depth)
+        timer.lap("floor_contact")
+        best: Measurement | None = None
+        try:
+            for row in rows:
+                height = (row - view.cy) * depth / view.fy
+                if not 0.0 < height < 5.0:
+                    continue
+                trial = copy.copy(view)
+                trial.rig = dataclasses.replace(
+                    self.rig, camera_height_m=height, camera_pitch_deg=0.0
+                )
+                impl.view = trial  # type: ignore[attr-defined]
+                result = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
+                result.camera_height_m = height
+                if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
+                    best = result
+                if result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT:
+                    best = result
+                    break
+        finally:
+            impl.view = view  # type: ignore[attr-defined]
+        if best is None:
+            return Measurement(
+                False,
+                self.method,
+                range_m,
+                reason="no rig given and no floor contact found below the beam; "
+                "give --rig (obstacle-fusion calibrate-rig writes one)",
+            )
+        return best
+
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
             raise UserError("image must be a non-empty grey or BGR array")
@@ -85,7 +136,49 @@ class Measurer:
         timer = Timer()
         impl = self._method_for(image.shape[1], image.shape[0])
         timer.lap("setup")
-        result = impl.run(image, range_m, timer)
+        if self.rig_source == "estimated":
+            result = self._run_estimated(impl, image, range_m, timer)
+        elif self.method == "fused":
+            view: View = impl.view  # type: ignore[attr-defined]
+            depth = self.rig.face_depth(range_m)
+            contact = view.cy + view.fy * self.rig.camera_height_m / depth
+            grey = face_floor_grey(image, view, contact, depth)
+            timer.lap("face_channel")
+            result = impl.run(grey, range_m, timer)
+            if not result.detected and grey is not image:
+                # the colour turn can also fade an edge luminance had: try luminance
+                result = impl.run(image, range_m, timer)
+        else:
+            result = impl.run(image, range_m, timer)
+        result.rig_source = self.rig_source
+        result.clipped = clipped_sides(result.box_px, image.shape[1], image.shape[0])
         result.timings_ms = dict(timer.ms)
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
+
+
+#: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
+#: when none does, the most confident of the rows tried.
+ESTIMATE_ACCEPT = 0.2
+
+#: A face box within this many pixels of an image border is cut by it.
+CLIP_MARGIN_PX = 1.5
+
+
+def clipped_sides(
+    box: tuple[float, float, float, float] | None, width: int, height: int
+) -> list[str]:
+    """The image borders a face box touches: its size there is a lower bound."""
+    if box is None:
+        return []
+    x0, y0, x1, y1 = box
+    sides = []
+    if x0 <= CLIP_MARGIN_PX:
+        sides.append("left")
+    if x1 >= width - 1 - CLIP_MARGIN_PX:
+        sides.append("right")
+    if y0 <= CLIP_MARGIN_PX:
+        sides.append("top")
+    if y1 >= height - 1 - CLIP_MARGIN_PX:
+        sides.append("bottom")
+    return sides

@@ -39,12 +39,18 @@ class Measurement:
     height_px: float | None = None  # in the method's working view
     width_px: float | None = None
     reason: str = ""  # why nothing was detected
+    rig_source: str = "file"  # file: given; estimated: found in the image; default: assumed
+    camera_height_m: float | None = None  # the estimated camera height (rig_source estimated)
+    clipped: list[str] = field(default_factory=list)  # image borders cutting the face
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
         d["box_px"] = None if self.box_px is None else [round(v, 2) for v in self.box_px]
         d["lines"] = [[round(v, 2) for v in ln] for ln in self.lines]
         d["timings_ms"] = {k: round(v, 4) for k, v in self.timings_ms.items()}
+        # a face cut by the image's left or right border: its width is at least this
+        d["width_is_lower_bound"] = any(s in ("left", "right") for s in self.clipped)
+        d["height_is_lower_bound"] = any(s in ("top", "bottom") for s in self.clipped)
         return d
 
 

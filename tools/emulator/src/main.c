@@ -19,6 +19,7 @@
 #include "sim_elf.h"
 #include "sim_cycle_timers.h"
 
+#include "bootloader.h"
 #include "control.h"
 #include "quirks.h"
 #include "rng.h"
@@ -29,6 +30,7 @@
 typedef struct {
     /* options */
     const char *elf;
+    bootloader_t boot;              /* --bootloader: Optiboot at the reset vector */
     const char *mcu;
     unsigned long freq;
     int fast;
@@ -208,6 +210,7 @@ static void usage(FILE *f)
 {
     fputs(
         "usage: of-emulator [options] FIRMWARE.elf\n"
+        "       of-emulator --bootloader BOOT.hex [options] [FIRMWARE.elf]\n"
         "Runs the firmware under simavr with a virtual HC-SR04 and USART0 on a pty.\n"
         "Prints the pty path on stdout.\n\n"
         "world:\n"
@@ -244,6 +247,8 @@ static void usage(FILE *f)
         "  --pty-file FILE       also write the pty path here\n"
         "  --control PATH        UNIX socket for live commands (see README)\n"
         "other:\n"
+        "  --bootloader HEX      start every reset in this bootloader (BOOTRST), e.g. the\n"
+        "                        Uno's Optiboot; the ELF (the application) is optional\n"
         "  --mcu NAME --freq HZ  when the ELF does not say (default atmega328p, 16000000)\n"
         "  --seed N              random seed for noise and faults (default 1)\n"
         "  --no-quirk-fixes      run simavr 1.6 as it is (see README)\n"
@@ -257,7 +262,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         O_DIST = 256, O_SCENE, O_TEMP, O_NOISE, O_DROPOUT, O_SPIKE, O_TRIG, O_ECHO, O_BURST,
         O_NOECHO, O_MAXR, O_MINTRIG, O_FAST, O_PPM, O_DUR, O_SERVICE, O_UDROP, O_UCORR,
         O_UINS, O_FDIR, O_WAIT, O_GRACE, O_RESETOPEN, O_TRUTH, O_PTYFILE, O_CONTROL, O_MCU,
-        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT, O_OPTIBOOT
+        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT, O_OPTIBOOT, O_BOOT
     };
     static const struct option opts[] = {
         {"distance", required_argument, 0, O_DIST},
@@ -294,6 +299,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         {"seed", required_argument, 0, O_SEED},
         {"no-quirk-fixes", no_argument, 0, O_NOQUIRK},
         {"elf", required_argument, 0, O_ELF},
+        {"bootloader", required_argument, 0, O_BOOT},
         {"verbose", no_argument, 0, 'v'},
         {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0},
@@ -370,6 +376,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
             e->uart_rate_fix = 0;
             break;
         case O_ELF: e->elf = optarg; break;
+        case O_BOOT: e->boot.path = optarg; break;
         case 'v': e->verbose++; break;
         case 'h': usage(stdout); exit(0);
         default: usage(stderr); exit(2);
@@ -379,7 +386,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         e->elf = argv[optind++];
     if (optind < argc)
         die("unexpected argument '%s'", argv[optind]);
-    if (!e->elf)
+    if (!e->elf && !e->boot.path)
         die("no firmware ELF given (usage: of-emulator [options] FIRMWARE.elf)");
     e->sp.clock_ppm = e->clock_ppm;
     if (e->nsensors == 0)
@@ -760,7 +767,41 @@ static void write_pty_file(const char *path, const char *pty)
         die("cannot write the pty path to %s: %s", path, strerror(errno));
 }
 
+static avr_t *load_mcu_elf(emu_t *e);
+
+/* The MCU with the bootloader, and the application when an ELF is given too (a board that
+ * was flashed before); without one the application flash is erased (0xFF). */
 static avr_t *load_mcu(emu_t *e)
+{
+    if (!e->boot.path)
+        return load_mcu_elf(e);
+    avr_t *avr;
+    if (e->elf) {
+        avr = load_mcu_elf(e);
+    } else {
+        const char *mcu = e->mcu ? e->mcu : "atmega328p";
+        fflush(stdout);
+        int saved = dup(1);
+        dup2(2, 1);
+        avr = avr_make_mcu_by_name(mcu);
+        if (!avr)
+            die("simavr does not know the MCU '%s'", mcu);
+        avr_init(avr);
+        avr->frequency = (uint32_t)(e->freq ? e->freq : 16000000UL);
+        avr->log = e->verbose >= 2 ? LOG_TRACE : LOG_ERROR;
+        fflush(stdout);
+        dup2(saved, 1);
+        close(saved);
+    }
+    char err[512];
+    if (bootloader_load(&e->boot, avr, err, sizeof err))
+        die("%s", err);
+    note(e, "bootloader %s: %u bytes at 0x%04x", e->boot.path, (unsigned)e->boot.size,
+         (unsigned)e->boot.start);
+    return avr;
+}
+
+static avr_t *load_mcu_elf(emu_t *e)
 {
     if (access(e->elf, R_OK) != 0)
         die("firmware ELF %s: %s (build it with `make -C firmware BOARD=uno`, or run "
@@ -884,10 +925,14 @@ int main(int argc, char **argv)
         wait_for_client(e);
     else
         e->bridge.client = bridge_client_present(&e->bridge);
+    if (e->boot.active)
+        bootloader_mark_reset(avr, e->wait_client);
 
     clock_gettime(CLOCK_MONOTONIC, &e->wall0);
     e->cycle0 = avr->cycle;
     g_core_was_reset = 0;
+    if (e->optiboot && e->boot.active)
+        die("--optiboot stands in for a bootloader; with --bootloader the real one runs");
     if (e->optiboot && !has_mcusr(avr))
         die("--optiboot: no MCUSR model for %s (ATmega48/88/168/328 only)", avr->mmcu);
     hand_over(e, MCUSR_PORF); /* power-on */
@@ -903,6 +948,11 @@ int main(int argc, char **argv)
             e->reset_cause = e->reset_requested == 2 ? MCUSR_WDRF : MCUSR_EXTRF;
             e->reset_requested = 0;
             avr_reset(avr);
+            if (e->boot.active) {
+                avr->pc = e->boot.start;
+                if (e->reset_cause == MCUSR_EXTRF) /* `reset watchdog`: WDRF alone */
+                    bootloader_mark_reset(avr, 1);
+            }
             bridge_flush(&e->bridge);
             if (g_core_was_reset)
                 after_reset(e);

@@ -1,0 +1,74 @@
+"""The grey image the fused method reads, turned towards the face's colour against the floor.
+
+Receives a BGR frame, the level View and the row where the face meets the floor; returns one
+8-bit channel. Plain luminance loses a green box on grey gravel (same brightness, another
+colour). A patch just above the floor-contact row in the beam is the face, one just below it
+the floor: projecting the colours half on luminance and half on the direction from the
+floor's colour to the face's keeps every luminance edge and adds the face's own contrast.
+With a frame that is grey already, or face and floor of one colour, it is plain luminance.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.types import View
+
+#: Share of the face-floor colour direction in the projection (the rest is luminance).
+FACE_SHARE = 0.5
+#: Face and floor closer than this (8-bit BGR distance) give no direction to trust.
+MIN_COLOUR_STEP = 12.0
+#: Rows above and below the contact row sampled for the face and the floor (view rows).
+SAMPLE_ROWS = (5.0, 8.0, 11.0)
+#: Half the sampled width at the face, metres (the beam's core).
+SAMPLE_HALF_M = 0.03
+
+_LUMA = np.array([0.114, 0.587, 0.299])  # BGR weights of OpenCV's grey
+
+
+def _mean_colour(image: npt.NDArray[Any], pts: npt.NDArray[np.float64]) -> npt.NDArray[Any] | None:
+    h, w = image.shape[:2]
+    x = np.rint(pts[:, 0]).astype(int)
+    y = np.rint(pts[:, 1]).astype(int)
+    keep = (x >= 1) & (x < w - 1) & (y >= 1) & (y < h - 1)
+    if not keep.any():
+        return None
+    x, y = x[keep], y[keep]
+    acc = np.zeros(3)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            acc += image[y + dy, x + dx].astype(np.float64).mean(axis=0)
+    return acc / 9.0
+
+
+def face_floor_grey(
+    image: npt.NDArray[Any], view: View, contact_row: float, depth_m: float
+) -> npt.NDArray[Any]:
+    """One channel for the fused method: ``image`` itself when it is grey already."""
+    if image.ndim != 3:
+        return image
+    du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
+    offsets = np.array([(a * du, r) for a in (-1.0, 0.0, 1.0) for r in SAMPLE_ROWS])
+    centre = np.array([view.cx, contact_row])
+    face = _mean_colour(image, view.to_input(centre + offsets * [1.0, -1.0]))
+    floor = _mean_colour(image, view.to_input(centre + offsets))
+    if face is None or floor is None:
+        return image
+    step = face - floor
+    size = float(np.linalg.norm(step))
+    if size < MIN_COLOUR_STEP:
+        return image
+    towards = step / size
+    if float(towards @ _LUMA) < 0.0:
+        towards = -towards
+    luma_len = float(np.linalg.norm(_LUMA))
+    weights = (1.0 - FACE_SHARE) * _LUMA / luma_len + FACE_SHARE * towards
+    weights *= luma_len / float(np.linalg.norm(weights))
+    # black stays at or above 0 whatever the signs of the weights
+    offset = -255.0 * float(np.minimum(weights, 0.0).sum())
+    matrix = np.array([[*weights, offset]], np.float32)
+    return cv2.transform(image, matrix)

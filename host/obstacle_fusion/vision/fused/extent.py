@@ -1,0 +1,240 @@
+"""A face's sides checked against its top and bottom edges: a seam is not a side.
+
+Receives the chosen face (floor-contact row, top row, side columns, in the levelled view)
+and the view's |d/dy| and |d/dx|; returns the side columns moved outward past vertical
+seams. A face is one surface at the sonar's depth: its floor-contact edge and its top edge
+run along its whole width, and end at its true sides. A plank seam, a panel joint or the
+edge of a poster is a strong vertical edge too, but the face's top and bottom edges run on
+across it; the side search, ranking vertical edges by strength, took such seams for sides
+and collapsed the width to one plank on independently made rooms.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+#: The edges count as running on while their strength stays above this share of the face's.
+CONTINUE_SHARE = 0.5
+#: Neither edge may fall under this share of its strength along the face.
+EDGE_FLOOR_SHARE = 0.2
+#: Along the chosen face, an edge's median must reach this share of its strong end
+#: (an edge present over half the face only is not the face's).
+EVEN_SHARE = 0.5
+#: A side moves only when the edges run on past it by this share of the face's width
+#: (a few columns more are the side face's receding edges, not a seam).
+MIN_WIDEN_SHARE = 0.15
+#: Columns averaged when walking along an edge (one noisy column stops nothing).
+WALK_WINDOW = 3
+#: Columns where the edges may dip (a seam, a joint) without ending the face.
+MAX_GAP = 4
+#: Where the top and bottom edges end, a side as strong as this share of the chosen
+#: (seam) sides' weaker one must stand, else the widening is refused.
+SIDE_SHARE_OF_SEAM = 0.5
+#: Share of the face's rows the new side's edge must be present in.
+SIDE_COVERAGE = 0.8
+#: Rows either side of an edge row searched for its peak (blur, sub-pixel position).
+EDGE_ROWS = 1
+#: Side columns searched for the strongest vertical edge where the walk stopped.
+SNAP_COLUMNS = 6
+#: The face's own edges must stand this many noise levels above the floor's texture.
+MIN_EDGE_SNR = 3.0
+
+
+def _edge_profile(ay: npt.NDArray[np.float32], row: int) -> npt.NDArray[np.float32]:
+    """Per column, the strongest |d/dy| within EDGE_ROWS of ``row``."""
+    r0 = max(0, row - EDGE_ROWS)
+    r1 = min(ay.shape[0], row + EDGE_ROWS + 1)
+    return np.asarray(ay[r0:r1].max(axis=0), np.float32)
+
+
+def _walk(on: npt.NDArray[np.bool_], start: int, step: int) -> int:
+    """Last column from ``start`` in direction ``step`` where ``on`` holds, stepping over
+    gaps of up to MAX_GAP columns (a dark seam dims the top edge across it)."""
+    u = start
+    gap = 0
+    v = start
+    while 0 <= v + step < on.size and gap <= MAX_GAP:
+        v += step
+        if on[v]:
+            u, gap = v, 0
+        else:
+            gap += 1
+    return u
+
+
+def _snap_window(side: int, end: int, step: int, width: int) -> tuple[int, int]:
+    """Columns to look for the real side where a walk from ``side`` ended at ``end``:
+    mostly back towards the start (the walk's smoothing overshoots), never onto the
+    edge it started from."""
+    lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
+    if step < 0:
+        hi = min(hi, side - 3)
+    else:
+        lo = max(lo, side + 3)
+    return max(lo, 0), min(hi, width - 1)
+
+
+def widen_across_seams(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> tuple[int, int]:
+    """The face's side columns, moved out to where its top and bottom edges both end."""
+    if right - left < 4 or bottom - top < 3:
+        return left, right
+    gb = _edge_profile(ay, bottom)
+    gt = _edge_profile(ay, top)
+    inner = slice(left + 1, right)
+    ref_b = float(np.median(gb[inner]))
+    ref_t = float(np.median(gt[inner]))
+    if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
+        return left, right  # too faint to tell a seam from a side
+    for profile, ref in ((gb, ref_b), (gt, ref_t)):
+        if ref < EVEN_SHARE * float(np.percentile(profile[inner], 90)):
+            return left, right  # the edge does not run along the face itself: no face here
+    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    # both edges run on: together at CONTINUE_SHARE of the face's, neither below
+    # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
+    sb = np.convolve(gb, kernel, mode="same") / ref_b
+    st = np.convolve(gt, kernel, mode="same") / ref_t
+    runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
+    sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    # a side stands as a vertical edge at least this strong (the chosen seams' weaker half)
+    need = max(
+        SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
+    )
+    new = []
+    for side, step in ((left, -1), (right, 1)):
+        end = _walk(runs_on, side, step)
+        if abs(end - side) <= max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left)):
+            new.append(side)  # the edges stop at (or just past) the side: it is the face's
+            continue
+        lo, hi = _snap_window(side, end, step, sides.size)
+        best = int(lo + np.argmax(sides[lo : hi + 1]))
+        # no vertical edge where the edges end: a background line ran on, not the face;
+        # an edge that does not stand the face's whole height (a side face's far corner
+        # stands higher up, further back) is not the face's side either
+        run = np.asarray(ax[top + 1 : bottom, best], np.float32) >= SIDE_SHARE * need
+        whole = run.size > 0 and float(run.mean()) >= SIDE_COVERAGE
+        new.append(best if float(sides[best]) >= need and whole else side)
+    return new[0], new[1]
+
+
+#: A side counts as present in a row when its |d/dx| is at least this share of its
+#: strength along the chosen face.
+SIDE_SHARE = 0.4
+#: Rows the sides may fade over (a dark band, a seam across) without ending the face.
+MAX_ROW_GAP = 3
+#: Rows searched for the strongest top edge where the sides stopped.
+SNAP_ROWS = 4
+
+
+def raise_top_past_inner_edges(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> int:
+    """The face's top row, moved up to where both its sides end.
+
+    A label, a poster's lower edge or a band of another colour across the face is a
+    horizontal edge between the sides; the face's sides run on above it, up to the face's
+    real top (a top face, or the background, starts there and the sides stop)."""
+    if right - left < 4 or bottom - top < 3 or top < 2:
+        return top
+    cols = []
+    for side in (left, right):
+        c0, c1 = max(0, side - 1), min(ax.shape[1], side + 2)
+        cols.append(np.asarray(ax[:bottom, c0:c1].max(axis=1), np.float32))
+    strength = [float(np.median(c[top:bottom])) for c in cols]
+    if min(strength) < MIN_EDGE_SNR * noise:
+        return top
+    on = (cols[0] >= SIDE_SHARE * strength[0]) & (cols[1] >= SIDE_SHARE * strength[1])
+    end = _walk_up(on, top)
+    if top - end <= SNAP_ROWS // 2:
+        return top
+    # the top edge lies where the sides ended, or just above (blur): never back down
+    # on the inner edge the sides ran past
+    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
+    rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
+    return int(r0 + np.argmax(rows))
+
+
+def _walk_up(on: npt.NDArray[np.bool_], start: int) -> int:
+    """Highest row above ``start`` reached through ``on`` rows, gaps up to MAX_ROW_GAP."""
+    v, gap, reached = start, 0, start
+    while v - 1 >= 0 and gap <= MAX_ROW_GAP:
+        v -= 1
+        if on[v]:
+            reached, gap = v, 0
+        else:
+            gap += 1
+    return reached
+
+
+#: The frame's sides must be at least this share of the print's sides' strength.
+FRAME_SHARE_OF_PRINT = 0.25
+#: The enclosing frame's sides must stand this far above the inner face's top (a share
+#: of the inner face's height, at least 3 rows): the frame is taller than what it holds.
+ABOVE_SHARE = 0.1
+
+
+def enclose_inner_frame(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> tuple[int, int, int]:
+    """A face found inside a larger one standing on the same floor-contact edge.
+
+    A poster, a page or a panel of bricks printed on the face with a margin of the face's
+    own colour is a rectangle of its own, with a uniform shade inside, and the side search
+    prefers it. The face's floor-contact edge runs on past the print's sides to the face's
+    own sides, which stand from the floor to above the print's top: when both are found,
+    the face is that frame, its top raised to where its sides end."""
+    if right - left < 4 or bottom - top < 3:
+        return left, right, top
+    gb = _edge_profile(ay, bottom)
+    inner = slice(left + 1, right)
+    ref_b = float(np.median(gb[inner]))
+    if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * float(np.percentile(gb[inner], 90)):
+        return left, right, top
+    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
+    sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    # a print's edges may be far stronger than the face's own sides against the room
+    need = max(
+        FRAME_SHARE_OF_PRINT * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
+    )
+    above = max(3, int(ABOVE_SHARE * (bottom - top)))
+    if top - above < 0:
+        return left, right, top
+    new = []
+    for side, step in ((left, -1), (right, 1)):
+        end = _walk(runs_on, side, step)
+        if abs(end - side) <= SNAP_COLUMNS // 2:
+            new.append(side)  # the floor-contact edge ends at this side: the face's own
+            continue
+        lo, hi = _snap_window(side, end, step, sides.size)
+        best = int(lo + np.argmax(sides[lo : hi + 1]))
+        column = np.asarray(ax[top - above : bottom, best], np.float32) >= SIDE_SHARE * need
+        if float(sides[best]) < need or float(column.mean()) < SIDE_COVERAGE:
+            return left, right, top
+        new.append(best)
+    if new == [left, right]:
+        return left, right, top
+    outer_top = raise_top_past_inner_edges(ay, ax, bottom, top, new[0], new[1], noise)
+    if outer_top >= top:
+        return left, right, top
+    return new[0], new[1], outer_top

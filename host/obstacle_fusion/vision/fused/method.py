@@ -1,0 +1,167 @@
+"""The fused method, frame by frame: the stages in order.
+
+Receives one camera frame and the sonar's range (:meth:`FusedMethod.run`); returns a
+:class:`~obstacle_fusion.vision.types.Measurement` (detected with height, width, box and
+confidence, or not detected with the reason). Per frame: the working view and its
+gradients here, then the candidate search (:mod:`.search`), the scoring and the
+vanishing-point test (:mod:`.scoring`), the confidence decision (:mod:`.confidence`),
+the front top edge (:mod:`.top`) and the sub-pixel refinement (:mod:`.refine`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.fused.confidence import confidence, refusal
+from obstacle_fusion.vision.fused.extent import (
+    enclose_inner_frame,
+    raise_top_past_inner_edges,
+    widen_across_seams,
+)
+from obstacle_fusion.vision.fused.profiles import clamp, median
+from obstacle_fusion.vision.fused.refine import refine
+from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
+from obstacle_fusion.vision.fused.search import (
+    beam_columns,
+    bottom_candidates,
+    min_width_px,
+    side_candidates,
+)
+from obstacle_fusion.vision.fused.top import front_from_back, front_top
+from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE
+from obstacle_fusion.vision.types import Measurement, Timer, View
+
+
+class FusedMethod:
+    """The sonar-guided method for one camera and image size (buffers reused per frame)."""
+
+    name = "fused"
+
+    def __init__(self, view: View, min_confidence: float = DEFAULT_MIN_CONFIDENCE) -> None:
+        self.view = view
+        self.min_confidence = min_confidence
+        h, w = view.camera.height, view.camera.width
+        self._kernel3 = np.ones((1, 3), np.uint8)
+        self._h, self._w = h, w
+        # gradient buffers reused every frame: fresh large arrays cost more in page faults
+        # than the filters themselves
+        self._buf = np.empty((2, h, w), np.float32)  # |dy|, top edge
+        self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
+        self._dx = np.empty((h, w), np.int16)
+        self._dy = np.empty((h, w), np.int16)
+
+    def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
+        v = self.view
+        rig = v.rig
+        fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
+        depth = rig.face_depth(range_m)
+        if depth <= 0.05:
+            fail.reason = "the face depth from this range and the rig is not in front of the lens"
+            return fail
+        h_img, w_img = self._h, self._w
+        vb0 = v.cy + v.fy * rig.camera_height_m / depth
+        tol = 3.0 + (vb0 - v.cy) * (0.03 + 0.01 / depth)
+        r0b, r1b = int(math.floor(vb0 - tol)), int(math.ceil(vb0 + tol))
+        r0b, r1b = max(r0b, 4), min(r1b, h_img - 4)
+        if r0b > r1b:
+            fail.reason = (
+                f"the floor-contact row predicted from the range ({vb0:.0f}) is outside the "
+                "image; check the rig's camera height and pitch"
+            )
+            return fail
+        roi_end = min(h_img, r1b + 4)
+        roi = v.warp(image, roi_end)  # only the rows above the floor-contact band
+        timer.lap("undistort")
+        n = roi.shape[0]
+        ay = self._buf[0, :n]
+        # both 3x3 Sobels in one pass, exact in int16 (|g| <= 1020); |d/dy| as float32,
+        # the same values the float Sobels give, for less than one of them costs; the
+        # signed d/dy and |d/dx| stay int16 (their sums are taken in float32 where
+        # needed: integers under 2**24, exact)
+        dx, dy = self._dx[:n], self._dy[:n]
+        cv2.spatialGradient(roi, dx, dy)
+        ax, ax3 = self._adx[0, :n], self._adx[1, :n]
+        np.abs(dx, out=ax)
+        np.abs(dy, out=ay)
+        # tolerate a column of drift on vertical edges (int16: exact, and the dilation
+        # and the reads cost less than in float32)
+        cv2.dilate(ax, self._kernel3, dst=ax3)
+        noise = median(ay[::4, ::4]) / 0.6745 + 1.0
+        timer.lap("gradients")
+
+        # candidate search and scoring, one floor-contact row at a time
+        u_lo, u_hi = beam_columns(v, range_m, depth, w_img)
+        bottoms = bottom_candidates(ay, vb0, tol, r0b, r1b, u_lo, u_hi)
+        best: Candidate | None = None
+        cands: list[Candidate] = []
+        min_w = min_width_px(v, depth)
+        for rb, pb in bottoms:
+            found = side_candidates(v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w)
+            if found is None:
+                continue
+            sides, pairs = found
+            for cand in score_pairs(v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb):
+                cands.append(cand)
+                if best is None or cand.score > best.score:
+                    best = cand
+            if best is not None and best.evidence > 0.8:
+                break  # a clear face at the most likely floor-contact row
+        best, rivals = verified(v, ax, cands)
+        timer.lap("search")
+        if best is None:
+            fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
+            return fail
+
+        # the face's sides run on past a label's edge up to its real top
+        rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
+        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        # a print on the face with a margin of the face's colour: the face is its frame
+        ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
+
+        # confidence
+        conf = confidence(best, rivals)
+        reason = refusal(conf, self.min_confidence)
+        if reason is not None:
+            fail.confidence = round(conf, 3)
+            fail.reason = reason
+            return fail
+
+        # the front top edge, then sub-pixel refinement
+        vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        top_row: float | None = None  # a sub-pixel front top row that needs no refining
+        front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
+        if front is not None:
+            vt, sign, top_row = front
+        # the face's front top and bottom edges run on across seams out to its real sides
+        span = (ul, ur)  # the top and bottom edges are fitted where the search found them
+        ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        timer.lap("extent")
+        # the top edge's signed gradient, only in the 7-row window its refinement reads
+        top_edge = self._buf[1, :n]
+        r0 = int(clamp(vt - 3, 0, n - 7))
+        win = top_edge[r0 : r0 + 7]
+        np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
+        np.maximum(win, 0.0, out=win)
+        return refine(
+            v,
+            self.name,
+            ax,
+            ay,
+            ax3,
+            top_edge,
+            rb,
+            ul,
+            ur,
+            vt,
+            top_row,
+            conf,
+            depth,
+            range_m,
+            timer,
+            span,
+        )

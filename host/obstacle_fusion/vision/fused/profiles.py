@@ -1,0 +1,230 @@
+"""Small array helpers shared by the stages: means, medians, sub-pixel peaks, running
+counts and line fits.
+
+Each receives numpy arrays (int16 / float32 gradient images, uint8 grey, bool flags) and
+returns arrays or floats; none keeps state. They are written for speed on the small
+blocks the method reads (per-call overhead dominates there) and stay exact where noted:
+sums of integer-valued images are exact in float32 below 2**24.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
+I16 = npt.NDArray[np.int16]  # int16 gradient images
+
+
+def clamp(x: float, lo: float, hi: float) -> float:
+    """x within [lo, hi] (a Python float: np.clip's wrapper costs more than the work)."""
+    return lo if x < lo else hi if x > hi else x
+
+
+def median(a: npt.NDArray[Any]) -> float:
+    """Median by partition: np.median's wrapper costs more than the work on small arrays."""
+    flat = a.ravel()
+    if flat.size == 0:
+        return 0.0
+    k = flat.size // 2
+    return float(np.partition(flat, k)[k])
+
+
+def mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
+    """Mean via sum (np.mean's Python-level wrapper dominates on small arrays)."""
+    n = a.size if axis is None else a.shape[axis]
+    return a.sum(axis=axis) * (1.0 / max(n, 1))
+
+
+def col_means(a: npt.NDArray[Any]) -> F32:
+    """Float32 column means of an integer-valued gradient block (cv2.reduce: ~2x faster
+    than numpy's casting sum; float32 sums of integers under 2**24 are exact)."""
+    sums = cv2.reduce(a, 0, cv2.REDUCE_SUM, dtype=cv2.CV_32F)[0]
+    sums *= 1.0 / max(a.shape[0], 1)
+    return sums
+
+
+def row_means(a: I16) -> F32:
+    """Row means of an int16 gradient block in float32 (sums exact: integers < 2**24)."""
+    return a.sum(axis=1, dtype=np.float32) * (1.0 / max(a.shape[1], 1))
+
+
+def local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
+    if p.size < 3:
+        return np.zeros(0, np.intp)
+    mid = p[1:-1]
+    idx = np.nonzero((mid >= p[:-2]) & (mid > p[2:]) & (mid > threshold))[0] + 1
+    return idx
+
+
+def subpixel(profile: F32, centre: npt.NDArray[np.intp]) -> npt.NDArray[np.float64]:
+    """Parabolic peak offsets at integer peaks (vectorised); profile rows are samples.
+
+    Flat indexing and a masked divide: on these few-dozen-sample windows the per-call
+    overhead of fancy 2-D indexing and np.errstate is most of the cost.
+    """
+    n = profile.shape[1]
+    flat = profile.ravel()
+    idx = centre * n + np.arange(n)
+    y0, y1, y2 = flat[idx - n], flat[idx], flat[idx + n]
+    den = y0 - 2.0 * y1 + y2
+    off = np.zeros(n, den.dtype)
+    np.divide(0.5 * (y0 - y2), den, out=off, where=den < 0)
+    np.maximum(off, -0.5, out=off)
+    np.minimum(off, 0.5, out=off)
+    return off.astype(np.float64)
+
+
+def range_sums(img: npt.NDArray[Any], ranges: list[tuple[int, int]]) -> F32:
+    """Float32 row sums of ``img`` over each column range [c0, c1): one column per range.
+
+    cv2.reduce costs about half of numpy's sum on these strided blocks and keeps to one
+    thread (a matrix product would go through a multi-threaded BLAS); the sums are exact
+    for integer-valued images (every partial sum stays under 2**24).
+    """
+    rows = img.shape[0]
+    out = np.empty((len(ranges), rows), np.float32)
+    for j, (c0, c1) in enumerate(ranges):
+        cv2.reduce(img[:, c0:c1], 1, cv2.REDUCE_SUM, dst=out[j].reshape(rows, 1), dtype=cv2.CV_32F)
+    return out.T
+
+
+def grey_range_sums(grey: npt.NDArray[np.uint8], ranges: list[tuple[int, int]]) -> F32:
+    """Row sums of an 8-bit image over many column ranges [c0, c1), from one integral.
+
+    Equal to :func:`range_sums` (integer sums, exact in int32 and then in float32: a row
+    sum is at most 255 * width) for many ranges at the cost of a few of its calls.
+    """
+    lo = min(c0 for c0, _ in ranges)
+    hi = max(c1 for _, c1 in ranges)
+    integral = cv2.integral(grey[:, lo:hi])  # int32, (rows + 1) x (width + 1)
+    idx = np.array(ranges, np.intp).ravel() - lo  # c0, c1, c0, c1, ...
+    at = integral[:, idx]
+    per_row = at[1:] - at[:-1]
+    return (per_row[:, 1::2] - per_row[:, 0::2]).astype(np.float32)
+
+
+def first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
+    """Per column, the first row starting 3 consecutive misses (the row count if none).
+
+    Worked on a transposed copy: numpy's any/argmax down the rows of a narrow array
+    cost several times as much as along contiguous rows.
+    """
+    miss = ~np.ascontiguousarray(on.T)
+    gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
+    return np.where(gap.any(axis=1), np.argmax(gap, axis=1), miss.shape[1])
+
+
+def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
+    """Per column, the length of an edge run that starts within ``late_rows`` of the
+    bottom (3 hits in a row) and goes on to its first gap of 3 misses; 0 if none."""
+    t = np.ascontiguousarray(on.T)
+    n = t.shape[1]
+    if n < 6 or late_rows < 1:
+        return np.zeros(t.shape[0], np.intp)
+    hit = t[:, :-2] & t[:, 1:-1] & t[:, 2:]
+    hit[:, min(late_rows, hit.shape[1]) :] = False
+    has = hit.any(axis=1)
+    start = np.argmax(hit, axis=1)
+    miss = ~t
+    gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:]
+    gap &= np.arange(n - 2)[None, :] >= start[:, None]
+    end = np.where(gap.any(axis=1), np.argmax(gap, axis=1), n)
+    return np.where(has, end - start, 0)
+
+
+def int_threshold(thresholds: npt.NDArray[Any], repeat: int = 1) -> npt.NDArray[np.int16]:
+    """For the int16 gradients, x > t exactly when x > floor(t): a compare without casts.
+
+    (Thresholds stay far below the int16 range: |gradient| <= 1020, noise likewise.)
+    """
+    floor = np.floor(thresholds).astype(np.int16)
+    return np.concatenate([floor] * repeat) if repeat > 1 else floor
+
+
+def running_counts(flags: npt.NDArray[np.bool_], extra: int = 0) -> npt.NDArray[np.int32]:
+    """Per column, the true rows above each row: out[r, j] = flags[:r, j].sum() (int32).
+
+    One cv2.integral and a difference of its columns: numpy's cumsum down the rows of a
+    narrow array makes one inner-loop call per row. ``extra`` zero columns are appended.
+    """
+    rows, cols = flags.shape
+    integral = cv2.integral(flags.view(np.uint8))
+    out = np.zeros((rows + 1, cols + extra), np.int32)
+    np.subtract(integral[:, 1:], integral[:, :-1], out=out[:, :cols])
+    return out
+
+
+def _fit_edges(
+    windows: list[tuple[F32, int, int]], x: npt.NDArray[np.float64]
+) -> list[tuple[float, float]]:
+    """Line fits through the sub-pixel gradient peaks of several 7-sample edge windows.
+
+    Each window is 7 x n (7 samples across the edge at each position ``x`` along it), with the
+    coordinate of its first sample and the first sample the peak may be at (the peak is
+    within +-1 of the window's middle). The parabolic offsets of all windows are found
+    in one pass: on these small windows the per-call overhead is most of the cost.
+    """
+    peaks = []
+    for win, _, lo in windows:
+        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        np.minimum(peak, 5, out=peak)
+        peaks.append(peak)
+    stacked = np.concatenate([win for win, _, _ in windows], axis=1, dtype=np.float32)
+    off = subpixel(stacked, np.concatenate(peaks))
+    n = x.size
+    return [
+        _fit_line(x, start + peaks[i] + off[i * n : (i + 1) * n])
+        for i, (_, start, _) in enumerate(windows)
+    ]
+
+
+def _fit_line(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
+    """y = a + b x, least squares with one round of outlier rejection."""
+    if x.size < 2:
+        return (median(y) if y.size else 0.0, 0.0)
+    a, b = lsq(x, y)
+    res = np.abs(y - (a + b * x))
+    keep = res <= max(0.75, 2.5 * median(res))
+    if 2 <= np.count_nonzero(keep) < x.size:
+        a, b = lsq(x[keep], y[keep])
+    return a, b
+
+
+def lsq(x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> tuple[float, float]:
+    """y = a + b x, plain least squares: (a, b); b = 0 for a degenerate x."""
+    # sum / n is exactly what .mean() computes, without its Python-level wrapper
+    xm, ym = float(np.add.reduce(x)) / x.size, float(np.add.reduce(y)) / y.size
+    dx = x - xm
+    sxx = float(dx @ dx)
+    b = float(dx @ (y - ym)) / sxx if sxx > 1e-12 else 0.0
+    return ym - b * xm, b
+
+
+def fit_horizontal(
+    edges: list[tuple[F32, int]], cols: npt.NDArray[np.intp], h: int
+) -> list[tuple[float, float]]:
+    """Lines v = a + b u through each (gradient image, row) edge's per-column peaks."""
+    # 7 rows around each edge; the peak within +-1 row (cols are consecutive: a slice)
+    u0 = int(cols[0]) if cols.size else 0
+    windows = []
+    for img, row in edges:
+        r0 = int(clamp(row - 3, 0, h - 7))
+        windows.append((img[r0 : r0 + 7, u0 : u0 + cols.size], r0, max(1, row - 1 - r0)))
+    return _fit_edges(windows, cols.astype(np.float64))
+
+
+def fit_vertical(
+    ax: I16, rows: npt.NDArray[np.intp], edge_cols: list[int], w: int
+) -> list[tuple[float, float]]:
+    """Lines u = a + b v through each vertical edge's per-row peaks near its column."""
+    # rows are consecutive: a slice, not a gather
+    v0 = int(rows[0]) if rows.size else 0
+    windows = []
+    for col in edge_cols:
+        c0 = int(clamp(col - 3, 0, w - 7))
+        windows.append((ax[v0 : v0 + rows.size, c0 : c0 + 7].T, c0, max(1, col - 1 - c0)))
+    return _fit_edges(windows, rows.astype(np.float64))

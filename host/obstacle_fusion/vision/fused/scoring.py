@@ -1,0 +1,420 @@
+"""Pair and face scoring: which (floor-contact row, left, right, top) is the face.
+
+Receives, per floor-contact row, the gradients, the working view's grey image, the side
+columns' presence tables (:class:`~obstacle_fusion.vision.fused.search.Sides`) and the
+(left, right) pairs to score. Returns one :class:`Candidate` per pair with its best top
+row (:func:`score_pairs`: edge strength, side coverage and stop, the face's own shade
+whole and band by band, texture inside); then :func:`verified` drops the best candidates
+whose sides lean towards the vanishing point (floor seams) and returns the face and its
+rivals for the confidence figure.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.fused.profiles import (
+    F32,
+    I16,
+    clamp,
+    fit_vertical,
+    grey_range_sums,
+    range_sums,
+    running_counts,
+)
+from obstacle_fusion.vision.fused.search import Sides
+from obstacle_fusion.vision.fused.tuning import (
+    BAND_SHARE,
+    BANDS,
+    HOLE_SHARE,
+    LABEL_BLUR_ROWS,
+    LABEL_SHARE,
+    LEAN_MIN,
+    MAX_VERIFIED,
+    MIN_SIZE_M,
+    RADIAL_MIN,
+)
+from obstacle_fusion.vision.types import View
+
+log = logging.getLogger(__name__)
+
+
+def _face_term(face: Any, bands: Any) -> Any:
+    """The face-shade share's weight: squared, and cut where one column band's share
+    falls under BAND_SHARE of the whole face's (that band covers floor or wall)."""
+    return face**2 * np.minimum(1.0, bands / np.maximum(BAND_SHARE * face, 1e-6)) ** 2
+
+
+def _face_shade(means: F32, rb: int, kf: int) -> F32:
+    """Per column, the face's own shade: the median of the kf row means starting 3 rows
+    above the floor-contact row (clear of the bottom edge's blur)."""
+    return np.partition(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+
+
+def _first_match(match: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
+    """Per column, the first row at or below each row in the face's shade (rb if none)."""
+    row_idx = np.arange(rb)[:, None]
+    return np.minimum.accumulate(np.where(match, row_idx, rb)[::-1], axis=0)[::-1]
+
+
+def _shade_share(
+    upto: npt.NDArray[np.int32],
+    first: npt.NDArray[np.intp],
+    tops: npt.NDArray[np.intp],
+    cols: npt.NDArray[np.intp],
+    rb: int,
+    h_t: npt.NDArray[np.intp],
+) -> npt.NDArray[np.float64]:
+    """Share of a candidate's rows (top to bottom) in the face's shade, a label counted in.
+
+    A stripe (label) across the face: rows of another shade with the face's own above and
+    below them, inside a top that starts in the face's shade (within a blurred edge's
+    rows), are face. ``upto`` are running counts of the shade matches, ``first`` from
+    :func:`_first_match`, ``cols`` each candidate's column in them.
+    """
+    share = (upto[rb, cols] - upto[tops, cols]) / h_t
+    ft = first[tops, cols]
+    inner = (rb - ft) - (upto[rb, cols] - upto[ft, cols])
+    label = (ft - tops <= LABEL_BLUR_ROWS) & (inner <= LABEL_SHARE * h_t)
+    return np.where(label, share + inner / h_t, share)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A face hypothesis: floor-contact row, side columns, top row, and its scores."""
+
+    score: float  # for choosing among candidates
+    rb: int
+    ul: int
+    ur: int
+    vt: int
+    evidence: float  # 0..1: shape fit and edge strength, before ambiguity
+
+    def overlap(self, other: Candidate) -> float:
+        """Intersection over union of the two face rectangles."""
+        iw = min(self.ur, other.ur) - max(self.ul, other.ul)
+        ih = min(self.rb, other.rb) - max(self.vt, other.vt)
+        if iw <= 0 or ih <= 0:
+            return 0.0
+        inter = float(iw * ih)
+        union = (self.ur - self.ul) * (self.rb - self.vt) + (other.ur - other.ul) * (
+            other.rb - other.vt
+        )
+        return inter / max(union - inter, 1.0)
+
+
+def sides_vertical(view: View, ax: I16, cand: Candidate) -> bool:
+    """False when a side leans the way a floor line through its foot would.
+
+    In the levelled view every vertical world edge is an image column; a seam or
+    plank edge on the floor through (u, v) runs towards the vanishing point, at
+    du/dv = (u - cx) / (v - cy). Near the centre column the two look alike: then true.
+    """
+    v = view
+    below = cand.rb - v.cy
+    if below <= 5.0:
+        return True
+    mv = max(1, (cand.rb - cand.vt) // 10)
+    rows = np.arange(cand.vt + mv, cand.rb - mv + 1)
+    if rows.size < 5:
+        return True
+    for a, b in fit_vertical(ax, rows, [cand.ul, cand.ur], ax.shape[1]):
+        radial = (a + b * cand.rb - v.cx) / below
+        if abs(radial) >= RADIAL_MIN and abs(b) >= LEAN_MIN and abs(b - radial) < 0.5 * abs(radial):
+            return False
+    return True
+
+
+def score_pairs(
+    view: View,
+    depth: float,
+    grey: npt.NDArray[np.uint8],
+    ax3: I16,
+    ay: F32,
+    sides: Sides,
+    pairs: list[tuple[int, int]],
+    noise: float,
+    rb: int,
+    prior_b: float,
+) -> list[Candidate]:
+    """Score every (left, right) pair at one floor-contact row, each with its best top.
+
+    All pairs' top candidates are scored in one flat pass (pair-major, rows ascending:
+    the order a per-pair loop would see them in); the candidates come back in the order
+    of ``pairs``. Row sums of integer gradients are exact in float32, so they are the
+    per-pair values bit for bit.
+    """
+    min_h = max(3, int(view.fy * MIN_SIZE_M / depth))
+    top_limit = rb - min_h
+    if top_limit < 3:
+        return []
+    ps = []
+    for ul, ur in pairs:
+        m = max(1, (ur - ul) // 8)
+        if ur - ul - 2 * m >= 2:
+            ps.append((ul, ur, ul + m, ur - m))
+    if not ps:
+        return []
+    n_p = len(ps)
+    h_ay, w_ay = ay.shape
+    il = np.array([sides.index[p[0]] for p in ps], np.intp)
+    ir = np.array([sides.index[p[1]] for p in ps], np.intp)
+    inv_n = np.array([1.0 / (p[3] - p[2]) for p in ps], np.float32)
+    # mean |d/dy| between the sides for every row above the smallest face (row sums of
+    # integers: exact, the per-pair values bit for bit)
+    ranges = [(c0, c1) for _, _, c0, c1 in ps]
+    prof = range_sums(ay[:top_limit], ranges) * inv_n
+    row_sum = grey_range_sums(grey[:rb], ranges)
+    snr = prof / noise
+    mask = np.zeros((top_limit, n_p), bool)
+    mid = snr[1:-1]
+    mask[1:-1] = (mid >= snr[:-2]) & (mid > snr[2:]) & (mid > 1.2)
+    # where each vertical edge ends is a top candidate too: the front top edge of a
+    # box can be nearly invisible (front and top faces alike) while its sides are not
+    run_top = sides.run_top
+    for j in range(n_p):
+        for e in (run_top[il[j]], run_top[ir[j]]):
+            for r in (e - 1, e):
+                if 0 < r < top_limit:
+                    mask[r, j] = True
+    pp, tops = np.nonzero(mask.T)  # pair-major, rows ascending within a pair
+    if tops.size == 0:
+        return []
+    tl, tr = il[pp], ir[pp]
+    # coverage of each side from each top candidate down to the bottom, and above it
+    # (tops < top_limit: the face height rb - tops is >= min_h + 1, never 0)
+    h_t = rb - tops
+    span = h_t.astype(np.float64)
+    below, upto = sides.below, sides.upto
+    cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
+    # vertical edges above the top (half as high again as the face): a stripe across
+    # the face leaves them there
+    above_start = np.maximum(tops - np.maximum(3, h_t // 2), 0)
+    n_above = np.maximum(tops - above_start, 1)
+    ext_t = upto[tops, tl] + upto[tops, tr]
+    ext_a = upto[above_start, tl] + upto[above_start, tr]
+    above = 0.5 * (ext_t - ext_a) / n_above
+    # ...but textured background (books, posters) gives vertical edges everywhere: only
+    # what the side columns have beyond the columns just outside them counts
+    bg = np.array([sides.background(il[j], ir[j]) for j in range(n_p)], np.intp)
+    ba, bb = bg[pp, 0], bg[pp, 1]
+    out = sides.out
+    bg_t = out[tops, ba] + out[tops, bb]
+    bg_a = out[above_start, ba] + out[above_start, bb]
+    above = np.maximum(above - 0.5 * (bg_t - bg_a) / n_above, 0.0)
+    stop = 1.0 - above
+    # rows just below a top candidate with no vertical edge: the top face of a low box
+    start = np.minimum(tops + 1, rb - 1)
+    nxt = sides.nxt
+    hole = 0.5 * (nxt[start, tl] + nxt[start, tr] - 2 * start).astype(np.float64)
+    # the box's top edge stops at its sides; a shelf or skirting line runs on
+    # (means over the columns just outside each side, at the top rows)
+    o_cols = []  # per pair: left range start, end, right range start, end
+    for ul, ur, _, _ in ps:
+        wo = max(3, (ur - ul) // 5)
+        o_cols.append(
+            (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
+        )
+    o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
+    o_at = np.array(o_cols, np.intp) - o_lo  # range ends within the block
+    o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
+    # running row sums at the top rows (exact in float32: integers under 2**24)
+    run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
+    np.cumsum(ay[tops, o_lo:o_hi], axis=1, out=run[:, 1:])
+    ends = run[np.arange(tops.size)[:, None], o_at[pp]]  # T x 4
+    inv_t = o_inv[pp]
+    o_l = (ends[:, 1] - ends[:, 0]) * inv_t[:, 0]
+    o_r = (ends[:, 3] - ends[:, 2]) * inv_t[:, 1]
+    prof_tops = prof[tops, pp]
+    inside = np.maximum(prof_tops, 1e-3)
+    contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
+    # texture inside the face (books on a shelf behind a box's top) is not the face
+    # (rows from the highest top candidate down: counts are exact whatever the start)
+    t0 = int(tops.min())
+    tex = range_sums(ax3[t0:rb], ranges) * inv_n
+    flags = np.zeros((rb, 2 * n_p), bool)  # face shade (below) and texture per row
+    flags[t0:, n_p:] = tex > 3.0 * noise
+    # A hole is a top face only if one fits there: a top face shows below the horizon
+    # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
+    # a side losing contrast against the background, a milder fault.
+    hole_max = np.maximum(0.0, (tops - view.cy) * 2.0 / depth) + 1.0
+    soft = np.exp(-hole / np.maximum(4.0, HOLE_SHARE * h_t))
+    hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
+    # rows whose inside has the face's own shade (measured just above the floor): a
+    # shelf of books or a poster over the box does not, a box's face does (but for a
+    # stripe across it, or its top face)
+    row_sum *= inv_n
+    kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
+    face = _face_shade(row_sum, rb, kf)
+    tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
+    match_b = np.abs(row_sum - face) <= tol
+    flags[:, :n_p] = match_b
+    counts = running_counts(flags)  # rows in 0..r-1 (exact counts)
+    match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
+    textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
+    match_t = match_upto[tops, pp]
+    face_frac = _shade_share(match_upto, _first_match(match_b, rb), tops, pp, rb, h_t)
+    # ...and the face's shade coming back above a band of another shade right above
+    # a top means the top was a stripe across the face (a top face of the same shade
+    # as the front starts right at the top, with no band)
+    a0 = np.maximum(tops - np.maximum(3, h_t), 0)
+    face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
+    # (tops >= 1: row 0 is never a candidate)
+    band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
+    face_above = np.where(band, face_above, 0.0)
+    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise)
+    snr_tops = snr[tops, pp]
+    feats = {
+        "face_bands": face_bands,
+        "snr": snr_tops,
+        "hole": hole,
+        "hole_fit": hole_fit,
+        "cov": cov,
+        "stop": stop,
+        "contained": contained,
+        "textured": textured,
+        "face": face_frac,
+        "face_above": face_above,
+    }
+    score_t, fit = _top_score(feats)
+    # the bottom edge's strength between the sides (max over +-1 row), per pair
+    m3 = np.zeros(w_ay + 1, np.float32)  # exact: integers under 2**24
+    np.cumsum(ay[rb - 1 : rb + 2].max(axis=0), out=m3[1:])
+    bounds = np.searchsorted(pp, np.arange(n_p + 1)).tolist()
+    debug = log.isEnabledFor(logging.DEBUG)
+    csum_s = sides.csum
+    cands: list[Candidate] = []
+    for j, (ul, ur, c0, c1) in enumerate(ps):
+        s0, s1 = bounds[j], bounds[j + 1]
+        if s1 == s0:
+            continue
+        if debug:
+            for k in np.argsort(-score_t[s0:s1])[:5] + s0:
+                log.debug(
+                    "  pair %d-%d rb %d top %d: score %.3f snr %.1f hole %.1f cov %.2f "
+                    "stop %.2f contained %.2f textured %.2f face %.2f above %.2f",
+                    ul,
+                    ur,
+                    rb,
+                    tops[k],
+                    score_t[k],
+                    snr_tops[k],
+                    hole[k],
+                    cov[k],
+                    stop[k],
+                    contained[k],
+                    textured[k],
+                    face_frac[k],
+                    face_above[k],
+                )
+        i = s0 + int(np.argmax(score_t[s0:s1]))
+        vt = int(tops[i])
+        snr_b = float(np.float32(m3[c1] - m3[c0]) * (1.0 / (c1 - c0))) / noise
+        inv_h = 1.0 / (rb - vt)
+        a, b = int(il[j]), int(ir[j])
+        snr_l = float(np.float32(csum_s[rb, a] - csum_s[vt, a]) * inv_h) / noise
+        snr_r = float(np.float32(csum_s[rb, b] - csum_s[vt, b]) * inv_h) / noise
+        side = min(snr_l, snr_r, 30.0)
+        horiz = min(max(float(snr_tops[i]), 2.0 * float(stop[i])), snr_b, 30.0)
+        if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
+            log.debug(
+                "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
+            )
+            continue
+        fit_i = float(fit[i])
+        score = math.sqrt(side * horiz) * fit_i * prior_b
+        # evidence: how well the edges fit a face (shape) times how clearly they stand out
+        evidence = (
+            math.sqrt(min(1.0, 2.0 * fit_i))
+            * (1.0 - math.exp(-min(side, horiz) / 4.0))
+            * (0.5 + 0.5 * prior_b)
+        )
+        cands.append(Candidate(score, rb, ul, ur, vt, clamp(evidence, 0.0, 1.0)))
+    return cands
+
+
+def band_face_share(
+    grey: npt.NDArray[np.uint8],
+    ps: list[tuple[int, int, int, int]],
+    tops: npt.NDArray[np.intp],
+    pp: npt.NDArray[np.intp],
+    rb: int,
+    kf: int,
+    noise: float,
+) -> npt.NDArray[np.float64]:
+    """Per top candidate, the worst column band's share of rows in its own face shade.
+
+    The whole-width row means can match the face's shade while one side of the pair
+    covers floor and wall beside the face (a weak true side and a strong background
+    edge beyond it): each band of a real face keeps its own shade from bottom to top.
+    """
+    ranges = []
+    for _, _, c0, c1 in ps:
+        # band edges across [c0, c1); a band is at least one column wide
+        cuts = [c0 + round(b * (c1 - c0) / BANDS) for b in range(BANDS + 1)]
+        ranges += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(BANDS)]
+    widths = np.array([c1 - c0 for c0, c1 in ranges], np.float32)
+    means = grey_range_sums(grey[:rb], ranges) / widths
+    face = _face_shade(means, rb, kf)
+    grey_noise = max(noise - 1.0, 0.0) / 3.46
+    tol = np.maximum(
+        np.maximum(np.float32(8.0), 0.08 * face),
+        (3.0 * grey_noise / np.sqrt(widths)).astype(np.float32),
+    )
+    match = np.abs(means - face) <= tol
+    upto = running_counts(match)
+    first = _first_match(match, rb)
+    h_t = rb - tops
+    shares = [_shade_share(upto, first, tops, pp * BANDS + b, rb, h_t) for b in range(BANDS)]
+    return np.min(shares, axis=0)
+
+
+def _top_score(
+    f: dict[str, npt.NDArray[Any]],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Score of each top candidate and its shape fit (0..1) from the edge evidence."""
+    fit = (
+        f["hole_fit"]
+        * f["cov"] ** 2
+        * f["stop"] ** 2
+        * (0.3 + 0.7 * f["contained"])
+        * (1.0 - f["textured"])
+        * _face_term(f["face"], f["face_bands"])
+        * (1.0 - f["face_above"])
+    )
+    score = np.minimum(np.maximum(f["snr"], 0.5), 20.0) ** 0.25 * fit
+    return score, fit
+
+
+def verified(
+    view: View, ax: I16, cands: list[Candidate]
+) -> tuple[Candidate | None, list[Candidate]]:
+    """The best candidate with world-vertical sides (None if none of the first
+    MAX_VERIFIED has them) and its rivals: the candidates from it on, best first.
+
+    ``cands`` is sorted in place, best score first.
+    """
+    # the best candidates whose sides are not vertical in the world (the seams of a
+    # floor patch run towards the vanishing point) are no face and no rival either
+    cands.sort(key=lambda c: -c.score)
+    best = None
+    rivals = cands
+    for i, cand in enumerate(cands[:MAX_VERIFIED]):
+        if sides_vertical(view, ax, cand):
+            best = cand
+            rivals = cands[i:]
+            break
+        log.debug(
+            "face %d-%d x %d-%d: sides lean to the vanishing point",
+            cand.ul,
+            cand.ur,
+            cand.vt,
+            cand.rb,
+        )
+    return best, rivals

@@ -1,0 +1,241 @@
+"""Candidate search: where the face's floor-contact edge and its two sides may be.
+
+Receives the working view's gradients (|d/dy| as float32, |d/dx| and its 1x3 dilation as
+int16), the noise level and what the range predicts (the floor-contact row and its band,
+the beam's columns at the face's depth). Returns the candidate floor-contact rows, each
+with its prior (:func:`bottom_candidates`), and per row the side columns' presence tables
+(:class:`Sides`) with the (left, right) pairs to score (:func:`side_candidates`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.fused.profiles import (
+    F32,
+    I16,
+    clamp,
+    col_means,
+    first_gap,
+    int_threshold,
+    late_run,
+    local_maxima,
+    mean,
+    median,
+    running_counts,
+)
+from obstacle_fusion.vision.fused.tuning import (
+    MAX_BOTTOM_CANDIDATES,
+    MAX_SIDE_CANDIDATES,
+    MIN_SIZE_M,
+    PRESENCE_CAP,
+)
+from obstacle_fusion.vision.types import View
+
+log = logging.getLogger(__name__)
+
+
+def beam_columns(view: View, range_m: float, depth: float, w_img: int) -> tuple[int, int]:
+    """The columns the sonar's beam covers at the face's depth (at least 4 apart)."""
+    v = view
+    xb0, xb1 = v.rig.beam_x_bounds(range_m)
+    u_lo = int(clamp(math.floor(v.cx + v.fx * xb0 / depth), 2, w_img - 3))
+    u_hi = int(clamp(math.ceil(v.cx + v.fx * xb1 / depth), 2, w_img - 3))
+    if u_hi - u_lo < 4:
+        mid = (u_lo + u_hi) // 2
+        u_lo, u_hi = max(2, mid - 2), min(w_img - 3, mid + 2)
+    return u_lo, u_hi
+
+
+def bottom_candidates(
+    ay: F32, vb0: float, tol: float, r0b: int, r1b: int, u_lo: int, u_hi: int
+) -> list[tuple[int, float]]:
+    """Floor-contact rows to try, most likely first, each with its prior from the range.
+
+    Peaks of the mean |d/dy| over the beam's columns within the predicted band
+    [r0b, r1b], ranked by strength times a Gaussian prior about the predicted row vb0;
+    the predicted row itself is always added.
+    """
+    prof_b = mean(ay[r0b : r1b + 1, u_lo : u_hi + 1], 1)
+    rows_b = np.arange(r0b, r1b + 1)
+    prior_b = 0.5 + 0.5 * np.exp(-0.5 * ((rows_b - vb0) / max(tol / 2.0, 1.0)) ** 2)
+    padded = np.zeros(prof_b.size + 2, prof_b.dtype)  # np.pad costs more than the work
+    padded[1:-1] = prof_b
+    pk = local_maxima(padded, 0.0) - 1
+    pk = pk[(pk >= 0) & (pk < prof_b.size)]
+    if pk.size == 0:
+        pk = np.array([int(np.argmax(prof_b))])
+    order = np.argsort(-(prof_b[pk] * prior_b[pk]))[:MAX_BOTTOM_CANDIDATES]
+    bottoms = [(int(rows_b[pk[i]]), float(prior_b[pk[i]])) for i in order]
+    # the row the range predicts is always a candidate: a dark box on a dark floor
+    # can leave its floor-contact edge too faint to peak
+    predicted = int(round(vb0))
+    if r0b <= predicted <= r1b and all(abs(rb - predicted) > 1 for rb, _ in bottoms):
+        bottoms.append((predicted, 1.0))
+    return bottoms
+
+
+def side_candidates(
+    view: View,
+    ax: I16,
+    ax3: I16,
+    rb: int,
+    depth: float,
+    noise: float,
+    u_lo: int,
+    u_hi: int,
+    min_w: float,
+) -> tuple[Sides, list[tuple[int, int]]] | None:
+    """The side columns at floor-contact row ``rb``: their presence tables and the
+    (left, right) pairs at least ``min_w`` apart, or None when no side stands there."""
+    v = view
+    k = int(clamp(round(v.fy * 0.05 / depth), 3, 25))
+    top_strip = max(0, rb - 1 - k)
+    if rb - 2 <= top_strip:
+        return None
+    # vertical-edge profiles over a short (5 cm) and a tall (25 cm) strip above the
+    # bottom: a side may lack contrast against the floor yet not against the wall
+    prof_short = col_means(ax[top_strip : rb - 1])
+    prof_v = prof_short
+    tall = max(0, rb - 1 - int(clamp(round(v.fy * 0.25 / depth), k, 4 * k + 8)))
+    if tall < top_strip:
+        prof_v = np.maximum(prof_short, col_means(ax[tall : rb - 1]))
+    base = median(prof_v) + 0.5
+    peaks = local_maxima(prof_v, max(2.5 * base, 1.5 * noise))
+    if peaks.size < 2:
+        log.debug("bottom %d: fewer than two vertical-edge peaks", rb)
+        return None
+    # presence thresholds from the strip nearest the floor, where the side may be
+    # faint (a dark box on a dark floor) while its upper part is not
+    left, right = _rank_sides(
+        ax3,
+        prof_v,
+        prof_short,
+        [peaks[peaks <= u_hi], peaks[peaks >= u_lo]],
+        rb,
+        noise,
+        rb - 1 - tall,
+    )
+    log.debug("bottom %d: peaks %s, left %s, right %s", rb, peaks.tolist(), left, right)
+    cols = sorted({*left, *right})
+    if not cols:
+        return None
+    sides = Sides(ax3, cols, _presence(prof_short[cols].astype(np.float64), noise), rb)
+    pairs = [(ul, ur) for ul in left for ur in right if ur - ul >= min_w]
+    return sides, pairs
+
+
+def min_width_px(view: View, depth: float) -> float:
+    """The narrowest pair of sides, in pixels, for a face of MIN_SIZE_M at this depth."""
+    return max(4.0, view.fx * MIN_SIZE_M / depth)
+
+
+def _presence(strength: Any, noise: float) -> Any:
+    """Threshold for a side's edge rows: a quarter of its strength near the floor, capped.
+
+    The cap matters where the background changes along the side (floor, then another box,
+    then the wall): the side's contrast there can be a fraction of that near the floor.
+    """
+    return np.maximum(np.minimum(0.25 * strength, PRESENCE_CAP * noise), 2.5 * noise)
+
+
+class Sides:
+    """Candidate vertical edge columns at one floor-contact row: per-row presence tables.
+
+    One column of each table per candidate column, built in one pass for all of them
+    (per-column arrays cost more in numpy call overhead than in work). Counts are exact
+    integers, so they are the per-column values whatever the summation order.
+    """
+
+    __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
+
+    def __init__(
+        self, ax3: I16, cols: list[int], thresholds: npt.NDArray[np.float64], rb: int
+    ) -> None:
+        k = len(cols)
+        w = ax3.shape[1]
+        c = np.array(cols, np.intp)
+        self.index = {col: i for i, col in enumerate(cols)}
+        # the side columns, then the columns just outside (4 px) as the left or right
+        # side, at the side's threshold: background texture there says the edges above
+        # a top are not the side's own
+        vals = ax3[:rb, np.concatenate([c, np.maximum(c - 4, 0), np.minimum(c + 4, w - 1)])]
+        on_all = vals > int_threshold(thresholds, 3)
+        on = on_all[:, :k]
+        # edge rows in 0..r-1 for all 3k columns; a last column of zeros for a side with
+        # no column outside it
+        counts = running_counts(on_all, extra=1)
+        self.upto = counts[:, :k]
+        self.below = self.upto[rb] - self.upto[:rb]  # edge rows in r..rb-1
+        self.out = counts  # columns k..2k-1 outside left, 2k..3k-1 outside right
+        self.out_left = [k + i if cols[i] >= 4 else -1 for i in range(k)]
+        self.out_right = [2 * k + i if cols[i] + 4 < w else -1 for i in range(k)]
+        # first edge row at or below r (rb if none): the hole under a top candidate
+        idx = np.where(on, np.arange(rb)[:, None], rb)
+        self.nxt = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
+        # top row of the edge run from the floor-contact row (gaps under 3 rows)
+        if rb - 1 < 3:
+            self.run_top = [rb - 1] * k
+        else:
+            self.run_top = (rb - 1 - first_gap(on[: rb - 1][::-1])).tolist()
+        # exact column sums from the top (side strength over a face's rows)
+        integral = cv2.integral(np.ascontiguousarray(vals[:, :k]), sdepth=cv2.CV_64F)
+        self.csum = integral[:, 1:] - integral[:, :-1]
+
+    def background(self, il: int, ir: int) -> tuple[int, int]:
+        """Table columns of the outside counts for a pair; one side's twice if only it exists."""
+        a, b = self.out_left[il], self.out_right[ir]
+        zero = self.out.shape[1] - 1
+        if a < 0 and b < 0:
+            return zero, zero
+        return (a if a >= 0 else b), (b if b >= 0 else a)
+
+
+def _rank_sides(
+    ax3: I16,
+    prof_v: F32,
+    prof_short: F32,
+    groups: list[npt.NDArray[np.intp]],
+    rb: int,
+    noise: float,
+    late_rows: int = 0,
+) -> list[list[int]]:
+    """Strongest columns whose edge runs straight up from the floor-contact row.
+
+    One ranking per group of peak columns (the left side's, the right side's); the
+    run lengths of all groups' strongest columns are found in one pass.
+    """
+    chosen = [g[np.argsort(-prof_v[g])][: 3 * MAX_SIDE_CANDIDATES] for g in groups]
+    cols_all = np.concatenate(chosen)
+    if cols_all.size == 0:
+        return [[] for _ in groups]
+    col_vals = ax3[: rb - 1, cols_all][::-1]  # rows going up from the bottom
+    on = col_vals > int_threshold(_presence(prof_short[cols_all], noise))
+    # run length: rows up to the first gap of 3 consecutive misses
+    run_len = first_gap(on)
+    rank_all = prof_v[cols_all] * np.sqrt(np.maximum(run_len, 1))
+    # A box in the floor's own shade shows its sides only against the wall: an edge
+    # run that starts higher up (within the tall strip) counts too, but ranks below
+    # every run from the floor, so it only fills the places those leave free.
+    late = late_run(on, late_rows)
+    only_late = (run_len < 3) & (late >= 3)
+    if only_late.any():
+        late_rank = prof_v[cols_all] * np.sqrt(np.maximum(late, 1))
+        below_all = float(late_rank.max()) + 1.0  # every late rank ends up negative
+        rank_all = np.where(only_late, late_rank - below_all, rank_all)
+        run_len = np.where(only_late, late, run_len)
+    ranked = []
+    start = 0
+    for cols in chosen:
+        end = start + cols.size
+        keep = run_len[start:end] >= 3
+        order = np.argsort(-rank_all[start:end][keep])[:MAX_SIDE_CANDIDATES]
+        ranked.append([int(c) for c in cols[keep][order]])
+        start = end
+    return ranked

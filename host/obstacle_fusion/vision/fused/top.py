@@ -1,0 +1,132 @@
+"""The chosen face's front top edge: where a box lower than the lens shows its top face.
+
+Receives the chosen face (floor-contact row rb, side columns ul..ur, top row vt), the
+working view, the face depth and the gradients (|d/dy| float32, signed d/dy int16).
+Returns the front top edge's row and its gradient's sign (:func:`front_top`), or, when the
+chosen top is the top face's back edge (:func:`front_from_back`), the front edge's row,
+sign and, when taken from the prediction alone, its sub-pixel row (not to be refined).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+
+from obstacle_fusion.vision.fused.profiles import F32, I16, median, row_means
+from obstacle_fusion.vision.fused.tuning import (
+    FRONT_TOP_SIGMAS,
+    MIN_SIZE_M,
+    TAIL_ROWS,
+    TAIL_SHARE,
+)
+from obstacle_fusion.vision.types import View
+
+log = logging.getLogger(__name__)
+
+
+def front_top(
+    view: View, depth: float, dy: I16, rb: int, ul: int, ur: int, vt: int, noise: float
+) -> tuple[int, float]:
+    """A box lower than the lens shows its top face: prefer the face's front edge.
+
+    The top face's back edge sits above the front one by at most
+    (vt - cy) * (1 - D / (D + 2 m)) rows (a box up to 2 m long). In the signed vertical
+    gradient the two edges stay apart even when only a pixel or two apart (the top
+    face is lit differently from the wall and from the front face); the lowest
+    significant extremum in that reach, within the upper 30 % of the face, is the
+    front top edge. Returns the row and the sign of its gradient.
+    """
+    v = view
+    m = max(1, (ur - ul) // 8)
+    below_horizon = vt - v.cy
+    reach = int(min(below_horizon * 2.0 / (depth + 2.0), 0.3 * (rb - vt)))
+    if below_horizon <= 1.0 or reach < 1:
+        return vt, (1.0 if int(dy[vt, ul + m : ur - m].sum()) >= 0 else -1.0)
+    # the row means only where the scan reads them (rows vt..last), as Python floats;
+    # prof[r - vt] is row r
+    last = max(vt, min(vt + reach, rb - 3) + 1)
+    prof = row_means(dy[vt : last + 1, ul + m : ur - m]).tolist()
+    # noise of a mean over the face's columns (Sobel smooths ~3 columns together); next
+    # to the top edge also its own blur tail, further up only noise
+    thr_noise = FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
+    thr_near = thr_noise + TAIL_SHARE * abs(prof[0])
+    best = vt
+    for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
+        p_prev, p, p_next = prof[r - 1 - vt], prof[r - vt], prof[r + 1 - vt]
+        a = abs(p)
+        thr = thr_near if r - vt <= TAIL_ROWS else thr_noise
+        if a >= thr and a >= abs(p_prev) and a >= abs(p_next):
+            best = r
+        elif a >= thr and p * p_prev < 0 and a > abs(p_next):
+            best = r
+    return best, (1.0 if prof[best - vt] >= 0 else -1.0)
+
+
+def front_from_back(
+    view: View, depth: float, ay: F32, dy: I16, rb: int, ul: int, ur: int, vt: int
+) -> tuple[int, float, float | None] | None:
+    """A top edge narrower than the face, shrunk towards the centre: the top face's back.
+
+    A top face recedes: its back edge at depth D + l spans the face's columns scaled
+    by s = D / (D + l) about the principal point, and lies on row cy + s (vf - cy) for
+    a front top edge on row vf. So a top edge that ends inside both vertical edges,
+    by the amounts that one scale s explains, is the back edge, and the front edge is
+    on row cy + (vt - cy) / s: taken there, or at the signed-gradient extremum within
+    a pixel or two of it (the front edge itself may be too faint to be picked).
+    Returns the row, its gradient's sign, and the sub-pixel row when it was taken
+    from the prediction alone (then not to be refined), or None: no top face here.
+    """
+    v = view
+    if vt - v.cy < 3.0 or ur - ul < 12:
+        return None
+    h, w = ay.shape
+    c0, c1 = max(1, ul - 4), min(w - 1, ur + 5)
+    prof = ay[max(0, vt - 1) : vt + 2, c0:c1].max(axis=0)
+    m = max(2, (ur - ul) // 4)
+    level = median(ay[max(0, vt - 1) : vt + 2, ul + m : ur - m].max(axis=0))
+    if level <= 0.0:
+        return None
+    half = 0.5 * level
+    on = np.nonzero(prof >= half)[0]
+    if on.size < 4:
+        return None
+    a, b = float(c0 + on[0]), float(c0 + on[-1])
+    # the front top edge spans the face (the edge ends within a pixel of each side)
+    if a - ul < 2.0 and ur - b < 2.0:
+        return None
+    scale = (b - a) / float(ur - ul)
+    if not 0.4 <= scale <= 0.97:
+        return None
+    pred_a = v.cx + scale * (ul - v.cx)
+    pred_b = v.cx + scale * (ur - v.cx)
+    if abs(pred_a - a) > 1.5 or abs(pred_b - b) > 1.5:
+        return None  # not a shrink about the principal point: not a receding top face
+    vf = v.cy + (vt - v.cy) / scale
+    min_h = max(3, int(v.fy * MIN_SIZE_M / depth))
+    if vf <= vt + 1.0 or vf >= rb - min_h:
+        return None
+    mc = max(1, (ur - ul) // 8)
+    r0, r1 = max(vt + 1, int(math.floor(vf)) - 2), min(rb - min_h, int(math.ceil(vf)) + 2)
+    if r1 < r0:
+        return None
+    col = row_means(dy[vt : r1 + 2, ul + mc : ur - mc])  # col[r - vt] is row r
+    # a local extremum of the signed gradient nearest the predicted row: the largest
+    # value in the window may be the back edge's own blur tail right below it
+    mag = np.abs(col)
+    weakest = 0.15 * float(mag[0])
+    peaks = [
+        i
+        for i in range(r0, r1 + 1)
+        if mag[i - vt] >= weakest
+        and mag[i - vt] >= mag[i - vt - 1]
+        and mag[i - vt] >= mag[i - vt + 1]
+    ]
+    r = min(peaks, key=lambda i: abs(i - vf)) if peaks else int(round(vf))
+    log.debug(
+        "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
+    )
+    # with no extremum of its own, the predicted row itself, sub-pixel: refining near
+    # it would slide onto the back edge's blur tail
+    return r, (1.0 if col[r - vt] >= 0 else -1.0), (None if peaks else vf)
