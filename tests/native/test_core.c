@@ -1264,6 +1264,18 @@ static void test_heartbeat_waits_for_a_due_trigger(void)
     run_us(50);
     take();
     CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 1); /* right after the trigger */
+    /* A trigger due in 1 ms or more does not hold the heartbeat back: force the case by
+     * polling by hand at exactly 1000 us before the next due time, heartbeat overdue. */
+    while (app.ranger.state != OF_RANGER_IDLE) { /* the echo ends */
+        run_us(100);
+    }
+    clear_frames();
+    app.next_heartbeat_us = hal_micros();
+    fake_advance_to(fake.now + 2u * (app.ranger.next_due_us - hal_micros() - 1000u));
+    CHECK_EQ(app.ranger.next_due_us - hal_micros(), 1000u);
+    (void)of_app_poll(&app);
+    take();
+    CHECK_EQ(count_id(OF_MSG_HEARTBEAT), 1);
     /* the trigger kept its period from the one the guard held back */
     CHECK(fake.trigger_at[2] - fake.trigger_at[1] >= 200000u - 1u);
     CHECK(fake.trigger_at[2] - fake.trigger_at[1] <= 200000u + 40u);
