@@ -33,6 +33,8 @@ MAX_GAP = 4
 SIDE_SHARE_OF_SEAM = 0.5
 #: Share of the face's rows the new side's edge must be present in.
 SIDE_COVERAGE = 0.8
+#: The lowest share of the face's rows where a new side must be present (its foot).
+FOOT_SHARE = 0.15
 #: Rows either side of an edge row searched for its peak (blur, sub-pixel position).
 EDGE_ROWS = 1
 #: Side columns searched for the strongest vertical edge where the walk stopped.
@@ -61,6 +63,16 @@ def _walk(on: npt.NDArray[np.bool_], start: int, step: int) -> int:
         else:
             gap += 1
     return u
+
+
+def _stands(present: npt.NDArray[np.bool_]) -> bool:
+    """A side's edge present over most of the face's rows and down to the floor: the
+    face stands on the floor-contact row, while anything behind it (a chair's leg, a
+    side face's far corner) meets the floor higher up in the image."""
+    if present.size == 0:
+        return False
+    foot = present[-max(3, int(FOOT_SHARE * present.size)) :]
+    return float(present.mean()) >= SIDE_COVERAGE and float(foot.mean()) >= SIDE_COVERAGE
 
 
 def _snap_window(side: int, end: int, step: int, width: int) -> tuple[int, int]:
@@ -120,8 +132,7 @@ def widen_across_seams(
         # an edge that does not stand the face's whole height (a side face's far corner
         # stands higher up, further back) is not the face's side either
         run = np.asarray(ax[top + 1 : bottom, best], np.float32) >= SIDE_SHARE * need
-        whole = run.size > 0 and float(run.mean()) >= SIDE_COVERAGE
-        new.append(best if float(sides[best]) >= need and whole else side)
+        new.append(best if float(sides[best]) >= need and _stands(run) else side)
     return new[0], new[1]
 
 
@@ -229,7 +240,7 @@ def enclose_inner_frame(
         lo, hi = _snap_window(side, end, step, sides.size)
         best = int(lo + np.argmax(sides[lo : hi + 1]))
         column = np.asarray(ax[top - above : bottom, best], np.float32) >= SIDE_SHARE * need
-        if float(sides[best]) < need or float(column.mean()) < SIDE_COVERAGE:
+        if float(sides[best]) < need or not _stands(column):
             return left, right, top
         new.append(best)
     if new == [left, right]:
@@ -238,3 +249,4 @@ def enclose_inner_frame(
     if outer_top >= top:
         return left, right, top
     return new[0], new[1], outer_top
+
