@@ -44,6 +44,7 @@ from obstacle_fusion.fusion import ObstacleRecord, ObstacleStatus
 
 if TYPE_CHECKING:
     from obstacle_fusion.app import App, RunResult
+    from obstacle_fusion.online import OnlineCalibration
     from obstacle_fusion.sim.emulated_robot import EmulatedRobot
     from obstacle_fusion.sim.scenario import Scenario
     from obstacle_fusion.vision.camera import CameraModel
@@ -59,6 +60,15 @@ class SensorError(UserError):
     """The sensor stopped (the board went away for good, a camera failed, ...)."""
 
 
+def _rig_moved(old: Any, new: Any) -> bool:
+    """Rebuild the measurer's maps only when the online rig moved by more than the fit's
+    own noise (5 mm, 0.2 degree): every frame's refit differs in the last digits."""
+    return (
+        abs(old.camera_height_m - new.camera_height_m) > 0.005
+        or abs(old.camera_pitch_deg - new.camera_pitch_deg) > 0.2
+    )
+
+
 class LazyMeasurer:
     """Builds the vision measurer on the first frame, when the frame size is known."""
 
@@ -69,6 +79,10 @@ class LazyMeasurer:
         self.calib = calib
         self._impl: Any = None
         self.camera_model: Any = None  # the camera measured with, once the frame size is known
+        # with no rig: the run's online rig fit (height and pitch from confident detections
+        # over many frames), once it exists; each frame finds its floor contact until then
+        self.rig_provider: Callable[[], Any] | None = None
+        self._online: Any = None  # (rig, Measurer) built from the provider's latest rig
 
     def prepare(self, image: Any) -> None:
         """Check the calibration against the frame size; a UserError ends the run (exit 2)
@@ -104,9 +118,26 @@ class LazyMeasurer:
         self._impl = Measurer(camera, self.rig, self.method)
         self.camera_model = camera
 
+    def camera_at(self, width: int, height: int) -> Any:
+        """The measuring camera at this frame size (None before the first frame)."""
+        return None if self.camera_model is None else self.camera_model.scaled_to(width, height)
+
     def measure(self, image: Any, range_m: float) -> Any:
         if self._impl is None:
             self.prepare(image)
+        if self.rig is None and self.rig_provider is not None:
+            online_rig = self.rig_provider()
+            if online_rig is not None:
+                if self._online is None or _rig_moved(self._online[0], online_rig):
+                    from obstacle_fusion.vision.measure import Measurer
+
+                    self._online = (
+                        online_rig,
+                        Measurer(
+                            self.camera_model, online_rig, self.method, rig_source="estimated"
+                        ),
+                    )
+                return self._online[1].measure(image, range_m)
         return self._impl.measure(image, range_m)
 
 
@@ -125,6 +156,13 @@ class _Waiter:
 
     metres: float
     found: ObstacleRecord | None = None
+
+
+def _record_online(recorder: Any, online: OnlineCalibration) -> None:
+    """What the run learnt (online rig, camera latency), as the recording's last metadata."""
+    import json
+
+    recorder.add_metadata("online", {k: json.dumps(v) for k, v in online.summary().items()})
 
 
 def _check_span(name: str, value: float | None, lo: float, hi: float) -> None:
@@ -175,8 +213,9 @@ class ObstacleSensor:
         width: int | None = None,
         height: int | None = None,
         fps: float | None = None,
-        camera_latency_ms: float = 0.0,
+        camera_latency_ms: float | None = None,
         scenario: str | Path | Scenario | None = None,
+        emulated_latency_ms: float = 0.0,
         clock_ppm: float = 0.0,
         duration: float | None = None,
         record: str | Path | None = None,
@@ -195,6 +234,11 @@ class ObstacleSensor:
         _check_span("half_spacing_mm", half_spacing_mm, 0.0, 50.0)
         _check_span("pair_tolerance_ms", pair_tolerance_ms, 0.0, 1000.0)
         _check_span("camera_latency_ms", camera_latency_ms, 0.0, 2000.0)
+        _check_span("emulated_latency_ms", emulated_latency_ms, 0.0, 2000.0)
+        if emulated_latency_ms and (port or camera is not None):
+            raise UserError(
+                "emulated_latency_ms is for the emulated robot; leave out port and camera"
+            )
         _check_span("temperature", temperature, -50.0, 80.0)
         if exit_on_alert is not None and stop_distance is None:
             raise UserError("exit_on_alert needs stop_distance (the alert's threshold)")
@@ -219,7 +263,10 @@ class ObstacleSensor:
         self.pair_tolerance_ms = pair_tolerance_ms
         self.max_wait_ms = max_wait_ms
         self.width, self.height, self.fps = width, height, fps
+        #: None: estimated during the run and used for pairing once confident (online.py)
         self.camera_latency_ms = camera_latency_ms
+        self.emulated_latency_ms = emulated_latency_ms
+        self.online: OnlineCalibration | None = None  # the online rig and latency, once built
         self.scenario_spec = scenario
         self.clock_ppm = clock_ppm
         self.duration = duration
@@ -416,8 +463,11 @@ class ObstacleSensor:
                 self.close()
                 if error is not None:
                     raise error
-                where = self.port or ("the emulated robot" if self.mode == "emulator" else
-                                      "the board found by USB VID:PID")
+                where = self.port or (
+                    "the emulated robot"
+                    if self.mode == "emulator"
+                    else "the board found by USB VID:PID"
+                )
                 raise SensorError(
                     f"the board did not answer within {self.connect_timeout:g} s ({where})"
                 )
@@ -628,7 +678,12 @@ class ObstacleSensor:
             if camera_model is None:
                 camera_model = synthetic_camera_model(self.width or 500, self.height or 375)
             synthetic = SyntheticCamera(
-                scenario, camera_model, rig, fps=self.fps or 15.0, scene_time=robot.scene_time
+                scenario,
+                camera_model,
+                rig,
+                fps=self.fps or 15.0,
+                scene_time=robot.scene_time,
+                latency_s=self.emulated_latency_ms / 1e3,
             )
             source = synthetic
             settings.temperature_c = scenario.temperature_c
@@ -649,7 +704,7 @@ class ObstacleSensor:
                     width=self.width,
                     height=self.height,
                     fps=self.fps,
-                    latency_s=self.camera_latency_ms / 1e3,
+                    latency_s=(self.camera_latency_ms or 0.0) / 1e3,
                     realtime=True,
                 )
         if source is not None:
@@ -682,6 +737,8 @@ class ObstacleSensor:
                         "half_spacing_m": str(settings.half_spacing_m),
                         "stop_distance_m": str(self.stop_distance),
                         "rig": json.dumps(dataclasses.asdict(rig)),
+                        "rig_source": "file" if self.rig is not None else "default",
+                        "camera_latency_ms": str(self.camera_latency_ms),
                         "camera": json.dumps(camera_dict(camera_model)),
                     }
                 },
@@ -722,6 +779,26 @@ class ObstacleSensor:
             if source is not None
             else None
         )
+        online = None
+        if measurer is not None:
+            from obstacle_fusion.online import OnlineCalibration
+
+            given = None if self.camera_latency_ms is None else self.camera_latency_ms / 1e3
+            online = OnlineCalibration(
+                rig,
+                rig_source="file"
+                if self.rig is not None
+                else ("default" if self.mode == "emulator" else "none"),
+                latency_given_s=given,
+                # the synthetic camera stamps frames as read; a real source subtracts it itself
+                stamp_shift_s=(given or 0.0) if self.mode == "emulator" else 0.0,
+                camera_of=measurer.camera_at,
+            )
+            if measure_rig is None:  # no rig file: measure with the online fit once it exists
+                measurer.rig_provider = online.estimated_rig
+            if recorder is not None:  # runs before the recorder closes (LIFO)
+                stack.callback(_record_online, recorder, online)
+        self.online = online
         app = App(
             settings,
             link,
@@ -738,6 +815,7 @@ class ObstacleSensor:
             topics=topics,
             on_record=self._deliver,
             on_connect=self._connected.set,
+            online=online,
         )
         self.app = app
         self.view = view

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from obstacle_fusion.fusion import Fusion, ObstacleRecord, RangePairer
 from obstacle_fusion.link.connection import Link, Received, describe_hello
+from obstacle_fusion.online import OnlineCalibration
 from obstacle_fusion.outputs.console import ConsoleView, RateMeter, Status
 from obstacle_fusion.outputs.foxglove_schemas import FoxgloveTopics, TopicMessage, encode_image
 from obstacle_fusion.outputs.jsonl import JsonLinesWriter
@@ -130,6 +131,7 @@ class App:
         topics: FoxgloveTopics | None = None,
         on_record: Callable[[ObstacleRecord], None] | None = None,
         on_connect: Callable[[], None] | None = None,
+        online: OnlineCalibration | None = None,
     ) -> None:
         self.s = settings
         self.link = link
@@ -161,6 +163,9 @@ class App:
             max_wait_s=settings.max_wait_s,
             method=settings.method,
         )
+        self.online = online
+        if online is not None:
+            self.fusion.observer = online.measured
         self.grabber = FrameGrabber(source) if source is not None else None
         self.session = 0
         self.timer_hz = 2_000_000
@@ -174,6 +179,7 @@ class App:
         self.ranges_unmapped_dropped = 0
         self._was_connected = False
         self._prepared = False
+        self._online_logged = -1e9
 
     # ------------------------------------------------------------------ messages
     def _on_message(self, item: Received) -> list[ObstacleRecord]:
@@ -222,6 +228,8 @@ class App:
             scale = est.slope if est is not None and est.source != "none" else 1.0
             reading = self.converter.convert(msg, t_trig, t_receipt=item.t_host, time_scale=scale)
             self.ranges_mapped += 1
+            if self.online is not None:
+                self.online.reading_in(reading)
             if self._sinks:
                 self._emit(self.topics.reading(reading, self.timer_hz, item.session, item.t_host))
             if self.ros2 is not None:
@@ -270,6 +278,8 @@ class App:
                     self.ros2.write_image(data, self.topics.image_format, w, h, frame.t_host, now)
         if self.video is not None:
             self._images[frame.index] = frame.image
+        if self.online is not None:
+            frame = self.online.frame_in(frame)  # recorded raw, paired re-dated
         return self.fusion.add_frame(frame)
 
     def _publish(self, records: list[ObstacleRecord]) -> None:
@@ -309,9 +319,21 @@ class App:
             else {}
         )
         st.rates = {k: m.rate() for k, m in self.rates.items()}
-        if self.link.last_problem:
-            st.notes = [self.link.last_problem]
+        st.notes = [self.link.last_problem] if self.link.last_problem else []
+        if self.online is not None:
+            st.notes += [self.online.rig_text(), self.online.latency_text()]
         self.view.update(st, force=force)
+
+    def _update_online(self, force: bool = False) -> None:
+        if self.online is None:
+            return
+        before = (self.online.rig_estimate, self.online.latency_estimate)
+        for text in self.online.update(force=force):
+            self._event("online_warning", {"text": text})
+        after = (self.online.rig_estimate, self.online.latency_estimate)
+        if after != before and (force or time.monotonic() - self._online_logged >= 5.0):
+            self._online_logged = time.monotonic()
+            self._event("online_estimates", self.online.summary())
 
     def _watch_link(self) -> None:
         connected = self.link.connected
@@ -402,6 +424,7 @@ class App:
                     self._publish(self.fusion.flush())
                     log.info("frame source ended: %s", getattr(self.source, "end_reason", ""))
                     break
+                self._update_online()
                 self._update_view()
                 if not got_frame and not records:
                     time.sleep(0.002)
@@ -413,6 +436,7 @@ class App:
                     self._publish(self._on_message(item))
                 self._publish(self._map_ranges(time.monotonic()))
                 self._publish(self.fusion.flush())
+                self._update_online(force=True)
                 self._update_view(force=True)
             finally:
                 self.link.close()
@@ -435,4 +459,5 @@ class App:
                 "resets": self.clock.resets,
             },
             "emulator_restarts": self.robot.restarts if self.robot else 0,
+            "online": None if self.online is None else self.online.summary(),
         }

@@ -222,6 +222,8 @@ class Fusion:
     clock: Callable[[], float] = time.monotonic
     stats: FusionStats = field(default_factory=FusionStats)
     vision_errors: int = 0
+    #: called with (frame, range_m, measurement) after each measurement (online estimates)
+    observer: Callable[[Frame, float, Any], None] | None = None
     _pending: deque[tuple[Frame, float]] = field(default_factory=deque)
 
     def add_reading(self, reading: SonarReading) -> list[ObstacleRecord]:
@@ -309,6 +311,8 @@ class Fusion:
                     reason = f"vision failed: {exc!r}"
                 vision_ms = (time.perf_counter() - t0) * 1e3
                 method = getattr(m, "method", method)
+                if m is not None and self.observer is not None:
+                    self.observer(frame, pairing.distance_m, m)
                 if m is None:
                     status = ObstacleStatus.VISION_ERROR
                     stats.vision_errors += 1

@@ -52,3 +52,22 @@ def test_sixteen_by_nine_keeps_the_papers_focal_length_per_pixel() -> None:
     four_three = synthetic_camera_model(1280, 960)
     assert wide.fx == pytest.approx(four_three.fx, rel=0.01)
     assert (wide.width, wide.height) == (1280, 720)
+
+
+def test_a_lagging_camera_shows_the_scene_of_latency_earlier() -> None:
+    now = [100.0]
+    src = SyntheticCamera(
+        demo_scenario(),
+        synthetic_camera_model(500, 375),
+        Rig(),
+        fps=10.0,
+        scene_time=lambda t: t - 100.0,
+        realtime=False,
+        latency_s=0.08,
+        clock=lambda: now[0],
+    )
+    frames = [src.read() for _ in range(3)]
+    assert [f.t_host for f in frames if f] == pytest.approx([100.0, 100.1, 100.2])
+    assert src.scene_time_of(2) == pytest.approx(0.2 - 0.08)  # stamped 0.2, shows 0.12
+    with pytest.raises(Exception, match="latency"):
+        SyntheticCamera(demo_scenario(), synthetic_camera_model(), Rig(), latency_s=-0.1)

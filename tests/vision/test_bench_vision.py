@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "tools" / "bench_vision.py"
 
@@ -31,3 +33,13 @@ def test_bad_arguments_are_usage_errors() -> None:
         out = run(*args)
         assert out.returncode == 2
         assert "error:" in out.stderr and "Traceback" not in out.stderr
+
+
+def test_single_seed_table_prints_the_speed_ratio() -> None:
+    out = run("--ordinary", "2", "--hard", "2", "--hd", "1", "--repeat", "1")
+    assert out.returncode == 0, out.stderr
+    line = next(x for x in out.stdout.splitlines() if x.startswith("speed,"))
+    fused_ms = float(line.split("fused ")[1].split(" ms")[0])
+    paper_ms = float(line.split("OpenCV ")[1].split(" ms")[0])
+    ratio = float(line.split("fused is ")[1].split("x")[0])
+    assert ratio == pytest.approx(paper_ms / fused_ms, abs=0.06)

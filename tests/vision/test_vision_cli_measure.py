@@ -32,6 +32,9 @@ def test_json_and_annotate(photo: Path, tmp_path: Path, capsys: pytest.CaptureFi
     assert d["height_m"] == pytest.approx(0.3, rel=0.03)
     assert d["width_m"] == pytest.approx(0.4, rel=0.03)
     assert d["distance_m"] == 1.0 and len(d["box_px"]) == 4 and "total" in d["timings_ms"]
+    # no --rig: the floor contact was found in the image, not a guessed camera height
+    assert d["rig_source"] == "estimated" and d["camera_height_m"] == pytest.approx(0.2, abs=0.01)
+    assert d["clipped"] == [] and d["width_is_lower_bound"] is False
     ann = cv2.imread(str(out))
     assert ann is not None and ann.shape == (375, 500, 3)
     assert not np.array_equal(ann, cv2.imread(str(photo)))
@@ -60,7 +63,7 @@ def test_paper_method_and_rig_and_calib(
         ]
     )
     d = json.loads(capsys.readouterr().out)
-    assert d["method"] == "paper" and d["confidence"] is None
+    assert d["method"] == "paper" and d["confidence"] is None and d["rig_source"] == "file"
     assert rc == (0 if d["detected"] else 1)
 
 

@@ -51,6 +51,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "CameraInfo, and the replayed detections as vision_msgs/Detection3DArray",
     )
     p.add_argument("--overwrite", action="store_true", help="replace an existing --ros2-bag")
+    p.add_argument(
+        "--camera-latency-ms",
+        type=_args.camera_latency_ms,
+        help="subtract this from the recorded frame stamps (0..2000); default: estimated from "
+        "the recording (image heights against ranges; one extra pass) and used when confident",
+    )
     p.set_defaults(func=run)
 
 
@@ -144,15 +150,47 @@ def run(args: argparse.Namespace) -> int:
     if stop is None and meta.get("stop_distance_m") not in (None, "None", ""):
         stop = float(meta["stop_distance_m"])
 
+    from obstacle_fusion.online import MIN_LATENCY_CONFIDENCE, OnlineCalibration
+
+    rig_source = "file" if args.rig is not None else str(meta.get("rig_source", "default"))
     now = [0.0]
+
+    def fresh(shift_s: float, given_s: float | None) -> tuple[Any, OnlineCalibration]:
+        online = OnlineCalibration(
+            rig,
+            rig_source=rig_source,
+            latency_given_s=given_s,
+            stamp_shift_s=shift_s,
+            clock=lambda: now[0],
+        )
+        fusion = Fusion(
+            measurer=None,
+            pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3),
+            stop_distance_m=stop,
+            method=method,
+            clock=lambda: now[0],
+            observer=online.measured,
+        )
+        return fusion, online
+
+    given = None if args.camera_latency_ms is None else args.camera_latency_ms / 1e3
+    shift = given or 0.0
+    if given is None:  # a first pass, with no output, only to estimate the latency
+        fusion, online = fresh(0.0, None)
+        _replay(
+            args, msgs, offset_ns, now, fusion, _NoOutput(), None, {}, temperature,
+            half_spacing, camera, rig, method, online,
+        )  # fmt: skip
+        online.update(now=now[0], force=True)
+        lat = online.latency_estimate
+        if lat is not None and lat.confidence >= MIN_LATENCY_CONFIDENCE:
+            shift = lat.latency_s
+            note = f"pairing with the frames {1e3 * shift:.1f} ms earlier"
+        else:
+            note = "frames paired as recorded"
+        print(f"obstacle-fusion replay: {online.latency_text()}; {note}", file=sys.stderr)
     converters: dict[int, SonarConverter] = {}
-    fusion = Fusion(
-        measurer=None,
-        pairer=RangePairer(tolerance_s=args.pair_tolerance_ms / 1e3),
-        stop_distance_m=stop,
-        method=method,
-        clock=lambda: now[0],
-    )
+    fusion, online = fresh(shift, shift if given is None else given)
     out = JsonLinesWriter(sys.stdout)
     ros2: Any = None
     if args.ros2_bag is not None:
@@ -177,10 +215,12 @@ def run(args: argparse.Namespace) -> int:
             camera,
             rig,
             method,
+            online,
         )
     finally:
         if ros2 is not None:
             ros2.close()
+    online.update(now=now[0], force=True)
     s = fusion.stats
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
@@ -188,6 +228,11 @@ def run(args: argparse.Namespace) -> int:
         f"{s.vision_errors} vision errors",
         file=sys.stderr,
     )
+    print(f"obstacle-fusion replay: {online.rig_text()}", file=sys.stderr)
+    if given is not None:
+        print(f"obstacle-fusion replay: {online.latency_text()}", file=sys.stderr)
+    for text in online.warnings:
+        print(f"obstacle-fusion replay: warning: {text}", file=sys.stderr)
     if ros2 is not None:
         print(
             f"obstacle-fusion replay: wrote the ROS 2 bag {args.ros2_bag} ("
@@ -244,6 +289,7 @@ def _replay(
     camera: Any,
     rig: Any,
     method: str,
+    online: Any,
 ) -> tuple[int, int, int]:
     import base64
 
@@ -283,6 +329,7 @@ def _replay(
                 measurement, sensor_id, trigger_us, echo_ticks, _STATUS_CODES.get(status, 255)
             )
             reading = conv.convert(raw, t_trigger, t_receipt, time_scale=float(scale))
+            online.reading_in(reading)
             records = fusion.add_reading(reading)
             if ros2 is not None:
                 ros2.write_range(reading, log_t=now[0])
@@ -300,6 +347,7 @@ def _replay(
                     cam = synthetic_camera_model(image.shape[1], image.shape[0])
                 measurer = Measurer(cam, rig, method)
                 fusion.measurer = measurer
+                online.camera_of = lambda w, h, c=cam: c.scaled_to(w, h)
                 if ros2 is not None:
                     ros2.topics.set_camera(cam)
             t_frame = (m.publish_time_ns - offset_ns) / 1e9
@@ -309,7 +357,7 @@ def _replay(
                 ros2.write_image(jpeg, str(d.get("format", "jpeg")), w, h, t_frame, now[0])
             frame = Frame(image, t_frame, index, str(d.get("frame_id", "")))
             index += 1
-            records = fusion.add_frame(frame)
+            records = fusion.add_frame(online.frame_in(frame))
         for r in records:
             out.write(r)
             if ros2 is not None:
@@ -319,6 +367,13 @@ def _replay(
         if ros2 is not None:
             ros2.write_record(r)
     return index, bad_images, foreign_ranges
+
+
+class _NoOutput:
+    """Where the estimation pass's records go."""
+
+    def write(self, record: Any, extra: Any = None) -> None:
+        return None
 
 
 def rig_from_metadata(text: str, recording: Path) -> Any:

@@ -48,8 +48,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     hw.add_argument(
         "--camera-latency-ms",
         type=_args.camera_latency_ms,
-        default=0.0,
-        help="exposure-to-read delay to subtract (0..2000)",
+        help="exposure-to-read delay to subtract (0..2000); default: estimated during the run "
+        "(the face's image height against the sonar's range) and used for pairing once sure",
     )
     hw.add_argument("--calib", type=Path, help="camera calibration (obstacle-fusion calibrate)")
     hw.add_argument("--rig", type=Path, help="rig file: camera height, pitch, sonar offsets")
@@ -116,6 +116,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     emu.add_argument(
         "--scenario", type=Path, help="TOML scenario for the emulated robot (default: the demo)"
     )
+    emu.add_argument(
+        "--emulated-latency-ms",
+        type=_args.camera_latency_ms,
+        default=0.0,
+        help="the synthetic camera lags the scene by this much (0..2000), as a USB camera does",
+    )
     p.set_defaults(func=run)
 
 
@@ -140,6 +146,10 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("--exit-on-alert needs --stop-distance M (the alert's threshold)")
     if args.scenario is not None and (args.port or args.camera):
         raise UserError("--scenario is for the emulated robot; leave out --port and --camera")
+    if args.emulated_latency_ms and (args.port or args.camera):
+        raise UserError(
+            "--emulated-latency-ms is for the emulated robot; leave out --port and --camera"
+        )
     if args.record is not None and args.record.suffix.lower() != ".mcap":
         raise UserError(f"--record {args.record}: the recording must be a .mcap file")
     if args.camera and (args.width or args.height) and Path(args.camera).exists():
@@ -186,6 +196,7 @@ def run(args: argparse.Namespace) -> int:
         fps=args.fps,
         camera_latency_ms=args.camera_latency_ms,
         scenario=scenario,
+        emulated_latency_ms=args.emulated_latency_ms,
         clock_ppm=args.clock_ppm,
         duration=args.duration,
         record=args.record,
@@ -239,6 +250,12 @@ def run(args: argparse.Namespace) -> int:
             f"alerts; {link_text}",
             file=sys.stderr,
         )
+    online = sensor.online
+    if online is not None:
+        print(f"obstacle-fusion run: {online.rig_text()}", file=sys.stderr)
+        print(f"obstacle-fusion run: {online.latency_text()}", file=sys.stderr)
+        for text in online.warnings:
+            print(f"obstacle-fusion run: warning: {text}", file=sys.stderr)
     log.info("summary: %s", json.dumps(summary))
     recorder = sensor.app.recorder if sensor.app is not None else None
     if recorder is not None and recorder.failed is not None:

@@ -197,6 +197,11 @@ class McapRecorder:
     def write_event(self, event: str, detail: dict[str, Any], t: float | None = None) -> None:
         self.write(self.topics.event(event, detail, t))
 
+    def add_metadata(self, name: str, data: dict[str, str]) -> None:
+        """One more metadata record (e.g. what the run learnt, written at its end)."""
+        if not self._closed:
+            self._writer.add_metadata(name, {k: str(v) for k, v in data.items()})
+
     def flush(self) -> None:
         """Close the open chunk and push everything to the file (readable up to here)."""
         if self._closed:

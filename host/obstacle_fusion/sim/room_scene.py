@@ -39,13 +39,17 @@ FloatArray = npt.NDArray[Any]  # float32 or float64 working images
 PHOTO_TEXTURES: dict[str, dict[str, tuple[str, ...]]] = {
     "photo": {
         "floor": ("gravel", "brick"),
-        "wall": ("camera", "coffee", "page", "rocket"),
-        "face": ("text", "chelsea", "brick", "astronaut"),
+        "wall": ("camera", "coffee", "rocket"),
+        "face": ("chelsea", "astronaut", "coins"),
+        "text": ("text",),
+        "brick": ("brick",),
     },
     "photo-holdout": {
-        "floor": ("grass", "gravel"),
-        "wall": ("motorcycle_left", "hubble_deep_field", "color", "brick"),
-        "face": ("page", "coffee", "motorcycle_right", "rocket"),
+        "floor": ("grass",),
+        "wall": ("motorcycle_left", "hubble_deep_field", "color"),
+        "face": ("motorcycle_right", "retina", "horse"),
+        "text": ("page",),
+        "brick": (),  # drawn bricks: the photograph is the tuning families'
     },
 }
 FAMILIES = ("procedural", "procedural-holdout", "photo", "photo-holdout")

@@ -43,7 +43,8 @@ def synthetic_camera_model(width: int = 500, height: int = 375) -> CameraModel:
 
 
 class SyntheticCamera(FrameSource):
-    """Frames at ``fps`` on the host clock, each the scenario's scene at that instant."""
+    """Frames at ``fps`` on the host clock, each the scenario's scene at that instant
+    (``latency_s`` earlier: a camera that lags, for the latency estimate to find)."""
 
     def __init__(
         self,
@@ -58,6 +59,7 @@ class SyntheticCamera(FrameSource):
         realtime: bool = True,
         max_frames: int | None = None,
         supersample: int = 2,
+        latency_s: float = 0.0,
         clock: Clock = time.monotonic,
         sleep: Sleep = time.sleep,
     ) -> None:
@@ -69,6 +71,10 @@ class SyntheticCamera(FrameSource):
         self.rig = rig
         self.fps = float(fps)
         self.realtime = realtime
+        if not (math.isfinite(latency_s) and 0.0 <= latency_s <= 2.0):
+            raise SourceError(f"camera latency must be within 0..2 s, got {latency_s}")
+        #: as a USB camera: the frame stamped t shows the scene at t - latency_s
+        self.latency_s = float(latency_s)
         self.max_frames = max_frames
         self.sleep = sleep
         start = clock()
@@ -121,7 +127,7 @@ class SyntheticCamera(FrameSource):
         else:
             t = self._next
             self._next += 1.0 / self.fps
-        scene_t = self.scene_time(t)
+        scene_t = self.scene_time(t - self.latency_s)
         rendered = self._renderer.render(self.spec_at(scene_t), self._rng)
         index = self._k
         self._k += 1

@@ -56,7 +56,10 @@ class Measurer:
         rig: Rig | None = None,
         method: str = "fused",
         min_confidence: float | None = None,
+        rig_source: str | None = None,
     ) -> None:
+        """``rig_source`` labels a given rig (default "file"; "estimated" for a rig fitted
+        online over many frames)."""
         if method not in METHODS:
             raise UserError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
         if min_confidence is not None and not 0.0 <= min_confidence <= 1.0:
@@ -65,7 +68,8 @@ class Measurer:
         # No rig given: the fused method finds the floor contact in each frame instead of
         # trusting a guessed camera height ("estimated"); the paper's method never uses the
         # camera height, so it runs with the default rig ("default").
-        self.rig_source = (
+        self.find_floor = rig is None and method == "fused"
+        self.rig_source = rig_source or (
             "file" if rig is not None else ("estimated" if method == "fused" else "default")
         )
         self.rig = rig if rig is not None else Rig()
@@ -104,9 +108,12 @@ class Measurer:
                     self.rig, camera_height_m=height, camera_pitch_deg=0.0
                 )
                 impl.view = trial  # type: ignore[attr-defined]
-                best = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
-                best.camera_height_m = height
-                if best.detected:
+                result = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
+                result.camera_height_m = height
+                if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
+                    best = result
+                if result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT:
+                    best = result
                     break
         finally:
             impl.view = view  # type: ignore[attr-defined]
@@ -133,7 +140,7 @@ class Measurer:
         timer = Timer()
         impl = self._method_for(image.shape[1], image.shape[0])
         timer.lap("setup")
-        if self.rig_source == "estimated":
+        if self.find_floor:
             result = self._run_estimated(impl, image, range_m, timer)
         elif self.method == "fused":
             view: View = impl.view  # type: ignore[attr-defined]
@@ -148,11 +155,17 @@ class Measurer:
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source
+        if result.camera_height_m is None and self.rig_source == "estimated":
+            result.camera_height_m = self.rig.camera_height_m  # a rig fitted online
         result.clipped = clipped_sides(result.box_px, image.shape[1], image.shape[0])
         result.timings_ms = dict(timer.ms)
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
 
+
+#: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
+#: when none does, the most confident of the rows tried.
+ESTIMATE_ACCEPT = 0.2
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5

@@ -33,12 +33,20 @@ MAX_GAP = 4
 SIDE_SHARE_OF_SEAM = 0.5
 #: Share of the face's rows the new side's edge must be present in.
 SIDE_COVERAGE = 0.8
+#: The lowest share of the face's rows where a new side must be present (its foot).
+FOOT_SHARE = 0.15
 #: Rows either side of an edge row searched for its peak (blur, sub-pixel position).
 EDGE_ROWS = 1
 #: Side columns searched for the strongest vertical edge where the walk stopped.
 SNAP_COLUMNS = 6
 #: The face's own edges must stand this many noise levels above the floor's texture.
 MIN_EDGE_SNR = 3.0
+
+
+def _p90(values: npt.NDArray[np.float32]) -> float:
+    """The 90th percentile by one partition (np.percentile costs more than the stage)."""
+    k = int(0.9 * (values.size - 1))
+    return float(np.partition(values, k)[k])
 
 
 def _edge_profile(ay: npt.NDArray[np.float32], row: int) -> npt.NDArray[np.float32]:
@@ -63,6 +71,28 @@ def _walk(on: npt.NDArray[np.bool_], start: int, step: int) -> int:
     return u
 
 
+def _stands(present: npt.NDArray[np.bool_]) -> bool:
+    """A side's edge present over most of the face's rows and down to the floor: the
+    face stands on the floor-contact row, while anything behind it (a chair's leg, a
+    side face's far corner) meets the floor higher up in the image."""
+    if present.size == 0:
+        return False
+    foot = present[-max(3, int(FOOT_SHARE * present.size)) :]
+    return float(present.mean()) >= SIDE_COVERAGE and float(foot.mean()) >= SIDE_COVERAGE
+
+
+def _snap_window(side: int, end: int, step: int, width: int) -> tuple[int, int]:
+    """Columns to look for the real side where a walk from ``side`` ended at ``end``:
+    mostly back towards the start (the walk's smoothing overshoots), never onto the
+    edge it started from."""
+    lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
+    if step < 0:
+        hi = min(hi, side - 3)
+    else:
+        lo = max(lo, side + 3)
+    return max(lo, 0), min(hi, width - 1)
+
+
 def widen_across_seams(
     ay: npt.NDArray[np.float32],
     ax: npt.NDArray[np.int16],
@@ -83,7 +113,7 @@ def widen_across_seams(
     if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
         return left, right  # too faint to tell a seam from a side
     for profile, ref in ((gb, ref_b), (gt, ref_t)):
-        if ref < EVEN_SHARE * float(np.percentile(profile[inner], 90)):
+        if ref < EVEN_SHARE * _p90(profile[inner]):
             return left, right  # the edge does not run along the face itself: no face here
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     # both edges run on: together at CONTINUE_SHARE of the face's, neither below
@@ -102,15 +132,13 @@ def widen_across_seams(
         if abs(end - side) <= max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left)):
             new.append(side)  # the edges stop at (or just past) the side: it is the face's
             continue
-        lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
-        lo, hi = max(lo, 0), min(hi, sides.size - 1)
+        lo, hi = _snap_window(side, end, step, sides.size)
         best = int(lo + np.argmax(sides[lo : hi + 1]))
         # no vertical edge where the edges end: a background line ran on, not the face;
         # an edge that does not stand the face's whole height (a side face's far corner
         # stands higher up, further back) is not the face's side either
         run = np.asarray(ax[top + 1 : bottom, best], np.float32) >= SIDE_SHARE * need
-        whole = run.size > 0 and float(run.mean()) >= SIDE_COVERAGE
-        new.append(best if float(sides[best]) >= need and whole else side)
+        new.append(best if float(sides[best]) >= need and _stands(run) else side)
     return new[0], new[1]
 
 
@@ -150,7 +178,9 @@ def raise_top_past_inner_edges(
     end = _walk_up(on, top)
     if top - end <= SNAP_ROWS // 2:
         return top
-    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + SNAP_ROWS)
+    # the top edge lies where the sides ended, or just above (blur): never back down
+    # on the inner edge the sides ran past
+    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
     rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
     return int(r0 + np.argmax(rows))
 
@@ -167,6 +197,8 @@ def _walk_up(on: npt.NDArray[np.bool_], start: int) -> int:
     return reached
 
 
+#: The frame's sides must be at least this share of the print's sides' strength.
+FRAME_SHARE_OF_PRINT = 0.25
 #: The enclosing frame's sides must stand this far above the inner face's top (a share
 #: of the inner face's height, at least 3 rows): the frame is taller than what it holds.
 ABOVE_SHARE = 0.1
@@ -193,13 +225,14 @@ def enclose_inner_frame(
     gb = _edge_profile(ay, bottom)
     inner = slice(left + 1, right)
     ref_b = float(np.median(gb[inner]))
-    if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * float(np.percentile(gb[inner], 90)):
+    if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * _p90(gb[inner]):
         return left, right, top
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
     sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    # a print's edges may be far stronger than the face's own sides against the room
     need = max(
-        SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
+        FRAME_SHARE_OF_PRINT * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
     )
     above = max(3, int(ABOVE_SHARE * (bottom - top)))
     if top - above < 0:
@@ -210,11 +243,10 @@ def enclose_inner_frame(
         if abs(end - side) <= SNAP_COLUMNS // 2:
             new.append(side)  # the floor-contact edge ends at this side: the face's own
             continue
-        lo, hi = sorted((end - step * SNAP_COLUMNS, end + step * 2))
-        lo, hi = max(lo, 0), min(hi, sides.size - 1)
+        lo, hi = _snap_window(side, end, step, sides.size)
         best = int(lo + np.argmax(sides[lo : hi + 1]))
         column = np.asarray(ax[top - above : bottom, best], np.float32) >= SIDE_SHARE * need
-        if float(sides[best]) < need or float(column.mean()) < SIDE_COVERAGE:
+        if float(sides[best]) < need or not _stands(column):
             return left, right, top
         new.append(best)
     if new == [left, right]:
@@ -223,3 +255,4 @@ def enclose_inner_frame(
     if outer_top >= top:
         return left, right, top
     return new[0], new[1], outer_top
+

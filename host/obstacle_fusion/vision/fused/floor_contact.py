@@ -19,7 +19,7 @@ from obstacle_fusion.vision.types import View
 STEP_ROWS = 5  # rows averaged on each side of a candidate step
 MIN_STEP_GREY = 10.0  # a step smaller than this (colour distance, 8-bit) is floor texture
 NOISE_FACTOR = 5.0  # a step must stand this many median steps above the floor's own
-MAX_CANDIDATES = 1
+MAX_CANDIDATES = 4
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
 
 
@@ -57,7 +57,8 @@ def contact_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> li
         if s < threshold or s < step[i - 1] or s < step[i + 1]:
             continue
         row = int(v[i])
-        floor = rows[row + 1 : row + 1 + k].mean(axis=0)
+        # the floor's colour below the step, robust to a seam line right under it
+        floor = np.median(rows[row + 2 : row + 2 + 2 * k], axis=0)
         higher = rows[max(top, row - 4 * k) : row - 1]
         if len(higher) == 0:
             continue

@@ -1,0 +1,102 @@
+"""The fused method's extent stage on drawn faces: seams, labels and prints do not shrink a face."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+import pytest
+from obstacle_fusion.vision.fused import extent
+from obstacle_fusion.vision.fused.extent import (
+    enclose_inner_frame,
+    raise_top_past_inner_edges,
+    widen_across_seams,
+)
+
+H, W = 240, 320
+TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face
+
+
+def gradients(img: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
+    """|d/dy|, |d/dx| dilated by one column, and the noise level, as the method takes them."""
+    dx = np.empty(img.shape, np.int16)
+    dy = np.empty(img.shape, np.int16)
+    cv2.spatialGradient(img, dx, dy)
+    ay = np.abs(dy).astype(np.float32)
+    ax3 = cv2.dilate(np.abs(dx), np.ones((1, 3), np.uint8))
+    noise = float(np.median(ay[::4, ::4])) / 0.6745 + 1.0
+    return ay, ax3, noise
+
+
+def room(seams: list[int] = (), rng_seed: int = 0) -> npt.NDArray[np.uint8]:
+    """Wall above row 130, floor below; a face of planks of different shades and dark seams."""
+    rng = np.random.default_rng(rng_seed)
+    img = np.full((H, W), 170, np.float64)
+    img[130:] = 90
+    img[TOP:BOTTOM, LEFT:RIGHT] = 130
+    edges = [LEFT, *seams, RIGHT]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        img[TOP:BOTTOM, a:b] += rng.uniform(-12, 12)
+    for s in seams:
+        img[TOP:BOTTOM, s - 1 : s + 1] = 60
+    img += rng.normal(0, 1.5, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_face_of_planks_is_widened_from_one_plank_to_its_sides() -> None:
+    seams = [100, 140, 180, 220]
+    ay, ax3, noise = gradients(room(seams))
+    left, right = widen_across_seams(ay, ax3, BOTTOM, TOP, 140, 180, noise)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_face_found_whole_keeps_its_sides() -> None:
+    ay, ax3, noise = gradients(room([100, 140, 180, 220]))
+    assert widen_across_seams(ay, ax3, BOTTOM, TOP, LEFT, RIGHT, noise) == (LEFT, RIGHT)
+
+
+def test_edges_running_on_to_no_vertical_side_do_not_widen() -> None:
+    """A shelf line and a floor seam on the face's rows, beyond it, end at nothing."""
+    img = room([160]).astype(np.int16)
+    img[TOP - 1 : TOP + 1, :] = 60  # a line across the whole image on the top row
+    img[BOTTOM - 1 : BOTTOM + 1, :] = 60  # and on the floor-contact row
+    img[:, :LEFT] = 150  # no side left of the face: all one shade
+    ay, ax3, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
+    left, _ = widen_across_seams(ay, ax3, BOTTOM, TOP, LEFT + 2, 160, noise)
+    assert left == LEFT + 2
+
+
+def test_the_walk_steps_over_gaps_up_to_its_limit() -> None:
+    on = np.ones(40, bool)
+    on[20 : 20 + extent.MAX_GAP] = False
+    assert extent._walk(on, 5, 1) == 39
+    on[20 : 20 + extent.MAX_GAP + 1] = False
+    assert extent._walk(on, 5, 1) == 19
+
+
+def test_a_label_across_the_face_does_not_become_its_top() -> None:
+    img = room([]).astype(np.int16)
+    img[150:170, LEFT:RIGHT] = 230  # a bright label across the lower face
+    ay, ax3, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
+    top = raise_top_past_inner_edges(ay, ax3, BOTTOM, 150, LEFT, RIGHT, noise)
+    assert abs(top - TOP) <= 2
+
+
+def test_a_top_with_the_sides_ending_there_stays() -> None:
+    ay, ax3, noise = gradients(room([]))
+    assert abs(raise_top_past_inner_edges(ay, ax3, BOTTOM, TOP, LEFT, RIGHT, noise) - TOP) <= 1
+
+
+@pytest.mark.parametrize("margin", [8, 14])
+def test_a_print_with_a_margin_is_enclosed_by_the_face(margin: int) -> None:
+    img = room([]).astype(np.int16)
+    p0, p1 = LEFT + margin, RIGHT - margin
+    img[TOP + margin : BOTTOM - 3, p0:p1] = 40  # a dark print, its bottom near the floor
+    ay, ax3, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
+    left, right, top = enclose_inner_frame(ay, ax3, BOTTOM, TOP + margin, p0, p1, noise)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2 and abs(top - TOP) <= 2
+
+
+def test_a_face_standing_alone_is_not_enclosed_by_the_background() -> None:
+    ay, ax3, noise = gradients(room([]))
+    assert enclose_inner_frame(ay, ax3, BOTTOM, TOP, LEFT, RIGHT, noise) == (LEFT, RIGHT, TOP)
