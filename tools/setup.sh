@@ -18,6 +18,10 @@ command -v arm-none-eabi-gcc >/dev/null || need_apt+=(gcc-arm-none-eabi)
 [ -d /usr/lib/arm-none-eabi/newlib ] || need_apt+=(libnewlib-arm-none-eabi)
 command -v make >/dev/null || need_apt+=(make)
 command -v gcc >/dev/null || need_apt+=(gcc libc6-dev)
+# clang with libFuzzer and the sanitizer runtimes: tools/fuzz_firmware.py and its 30 s test.
+command -v clang >/dev/null || need_apt+=(clang)
+compgen -G "/usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-*.a" >/dev/null \
+  || need_apt+=(libclang-rt-dev)
 # The Uno's own bootloader (Optiboot's source, built by tools/emulator) and avrdude: the
 # emulator boots it and `obstacle-fusion flash` writes through it (the flashing test).
 [ -f /usr/share/arduino/hardware/arduino/avr/bootloaders/optiboot/optiboot.c ] \

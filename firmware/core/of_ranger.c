@@ -103,12 +103,11 @@ static void poll_idle(of_ranger_t *r, const of_ranger_config_t *cfg, uint32_t no
     r->trigger_us = hal_trigger(r->sensor);
     r->state = OF_RANGER_WAIT_RISE;
     r->low_seen = 0;
-    if (r->trigger_us - r->next_due_us > OF_LATE_US) {
-        /* Held back (guard, stuck line, start): the period counts from this trigger. */
-        r->next_due_us = r->trigger_us + cfg->cycle_us;
-    } else {
-        r->next_due_us += cfg->cycle_us; /* on time: keep the phase, no drift */
-    }
+    /* The period counts from this trigger's own stamp: the next one is never closer than
+     * the cycle (the spec's min_cycle_ms is a physical floor), however little this one
+     * was held back (guard, stuck line, start, the poll's own latency). Keeping the phase
+     * instead would pay a late trigger back with a short gap. */
+    r->next_due_us = r->trigger_us + cfg->cycle_us;
     *wake_us = r->trigger_us + cfg->echo_timeout_us + 1u;
 }
 

@@ -15,9 +15,6 @@
 /* If ECHO stays high this long past the due time (a stuck line or a missing sensor),
  * trigger anyway so the host sees timeouts instead of silence. */
 #define OF_STUCK_ECHO_US 100000UL
-/* A trigger later than its due time by more than this restarts the period from itself,
- * so no two triggers come closer than the cycle. */
-#define OF_LATE_US 1000UL
 
 typedef enum {
     OF_RANGER_IDLE = 0,  /* waiting for the next due time and the guard */

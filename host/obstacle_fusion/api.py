@@ -743,7 +743,8 @@ class ObstacleSensor:
 
             from obstacle_fusion.outputs.mcap_file import McapRecorder
 
-            recorder = McapRecorder(
+            recorder = _start_recorder(
+                McapRecorder,
                 self.record,
                 overwrite=self.overwrite,
                 topics=topics,
@@ -969,3 +970,11 @@ class AsyncObstacleSensor:
                         return None
         finally:
             remove()
+
+
+def _start_recorder(cls: Any, path: Any, **kwargs: Any) -> Any:
+    """The recorder, or a UserError when the file cannot even be started (disk full)."""
+    try:
+        return cls(path, **kwargs)
+    except OSError as exc:
+        raise UserError(f"cannot start the recording {path}: {exc.strerror or exc}") from None

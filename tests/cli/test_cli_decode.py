@@ -81,3 +81,20 @@ def test_garbage_warns_no_frame(tmp_path: Path) -> None:
     assert result.returncode == 0
     assert json.loads(result.stdout.decode().splitlines()[-1])["stats"]["frames"] == 0
     assert b"no frame found" in result.stderr
+
+
+def test_a_closed_standard_input_is_a_clear_error() -> None:
+    res = subprocess.run(
+        [sys.executable, "-m", "obstacle_fusion", "decode", "-"],
+        stdin=subprocess.DEVNULL, capture_output=True, timeout=60,
+        preexec_fn=lambda: __import__("os").close(0),
+    )
+    assert res.returncode == 2, res.stderr
+    assert b"standard input is closed" in res.stderr and b"Traceback" not in res.stderr
+
+
+def test_an_mcap_on_standard_input_gets_a_hint_replay_accepts() -> None:
+    res = run_cli("-", stdin=b"\x89MCAP0\r\n" + bytes(100))
+    assert res.returncode == 2
+    assert b"replay -" not in res.stderr
+    assert b"save it to a file, then use `obstacle-fusion replay FILE.mcap`" in res.stderr

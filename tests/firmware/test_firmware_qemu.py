@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 import select
 import shutil
+import struct
 import subprocess
 import time
 from collections.abc import Iterator
@@ -43,7 +44,7 @@ pytestmark = pytest.mark.skipif(QEMU is None, reason="qemu-system-arm is not ins
 class QemuBoard:
     """The blue pill image in QEMU, its USART1 on the process's stdin/stdout."""
 
-    def __init__(self, elf: Path) -> None:
+    def __init__(self, elf: Path, extra: tuple[str, ...] = ()) -> None:
         assert QEMU is not None
         self.proc = subprocess.Popen(
             [
@@ -57,6 +58,7 @@ class QemuBoard:
                 "none",
                 "-serial",
                 "stdio",
+                *extra,
             ],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
@@ -150,3 +152,46 @@ def test_answers_commands(board: QemuBoard) -> None:
     assert isinstance(ack, Ack) and ack.command_seq == 13
     assert isinstance(config, Config) and config.cycle_ms == 100 and config.max_echo_us == 100
     assert board.decoder.stats.seq_gaps == 0
+
+
+# The ROM bootloader's vector table stand-in: in RAM, above the firmware's data and below
+# its stack (which starts 8 KB up), aligned as VTOR requires.
+ROM_TABLE = 0x2000_1000
+VECTORS = 16 + 43
+
+
+def boot_rom_table(image: bytes) -> bytes:
+    """A vector table like the one the STM32's system memory (the ROM bootloader) shows at
+    address 0 while BOOT0 is latched: initial SP and reset entry are the image's (the
+    bootloader's GO command loads both from the image at 0x08000000), every other entry
+    leads into the ROM's own code, here a `b .` loop."""
+    sp, reset = struct.unpack_from("<II", image, 0)
+    assert reset & 0xFFFF_0000 == 0x0800_0000  # the image runs from its flash address
+    hang = ROM_TABLE + 0x100
+    table = struct.pack(f"<{VECTORS}I", sp, reset, *([hang | 1] * (VECTORS - 2)))
+    return table.ljust(0x100, b"\0") + b"\xfe\xe7"  # b .
+
+
+def test_started_from_the_boot_alias_still_runs(elf: Path, tmp_path: Path) -> None:
+    """Issue 13, defect 10 a. `stm32flash -g 0x0` starts the image at its flash address
+    while address 0 (BOOT0 still latched) shows the ROM bootloader, and VTOR is still 0:
+    without the firmware setting VTOR, its first interrupt vectors through the ROM's table
+    and the chip hangs. QEMU's F100 maps flash at 0, so the test starts the CPU with its
+    reset VTOR on a stand-in ROM table (armv7m init-nsvtor) holding the image's SP and
+    reset entry, like the GO command. HELLO goes out by polling either way; a command is
+    answered only if the USART interrupt reaches the firmware's own handler."""
+    rom = tmp_path / "rom.bin"
+    rom.write_bytes(boot_rom_table(elf.with_suffix(".bin").read_bytes()))
+    board = QemuBoard(
+        elf,
+        ("-global", f"armv7m.init-nsvtor={ROM_TABLE:#x}", "-device", f"loader,file={rom},addr={ROM_TABLE:#x}"),
+    )
+    try:
+        assert [type(m) for m in board.read_until(2)] == [Hello, Config]
+        board.send(TimeSync(token=0xB007), 1)
+        board.send(GetInfo(), 2)
+        msgs = board.read_until(3, timeout_s=5.0)
+        assert [type(m) for m in msgs] == [TimeSyncReply, Hello, Config], msgs
+        assert isinstance(msgs[0], TimeSyncReply) and msgs[0].token == 0xB007
+    finally:
+        board.close()

@@ -212,6 +212,10 @@ uint32_t hal_trigger(uint8_t sensor)
 
 uint8_t hal_echo_edges(uint32_t *rise_ticks, uint32_t *fall_ticks)
 {
+    if (fake.rise_in_edges_call != 0 && --fake.rise_in_edges_call == 0) {
+        fake.echo_high = true;
+        capture(fake.now, true);
+    }
     *rise_ticks = fake.cap_rise;
     *fall_ticks = fake.cap_fall;
     return fake.echo_state == 3 ? 2u : (fake.echo_state == 2 ? 1u : 0u);

@@ -38,6 +38,9 @@ typedef struct {
     uint32_t cap_rise, cap_fall;
     uint32_t pending_captures;  /* captures taken while an overflow was still pending */
     uint64_t last_fall_at;      /* true tick of the latest ECHO fall */
+    uint32_t rise_in_edges_call; /* hook: ECHO rises (and is captured) just before the Nth
+                                    hal_echo_edges() call from now, as an interrupt between
+                                    two looks would have it (0: off) */
     /* UART */
     uint8_t rx[1024];
     uint32_t rx_stamp[1024];

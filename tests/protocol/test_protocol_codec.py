@@ -108,3 +108,25 @@ def test_ids_unique_and_directions_split() -> None:
     for cls in MESSAGES.values():
         assert (cls.DIRECTION == "host_to_device") == (cls.MSG_ID >= 0x40)
         assert [f.name for f in dataclasses.fields(cls)]  or cls.MIN_LEN == 0
+
+
+def test_the_spec_says_the_crc_byte_order_the_wire_uses() -> None:
+    """spec.toml's framing comment, protocol/README.md and the encoder agree: the CRC is
+    sent high byte first (big-endian), as the C code and the golden vectors do."""
+    import binascii
+    import re
+    from pathlib import Path
+
+    from cobs import cobs
+    from obstacle_fusion.protocol import encode as encode_frame
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+    from obstacle_fusion.protocol.generated import Ack as AckMsg
+
+    root = Path(__file__).resolve().parents[2]
+    spec = (root / "protocol" / "spec.toml").read_text()
+    orders = re.findall(r"crc:u16(\w*)", spec)
+    assert orders == ["be"], orders
+    assert "crc:u16 (big-endian)" in (root / "protocol" / "README.md").read_text()
+    body = cobs.decode(encode_frame(AckMsg(command_id=0x41, command_seq=9), 3)[:-1])
+    crc = binascii.crc_hqx(body[:-2], CRC_SEEDS[AckMsg.MSG_ID])
+    assert body[-2:] == crc.to_bytes(2, "big") != crc.to_bytes(2, "little")

@@ -110,3 +110,205 @@ def test_long_garbage_does_not_grow_memory() -> None:
     assert decoder.pending_bytes <= 200
     msg = Ack(command_id=1, command_seq=2)
     assert decoder.feed(encode(msg, 0)) == [msg]
+
+
+def _wire_len(msg: Message) -> int:
+    return len(encode(msg, 0))  # COBS adds one byte below 254: the length never depends on seq
+
+
+def _every_chunking(data: bytes) -> list[list[bytes]]:
+    """One piece, byte by byte, and every split into two or three pieces at a stride."""
+    ways = [[data], [data[i : i + 1] for i in range(len(data))]]
+    for a in range(0, len(data) + 1):
+        ways.append([data[:a], data[a:]])
+        for b in range(a, len(data) + 1, 7):
+            ways.append([data[:a], data[a:b], data[b:]])
+    return ways
+
+
+def test_a_too_long_run_is_oversized_however_it_is_chunked() -> None:
+    """150 bytes of valid COBS with no delimiter, then 0x00: one oversized frame, whether
+    the decoder saw it whole or in pieces (it used to be cobs_errors when the tail was
+    trimmed between chunks), and the frame after it still comes out."""
+    from cobs import cobs
+
+    long_run = bytes(cobs.encode(bytes(range(1, 150))))
+    good = Ack(command_id=0x41, command_seq=3)
+    data = long_run + b"\x00" + encode(good, 5)
+    for pieces in _every_chunking(data):
+        decoder = StreamDecoder()
+        assert feed_all(decoder, pieces) == [good], pieces
+        s = decoder.stats
+        assert (s.oversized, s.cobs_errors, s.crc_errors, s.frames) == (1, 0, 0, 1), pieces
+        assert s.resyncs == 0 and s.bytes_discarded == len(long_run) + 1, pieces
+
+
+def test_a_frame_right_after_long_noise_is_recovered_however_it_is_chunked() -> None:
+    good = Range(measurement=7, sensor_id=0, trigger_us=123456, echo_ticks=4000, status=0)
+    noise = bytes(range(1, 200))  # no 0x00: the frame has no delimiter before it
+    data = noise + encode(good, 9)
+    for pieces in _every_chunking(data):
+        decoder = StreamDecoder()
+        assert feed_all(decoder, pieces) == [good], pieces
+        s = decoder.stats
+        assert (s.resyncs, s.oversized, s.bad_frames) == (1, 0, 0), pieces
+        assert s.bytes_discarded == len(noise), pieces
+
+
+def test_resync_is_counted_for_a_short_noise_prefix() -> None:
+    good = Ack(command_id=0x41, command_seq=3)
+    decoder = StreamDecoder()
+    assert decoder.feed(b"\x13\x37" + encode(good, 1)) == [good]
+    assert decoder.stats.resyncs == 1 and decoder.stats.bad_frames == 0
+    assert decoder.stats.bytes_discarded == 2
+
+
+def test_runs_of_zeros_are_counted_as_dropped_bytes() -> None:
+    good = Ack(command_id=1, command_seq=2)
+    decoder = StreamDecoder()
+    got = decoder.feed(b"\x00\x00\x00" + encode(good, 0) + b"\x00\x00")
+    assert got == [good]
+    assert decoder.stats.stray_zeros == 5 and decoder.stats.bytes_discarded == 5
+    assert decoder.stats.bad_frames == 0
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow], max_examples=150)
+@given(
+    st.lists(st.tuples(messages, st.booleans(), st.binary(max_size=80), st.integers(0, 60)),
+             min_size=1, max_size=12),
+    st.lists(st.integers(0, 3000), max_size=10),
+)
+def test_every_byte_is_in_a_good_frame_pending_or_counted_as_dropped(
+    items: list, cuts: list[int]  # type: ignore[type-arg]
+) -> None:
+    """Garbage (zeros included), corrupted and intact frames: the bytes of the good frames,
+    the pending tail and bytes_discarded add up to the bytes fed, in every chunking."""
+    stream = bytearray()
+    for seq, (msg, corrupt, garbage, flip_at) in enumerate(items):
+        frame = bytearray(encode(msg, seq & 0xFF))
+        if corrupt:
+            frame[flip_at % (len(frame) - 1)] ^= 0x5A
+        stream += garbage + frame
+    decoder = StreamDecoder()
+    got = feed_all(decoder, chunked(bytes(stream), cuts))
+    s = decoder.stats
+    assert s.frames == len(got)
+    good_bytes = sum(_wire_len(m) for m in got)
+    assert good_bytes + decoder.pending_bytes + s.bytes_discarded == s.bytes == len(stream)
+    whole = StreamDecoder()
+    assert whole.feed(bytes(stream)) == got
+    assert whole.stats == s
+
+
+def test_the_longest_frame_is_checked_and_one_byte_more_is_oversized() -> None:
+    """A run of MAX_FRAME - 1 bytes (the longest a frame can be without its 0x00) is
+    decoded and checked (here: its CRC fails); one byte more is oversized, in any chunking."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+    from obstacle_fusion.protocol.generated import MAX_BODY, MAX_FRAME
+
+    body = bytes((Log.MSG_ID, 1)) + b"y" * (MAX_BODY - 4)
+    crc = binascii.crc_hqx(body, CRC_SEEDS[Log.MSG_ID]) ^ 0x0101  # a wrong CRC
+    longest = bytes(cobs.encode(body + crc.to_bytes(2, "big")))
+    assert len(longest) == MAX_FRAME - 1
+    too_long = bytes(cobs.encode(b"z" + body + crc.to_bytes(2, "big")))
+    assert len(too_long) == MAX_FRAME
+    for run, counter in ((longest, "crc_errors"), (too_long, "oversized")):
+        for pieces in _every_chunking(run + b"\x00"):
+            decoder = StreamDecoder()
+            assert feed_all(decoder, pieces) == []
+            s = decoder.stats
+            assert s.bad_frames == getattr(s, counter) == 1, (counter, pieces)
+            assert s.bytes_discarded == len(run) + 1
+
+
+def test_every_message_id_byte_is_handled() -> None:
+    """A frame whose first byte is any id 0..255 (with a right-looking CRC) never raises:
+    the unknown ones are counted, the known fixed-length ones decode."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+    from obstacle_fusion.protocol.generated import MESSAGES
+
+    for msg_id in range(256):
+        body = bytes((msg_id, 1)) + bytes(14)
+        crc = binascii.crc_hqx(body, CRC_SEEDS.get(msg_id, 0xFFFF))
+        decoder = StreamDecoder()
+        decoder.feed(bytes(cobs.encode(body + crc.to_bytes(2, "big"))) + b"\x00")
+        s = decoder.stats
+        if msg_id not in MESSAGES:
+            assert s.unknown_ids == 1 and s.frames == 0, msg_id
+        else:
+            assert s.frames + s.bad_lengths == 1, msg_id
+
+
+def test_stats_as_dict_names_every_counter() -> None:
+    decoder = StreamDecoder()
+    decoder.feed(b"\x00\x03\x01\x02\x00" + encode(Ack(command_id=1, command_seq=2), 0))
+    d = decoder.stats.as_dict()
+    assert d["frames"] == 1 and d["stray_zeros"] == 1 and d["truncated"] == 1
+    assert d["bytes"] == decoder.stats.bytes and set(d) >= {"resyncs", "bytes_discarded"}
+
+
+def test_lost_frames_are_counted_for_text_messages_and_after_a_resync() -> None:
+    """Sequence gaps are counted on every path, across the 255 -> 0 wrap: LOG (a text
+    message, decoded off the fast path) and a frame recovered from behind noise."""
+    logs = [encode(Log(level=1, text=f"m{i}"), i) for i in (0, 1, 3, 254)]
+    decoder = StreamDecoder()
+    assert len(decoder.feed(b"".join(logs))) == 4
+    assert decoder.stats.seq_gaps == 1 + 250
+    decoder.feed(b"\x13\x37" + encode(Ack(command_id=1, command_seq=1), 1))  # 255, 0 lost
+    assert decoder.stats.resyncs == 1 and decoder.stats.seq_gaps == 1 + 250 + 2
+    assert decoder.last_seq == 1
+
+
+def test_a_short_run_that_is_no_cobs_is_a_cobs_error_not_oversized() -> None:
+    from obstacle_fusion.protocol.generated import MAX_FRAME
+
+    for run in (b"\x05\x01", b"\x40" + b"\x01" * (MAX_FRAME - 2)):  # the longest possible
+        assert len(run) < MAX_FRAME
+        decoder = StreamDecoder()
+        assert decoder.feed(run + b"\x00") == []
+        assert decoder.stats.cobs_errors == 1 and decoder.stats.oversized == 0, run
+
+
+def test_a_hello_starts_a_new_count_and_only_a_hello() -> None:
+    """HELLO (a new session: the device restarted its numbering) is never a gap; any other
+    frame is, even one whose seq happens to equal HELLO's id."""
+    from obstacle_fusion.protocol.generated import Hello
+
+    hello = Hello(1, 2, 0, 1, 0, 1, 16_000_000, 2_000_000, 1)
+    decoder = StreamDecoder()
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), 200) + encode(hello, 0))
+    assert decoder.stats.seq_gaps == 0
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), 255))  # 1..254 lost
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), Hello.MSG_ID))  # 0 .. lost
+    assert decoder.stats.seq_gaps == 254 + ((Hello.MSG_ID - 255 - 1) & 0xFF)
+
+
+def test_the_shortest_frame_is_recovered_from_behind_noise() -> None:
+    """STOP has no payload: its frame is 5 bytes with the 0x00, the shortest there is."""
+    from obstacle_fusion.protocol.generated import Stop
+
+    frame = encode(Stop(), 9)
+    assert len(frame) == 6
+    decoder = StreamDecoder()
+    assert decoder.feed(b"\x13\x37\x42" + frame) == [Stop()]
+    assert decoder.stats.resyncs == 1 and decoder.stats.bytes_discarded == 3
+
+
+def test_gaps_use_the_sequence_byte_not_the_id_or_payload() -> None:
+    """A LOG numbered like HELLO's id is no HELLO; a resynced frame's gap comes from its
+    seq byte, not from its payload."""
+    from obstacle_fusion.protocol.generated import Hello
+
+    decoder = StreamDecoder()
+    decoder.feed(encode(Log(level=1, text="a"), 5) + encode(Log(level=1, text="b"), Hello.MSG_ID))
+    assert decoder.stats.seq_gaps == (Hello.MSG_ID - 5 - 1) & 0xFF
+    decoder = StreamDecoder()
+    decoder.feed(encode(Ack(command_id=0x41, command_seq=0), 3))
+    decoder.feed(b"\x13\x37" + encode(Ack(command_id=0x41, command_seq=0), 6))
+    assert decoder.stats.resyncs == 1 and decoder.stats.seq_gaps == 2

@@ -151,11 +151,13 @@ def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
     assert len(errors) >= 20
     est = model.estimate()
     assert est is not None and est.drift_ppm == pytest.approx(ppm, abs=50)
-    if max_lag_s > 0.02 and percentile(errors, 0.95) >= 0.5e-3:
-        # A starved emulator stalls and then races to catch up: its MCU is no longer a
-        # crystal at a fixed rate, which is what the target is about. Say so, don't guess.
-        pytest.skip(f"the emulator fell {max_lag_s * 1e3:.0f} ms behind real time (CPU busy)")
-    assert percentile(errors, 0.95) < 0.5e-3, f"p95 {percentile(errors, 0.95) * 1e3:.3f} ms"
+    # An accuracy check that skips is no check: a starved emulator (it stalls, then races to
+    # catch up, so its MCU is no crystal at a fixed rate) fails the test, and says so.
+    p95 = percentile(errors, 0.95)
+    assert p95 < 0.5e-3, (
+        f"p95 {p95 * 1e3:.3f} ms (the emulator fell at most {max_lag_s * 1e3:.0f} ms behind "
+        "real time; over 20 ms means the machine was too busy for this timing test)"
+    )
 
 
 def test_an_mcu_reboot_without_hello_is_detected_and_relearned() -> None:
@@ -174,3 +176,254 @@ def test_an_mcu_reboot_without_hello_is_detected_and_relearned() -> None:
         model.add_sync(t, t + 0.003, 500_000 + k * 200_000, 500_100 + k * 200_000)
     assert model.jumps == 1
     assert model.to_host(500_000 + 4 * 200_000) == pytest.approx(1010.8015, abs=1e-3)
+
+
+# ------------------------------------------------------------ the round trips' rules
+def _sync(model: ClockModel, host_mid: float, mcu_us: int, width_s: float, delta_s: float) -> None:
+    """A round trip whose admissible interval (after the wire times) is width_s wide and
+    centred delta_s after the true host instant host_mid of MCU time mcu_us."""
+    lo = host_mid + delta_s - width_s / 2
+    model.add_sync(lo - model.request_wire_s, lo + width_s + model.reply_wire_s, mcu_us, mcu_us)
+
+
+def _truth(mcu_us: int) -> float:
+    return 1000.0 + mcu_us * 1e-6  # no drift: host = 1000 s + MCU seconds
+
+
+def test_one_wrong_round_trip_cannot_drag_the_offset() -> None:
+    """Nine round trips agree, one is 5 ms off with the same slack: the weighted median
+    keeps the offset exact, where a mean would move it by 0.5 ms."""
+    model = ClockModel()
+    for k in range(10):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.005 if k == 4 else 0.0)
+    est = model.estimate()
+    assert est is not None and est.source == "sync"
+    assert model.to_host(5_500_000) == pytest.approx(_truth(5_500_000), abs=2e-5)
+
+
+def test_poor_round_trips_are_left_out() -> None:
+    """Round trips far slower than the rest (a busy host) carry little: they are dropped
+    before the fit, so they neither tilt the drift nor widen the uncertainty."""
+    model = ClockModel()
+    for k in range(12):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+    for k in (12, 13):  # two slow ones at the end, 30 ms wide, their middles 12 ms late
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.030, 0.012)
+    est = model.estimate()
+    assert est is not None
+    assert abs(est.drift_ppm) < 20
+    assert est.uncertainty_s < 0.3e-3
+    assert model.to_host(14_000_000) == pytest.approx(_truth(14_000_000), abs=5e-5)
+
+
+def test_the_least_slack_round_trip_of_each_second_is_the_one_used() -> None:
+    """Each second has a tight round trip then a looser one whose middle is 1 ms late:
+    the tight one is kept, so the offset stays within 0.1 ms."""
+    model = ClockModel()
+    for k in range(10):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+        us2 = us + 300_000
+        _sync(model, _truth(us2), us2, 0.0025, 0.001)
+    assert model.to_host(6_000_000) == pytest.approx(_truth(6_000_000), abs=1e-4)
+
+
+def test_uncertainty_and_delay_figures() -> None:
+    """The estimate's uncertainty is the round trips' spread and half the best slack, and
+    min_oneway_delay_s the hull's offset over the round trips' line."""
+    model = ClockModel()
+    for k in range(10):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+    est = model.estimate()
+    assert est is not None
+    assert est.uncertainty_s == pytest.approx(0.0004 / 3**0.5, rel=1e-3)
+    assert est.min_oneway_delay_s is None and est.n_sync == 10 and est.n_oneway == 0
+    for k in range(40):  # RANGE frames 3 ms after their echo's end, over 4 s
+        us = 10_000_000 + k * 100_000
+        model.add_oneway(_truth(us) + 0.003 + (k % 3) * 1e-4, us)
+    est = model.estimate()
+    assert est is not None and est.source == "sync+oneway" and est.n_oneway == 40
+    assert est.min_oneway_delay_s == pytest.approx(0.003, abs=1e-6)
+
+
+def test_the_estimate_maps_as_the_model_does() -> None:
+    sim = LinkSim(ppm=3000.0, seed=8)
+    sim.generate(duration_s=12.0)
+    model = ClockModel()
+    sim.run(model)
+    est = model.estimate()
+    assert est is not None
+    for raw, _ in sim.truth[-20:]:
+        assert est.map_us(model.unwrap(raw)) == model.to_host(raw)
+
+
+def test_weighted_median_with_small_weights() -> None:
+    from obstacle_fusion.timing.clock import _weighted_median
+
+    assert _weighted_median([3.0, 1.0, 2.0], [0.5, 0.5, 0.5]) == 2.0
+    assert _weighted_median([1.0, 2.0, 3.0], [0.2, 0.2, 1.0]) == 3.0
+    assert _weighted_median([1.0, 2.0], [0.5, 0.5]) == 1.0
+
+
+def test_three_stamps_in_a_row_from_the_past_mean_a_reboot() -> None:
+    model = ClockModel()
+    for k in range(10):
+        t = 1000.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 100_000_000 + k * 200_000, 100_000_100 + k * 200_000)
+    assert model.ready
+    for k in range(2):
+        model.add_oneway(1010.0 + k * 0.06, 500_000 + k * 60_000)
+    assert model.jumps == 0 and model.estimate().n_oneway == 0  # type: ignore[union-attr]
+    model.add_oneway(1010.12, 620_000)
+    assert model.jumps == 1 and model.resets == 1
+
+
+def test_after_a_reset_only_new_evidence_counts() -> None:
+    """Round trips before a reset are forgotten even when no round trip follows it."""
+    model = ClockModel()
+    assert not model.ready and model.estimate() is None
+    for k in range(10):
+        t = 1000.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 100_000_000 + k * 200_000, 100_000_100 + k * 200_000)
+    assert model.estimate() is not None and model.ready
+    model.reset()
+    assert not model.ready
+    for k in range(5):
+        model.add_oneway(2000.0 + k * 0.06, 7_000_000 + k * 60_000)
+    est = model.estimate()
+    assert est is not None and est.source == "oneway" and est.n_sync == 0
+    assert model.to_host(7_000_000) == pytest.approx(2000.0, abs=0.003)
+
+
+def test_unwrap_at_exactly_half_the_counter_goes_back() -> None:
+    u = Unwrapper()
+    assert u(0) == 0
+    assert u(1 << 31) == -(1 << 31)  # exactly half-way: taken as the past
+    assert u((1 << 31) - 1) == (1 << 31) - 1
+
+
+def test_estimates_are_frozen_values() -> None:
+    import dataclasses
+
+    model = ClockModel()
+    model.add_sync(10.0, 10.002, 5_000_000, 5_000_100)
+    est = model.estimate()
+    assert est is not None
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        est.slope = 2.0  # type: ignore[misc]
+
+
+def test_wire_times_at_the_default_baud() -> None:
+    model = ClockModel()
+    assert model.byte_s == 10 / 115200
+    assert model.request_wire_s == pytest.approx(frame_bytes(TimeSync) * 10 / 115200, rel=1e-12)
+    assert model.range_wire_s == pytest.approx(frame_bytes(Range) * 10 / 115200, rel=1e-12)
+
+
+def test_the_one_way_window_is_30_seconds() -> None:
+    model = ClockModel()
+    for k in range(450):  # 45 s at 10 Hz
+        model.add_oneway(100.0 + k * 0.1 + 0.002, 1_000_000 + k * 100_000)
+    est = model.estimate()
+    assert est is not None and est.n_oneway == 301
+
+
+def test_a_round_trip_faster_than_the_wire_is_counted() -> None:
+    model = ClockModel()
+    model.add_sync(10.0, 10.0001, 5_000_000, 5_000_020)  # 0.1 ms: less than the frames take
+    assert model.fast_round_trips == 1
+    model.add_sync(11.0, 11.004, 6_000_000, 6_000_020)
+    assert model.fast_round_trips == 1
+    model.add_sync(12.0, 11.9, 7_000_000, 7_000_020)  # received before sent: dropped
+    model.add_sync(13.0, 13.004, 8_000_020, 8_000_000)  # replied before received: dropped
+    assert model.fast_round_trips == 1 and model.estimate().n_sync == 2  # type: ignore[union-attr]
+
+
+def test_the_weight_floor_of_the_round_trips() -> None:
+    """Three very tight round trips 0.1 ms late against twelve looser ones on time: with the
+    weights' floor at max(0.1 ms, half the median half-width) the tight ones carry the
+    median; a floor of 0.15 or 0.2 ms would hand it to the loose ones."""
+    model = ClockModel()
+    for k in range(15):
+        us = 1_000_000 + k * 1_000_000
+        tight = k in (2, 7, 12)
+        _sync(model, _truth(us), us, 0.00002 if tight else 0.0003, 0.0001 if tight else 0.0)
+    assert model.to_host(7_000_000) == pytest.approx(_truth(7_000_000) + 0.0001, abs=1e-6)
+
+
+@pytest.mark.parametrize("after_reset", [False, True])
+def test_the_hull_edge_under_a_mean_that_falls_on_a_vertex(after_reset: bool) -> None:
+    """Nine echoes one second apart, the fifth the earliest to arrive: the window's mean x is
+    exactly that vertex, and the edge on its left is the one read (as the sorted hull)."""
+    model = ClockModel()
+    if after_reset:
+        for k in range(3):
+            model.add_oneway(50.0 + k, 40_000_000 + k * 1_000_000)
+        model.reset()
+    delays = [0.009, 0.007, 0.005, 0.003, 0.001, 0.004, 0.007, 0.010, 0.013]
+    for k, d in enumerate(delays):
+        model.add_oneway(100.0 + k + d, 2_000_000 + k * 1_000_000)
+    line = model._hull_line()
+    assert line is not None and line == model._hull_line_sorted()
+    assert line[0] == pytest.approx(1.0 - 0.002, abs=1e-9)  # the edge from x=3 to x=4
+
+
+def test_a_stamp_exactly_two_seconds_old_is_still_taken() -> None:
+    model = ClockModel()
+    model.add_sync(10.0, 10.002, 5_000_000, 5_000_000)  # MCU x = 0 s
+    model.add_sync(20.0, 20.002, 15_000_000, 15_000_000)  # MCU x = 10 s
+    model.add_oneway(18.5, 13_000_000)  # x = 8 s: exactly 2 s older than the newest
+    model.add_oneway(18.6, 12_999_999)  # 1 us more: a stray
+    est = model.estimate()
+    assert est is not None and est.n_oneway == 1
+
+
+def test_two_one_way_arrivals_already_give_an_estimate() -> None:
+    model = ClockModel()
+    model.add_oneway(100.003, 1_000_000)
+    assert model.estimate() is None
+    model.add_oneway(100.103, 1_100_000)
+    est = model.estimate()
+    assert est is not None and est.source == "oneway" and est.n_oneway == 2
+
+
+def test_the_poor_round_trip_limit_is_twice_the_median_width_plus_0_2_ms() -> None:
+    """Twelve round trips 0.8 ms wide, then one 1.9 ms wide whose middle is 0.5 ms late:
+    over the limit (2 x 0.8 + 0.2 = 1.8 ms) it is left out, so the drift fitted through the
+    round trips alone stays at zero."""
+    model = ClockModel()
+    for k in range(12):
+        us = 1_000_000 + k * 1_000_000
+        _sync(model, _truth(us), us, 0.0008, 0.0)
+    us = 13_000_000
+    _sync(model, _truth(us), us, 0.0019, 0.0005)
+    est = model.estimate()
+    assert est is not None and est.source == "sync"
+    assert abs(est.drift_ppm) < 2
+
+
+def test_three_round_trips_from_the_past_mean_a_reboot() -> None:
+    model = ClockModel()
+    for k in range(10):
+        t = 1000.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 100_000_000 + k * 200_000, 100_000_100 + k * 200_000)
+    for k in range(2):
+        t = 1010.0 + k * 0.2
+        model.add_sync(t, t + 0.003, 500_000 + k * 200_000, 500_100 + k * 200_000)
+    assert model.jumps == 0
+    model.add_sync(1010.4, 1010.403, 900_000, 900_100)
+    assert model.jumps == 1
+
+
+def test_eight_one_way_arrivals_over_two_seconds_already_give_the_drift() -> None:
+    model = ClockModel()
+    for k in range(8):  # MCU 5000 ppm fast, 0.4 s apart: 2.8 s
+        us = 1_000_000 + k * 402_000
+        model.add_oneway(100.0 + k * 0.4 + 0.002 + (k % 2) * 1e-4, us)
+    est = model.estimate()
+    assert est is not None and est.n_oneway == 8
+    assert est.drift_ppm == pytest.approx(5000.0, abs=300)

@@ -124,3 +124,18 @@ def test_a_folder_and_a_wide_photo_without_calib_are_explained(
     err = capsys.readouterr().err
     assert "no --calib given" in err and "640x360" in err and "pass --calib" in err
     assert "calibration is for" not in err  # the user gave none
+
+
+def test_an_unreadable_image_is_a_permission_error_not_a_format(photo: Path) -> None:
+    import shutil
+    import tempfile
+
+    from tests.cli_fixtures import unreadable_run
+
+    with tempfile.TemporaryDirectory(dir="/tmp") as folder:
+        Path(folder).chmod(0o755)
+        locked = Path(folder) / "locked.png"
+        shutil.copy(photo, locked)
+        res = unreadable_run(locked, "measure", str(locked), "--range-m", "1.0")
+    assert res.returncode == 2, res.stderr
+    assert "permission denied" in res.stderr and "format" not in res.stderr

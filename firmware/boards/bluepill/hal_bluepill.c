@@ -34,7 +34,7 @@ static bool reset_by_watchdog;
 
 static volatile uint8_t rx_buf[128];
 static volatile uint8_t tx_buf[128];
-static of_ring_t rx_ring;
+static of_rx_ring_t rx_ring;
 static of_ring_t tx_ring;
 
 /* 72 MHz from HSE x9 (APB1 36 MHz, TIM2 72 MHz, APB2 72 MHz). If the crystal or the PLL
@@ -113,14 +113,9 @@ void USART1_IRQHandler(void)
     uint32_t sr = USART1->SR;
     if (sr & USART_SR_RXNE) {
         uint8_t b = (uint8_t)USART1->DR; /* also clears an overrun flag */
-        if (b == 0u) {
-            uint32_t us = hal_micros();
-            uint8_t rec[5] = {0, (uint8_t)us, (uint8_t)(us >> 8), (uint8_t)(us >> 16),
-                              (uint8_t)(us >> 24)};
-            (void)of_ring_put(&rx_ring, rec, sizeof rec);
-        } else {
-            (void)of_ring_put(&rx_ring, &b, 1);
-        }
+        /* A delimiter carries its arrival time (of_rx_put: a full ring drops a byte, and
+         * keeps a delimiter for the next byte that finds room). */
+        of_rx_put(&rx_ring, b, b == 0u ? hal_micros() : 0u);
     }
     if ((sr & USART_SR_TXE) && (USART1->CR1 & USART_CR1_TXEIE)) {
         uint8_t b;
@@ -134,7 +129,7 @@ void USART1_IRQHandler(void)
 
 void hal_init(void)
 {
-    of_ring_init(&rx_ring, rx_buf, sizeof rx_buf);
+    of_rx_init(&rx_ring, rx_buf, sizeof rx_buf);
     of_ring_init(&tx_ring, tx_buf, sizeof tx_buf);
     reset_by_watchdog = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0;
     RCC->CSR |= RCC_CSR_RMVF; /* clear the reset flags for next time */
@@ -249,18 +244,7 @@ bool hal_echo_is_high(void)
 
 bool hal_uart_read(uint8_t *byte, uint32_t *stamp_us)
 {
-    if (!of_ring_get(&rx_ring, byte)) {
-        return false;
-    }
-    if (*byte == 0u) {
-        uint8_t s[4] = {0, 0, 0, 0};
-        for (uint8_t i = 0; i < 4u; i++) {
-            (void)of_ring_get(&rx_ring, &s[i]); /* written with the 0x00, always there */
-        }
-        *stamp_us = (uint32_t)s[0] | (uint32_t)s[1] << 8 | (uint32_t)s[2] << 16
-            | (uint32_t)s[3] << 24;
-    }
-    return true;
+    return of_rx_get(&rx_ring, byte, stamp_us);
 }
 
 bool hal_uart_write(const uint8_t *data, uint8_t n)
@@ -292,7 +276,7 @@ void hal_idle_until(uint32_t wake_us)
         USART1->DR = b;
     }
     TIM2->CCR3 = (uint16_t)(TIM2->CNT + ((uint32_t)wait << US_SHIFT));
-    if (of_ring_count(&rx_ring) == 0u) {
+    if (of_ring_count(&rx_ring.ring) == 0u) {
         __asm__ volatile("wfi" : : : "memory");
     }
     irq_restore(m);

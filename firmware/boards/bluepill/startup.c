@@ -1,5 +1,8 @@
-/* Reset handler and vector table for the STM32F103: copy .data, clear .bss, run main. */
+/* Reset handler and vector table for the STM32F103: point VTOR at this image's vector
+ * table, copy .data, clear .bss, run main. */
 #include <stdint.h>
+
+#include "stm32f103.h"
 
 extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _estack;
 extern int main(void);
@@ -9,8 +12,16 @@ void Default_Handler(void);
 void TIM2_IRQHandler(void);
 void USART1_IRQHandler(void);
 
+extern void (*const vectors[16 + 43])(void);
+
 void Reset_Handler(void)
 {
+    /* Before anything can raise an interrupt: the vectors are ours, wherever we were
+     * started from. After `stm32flash -g 0x0` (BOOT0 still latched) address 0 shows the
+     * ROM bootloader and VTOR is still 0, so the first interrupt would go through the
+     * ROM's table. */
+    SCB->VTOR = (uint32_t)(uintptr_t)vectors;
+    __asm__ volatile("dsb" : : : "memory");
     uint32_t *src = &_sidata;
     for (uint32_t *dst = &_sdata; dst < &_edata;) {
         *dst++ = *src++;

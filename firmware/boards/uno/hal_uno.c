@@ -36,17 +36,35 @@ static volatile uint32_t echo_fall;
 
 static volatile uint8_t rx_buf[64];
 static volatile uint8_t tx_buf[128];
-static of_ring_t rx_ring;
+static of_rx_ring_t rx_ring;
 static of_ring_t tx_ring;
 
 /* MCUSR as it was at reset; .noinit, since it is saved before RAM is initialised. */
 static uint8_t reset_cause __attribute__((section(".noinit")));
+/* r2 as the application found it: Optiboot (>= 4.6, the Uno's bootloader) clears MCUSR
+ * before it starts the application and hands the reset cause over in r2. */
+static uint8_t boot_r2 __attribute__((section(".noinit")));
 
-/* The watchdog stays on across a watchdog reset: turn it off before main runs. */
+/* The very first code after the reset vector, before anything touches r2; then r2 is
+ * cleared, and the Makefile keeps the compiler off it (-ffixed-r2), so a bootloader that
+ * does not pass the cause (Optiboot < 4.6, e.g. the 4.4 of Arduino's own hex) hands over
+ * 0 after a warm reset, not a stale value that could read as WDRF. */
+void save_r2(void) __attribute__((naked, used, section(".init0")));
+void save_r2(void)
+{
+    __asm__ volatile("sts %0, r2\n\tclr r2" : "=m"(boot_r2));
+}
+
+/* The watchdog stays on across a watchdog reset: turn it off before main runs. MCUSR is
+ * 0 only when a bootloader cleared it (every reset sets one of its flags): then the cause
+ * is the one the bootloader passed in r2. */
 void wdt_init(void) __attribute__((naked, used, section(".init3")));
 void wdt_init(void)
 {
     reset_cause = MCUSR;
+    if (reset_cause == 0u && (boot_r2 & 0xF0u) == 0u) { /* MCUSR's bits 7..4 read 0 */
+        reset_cause = boot_r2;
+    }
     MCUSR = 0;
     wdt_disable();
 }
@@ -102,16 +120,9 @@ static uint32_t timer_now(uint8_t shift)
 ISR(USART_RX_vect)
 {
     uint8_t b = UDR0;
-    if (b == 0u) {
-        /* A delimiter carries its arrival time: the ring holds 0x00 then 4 stamp bytes,
-         * written together or not at all. */
-        uint32_t us = timer_now(US_SHIFT);
-        uint8_t rec[5] = {0, (uint8_t)us, (uint8_t)(us >> 8), (uint8_t)(us >> 16),
-                          (uint8_t)(us >> 24)};
-        (void)of_ring_put(&rx_ring, rec, sizeof rec);
-    } else {
-        (void)of_ring_put(&rx_ring, &b, 1); /* full: dropped; the frame's CRC will tell */
-    }
+    /* A delimiter carries its arrival time (of_rx_put: a full ring drops a byte, and
+     * keeps a delimiter for the next byte that finds room). */
+    of_rx_put(&rx_ring, b, b == 0u ? timer_now(US_SHIFT) : 0u);
 }
 
 ISR(USART_UDRE_vect)
@@ -126,7 +137,7 @@ ISR(USART_UDRE_vect)
 
 void hal_init(void)
 {
-    of_ring_init(&rx_ring, rx_buf, sizeof rx_buf);
+    of_rx_init(&rx_ring, rx_buf, sizeof rx_buf);
     of_ring_init(&tx_ring, tx_buf, sizeof tx_buf);
 
     /* TRIG pins low outputs; ECHO (PB0) input without pull-up: the sensor drives it. */
@@ -210,18 +221,7 @@ bool hal_echo_is_high(void)
 
 bool hal_uart_read(uint8_t *byte, uint32_t *stamp_us)
 {
-    if (!of_ring_get(&rx_ring, byte)) {
-        return false;
-    }
-    if (*byte == 0u) {
-        uint8_t s[4] = {0, 0, 0, 0};
-        for (uint8_t i = 0; i < 4u; i++) {
-            (void)of_ring_get(&rx_ring, &s[i]); /* written with the 0x00, always there */
-        }
-        *stamp_us = (uint32_t)s[0] | (uint32_t)s[1] << 8 | (uint32_t)s[2] << 16
-            | (uint32_t)s[3] << 24;
-    }
-    return true;
+    return of_rx_get(&rx_ring, byte, stamp_us);
 }
 
 bool hal_uart_write(const uint8_t *data, uint8_t n)
@@ -250,7 +250,7 @@ void hal_idle_until(uint32_t wake_us)
     cli();
     OCR1A = (uint16_t)(TCNT1 + (uint16_t)((uint32_t)wait << US_SHIFT));
     SREG = sreg;
-    if (of_ring_count(&rx_ring) != 0u) {
+    if (of_ring_count(&rx_ring.ring) != 0u) {
         return;
     }
     /* Interrupts are on: if one slips in between the check and SLEEP, the compare

@@ -27,6 +27,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def _open(path: str) -> BinaryIO:
     if path == "-":
+        if sys.stdin is None:  # started with standard input closed (`<&-`)
+            raise UserError("standard input is closed; give a capture file, or pipe one in")
         return sys.stdin.buffer
     try:
         return open(path, "rb")
@@ -41,17 +43,27 @@ def _open(path: str) -> BinaryIO:
 MCAP_MAGIC = b"\x89MCAP"
 
 
+def _read(stream: BinaryIO, name: str) -> bytes:
+    try:
+        return stream.read(CHUNK)
+    except (OSError, ValueError) as exc:  # a closed descriptor, a directory, an I/O error
+        what = "standard input" if name == "-" else name
+        raise UserError(f"cannot read {what}: {getattr(exc, 'strerror', None) or exc}") from None
+
+
 def run(args: argparse.Namespace) -> int:
     decoder = StreamDecoder()
     stream = _open(args.capture)
     out = sys.stdout
     try:
         first = True
-        while chunk := stream.read(CHUNK):
+        while chunk := _read(stream, args.capture):
             if first and chunk.startswith(MCAP_MAGIC):
+                where = "FILE.mcap" if args.capture == "-" else args.capture
+                save = "save it to a file, then " if args.capture == "-" else ""
                 raise UserError(
                     f"{args.capture} is an MCAP recording, not a raw serial capture: "
-                    f"use `obstacle-fusion replay {args.capture}`"
+                    f"{save}use `obstacle-fusion replay {where}`"
                 )
             first = False
             for msg in decoder.feed(chunk):

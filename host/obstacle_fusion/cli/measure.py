@@ -59,6 +59,13 @@ def run(args: argparse.Namespace) -> int:
         )
     if not path.is_file():
         raise UserError(f"image {path} does not exist")
+    try:  # OpenCV says only "None" for a file it may not open: ask the system first
+        with open(path, "rb") as fh:
+            fh.read(1)
+    except PermissionError:
+        raise UserError(f"cannot read image {path}: permission denied") from None
+    except OSError as exc:
+        raise UserError(f"cannot read image {path}: {exc.strerror or exc}") from None
     image = cv2.imread(str(path), cv2.IMREAD_COLOR)
     if image is None:
         raise UserError(f"cannot read image {path}: not an image format OpenCV can decode")

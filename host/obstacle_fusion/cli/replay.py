@@ -30,7 +30,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         description="Read a recording made by `obstacle-fusion run --record`, pair its frames "
         "with its sonar ranges again, measure, and print one JSON line per frame.",
     )
-    p.add_argument("recording", type=Path, help="FILE.mcap")
+    p.add_argument("recording", type=Path, help="FILE.mcap (a file: replay needs to seek)")
     p.add_argument("--method", choices=("fused", "paper"), help="default: the recorded one")
     p.add_argument(
         "--temperature",
@@ -67,6 +67,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 
 _STATUS_CODES = {"ok": 0, "no_echo": 1, "timeout": 2, "out_of_range": 3, "too_close": 0}
+# Exit code when the recording was damaged in the middle: everything intact was replayed,
+# but messages were lost (a file cut short is reported as an error, exit 2, as before).
+EXIT_DAMAGED = 3
+_RANGE_INTS = ("measurement", "sensor_id", "trigger_us", "echo_ticks")
+
+
+def _range_fields(d: dict[str, Any]) -> tuple[int, int, int, int, str] | None:
+    """The raw values of a /sonar/range message this tool wrote, or None for another's."""
+    values = [d.get(k) for k in _RANGE_INTS]
+    status = d.get("status")
+    if not all(isinstance(v, int) and not isinstance(v, bool) for v in values):
+        return None
+    if not isinstance(status, str):
+        return None
+    return values[0], values[1], values[2], values[3], status  # type: ignore[return-value]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -90,6 +105,8 @@ def run(args: argparse.Namespace) -> int:
     from obstacle_fusion.vision.camera import CameraModel, CameraModelError
     from obstacle_fusion.vision.rig import Rig
 
+    if str(args.recording) == "-":
+        raise UserError("replay reads a file, not standard input: save the recording first")
     _args.refuse_overwrite(args.ros2_bag, "--ros2-bag", args.overwrite)
     if args.ros2_bag is not None:
         from obstacle_fusion.outputs.ros2_bag import require_rosbags
@@ -208,7 +225,7 @@ def run(args: argparse.Namespace) -> int:
         )
         ros2 = Ros2BagWriter(args.ros2_bag, topics=topics, overwrite=args.overwrite)
     try:
-        index, bad_images = _replay(
+        index, bad_images, foreign_ranges = _replay(
             args,
             msgs,
             offset_ns,
@@ -233,8 +250,7 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"obstacle-fusion replay: {s.published} records from {index} frames and {s.readings} "
         f"ranges; {s.paired} paired, {s.unpaired} unpaired, {s.detected} measured, "
-        f"{s.vision_errors} vision errors"
-        + (f", {bad_images} undecodable frames" if bad_images else ""),
+        f"{s.vision_errors} vision errors",
         file=sys.stderr,
     )
     print(f"obstacle-fusion replay: {online.rig_text()}", file=sys.stderr)
@@ -249,11 +265,38 @@ def run(args: argparse.Namespace) -> int:
             + ")",
             file=sys.stderr,
         )
+    skipped = dict(rec.skipped)
+    if bad_images:
+        skipped[f"{TOPIC_IMAGE} (no image data)"] = bad_images
+    if foreign_ranges:
+        skipped[f"{TOPIC_RANGE} (not an obstacle-fusion range)"] = foreign_ranges
+    what = ", ".join(f"{n} on {t}" for t, n in sorted(skipped.items()))
+    if index == 0 and s.readings == 0:
+        raise UserError(
+            f"{args.recording} holds no camera frames or sonar ranges this tool can replay"
+            + (f" (skipped {what}); was it written by `obstacle-fusion run --record`?"
+               if what else "")
+        )
+    if skipped:
+        print(
+            f"obstacle-fusion replay: warning: skipped {sum(skipped.values())} messages it "
+            f"cannot replay: {what}",
+            file=sys.stderr,
+        )
     if not rec.complete:
         raise UserError(
-            f"{args.recording}: {rec.problem}. The {len(msgs)} messages before the cut were "
-            "replayed above; anything after it is lost"
+            f"{args.recording}: {rec.problem}"
+            + (f" and damaged ({rec.damage})" if rec.damage else "")
+            + f". The {len(msgs)} messages before the cut were replayed above; anything "
+            "after it is lost (`obstacle-fusion recover` writes what is left as a whole file)"
         )
+    if rec.damage:
+        print(
+            f"obstacle-fusion replay: error: {args.recording} lost data: {rec.damage}; every "
+            f"intact message was replayed (exit {EXIT_DAMAGED})",
+            file=sys.stderr,
+        )
+        return EXIT_DAMAGED
     return 0
 
 
@@ -273,7 +316,7 @@ def _replay(
     method: str,
     online: Any,
     recorded_index: dict[int, int] | None = None,
-) -> tuple[int, int]:
+) -> tuple[int, int, int]:
     import base64
 
     from obstacle_fusion.outputs.mcap_file import TOPIC_RANGE, decode_image
@@ -285,6 +328,7 @@ def _replay(
     measurer: Any = None
     index = 0
     bad_images = 0
+    foreign_ranges = 0
     for m in sorted(msgs, key=lambda m: m.log_time_ns):
         now[0] = (m.log_time_ns - offset_ns) / 1e9
         d = m.data
@@ -298,19 +342,19 @@ def _replay(
                     median_window=args.median,
                     half_spacing_m=half_spacing,
                 )
+            fields = _range_fields(d)
+            t_trigger, t_receipt = d.get("t_trigger_host"), d.get("t_receipt")
+            scale = d.get("time_scale") or 1.0
+            if fields is None or not all(
+                v is None or isinstance(v, int | float) for v in (t_trigger, t_receipt, scale)
+            ):
+                foreign_ranges += 1
+                continue
+            measurement, sensor_id, trigger_us, echo_ticks, status = fields
             raw = Range(
-                d["measurement"],
-                d["sensor_id"],
-                d["trigger_us"],
-                d["echo_ticks"],
-                _STATUS_CODES.get(d["status"], 255),
+                measurement, sensor_id, trigger_us, echo_ticks, _STATUS_CODES.get(status, 255)
             )
-            reading = conv.convert(
-                raw,
-                d.get("t_trigger_host"),
-                d.get("t_receipt"),
-                time_scale=float(d.get("time_scale") or 1.0),
-            )
+            reading = conv.convert(raw, t_trigger, t_receipt, time_scale=float(scale))
             online.reading_in(reading)
             records = fusion.add_reading(reading)
             if ros2 is not None:
@@ -353,7 +397,7 @@ def _replay(
         out.write(r)
         if ros2 is not None:
             ros2.write_record(r)
-    return index, bad_images
+    return index, bad_images, foreign_ranges
 
 
 def _meta_number(meta: dict[str, str], key: str, default: float, lo: float, hi: float) -> float:

@@ -286,7 +286,19 @@ def run(args: argparse.Namespace) -> int:
         for text in online.warnings:
             print(f"obstacle-fusion run: warning: {text}", file=sys.stderr)
     log.info("summary: %s", json.dumps(summary))
+    recorder = sensor.app.recorder if sensor.app is not None else None
+    if recorder is not None and recorder.failed is not None:
+        print(
+            f"obstacle-fusion run: recording failed: {recorder.failed}; "
+            f"{recorder.dropped} messages not recorded (exit {EXIT_RECORDING_FAILED})",
+            file=sys.stderr,
+        )
+        if result.exit_code == 0:
+            return EXIT_RECORDING_FAILED
     return result.exit_code
+
+
+EXIT_RECORDING_FAILED = 4  # the run went on to its end, but --record stopped early
 
 
 def _say_ready(sensor: Any) -> None:

@@ -12,15 +12,20 @@ stored monotonic times; :func:`recording_unix_offset_ns` tells them apart.
 Chunks are closed at least every ``flush_interval_s`` and the file flushed, so a crash
 loses at most that much: everything before it stays readable (replay reads such a file
 and says it was cut short). A reconnect is not a crash: the same file keeps going.
+
+A write that fails (disk full, a removed USB stick) stops the recording, never the run:
+``McapRecorder.failed`` says why, it is logged once, the file is closed as far as it got
+(``obstacle-fusion recover`` makes it an indexed file again), and later writes are dropped.
 """
 
 from __future__ import annotations
 
 import base64
+import errno
 import json
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
@@ -91,6 +96,8 @@ class McapRecorder:
 
         self.topics = topics or FoxgloveTopics(image_format=image_format, jpeg_quality=jpeg_quality)
         self.path = Path(path)
+        self.failed: str | None = None  # why the recording stopped early, if it did
+        self.dropped = 0  # messages not written after a failure
         try:  # "x": an earlier recording is never truncated unless asked
             self._file: IO[bytes] = open(self.path, "wb" if overwrite else "xb")  # noqa: SIM115
         except FileExistsError:
@@ -126,21 +133,44 @@ class McapRecorder:
         self._last_flush = time.monotonic()
         self._closed = False
 
+    def _fail(self, exc: OSError) -> None:
+        """The file cannot take more: say so once, close it as far as it got, go on."""
+        reason = exc.strerror or str(exc)
+        if exc.errno is not None and exc.errno in errno.errorcode:
+            reason = f"{reason} ({errno.errorcode[exc.errno]})"
+        self.failed = (
+            f"the recording {self.path} stopped: {reason}; it holds what was written before "
+            f"(`obstacle-fusion recover {self.path} FIXED.mcap` makes it an indexed file)"
+        )
+        log.error("%s; sensing goes on without it", self.failed)
+        self._closed = True
+        try:
+            self._file.close()
+        except OSError:
+            pass  # the buffered tail could not be written either; what is on disk stays
+
     def write(self, msg: TopicMessage) -> None:
         """One message as the encoder made it (the App shares them with the live view)."""
         self._add(msg.topic, msg.data, msg.publish_time_ns, msg.log_time_ns)
 
     def _add(self, topic: str, data: bytes, publish_ns: int, log_ns: int) -> None:
         if self._closed:
+            if self.failed is not None:
+                self.dropped += 1
             return
         self._seq[topic] += 1
-        self._writer.add_message(
-            channel_id=self._channels[topic],
-            log_time=log_ns,
-            publish_time=publish_ns,
-            data=data,
-            sequence=self._seq[topic],
-        )
+        try:
+            self._writer.add_message(
+                channel_id=self._channels[topic],
+                log_time=log_ns,
+                publish_time=publish_ns,
+                data=data,
+                sequence=self._seq[topic],
+            )
+        except OSError as exc:
+            self.dropped += 1
+            self._fail(exc)
+            return
         self.counts[topic] += 1
         now = time.monotonic()
         if now - self._last_flush >= self.flush_interval_s:
@@ -176,8 +206,12 @@ class McapRecorder:
         """Close the open chunk and push everything to the file (readable up to here)."""
         if self._closed:
             return
-        self._writer.flush()
-        self._file.flush()
+        try:
+            self._writer.flush()
+            self._file.flush()
+        except OSError as exc:
+            self._fail(exc)
+            return
         self._last_flush = time.monotonic()
 
     def close(self) -> None:
@@ -185,9 +219,13 @@ class McapRecorder:
             return
         try:
             self._writer.finish()
+        except OSError as exc:
+            self._fail(exc)
+            return
         finally:
-            self._closed = True
-            self._file.close()
+            if self.failed is None:
+                self._closed = True
+                self._file.close()
 
     def __enter__(self) -> McapRecorder:
         return self
@@ -213,71 +251,67 @@ class Recording:
     metadata: dict[str, dict[str, str]]
     complete: bool  # False: the file ends mid-way (crash, copy cut short)
     problem: str | None = None
+    damage: str = ""  # what was damaged in the middle and lost, '' when nothing was
+    skipped: dict[str, int] = field(default_factory=dict)  # per topic: not JSON, not a dict
 
 
 def decode_image(data: dict[str, Any]) -> np.ndarray | None:
+    """The image of a /camera/image message, or None (no data, not base64, not an image)."""
     import cv2
 
-    raw = np.frombuffer(base64.b64decode(data["data"]), np.uint8)
+    payload = data.get("data")
+    if not isinstance(payload, str):
+        return None
+    try:
+        raw = np.frombuffer(base64.b64decode(payload, validate=True), np.uint8)
+    except ValueError:
+        return None
+    if raw.size == 0:
+        return None
     image = cv2.imdecode(raw, cv2.IMREAD_COLOR)
     return None if image is None else np.asarray(image)
 
 
 def read_recording(path: str | Path) -> Recording:
-    """Every message of a recording in file order, and whether the file is whole.
+    """Every intact message of a recording in file order, and whether the file is whole.
 
     A file that does not start with the MCAP magic is refused with a UserError; a file
-    cut short returns what precedes the cut, with ``complete=False``.
+    cut short returns what precedes the cut, with ``complete=False``; damage in the middle
+    is skipped (every intact message after it is kept) and described in ``damage``.
     """
-    from mcap.exceptions import InvalidMagic, McapError
-    from mcap.records import Channel as ChannelRecord
-    from mcap.records import Footer, Message, Metadata
-    from mcap.stream_reader import StreamReader
+    from obstacle_fusion.outputs.mcap_salvage import describe, scan
 
     p = Path(path)
-    if not p.is_file():
-        raise UserError(f"{p} does not exist or is not a file")
-    with open(p, "rb") as fh:
-        head = fh.read(8)
-        if head[:5] != b"\x89MCAP":
-            raise UserError(
-                f"{p} is not an MCAP file (it does not start with the MCAP magic bytes); "
-                "give a recording made with `obstacle-fusion run --record FILE.mcap`"
-            )
-        fh.seek(0)
-        channels: dict[int, str] = {}
-        messages: list[RecordedMessage] = []
-        metadata: dict[str, dict[str, str]] = {}
-        complete = False
-        problem: str | None = None
+    try:
+        if not p.is_file():
+            raise UserError(f"{p} does not exist or is not a file")
+        salvage = scan(p)
+    except PermissionError:
+        raise UserError(f"cannot read {p}: permission denied") from None
+    except OSError as exc:
+        raise UserError(f"cannot read {p}: {exc.strerror or exc}") from None
+    except ValueError:
+        raise UserError(
+            f"{p} is not an MCAP file (it does not start with the MCAP magic bytes); "
+            "give a recording made with `obstacle-fusion run --record FILE.mcap`"
+        ) from None
+    messages: list[RecordedMessage] = []
+    skipped: dict[str, int] = {}
+    for m in salvage.messages:
+        channel = salvage.channels.get(m.channel_id)
+        topic = channel.topic if channel is not None else f"(channel {m.channel_id})"
         try:
-            for record in StreamReader(fh, skip_magic=False).records:
-                if isinstance(record, ChannelRecord):
-                    channels[record.id] = record.topic
-                elif isinstance(record, Message):
-                    topic = channels.get(record.channel_id)
-                    if topic is None:
-                        continue
-                    try:
-                        data = json.loads(record.data)
-                    except ValueError:
-                        problem = f"undecodable message on {topic}"
-                        continue
-                    messages.append(
-                        RecordedMessage(topic, record.log_time, record.publish_time, data)
-                    )
-                elif isinstance(record, Metadata):
-                    metadata[record.name] = dict(record.metadata)
-                elif isinstance(record, Footer):
-                    complete = True
-        except InvalidMagic as exc:
-            raise UserError(f"{p} is not an MCAP file: {exc}") from exc
-        except (McapError, EOFError, ValueError, KeyError, IndexError) as exc:
-            complete = False
-            problem = f"the file is cut short or damaged ({type(exc).__name__}: {exc})"
-        except Exception as exc:  # a damaged record can fail in struct/zlib
-            complete = False
-            problem = f"the file is damaged ({type(exc).__name__}: {exc})"
-    if not complete and problem is None:
+            if channel is None or channel.message_encoding != "json":
+                raise ValueError(topic)
+            data = json.loads(m.data)
+            if not isinstance(data, dict):
+                raise ValueError(topic)
+        except ValueError:
+            skipped[topic] = skipped.get(topic, 0) + 1
+            continue
+        messages.append(RecordedMessage(topic, m.log_time, m.publish_time, data))
+    metadata = {md.name: dict(md.metadata) for md in salvage.metadata}
+    problem = None
+    if not salvage.complete:
         problem = "the file ends before its closing records (the recording was cut short)"
-    return Recording(messages, metadata, complete, problem)
+    return Recording(messages, metadata, salvage.complete, problem, describe(salvage), skipped)

@@ -100,6 +100,7 @@ class EmulatorConfig:
     wait_client: bool = True  # hold the MCU in reset until the pty is opened
     client_grace_ms: float | None = None
     reset_on_open: bool = False
+    optiboot: bool = False  # start as Optiboot does: MCUSR cleared, the reset cause in r2
     exit_with_parent: bool = True  # no orphans when the starting process dies
     seed: int = 1
     quirk_fixes: bool = True
@@ -155,6 +156,8 @@ class EmulatorConfig:
         opt("--client-grace-ms", self.client_grace_ms)
         if self.reset_on_open:
             args.append("--reset-on-open")
+        if self.optiboot:
+            args.append("--optiboot")
         if self.exit_with_parent:
             args.append("--exit-with-parent")
         opt("--seed", self.seed)
@@ -319,9 +322,10 @@ class EmulatorControl:
         """Keyframes from a file; their time 0 is the moment the command is applied."""
         self.command(f"scene {path}" + ("" if sensor is None else f" {sensor}"))
 
-    def reset(self) -> None:
-        """Reset the MCU, like pressing the board's reset button."""
-        self.command("reset")
+    def reset(self, watchdog: bool = False) -> None:
+        """Reset the MCU, like pressing the board's reset button; watchdog=True: as if
+        its watchdog had fired (MCUSR.WDRF set, or r2 under --optiboot)."""
+        self.command("reset watchdog" if watchdog else "reset")
 
     def sim_time(self) -> float:
         """Simulated seconds since power-up."""

@@ -98,6 +98,11 @@ class View:
         self.grey = np.empty((camera.height, camera.width), np.uint8)
         self.out = np.empty((camera.height, camera.width), np.uint8)
 
+    def input_rows(self, rows: int) -> int:
+        """How many of the input image's top rows the view's first ``rows`` rows read."""
+        n = max(1, min(int(rows), self.out.shape[0]))
+        return int(self._src_rows[n - 1])
+
     def warp(self, image: npt.NDArray[Any], rows: int | None = None) -> npt.NDArray[np.uint8]:
         """Input frame (BGR or grey) to this view's grey image (a reused buffer).
 

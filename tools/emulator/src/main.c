@@ -40,6 +40,7 @@ typedef struct {
     int wait_client;
     double client_grace_ms;
     int reset_on_open;
+    int optiboot;           /* hand the reset cause over in r2 with MCUSR cleared */
     int exit_with_parent;
     pid_t parent;
     const char *truth_path;
@@ -76,7 +77,8 @@ typedef struct {
     avr_cycle_count_t cycle0;
     double max_lag_s;
     /* requests from the control channel or signals, handled between instructions */
-    int reset_requested;
+    int reset_requested;    /* 1: reset button (EXTRF), 2: as if the watchdog fired (WDRF) */
+    uint8_t reset_cause;    /* MCUSR bits of the reset being handled */
     int quit_requested;
     uint64_t resets;
     uint64_t ticks;
@@ -90,6 +92,36 @@ static int g_core_was_reset;
 static void on_signal(int sig)
 {
     g_signal = sig;
+}
+
+/* The reset cause register of the ATmega48/88/168/328 (MCUSR, I/O 0x34 = data 0x54). */
+#define MCUSR_ADDR 0x54
+enum { MCUSR_PORF = 0x01, MCUSR_EXTRF = 0x02, MCUSR_WDRF = 0x08 };
+
+static int has_mcusr(const avr_t *avr)
+{
+    static const char *const parts[] = {"atmega48", "atmega88", "atmega168", "atmega328"};
+    for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
+        if (!strncmp(avr->mmcu, parts[i], strlen(parts[i])))
+            return 1;
+    }
+    return 0;
+}
+
+/* Adds `cause` to MCUSR as the chip would (simavr 1.6 sets only WDRF, and only for its own
+ * watchdog), then, with --optiboot, does what Optiboot does before it jumps to the
+ * application: MCUSR into r2, MCUSR cleared (so the application reads its reset cause
+ * from r2, the convention of Optiboot >= 4.6). Runs before the first instruction. */
+static void hand_over(emu_t *e, uint8_t cause)
+{
+    if (!has_mcusr(e->avr))
+        return;
+    uint8_t mcusr = (uint8_t)(e->avr->data[MCUSR_ADDR] | cause);
+    if (e->optiboot) {
+        e->avr->data[2] = mcusr;
+        mcusr = 0;
+    }
+    e->avr->data[MCUSR_ADDR] = mcusr;
 }
 
 static void die(const char *fmt, ...)
@@ -209,6 +241,8 @@ static void usage(FILE *f)
         "  --wait-client         hold the MCU in reset until a client opens the pty\n"
         "  --client-grace-ms MS  then wait this long before starting (default 100)\n"
         "  --reset-on-open       reset the MCU whenever a client opens the pty (like DTR)\n"
+        "  --optiboot            start the firmware as Optiboot does: MCUSR cleared, the\n"
+        "                        reset cause in r2 (ATmega48/88/168/328)\n"
         "  --exit-with-parent    stop when the process that started us goes away\n"
         "files:\n"
         "  --truth FILE          truth log, one line per measurement\n"
@@ -230,7 +264,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         O_DIST = 256, O_SCENE, O_TEMP, O_NOISE, O_DROPOUT, O_SPIKE, O_TRIG, O_ECHO, O_BURST,
         O_NOECHO, O_MAXR, O_MINTRIG, O_FAST, O_PPM, O_DUR, O_SERVICE, O_UDROP, O_UCORR,
         O_UINS, O_FDIR, O_WAIT, O_GRACE, O_RESETOPEN, O_TRUTH, O_PTYFILE, O_CONTROL, O_MCU,
-        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT, O_BOOT, O_SENSCENE
+        O_FREQ, O_SEED, O_NOQUIRK, O_ELF, O_SENSORS, O_PARENT, O_OPTIBOOT, O_BOOT, O_SENSCENE
     };
     static const struct option opts[] = {
         {"distance", required_argument, 0, O_DIST},
@@ -259,6 +293,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
         {"wait-client", no_argument, 0, O_WAIT},
         {"client-grace-ms", required_argument, 0, O_GRACE},
         {"reset-on-open", no_argument, 0, O_RESETOPEN},
+        {"optiboot", no_argument, 0, O_OPTIBOOT},
         {"truth", required_argument, 0, O_TRUTH},
         {"pty-file", required_argument, 0, O_PTYFILE},
         {"control", required_argument, 0, O_CONTROL},
@@ -336,6 +371,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
             e->client_grace_ms = parse_num("--client-grace-ms", optarg, 0, 60000);
             break;
         case O_RESETOPEN: e->reset_on_open = 1; break;
+        case O_OPTIBOOT: e->optiboot = 1; break;
         case O_PARENT: e->exit_with_parent = 1; break;
         case O_TRUTH: e->truth_path = optarg; break;
         case O_PTYFILE: e->pty_file = optarg; break;
@@ -515,6 +551,12 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
         }
     } else if (!strcmp(cmd, "reset") && argc == 1) {
         e->reset_requested = 1;
+    } else if (!strcmp(cmd, "reset") && argc == 2 && !strcmp(argv[1], "watchdog")) {
+        if (!has_mcusr(e->avr)) {
+            snprintf(reply, n, "error reset watchdog: no MCUSR model for %s", e->avr->mmcu);
+            return;
+        }
+        e->reset_requested = 2;
     } else if (!strcmp(cmd, "time") && argc == 1) {
         snprintf(reply, n, "ok %.9f %llu", sim_seconds(e), (unsigned long long)e->avr->cycle);
         return;
@@ -526,7 +568,7 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
     } else if (!strcmp(cmd, "help")) {
         snprintf(reply, n, "ok commands: distance M|none [SENSOR], temperature C, noise MM, "
                            "dropout P, spike P, uart drop|corrupt|insert P, scene FILE [SENSOR], "
-                           "reset, time, stats, quit");
+                           "reset [watchdog], time, stats, quit");
         return;
     } else {
         snprintf(reply, n, "error unknown command or wrong arguments: '%s' (try help)", cmd);
@@ -683,6 +725,8 @@ static void core_reset_hook(avr_t *avr)
 static void after_reset(emu_t *e)
 {
     g_core_was_reset = 0;
+    hand_over(e, e->reset_cause);
+    e->reset_cause = 0;
     e->resets++;
     e->bridge.rx_scheduled = 0;
     e->tx_timer_armed = 0;
@@ -906,6 +950,11 @@ int main(int argc, char **argv)
     clock_gettime(CLOCK_MONOTONIC, &e->wall0);
     e->cycle0 = avr->cycle;
     g_core_was_reset = 0;
+    if (e->optiboot && e->boot.active)
+        die("--optiboot stands in for a bootloader; with --bootloader the real one runs");
+    if (e->optiboot && !has_mcusr(avr))
+        die("--optiboot: no MCUSR model for %s (ATmega48/88/168/328 only)", avr->mmcu);
+    hand_over(e, MCUSR_PORF); /* power-on */
     avr_cycle_timer_register(avr, e->service_cycles, service_tick, e);
 
     const char *why = "stopped";
@@ -915,11 +964,13 @@ int main(int argc, char **argv)
         if (g_core_was_reset)
             after_reset(e);
         if (e->reset_requested) {
+            e->reset_cause = e->reset_requested == 2 ? MCUSR_WDRF : MCUSR_EXTRF;
             e->reset_requested = 0;
             avr_reset(avr);
             if (e->boot.active) {
                 avr->pc = e->boot.start;
-                bootloader_mark_reset(avr, 1);
+                if (e->reset_cause == MCUSR_EXTRF) /* `reset watchdog`: WDRF alone */
+                    bootloader_mark_reset(avr, 1);
             }
             bridge_flush(&e->bridge);
             if (g_core_was_reset)

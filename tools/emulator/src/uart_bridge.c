@@ -221,8 +221,10 @@ static void rx_read(uart_bridge_t *b)
     uint8_t chunk[1024];
     for (;;) {
         uint32_t space = BRIDGE_RX_SIZE - (b->rx_head - b->rx_tail);
+        /* Full: the rest waits in the pty (the host's write blocks, as on a real line),
+         * but the feed below must still be scheduled, or nothing ever empties the queue. */
         if (space == 0)
-            return;
+            break;
         size_t want = space < sizeof chunk ? space : sizeof chunk;
         ssize_t r = read(b->master, chunk, want);
         if (r <= 0)

@@ -27,10 +27,15 @@ SAMPLE_ROWS = (5.0, 8.0, 11.0)
 #: Half the sampled width at the face, metres (the beam's core).
 SAMPLE_HALF_M = 0.03
 
+#: Rows below the contact row the method may read beyond its search band (3 px +
+#: (3 % + 1 cm / D) of the row's distance below the horizon), with a margin.
+BAND_ROWS = 12.0
+
 _LUMA = np.array([0.114, 0.587, 0.299])  # BGR weights of OpenCV's grey
 
 
 def _mean_colour(image: npt.NDArray[Any], pts: npt.NDArray[np.float64]) -> npt.NDArray[Any] | None:
+    """Mean colour of the 3x3 patches around the points that lie inside the image."""
     h, w = image.shape[:2]
     x = np.rint(pts[:, 0]).astype(int)
     y = np.rint(pts[:, 1]).astype(int)
@@ -38,11 +43,11 @@ def _mean_colour(image: npt.NDArray[Any], pts: npt.NDArray[np.float64]) -> npt.N
     if not keep.any():
         return None
     x, y = x[keep], y[keep]
-    acc = np.zeros(3)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            acc += image[y + dy, x + dx].astype(np.float64).mean(axis=0)
-    return acc / 9.0
+    patches = image[y[:, None, None] + _PATCH[0], x[:, None, None] + _PATCH[1]]
+    return patches.reshape(-1, image.shape[2]).mean(axis=0)
+
+
+_PATCH = np.mgrid[-1:2, -1:2]  # row and column offsets of a 3x3 patch
 
 
 def face_floor_grey(
@@ -71,4 +76,9 @@ def face_floor_grey(
     # black stays at or above 0 whatever the signs of the weights
     offset = -255.0 * float(np.minimum(weights, 0.0).sum())
     matrix = np.array([[*weights, offset]], np.float32)
-    return cv2.transform(image, matrix)
+    # only the rows the method's levelled view reads: down to its floor-contact band
+    band = contact_row + BAND_ROWS + max(0.0, contact_row - view.cy) * (0.03 + 0.01 / depth_m)
+    k = view.input_rows(int(np.ceil(band)))
+    out = np.zeros(image.shape[:2], np.uint8)
+    cv2.transform(image[:k], matrix, dst=out[:k])
+    return out

@@ -43,6 +43,12 @@ SNAP_COLUMNS = 6
 MIN_EDGE_SNR = 3.0
 
 
+def _p90(values: npt.NDArray[np.float32]) -> float:
+    """The 90th percentile by one partition (np.percentile costs more than the stage)."""
+    k = int(0.9 * (values.size - 1))
+    return float(np.partition(values, k)[k])
+
+
 def _edge_profile(ay: npt.NDArray[np.float32], row: int) -> npt.NDArray[np.float32]:
     """Per column, the strongest |d/dy| within EDGE_ROWS of ``row``."""
     r0 = max(0, row - EDGE_ROWS)
@@ -107,7 +113,7 @@ def widen_across_seams(
     if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
         return left, right  # too faint to tell a seam from a side
     for profile, ref in ((gb, ref_b), (gt, ref_t)):
-        if ref < EVEN_SHARE * float(np.percentile(profile[inner], 90)):
+        if ref < EVEN_SHARE * _p90(profile[inner]):
             return left, right  # the edge does not run along the face itself: no face here
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     # both edges run on: together at CONTINUE_SHARE of the face's, neither below
@@ -219,7 +225,7 @@ def enclose_inner_frame(
     gb = _edge_profile(ay, bottom)
     inner = slice(left + 1, right)
     ref_b = float(np.median(gb[inner]))
-    if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * float(np.percentile(gb[inner], 90)):
+    if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * _p90(gb[inner]):
         return left, right, top
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
