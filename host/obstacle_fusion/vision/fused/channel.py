@@ -22,6 +22,9 @@ from obstacle_fusion.vision.types import View
 FACE_SHARE = 0.5
 #: Face and floor closer than this (8-bit BGR distance) give no direction to trust.
 MIN_COLOUR_STEP = 12.0
+#: The part of the face-floor colour step luminance does not see must reach this (8-bit
+#: BGR distance) for the turn to be worth its cost; below it, plain luminance.
+MIN_CHROMA_STEP = 15.0
 #: Rows above and below the contact row sampled for the face and the floor (view rows).
 SAMPLE_ROWS = (5.0, 8.0, 11.0)
 #: Half the sampled width at the face, metres (the beam's core).
@@ -65,8 +68,10 @@ def face_floor_grey(
         return image
     step = face - floor
     size = float(np.linalg.norm(step))
-    if size < MIN_COLOUR_STEP:
-        return image
+    luma_unit = _LUMA / float(np.linalg.norm(_LUMA))
+    chroma = float(np.linalg.norm(step - float(step @ luma_unit) * luma_unit))
+    if size < MIN_COLOUR_STEP or chroma < MIN_CHROMA_STEP:
+        return image  # luminance sees the face's foot already: nothing to add
     towards = step / size
     if float(towards @ _LUMA) < 0.0:
         towards = -towards
