@@ -10,7 +10,8 @@ The package follows the data on a robot, in order:
 6. ``vision``    one frame + the sonar range -> the obstacle's size in pixels and metres
 7. ``fusion``    pairs each frame with the range of the same instant -> obstacle records
 8. ``outputs``   console, JSON lines, MCAP recording, annotated video
-9. ``app``       the live loop wiring 1-8 together
+9. ``app``       the live loop wiring 1-8 together (``online``: the rig and camera latency
+                 learnt while running; ``api``: ObstacleSensor, the Python API over it)
 
 Apart from the robot's path: ``sim`` (the firmware emulator wrapper, the emulated robot,
 scenarios, the scene renderer and the synthetic camera), used when no board or camera is
