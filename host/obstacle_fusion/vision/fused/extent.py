@@ -126,20 +126,37 @@ def widen_across_seams(
     need = max(
         SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
     )
+    min_move = max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left))
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = _walk(runs_on, side, step)
-        if abs(end - side) <= max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left)):
-            new.append(side)  # the edges stop at (or just past) the side: it is the face's
-            continue
-        lo, hi = _snap_window(side, end, step, sides.size)
-        best = int(lo + np.argmax(sides[lo : hi + 1]))
-        # no vertical edge where the edges end: a background line ran on, not the face;
-        # an edge that does not stand the face's whole height (a side face's far corner
-        # stands higher up, further back) is not the face's side either
-        run = np.asarray(ax[top + 1 : bottom, best], np.float32) >= SIDE_SHARE * need
-        new.append(best if float(sides[best]) >= need and _stands(run) else side)
+        moved = _outer_side(ax[top + 1 : bottom], sides, runs_on, side, step, min_move, need)
+        new.append(side if moved is None else moved)
     return new[0], new[1]
+
+
+def _outer_side(
+    ax_rows: npt.NDArray[np.int16],
+    sides: npt.NDArray[np.float32],
+    runs_on: npt.NDArray[np.bool_],
+    side: int,
+    step: int,
+    min_move: float,
+    need: float,
+) -> int | None:
+    """Where the edges that run on past ``side`` (towards ``step``) end, the column of the
+    face's real side: ``side`` itself when they stop within ``min_move`` columns, None when
+    no side stands there (``ax_rows``: the rows the side must stand over, down to the floor).
+
+    No vertical edge where the edges end: a background line ran on, not the face; an edge
+    that does not stand the whole height down to the floor (a side face's far corner, a
+    chair's leg behind) is not the face's side either."""
+    end = _walk(runs_on, side, step)
+    if abs(end - side) <= min_move:
+        return side  # the edges stop at (or just past) the side: it is the face's
+    lo, hi = _snap_window(side, end, step, sides.size)
+    best = int(lo + np.argmax(sides[lo : hi + 1]))
+    present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
+    return best if float(sides[best]) >= need and _stands(present) else None
 
 
 #: A side counts as present in a row when its |d/dx| is at least this share of its
@@ -239,20 +256,16 @@ def enclose_inner_frame(
         return left, right, top
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = _walk(runs_on, side, step)
-        if abs(end - side) <= SNAP_COLUMNS // 2:
-            new.append(side)  # the floor-contact edge ends at this side: the face's own
-            continue
-        lo, hi = _snap_window(side, end, step, sides.size)
-        best = int(lo + np.argmax(sides[lo : hi + 1]))
-        column = np.asarray(ax[top - above : bottom, best], np.float32) >= SIDE_SHARE * need
-        if float(sides[best]) < need or not _stands(column):
+        # the frame's sides stand from the floor to above the print's top
+        moved = _outer_side(
+            ax[top - above : bottom], sides, runs_on, side, step, SNAP_COLUMNS // 2, need
+        )
+        if moved is None:
             return left, right, top
-        new.append(best)
+        new.append(moved)
     if new == [left, right]:
         return left, right, top
     outer_top = raise_top_past_inner_edges(ay, ax, bottom, top, new[0], new[1], noise)
     if outer_top >= top:
         return left, right, top
     return new[0], new[1], outer_top
-
