@@ -170,7 +170,11 @@ def score_pairs(
     # integers: exact, the per-pair values bit for bit)
     ranges = [(c0, c1) for _, _, c0, c1 in ps]
     prof = range_sums(ay[:top_limit], ranges) * inv_n
-    row_sum = grey_range_sums(grey[:rb], ranges)
+    # the grey row sums between the sides and over each side's column bands, from one
+    # integral (exact integer sums: the same values as one integral per call)
+    bands = band_ranges(ps)
+    grey_sums = grey_range_sums(grey[:rb], ranges + bands)
+    row_sum = grey_sums[:, :n_p]
     snr = prof / noise
     mask = np.zeros((top_limit, n_p), bool)
     mid = snr[1:-1]
@@ -268,7 +272,7 @@ def score_pairs(
     # (tops >= 1: row 0 is never a candidate)
     band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
     face_above = np.where(band, face_above, 0.0)
-    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise)
+    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise, grey_sums[:, n_p:])
     snr_tops = snr[tops, pp]
     feats = {
         "face_bands": face_bands,
@@ -339,6 +343,16 @@ def score_pairs(
     return cands
 
 
+def band_ranges(ps: list[tuple[int, int, int, int]]) -> list[tuple[int, int]]:
+    """The BANDS column bands across each pair's inner columns [c0, c1), pair-major."""
+    ranges = []
+    for _, _, c0, c1 in ps:
+        # band edges across [c0, c1); a band is at least one column wide
+        cuts = [c0 + round(b * (c1 - c0) / BANDS) for b in range(BANDS + 1)]
+        ranges += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(BANDS)]
+    return ranges
+
+
 def band_face_share(
     grey: npt.NDArray[np.uint8],
     ps: list[tuple[int, int, int, int]],
@@ -347,20 +361,20 @@ def band_face_share(
     rb: int,
     kf: int,
     noise: float,
+    sums: F32 | None = None,
 ) -> npt.NDArray[np.float64]:
     """Per top candidate, the worst column band's share of rows in its own face shade.
 
     The whole-width row means can match the face's shade while one side of the pair
     covers floor and wall beside the face (a weak true side and a strong background
     edge beyond it): each band of a real face keeps its own shade from bottom to top.
+    ``sums``: the grey row sums over :func:`band_ranges` (rows 0..rb-1), if already taken.
     """
-    ranges = []
-    for _, _, c0, c1 in ps:
-        # band edges across [c0, c1); a band is at least one column wide
-        cuts = [c0 + round(b * (c1 - c0) / BANDS) for b in range(BANDS + 1)]
-        ranges += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(BANDS)]
+    ranges = band_ranges(ps)
     widths = np.array([c1 - c0 for c0, c1 in ranges], np.float32)
-    means = grey_range_sums(grey[:rb], ranges) / widths
+    if sums is None:
+        sums = grey_range_sums(grey[:rb], ranges)
+    means = sums / widths
     face = _face_shade(means, rb, kf)
     grey_noise = max(noise - 1.0, 0.0) / 3.46
     tol = np.maximum(
@@ -370,9 +384,13 @@ def band_face_share(
     match = np.abs(means - face) <= tol
     upto = running_counts(match)
     first = _first_match(match, rb)
-    h_t = rb - tops
-    shares = [_shade_share(upto, first, tops, pp * BANDS + b, rb, h_t) for b in range(BANDS)]
-    return np.min(shares, axis=0)
+    # every band's share in one pass (band-major), the worst band per top candidate
+    n = tops.size
+    cols = (pp * BANDS)[None, :] + np.arange(BANDS)[:, None]
+    shares = _shade_share(
+        upto, first, np.tile(tops, BANDS), cols.ravel(), rb, np.tile(rb - tops, BANDS)
+    )
+    return np.minimum.reduce(shares.reshape(BANDS, n), axis=0)
 
 
 def _top_score(
