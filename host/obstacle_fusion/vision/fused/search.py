@@ -223,8 +223,12 @@ def _rank_sides(
     # A box in the floor's own shade shows its sides only against the wall: an edge
     # run that starts higher up (within the tall strip) counts too, but ranks below
     # every run from the floor, so it only fills the places those leave free.
-    late = late_run(on, late_rows)
-    only_late = (run_len < 3) & (late >= 3)
+    # (only the columns with no run from the floor need their late run: the same values)
+    short = np.nonzero(run_len < 3)[0]
+    late = np.zeros(run_len.size, np.intp)
+    if short.size:
+        late[short] = late_run(on[:, short], late_rows)
+    only_late = late >= 3  # late is 0 wherever a run from the floor exists
     if only_late.any():
         late_rank = prof_v[cols_all] * np.sqrt(np.maximum(late, 1))
         below_all = float(late_rank.max()) + 1.0  # every late rank ends up negative
