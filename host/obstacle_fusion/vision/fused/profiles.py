@@ -92,16 +92,19 @@ def range_sums(img: npt.NDArray[Any], ranges: list[tuple[int, int]]) -> F32:
     return out.T
 
 
-def grey_range_sums(grey: npt.NDArray[np.uint8], ranges: list[tuple[int, int]]) -> F32:
+def grey_range_sums(
+    grey: npt.NDArray[np.uint8], ranges: list[tuple[int, int]] | npt.NDArray[np.intp]
+) -> F32:
     """Row sums of an 8-bit image over many column ranges [c0, c1), from one integral.
 
     Equal to :func:`range_sums` (integer sums, exact in int32 and then in float32: a row
     sum is at most 255 * width) for many ranges at the cost of a few of its calls.
+    ``ranges``: (c0, c1) pairs, or an array of them (one row each).
     """
-    lo = min(c0 for c0, _ in ranges)
-    hi = max(c1 for _, c1 in ranges)
+    r = np.asarray(ranges, np.intp).reshape(-1, 2)
+    lo, hi = int(r[:, 0].min()), int(r[:, 1].max())
     integral = cv2.integral(grey[:, lo:hi])  # int32, (rows + 1) x (width + 1)
-    idx = np.array(ranges, np.intp).ravel() - lo  # c0, c1, c0, c1, ...
+    idx = r.ravel() - lo  # c0, c1, c0, c1, ...
     at = integral[:, idx]
     per_row = at[1:] - at[:-1]
     return (per_row[:, 1::2] - per_row[:, 0::2]).astype(np.float32)

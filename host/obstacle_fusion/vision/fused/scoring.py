@@ -173,7 +173,7 @@ def score_pairs(
     # the grey row sums between the sides and over each side's column bands, from one
     # integral (exact integer sums: the same values as one integral per call)
     bands = band_ranges(ps)
-    grey_sums = grey_range_sums(grey[:rb], ranges + bands)
+    grey_sums = grey_range_sums(grey[:rb], np.concatenate([np.array(ranges, np.intp), bands]))
     row_sum = grey_sums[:, :n_p]
     snr = prof / noise
     mask = np.zeros((top_limit, n_p), bool)
@@ -272,7 +272,7 @@ def score_pairs(
     # (tops >= 1: row 0 is never a candidate)
     band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
     face_above = np.where(band, face_above, 0.0)
-    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise, grey_sums[:, n_p:])
+    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise, grey_sums[:, n_p:], bands)
     snr_tops = snr[tops, pp]
     feats = {
         "face_bands": face_bands,
@@ -343,14 +343,17 @@ def score_pairs(
     return cands
 
 
-def band_ranges(ps: list[tuple[int, int, int, int]]) -> list[tuple[int, int]]:
-    """The BANDS column bands across each pair's inner columns [c0, c1), pair-major."""
-    ranges = []
-    for _, _, c0, c1 in ps:
-        # band edges across [c0, c1); a band is at least one column wide
-        cuts = [c0 + round(b * (c1 - c0) / BANDS) for b in range(BANDS + 1)]
-        ranges += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(BANDS)]
-    return ranges
+def band_ranges(ps: list[tuple[int, int, int, int]]) -> npt.NDArray[np.intp]:
+    """The BANDS column bands [start, end) across each pair's inner columns [c0, c1),
+    pair-major, one row each; a band is at least one column wide."""
+    inner = np.array([(c0, c1) for _, _, c0, c1 in ps], np.intp).reshape(-1, 2)
+    c0 = inner[:, :1]
+    # band edges c0 + round(b (c1 - c0) / BANDS), rounded half to even as Python's round
+    cuts = c0 + np.round(np.arange(BANDS + 1) * (inner[:, 1:] - c0) / BANDS).astype(np.intp)
+    out = np.empty((len(ps), BANDS, 2), np.intp)
+    out[:, :, 0] = cuts[:, :-1]
+    out[:, :, 1] = np.maximum(cuts[:, 1:], cuts[:, :-1] + 1)
+    return out.reshape(-1, 2)
 
 
 def band_face_share(
@@ -362,16 +365,19 @@ def band_face_share(
     kf: int,
     noise: float,
     sums: F32 | None = None,
+    ranges: npt.NDArray[np.intp] | None = None,
 ) -> npt.NDArray[np.float64]:
     """Per top candidate, the worst column band's share of rows in its own face shade.
 
     The whole-width row means can match the face's shade while one side of the pair
     covers floor and wall beside the face (a weak true side and a strong background
     edge beyond it): each band of a real face keeps its own shade from bottom to top.
-    ``sums``: the grey row sums over :func:`band_ranges` (rows 0..rb-1), if already taken.
+    ``sums``: the grey row sums over :func:`band_ranges` (rows 0..rb-1) and ``ranges``
+    those bands, if already taken.
     """
-    ranges = band_ranges(ps)
-    widths = np.array([c1 - c0 for c0, c1 in ranges], np.float32)
+    if ranges is None:
+        ranges = band_ranges(ps)
+    widths = (ranges[:, 1] - ranges[:, 0]).astype(np.float32)
     if sums is None:
         sums = grey_range_sums(grey[:rb], ranges)
     means = sums / widths

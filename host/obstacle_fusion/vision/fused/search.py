@@ -62,17 +62,21 @@ def bottom_candidates(
     [r0b, r1b], ranked by strength times a Gaussian prior about the predicted row vb0;
     the predicted row itself is always added.
     """
-    prof_b = mean(ay[r0b : r1b + 1, u_lo : u_hi + 1], 1)
-    rows_b = np.arange(r0b, r1b + 1)
-    prior_b = 0.5 + 0.5 * np.exp(-0.5 * ((rows_b - vb0) / max(tol / 2.0, 1.0)) ** 2)
-    padded = np.zeros(prof_b.size + 2, prof_b.dtype)  # np.pad costs more than the work
-    padded[1:-1] = prof_b
-    pk = local_maxima(padded, 0.0) - 1
-    pk = pk[(pk >= 0) & (pk < prof_b.size)]
-    if pk.size == 0:
-        pk = np.array([int(np.argmax(prof_b))])
-    order = np.argsort(-(prof_b[pk] * prior_b[pk]))[:MAX_BOTTOM_CANDIDATES]
-    bottoms = [(int(rows_b[pk[i]]), float(prior_b[pk[i]])) for i in order]
+    # (a band of a few dozen rows: Python lists cost less than numpy's per-call overhead)
+    prof = mean(ay[r0b : r1b + 1, u_lo : u_hi + 1], 1).tolist()
+    n = len(prof)
+    # local maxima of the profile padded with zeros: >= the row above, > the row below, > 0
+    pk = [
+        i
+        for i, x in enumerate(prof)
+        if x > 0.0 and x >= (prof[i - 1] if i else 0.0) and x > (prof[i + 1] if i + 1 < n else 0.0)
+    ]
+    if not pk:
+        pk = [prof.index(max(prof))]
+    rows = np.array(pk) + r0b
+    prior = (0.5 + 0.5 * np.exp(-0.5 * ((rows - vb0) / max(tol / 2.0, 1.0)) ** 2)).tolist()
+    order = sorted(range(len(pk)), key=lambda i: -(prof[pk[i]] * prior[i]))
+    bottoms = [(r0b + pk[i], prior[i]) for i in order[:MAX_BOTTOM_CANDIDATES]]
     # the row the range predicts is always a candidate: a dark box on a dark floor
     # can leave its floor-contact edge too faint to peak
     predicted = int(round(vb0))
