@@ -62,8 +62,10 @@ def face_floor_grey(
     du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
     offsets = np.array([(a * du, r) for a in (-1.0, 0.0, 1.0) for r in SAMPLE_ROWS])
     centre = np.array([view.cx, contact_row])
-    face = _mean_colour(image, view.to_input(centre + offsets * [1.0, -1.0]))
-    floor = _mean_colour(image, view.to_input(centre + offsets))
+    # the face's samples above the contact row, the floor's below it: one projection
+    pts = view.to_input(np.concatenate([centre + offsets * [1.0, -1.0], centre + offsets]))
+    face = _mean_colour(image, pts[: len(offsets)])
+    floor = _mean_colour(image, pts[len(offsets) :])
     if face is None or floor is None:
         return image
     step = face - floor
