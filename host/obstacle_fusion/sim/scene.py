@@ -445,6 +445,7 @@ class SceneRenderer:
         self._yy = (yy / max(h - 1, 1) - 0.5).astype(np.float32)
         self._r_world_to_cam = np.ascontiguousarray(rig.camera_to_robot)  # p_c = p_r @ R
         self._noise: npt.NDArray[np.float32] | None = None
+        self._float: tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]] | None = None
 
     # -- projection onto the supersampled ideal canvas
     def _to_canvas(self, cam_pts: FloatArray) -> FloatArray:
@@ -689,13 +690,17 @@ class SceneRenderer:
         if spec.blur_sigma > 0.05:
             img = cv2.GaussianBlur(img, (0, 0), spec.blur_sigma)
         angle = gen.uniform(0, 2 * math.pi)
-        gain = np.float32(spec.light_gain) * (
-            1.0
-            + np.float32(spec.light_gradient)
-            * (np.float32(math.cos(angle)) * self._xx + np.float32(math.sin(angle)) * self._yy)
-        )
-        f = img.astype(np.float32)
-        f *= gain[:, :, None]
+        # frame-sized float buffers reused: fresh ones cost more in page faults than the
+        # arithmetic (the live synthetic camera renders every frame)
+        f, tmp = self._float_buffers(img.shape)
+        np.copyto(f, img)  # exact: uint8 to float32
+        if spec.light_gain != 1.0 or spec.light_gradient != 0.0:  # else a gain of exactly 1
+            gain = np.float32(spec.light_gain) * (
+                1.0
+                + np.float32(spec.light_gradient)
+                * (np.float32(math.cos(angle)) * self._xx + np.float32(math.sin(angle)) * self._yy)
+            )
+            f *= gain[:, :, None]
         if spec.noise_sigma > 0:
             # unit Gaussian noise drawn once per renderer; each frame takes a random window
             h, w = img.shape[:2]
@@ -704,9 +709,17 @@ class SceneRenderer:
                     (2 * h, 2 * w, 3), dtype=np.float32
                 )
             oy, ox = int(gen.integers(0, h)), int(gen.integers(0, w))
-            f += self._noise[oy : oy + h, ox : ox + w] * np.float32(spec.noise_sigma)
+            np.multiply(self._noise[oy : oy + h, ox : ox + w], np.float32(spec.noise_sigma), out=tmp)
+            f += tmp
         np.clip(f, 0, 255, out=f)
         return f.astype(np.uint8)
+
+    def _float_buffers(
+        self, shape: tuple[int, ...]
+    ) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+        if self._float is None or self._float[0].shape != shape:
+            self._float = (np.empty(shape, np.float32), np.empty(shape, np.float32))
+        return self._float
 
 
 def _shade(color: Color | tuple[Any, ...], k: float) -> Color:
