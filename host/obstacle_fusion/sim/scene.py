@@ -531,14 +531,16 @@ class SceneRenderer:
         gap = 0.004 + 0.004 * gen.random()
         fc = np.array(spec.floor_color)
         rects: list[tuple[float, float, float, float]] = []  # x0, x1, z0, z1
+        tiles: FloatArray | None = None
         if spec.floor_style == "tiles":
             xs = np.arange(-half, half, t) + gen.uniform(0, t)
             zs = np.arange(z_near - gen.uniform(0, t), wall_z, t)
-            for z0 in zs:
-                for x0 in xs:
-                    rects.append(
-                        (x0 + gap, x0 + t - gap, max(z0 + gap, z_near), min(z0 + t - gap, wall_z))
-                    )
+            # every (z0, x0) tile, z-major: the same values a loop over zs then xs gives
+            tiles = np.empty((zs.size, xs.size, 4))
+            tiles[:, :, 0] = xs + gap
+            tiles[:, :, 1] = xs + t - gap
+            tiles[:, :, 2] = np.maximum(zs + gap, z_near)[:, None]
+            tiles[:, :, 3] = np.minimum(zs + t - gap, wall_z)[:, None]
             jitter = 4.0
         else:  # planks run forward, staggered ends
             pw = t / 3.0
@@ -551,7 +553,7 @@ class SceneRenderer:
                     )
                     z0 += ln
             jitter = 8.0
-        r = np.array(rects)
+        r = tiles.reshape(-1, 4) if tiles is not None else np.array(rects)
         r = r[r[:, 3] > r[:, 2]]
         colors = np.clip(fc + gen.normal(0, jitter, (len(r), 3)), 0, 255) * light
         quads = np.empty((len(r), 4, 3))
