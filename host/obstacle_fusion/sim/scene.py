@@ -711,7 +711,8 @@ class SceneRenderer:
                     (2 * h, 2 * w, 3), dtype=np.float32
                 )
             oy, ox = int(gen.integers(0, h)), int(gen.integers(0, w))
-            np.multiply(self._noise[oy : oy + h, ox : ox + w], np.float32(spec.noise_sigma), out=tmp)
+            window = self._noise[oy : oy + h, ox : ox + w]
+            np.multiply(window, np.float32(spec.noise_sigma), out=tmp)
             f += tmp
         np.clip(f, 0, 255, out=f)
         return f.astype(np.uint8)
