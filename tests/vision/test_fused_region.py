@@ -111,6 +111,27 @@ def test_the_colour_limits_decide(limit: str, monkeypatch: pytest.MonkeyPatch) -
     assert widen(img, 142, 180)[0] >= 130
 
 
+def test_a_side_taken_out_on_the_floor_behind_is_brought_in() -> None:
+    """The side search ran on 40 columns past the right side, over floor that runs on
+    behind the face (no foot there): the side comes back to the face's."""
+    img = scene()
+    left, right = widen(img, LEFT, RIGHT + 40)
+    assert left == LEFT and abs(right - RIGHT) <= 2
+
+
+def test_a_print_on_the_face_foot_is_not_cut_off() -> None:
+    """The right 60 columns of the face carry a red print down to its foot: another colour,
+    but it stands on the contact row (a step from the floor below), so the side stays."""
+    img = scene()
+    img[TOP:BOTTOM, RIGHT - 60 : RIGHT] = (40, 40, 200)
+    assert widen(img, LEFT, RIGHT) == (LEFT, RIGHT)
+
+
+def test_the_floorless_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "MIN_TRIM_FLOORLESS", 1.01)
+    assert widen(scene(), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+
+
 # -- the top from the colour ---------------------------------------------------------------
 
 WALL, WALL_FOOT = (150, 90, 120), (120, 120, 40)  # a purple wall, a teal strip at its foot

@@ -44,6 +44,9 @@ SMOOTH_COLUMNS = 5
 MAX_GAP_M = 0.04
 #: A side moves only when the face's colour runs on past it by this share of its width.
 MIN_WIDEN_SHARE = 0.1
+#: A side moves in only over columns where this share shows no foot (no step from the
+#: floor below to what is above the contact row).
+MIN_TRIM_FLOORLESS = 0.7
 #: Columns either side of the colour's end searched for the strongest vertical edge.
 SNAP_COLUMNS = 3
 
@@ -109,12 +112,24 @@ def widen_by_colour(
     max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
     sides_strength = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    # the face's run starts from its foot's middle: the on-column nearest the centre
+    inside = np.nonzero(on[left : right + 1])[0] + left
+    centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
     new = []
     for side, step in ((left, -1), (right, 1)):
         end = _walk(on, side - step * 2, step, max_gap)
         if (end - side) * step <= min_move:
-            new.append(side)
-            continue
+            # not wider: narrower when the face's colour ends well inside the side (the
+            # side search took in the background beside it: nothing stands on the contact
+            # row there, the floor runs on behind. A print or tape of another colour on
+            # the face's foot is not cut off: it stands out from the floor.
+            end = _walk(on, centre, step, max_gap)
+            cut = slice(min(end, side) + 1, max(end, side))
+            if (side - end) * step <= min_move or (
+                float(np.mean(d_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
+            ):
+                new.append(side)
+                continue
         lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
         new.append(int(lo + np.argmax(sides_strength[lo : hi + 1])))
     return new[0], new[1]
