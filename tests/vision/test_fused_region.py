@@ -216,3 +216,29 @@ def test_a_top_face_is_told_from_a_line_inside_the_front() -> None:
     assert region.looks_like_top_face(
         img, view, FACE_TOP + 5, FACE_TOP + 5 + region.MIN_TOP_FACE_ROWS - 1, LEFT, RIGHT
     )
+
+
+def test_a_top_that_is_a_colour_boundary_keeps_the_confidence() -> None:
+    img = wall_scene()
+    assert region.top_agreement(img, level_view(), FACE_TOP, LEFT, RIGHT) == 1.0
+
+
+def test_a_top_inside_one_colour_cuts_the_confidence() -> None:
+    img = wall_scene()
+    assert region.top_agreement(img, level_view(), FACE_TOP + 40, LEFT, RIGHT) < 0.3
+
+
+def test_the_top_step_scales_in_proportion() -> None:
+    """A step of half TOP_STEP_FULL (Lab) gives about half the confidence."""
+    img = np.full((H, W, 3), 128, np.uint8)
+    img[FACE_TOP:] = 128 + 6  # grey: Lab L moves by about 6 for 6 grey levels
+    lab = region._band(img, level_view(), FACE_TOP - 5, FACE_TOP + 6)
+    step = float(np.linalg.norm(lab[0, 100] - lab[-1, 100]))
+    expected = step / region.TOP_STEP_FULL
+    got = region.top_agreement(img, level_view(), FACE_TOP, LEFT, RIGHT)
+    assert 0.2 < expected < 0.9 and abs(got - expected) < 0.05
+
+
+def test_a_grey_frame_keeps_its_confidence() -> None:
+    img = wall_scene().mean(axis=2).astype(np.uint8)
+    assert region.top_agreement(img, level_view(), FACE_TOP + 40, LEFT, RIGHT) == 1.0

@@ -28,6 +28,7 @@ from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     looks_like_top_face,
     raise_top_by_colour,
+    top_agreement,
     widen_by_colour,
 )
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
@@ -161,9 +162,14 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
-        ul, ur = widen_by_colour(
-            colour if colour is not None else image, v, ax3, rb, int(round(vt)), ul, ur, depth
-        )
+        ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
+        # a top that is no colour boundary may be a line on the face or behind it
+        conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
+        reason = refusal(conf, self.min_confidence)
+        if reason is not None:
+            fail.confidence = round(conf, 3)
+            fail.reason = reason
+            return fail
         timer.lap("extent")
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]

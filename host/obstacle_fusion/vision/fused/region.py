@@ -261,3 +261,28 @@ def _walk_colour(
         else:
             gap += 1
     return reached[-1]
+
+
+#: A face's top edge with a colour step under this (Lab distance between the rows just
+#: above and just below it, inside the sides) scales the confidence down in proportion.
+TOP_STEP_FULL = 12.0
+#: Rows either side of the top edge sampled (past the edge's blur).
+TOP_STEP_ROWS = (2, 5)
+
+
+def top_agreement(
+    image: npt.NDArray[Any] | None, view: View, top: int, left: int, right: int
+) -> float:
+    """0..1: how clearly the face's colour ends at its top row.
+
+    Where the top found is the face's own, the colour changes there (to a top face, the
+    wall, a label's margin); where it is a line on the face or in the room behind it,
+    the rows above and below it look alike. Measured on independently made rooms, most
+    confident detections with a wrong height had a step under 10 here, right ones over 12."""
+    a, b = TOP_STEP_ROWS
+    if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
+        return 1.0
+    lab = _band(image, view, top - b, top + b + 1)[:, left + SIDE_SKIP : right - SIDE_SKIP]
+    above = np.median(lab[: b - a + 1].reshape(-1, 3), axis=0)
+    below = np.median(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
+    return min(1.0, float(np.linalg.norm(above - below)) / TOP_STEP_FULL)
