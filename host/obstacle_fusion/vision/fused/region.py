@@ -19,6 +19,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from obstacle_fusion.vision.fused.profiles import median_of
 from obstacle_fusion.vision.types import View
 
 #: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
@@ -51,12 +52,16 @@ MIN_TRIM_FLOORLESS = 0.7
 SNAP_COLUMNS = 3
 
 
-def _band(image: npt.NDArray[Any], view: View, r0: int, r1: int) -> npt.NDArray[np.float32]:
-    """The view's rows r0..r1-1 of ``image`` in CIE Lab (float, 8-bit scale)."""
+def _band(
+    image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int = 0, c1: int | None = None
+) -> npt.NDArray[np.float32]:
+    """The view's rows r0..r1-1, columns c0..c1-1 (default all), of ``image`` in CIE Lab
+    (float, 8-bit scale). Only that block is remapped and converted: each view pixel
+    depends on its own map entry alone, so it is the same block the whole rows give."""
     band = cv2.remap(
         image,
-        view.map1[r0:r1],
-        view.map2[r0:r1],
+        view.map1[r0:r1, c0:c1],
+        view.map2[r0:r1, c0:c1],
         cv2.INTER_LINEAR,
         borderMode=cv2.BORDER_REPLICATE,
     )
@@ -97,12 +102,12 @@ def widen_by_colour(
         return left, right  # the face's foot at the image's edge: no floor to compare
     lab = _band(image, view, r0, r1)
     # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
-    face = cv2.blur(np.median(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
-    floor = cv2.blur(np.median(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    face = cv2.blur(median_of(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(median_of(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     seed = slice(left + 2, right - 1)
-    ref = np.median(face[seed], axis=0)
+    ref = median_of(face[seed], axis=0)
     d_face = np.linalg.norm(face - ref, axis=1)
-    spread = float(np.median(d_face[seed]))
+    spread = float(median_of(d_face[seed]))
     limit = float(np.clip(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
     d_floor = np.linalg.norm(face - floor, axis=1)
     on = (d_face <= limit) & (d_floor >= MIN_FLOOR_STEP)
@@ -179,16 +184,16 @@ def raise_top_by_colour(
     band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
     r0 = max(0, top - 2 * (bottom - top))
     r1 = min(bottom, top + band + 1)
-    lab = _band(image, view, r0, r1)[:, c0:c1]
-    inner = np.median(
+    lab = _band(image, view, r0, r1, c0, c1)
+    inner = median_of(
         lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP)], axis=1
     )
-    left_out = np.median(lab[:, :BESIDE_COLUMNS], axis=1)
-    right_out = np.median(lab[:, -BESIDE_COLUMNS:], axis=1)
+    left_out = median_of(lab[:, :BESIDE_COLUMNS], axis=1)
+    right_out = median_of(lab[:, -BESIDE_COLUMNS:], axis=1)
     k = top - r0  # the current top's row in the band
-    ref = np.median(inner[k + 2 :], axis=0)
+    ref = median_of(inner[k + 2 :], axis=0)
     d_face = np.linalg.norm(inner - ref, axis=1)
-    spread = float(np.median(d_face[k + 2 :]))
+    spread = float(median_of(d_face[k + 2 :]))
     limit = float(np.clip(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
     beside = np.minimum(
         np.linalg.norm(inner - left_out, axis=1), np.linalg.norm(inner - right_out, axis=1)
@@ -201,7 +206,7 @@ def raise_top_by_colour(
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
-        on &= np.linalg.norm(np.median(near, axis=1) - out, axis=1) >= MIN_BESIDE_STEP
+        on &= np.linalg.norm(median_of(near, axis=1) - out, axis=1) >= MIN_BESIDE_STEP
     max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
     end = _walk_colour(inner, on, k, limit, max_gap)
     if k - end <= SNAP_ROWS:
@@ -233,9 +238,9 @@ def looks_like_top_face(
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
     r1 = min(view.out.shape[0], lower + n + 2)
-    lab = _band(image, view, upper, r1)[:, left + SIDE_SKIP : right - SIDE_SKIP]
-    strip = np.median(lab[1 : n - 1].reshape(-1, 3), axis=0)
-    front = np.median(lab[n + 2 :].reshape(-1, 3), axis=0)
+    lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
+    strip = median_of(lab[1 : n - 1].reshape(-1, 3), axis=0)
+    front = median_of(lab[n + 2 :].reshape(-1, 3), axis=0)
     return float(np.linalg.norm(strip - front)) >= MIN_TOP_DISTANCE
 
 
@@ -282,7 +287,7 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
-    lab = _band(image, view, top - b, top + b + 1)[:, left + SIDE_SKIP : right - SIDE_SKIP]
-    above = np.median(lab[: b - a + 1].reshape(-1, 3), axis=0)
-    below = np.median(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
+    lab = _band(image, view, top - b, top + b + 1, left + SIDE_SKIP, right - SIDE_SKIP)
+    above = median_of(lab[: b - a + 1].reshape(-1, 3), axis=0)
+    below = median_of(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
     return min(1.0, float(np.linalg.norm(above - below)) / TOP_STEP_FULL)

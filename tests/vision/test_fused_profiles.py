@@ -1,0 +1,50 @@
+"""The fused method's fast array helpers give exactly what the numpy calls they replace give."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from obstacle_fusion.vision.fused.profiles import grey_range_sums, median_of, range_sums
+from obstacle_fusion.vision.fused.scoring import band_ranges
+
+
+@pytest.mark.parametrize(
+    ("shape", "axis"),
+    [
+        ((7,), None),
+        ((8,), None),
+        ((4, 50, 3), 0),
+        ((9, 50, 3), 0),
+        ((31, 12, 3), 1),
+        ((30, 6, 3), 1),
+        ((10, 3), 0),
+        ((5, 6), None),
+    ],
+)
+def test_median_of_is_numpys_median(shape: tuple[int, ...], axis: int | None) -> None:
+    rng = np.random.default_rng(len(shape) * 10 + (axis or 0) + shape[0])
+    a = (rng.random(shape) * 255).astype(np.float32)
+    a.flat[::5] = np.round(a.flat[::5])  # ties too
+    before = a.copy()
+    got, want = median_of(a, axis), np.median(a, axis=axis)
+    assert np.asarray(got).dtype == np.asarray(want).dtype
+    assert np.array_equal(got, want)
+    assert np.array_equal(a, before)  # the input is not sorted in place
+
+
+def test_band_ranges_round_half_to_even_as_python() -> None:
+    ps = [(0, 0, 10, 12), (0, 0, 3, 9), (0, 0, 20, 41), (0, 0, 5, 7)]
+    want = []
+    for _, _, c0, c1 in ps:
+        cuts = [c0 + round(b * (c1 - c0) / 4) for b in range(5)]
+        want += [(cuts[b], max(cuts[b + 1], cuts[b] + 1)) for b in range(4)]
+    assert band_ranges(ps).tolist() == [list(r) for r in want]
+
+
+def test_grey_range_sums_match_plain_sums() -> None:
+    rng = np.random.default_rng(3)
+    grey = rng.integers(0, 256, (40, 60), np.uint8)
+    ranges = [(3, 9), (10, 11), (0, 60), (25, 41)]
+    want = range_sums(grey.astype(np.float32), ranges)
+    assert np.array_equal(grey_range_sums(grey, ranges), want)
+    assert np.array_equal(grey_range_sums(grey, np.array(ranges)), want)
