@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from obstacle_fusion.vision.fused.profiles import grey_range_sums, median_of, range_sums
+from obstacle_fusion.vision.fused.profiles import (
+    grey_range_sums,
+    median_of,
+    norm,
+    range_sums,
+    row_norms,
+)
 from obstacle_fusion.vision.fused.scoring import band_ranges
 
 
@@ -48,3 +54,13 @@ def test_grey_range_sums_match_plain_sums() -> None:
     want = range_sums(grey.astype(np.float32), ranges)
     assert np.array_equal(grey_range_sums(grey, ranges), want)
     assert np.array_equal(grey_range_sums(grey, np.array(ranges)), want)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_norms_are_numpys(dtype: type) -> None:
+    rng = np.random.default_rng(4)
+    x = ((rng.random((200, 3)) - 0.5) * 300).astype(dtype)
+    want = np.linalg.norm(x, axis=1)
+    assert row_norms(x).dtype == want.dtype
+    assert np.array_equal(row_norms(x), want)
+    assert all(norm(v) == float(np.linalg.norm(v)) for v in x)

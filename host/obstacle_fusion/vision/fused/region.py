@@ -19,7 +19,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.profiles import median_of
+from obstacle_fusion.vision.fused.profiles import clamp, median_of, norm, row_norms
 from obstacle_fusion.vision.types import View
 
 #: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
@@ -94,7 +94,7 @@ def widen_by_colour(
     if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
         return left, right
     h_view = view.out.shape[0]
-    rows = int(np.clip(FACE_BAND_SHARE * (bottom - top), *FACE_BAND_ROWS))
+    rows = int(clamp(FACE_BAND_SHARE * (bottom - top), *FACE_BAND_ROWS))
     r0 = bottom - EDGE_SKIP - rows
     r1 = min(bottom + EDGE_SKIP + FLOOR_BAND_ROWS + 1, h_view)
     floor_rows = r1 - (bottom + EDGE_SKIP + 1)
@@ -106,17 +106,16 @@ def widen_by_colour(
     floor = cv2.blur(median_of(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
-    d_face = np.linalg.norm(face - ref, axis=1)
+    d_face = row_norms(face - ref)
     spread = float(median_of(d_face[seed]))
-    limit = float(np.clip(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
-    d_floor = np.linalg.norm(face - floor, axis=1)
+    limit = float(clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
+    d_floor = row_norms(face - floor)
     on = (d_face <= limit) & (d_floor >= MIN_FLOOR_STEP)
-    if float(np.mean(on[seed])) < 0.5:
+    if np.count_nonzero(on[seed]) / on[seed].size < 0.5:  # (right - left >= 6: not empty)
         return left, right  # the face's own foot is not one colour over the floor
     # the smoothing spreads a seam over SMOOTH_COLUMNS - 1 more columns
     max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
-    sides_strength = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
@@ -136,7 +135,10 @@ def widen_by_colour(
                 new.append(side)
                 continue
         lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
-        new.append(int(lo + np.argmax(sides_strength[lo : hi + 1])))
+        # the sides' strength only over the columns searched (sums of integers: exact,
+        # the same means as over the whole width)
+        strength = np.asarray(ax[top : bottom + 1, lo : hi + 1].mean(axis=0), np.float32)
+        new.append(int(lo + np.argmax(strength)))
     return new[0], new[1]
 
 
@@ -192,11 +194,11 @@ def raise_top_by_colour(
     right_out = median_of(lab[:, -BESIDE_COLUMNS:], axis=1)
     k = top - r0  # the current top's row in the band
     ref = median_of(inner[k + 2 :], axis=0)
-    d_face = np.linalg.norm(inner - ref, axis=1)
+    d_face = row_norms(inner - ref)
     spread = float(median_of(d_face[k + 2 :]))
-    limit = float(np.clip(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
+    limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
     beside = np.minimum(
-        np.linalg.norm(inner - left_out, axis=1), np.linalg.norm(inner - right_out, axis=1)
+        row_norms(inner - left_out), row_norms(inner - right_out)
     )
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
@@ -206,7 +208,7 @@ def raise_top_by_colour(
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
-        on &= np.linalg.norm(median_of(near, axis=1) - out, axis=1) >= MIN_BESIDE_STEP
+        on &= row_norms(median_of(near, axis=1) - out) >= MIN_BESIDE_STEP
     max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
     end = _walk_colour(inner, on, k, limit, max_gap)
     if k - end <= SNAP_ROWS:
@@ -241,7 +243,7 @@ def looks_like_top_face(
     lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
     strip = median_of(lab[1 : n - 1].reshape(-1, 3), axis=0)
     front = median_of(lab[n + 2 :].reshape(-1, 3), axis=0)
-    return float(np.linalg.norm(strip - front)) >= MIN_TOP_DISTANCE
+    return norm(strip - front) >= MIN_TOP_DISTANCE
 
 
 def _walk_colour(
@@ -260,7 +262,7 @@ def _walk_colour(
     while r - 1 >= 0 and gap <= max_gap:
         r -= 1
         ref = next((q for q in reversed(reached) if q >= r + STEP_ROWS), start)
-        if on[r] and float(np.linalg.norm(colour[r] - colour[ref])) <= limit:
+        if on[r] and norm(colour[r] - colour[ref]) <= limit:
             reached.append(r)
             gap = 0
         else:
@@ -290,4 +292,4 @@ def top_agreement(
     lab = _band(image, view, top - b, top + b + 1, left + SIDE_SKIP, right - SIDE_SKIP)
     above = median_of(lab[: b - a + 1].reshape(-1, 3), axis=0)
     below = median_of(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
-    return min(1.0, float(np.linalg.norm(above - below)) / TOP_STEP_FULL)
+    return min(1.0, norm(above - below) / TOP_STEP_FULL)
