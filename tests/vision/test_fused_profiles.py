@@ -5,11 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from obstacle_fusion.vision.fused.profiles import (
+    column_means,
     grey_range_sums,
     median_of,
     norm,
     range_sums,
     row_norms,
+    share,
 )
 from obstacle_fusion.vision.fused.scoring import band_ranges
 
@@ -64,3 +66,14 @@ def test_norms_are_numpys(dtype: type) -> None:
     assert row_norms(x).dtype == want.dtype
     assert np.array_equal(row_norms(x), want)
     assert all(norm(v) == float(np.linalg.norm(v)) for v in x)
+
+
+def test_column_means_and_share_are_numpys() -> None:
+    rng = np.random.default_rng(5)
+    for rows in (1, 7, 130):
+        a = rng.integers(0, 1021, (rows, 97)).astype(np.int16)
+        want = np.asarray(a.mean(axis=0), np.float32)
+        assert np.array_equal(column_means(a), want)
+        assert np.array_equal(column_means(a[:, 10:17]), want[10:17])
+        flags = a[:, 0] > 500
+        assert share(flags) == float(flags.mean())

@@ -14,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
+from obstacle_fusion.vision.fused.profiles import column_means, median_of, share
+
 #: The edges count as running on while their strength stays above this share of the face's.
 CONTINUE_SHARE = 0.5
 #: Neither edge may fall under this share of its strength along the face.
@@ -78,7 +80,7 @@ def _stands(present: npt.NDArray[np.bool_]) -> bool:
     if present.size == 0:
         return False
     foot = present[-max(3, int(FOOT_SHARE * present.size)) :]
-    return float(present.mean()) >= SIDE_COVERAGE and float(foot.mean()) >= SIDE_COVERAGE
+    return share(present) >= SIDE_COVERAGE and share(foot) >= SIDE_COVERAGE
 
 
 def _snap_window(side: int, end: int, step: int, width: int) -> tuple[int, int]:
@@ -108,8 +110,8 @@ def widen_across_seams(
     gb = _edge_profile(ay, bottom)
     gt = _edge_profile(ay, top)
     inner = slice(left + 1, right)
-    ref_b = float(np.median(gb[inner]))
-    ref_t = float(np.median(gt[inner]))
+    ref_b = float(median_of(gb[inner]))
+    ref_t = float(median_of(gt[inner]))
     if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
         return left, right  # too faint to tell a seam from a side
     for profile, ref in ((gb, ref_b), (gt, ref_t)):
@@ -121,7 +123,7 @@ def widen_across_seams(
     sb = np.convolve(gb, kernel, mode="same") / ref_b
     st = np.convolve(gt, kernel, mode="same") / ref_t
     runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
-    sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    sides = column_means(ax[top : bottom + 1])
     # a side stands as a vertical edge at least this strong (the chosen seams' weaker half)
     need = max(
         SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
@@ -188,7 +190,7 @@ def raise_top_past_inner_edges(
     for side in (left, right):
         c0, c1 = max(0, side - 1), min(ax.shape[1], side + 2)
         cols.append(np.asarray(ax[:bottom, c0:c1].max(axis=1), np.float32))
-    strength = [float(np.median(c[top:bottom])) for c in cols]
+    strength = [float(median_of(c[top:bottom])) for c in cols]
     if min(strength) < MIN_EDGE_SNR * noise:
         return top
     on = (cols[0] >= SIDE_SHARE * strength[0]) & (cols[1] >= SIDE_SHARE * strength[1])
@@ -241,12 +243,12 @@ def enclose_inner_frame(
         return left, right, top
     gb = _edge_profile(ay, bottom)
     inner = slice(left + 1, right)
-    ref_b = float(np.median(gb[inner]))
+    ref_b = float(median_of(gb[inner]))
     if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * _p90(gb[inner]):
         return left, right, top
     kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
     runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
-    sides = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    sides = column_means(ax[top : bottom + 1])
     # a print's edges may be far stronger than the face's own sides against the room
     need = max(
         FRAME_SHARE_OF_PRINT * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise

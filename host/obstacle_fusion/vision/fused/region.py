@@ -19,7 +19,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.profiles import clamp, median_of, norm, row_norms
+from obstacle_fusion.vision.fused.profiles import clamp, column_means, median_of, norm, row_norms
 from obstacle_fusion.vision.types import View
 
 #: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
@@ -137,7 +137,7 @@ def widen_by_colour(
         lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
         # the sides' strength only over the columns searched (sums of integers: exact,
         # the same means as over the whole width)
-        strength = np.asarray(ax[top : bottom + 1, lo : hi + 1].mean(axis=0), np.float32)
+        strength = column_means(ax[top : bottom + 1, lo : hi + 1])
         new.append(int(lo + np.argmax(strength)))
     return new[0], new[1]
 
