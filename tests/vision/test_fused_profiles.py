@@ -8,6 +8,7 @@ from obstacle_fusion.vision.fused.profiles import (
     column_means,
     grey_range_sums,
     median_of,
+    median_u8,
     norm,
     range_sums,
     row_norms,
@@ -77,3 +78,13 @@ def test_column_means_and_share_are_numpys() -> None:
         assert np.array_equal(column_means(a[:, 10:17]), want[10:17])
         flags = a[:, 0] > 500
         assert share(flags) == float(flags.mean())
+
+
+@pytest.mark.parametrize(("shape", "axis"), [((9,), None), ((4, 40, 3), 0), ((33, 10, 3), 1), ((12, 3), 0)])
+def test_median_u8_is_the_float_median(shape: tuple[int, ...], axis: int | None) -> None:
+    rng = np.random.default_rng(shape[0])
+    a = rng.integers(0, 256, shape, np.uint8)
+    want = np.median(a.astype(np.float32), axis=axis)
+    got = median_u8(a, axis)
+    assert np.asarray(got).dtype == np.float32
+    assert np.array_equal(got, want)

@@ -19,7 +19,14 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.profiles import clamp, column_means, median_of, norm, row_norms
+from obstacle_fusion.vision.fused.profiles import (
+    clamp,
+    column_means,
+    median_of,
+    median_u8,
+    norm,
+    row_norms,
+)
 from obstacle_fusion.vision.types import View
 
 #: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
@@ -56,8 +63,17 @@ def _band(
     image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int = 0, c1: int | None = None
 ) -> npt.NDArray[np.float32]:
     """The view's rows r0..r1-1, columns c0..c1-1 (default all), of ``image`` in CIE Lab
-    (float, 8-bit scale). Only that block is remapped and converted: each view pixel
-    depends on its own map entry alone, so it is the same block the whole rows give."""
+    (float, 8-bit scale)."""
+    return np.asarray(_lab8(image, view, r0, r1, c0, c1), np.float32)
+
+
+def _lab8(
+    image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int = 0, c1: int | None = None
+) -> npt.NDArray[np.uint8]:
+    """:func:`_band` in 8 bits, for medians taken in float32 by median_u8 (no float copy).
+
+    Only that block is remapped and converted: each view pixel depends on its own map
+    entry alone, so it is the same block the whole rows give."""
     band = cv2.remap(
         image,
         view.map1[r0:r1, c0:c1],
@@ -65,7 +81,7 @@ def _band(
         cv2.INTER_LINEAR,
         borderMode=cv2.BORDER_REPLICATE,
     )
-    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB), np.float32)
+    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
 
 
 def _walk(on: npt.NDArray[np.bool_], start: int, step: int, max_gap: int) -> int:
@@ -100,10 +116,10 @@ def widen_by_colour(
     floor_rows = r1 - (bottom + EDGE_SKIP + 1)
     if r0 < 0 or floor_rows < 1:
         return left, right  # the face's foot at the image's edge: no floor to compare
-    lab = _band(image, view, r0, r1)
+    lab = _lab8(image, view, r0, r1)
     # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
-    face = cv2.blur(median_of(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
-    floor = cv2.blur(median_of(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
     d_face = row_norms(face - ref)
@@ -186,12 +202,12 @@ def raise_top_by_colour(
     band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
     r0 = max(0, top - 2 * (bottom - top))
     r1 = min(bottom, top + band + 1)
-    lab = _band(image, view, r0, r1, c0, c1)
-    inner = median_of(
+    lab = _lab8(image, view, r0, r1, c0, c1)
+    inner = median_u8(
         lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP)], axis=1
     )
-    left_out = median_of(lab[:, :BESIDE_COLUMNS], axis=1)
-    right_out = median_of(lab[:, -BESIDE_COLUMNS:], axis=1)
+    left_out = median_u8(lab[:, :BESIDE_COLUMNS], axis=1)
+    right_out = median_u8(lab[:, -BESIDE_COLUMNS:], axis=1)
     k = top - r0  # the current top's row in the band
     ref = median_of(inner[k + 2 :], axis=0)
     d_face = row_norms(inner - ref)
@@ -208,7 +224,7 @@ def raise_top_by_colour(
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
-        on &= row_norms(median_of(near, axis=1) - out) >= MIN_BESIDE_STEP
+        on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
     max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
     end = _walk_colour(inner, on, k, limit, max_gap)
     if k - end <= SNAP_ROWS:
@@ -240,9 +256,9 @@ def looks_like_top_face(
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
     r1 = min(view.out.shape[0], lower + n + 2)
-    lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
-    strip = median_of(lab[1 : n - 1].reshape(-1, 3), axis=0)
-    front = median_of(lab[n + 2 :].reshape(-1, 3), axis=0)
+    lab = _lab8(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
+    strip = median_u8(lab[1 : n - 1].reshape(-1, 3), axis=0)
+    front = median_u8(lab[n + 2 :].reshape(-1, 3), axis=0)
     return norm(strip - front) >= MIN_TOP_DISTANCE
 
 
@@ -289,7 +305,7 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
-    lab = _band(image, view, top - b, top + b + 1, left + SIDE_SKIP, right - SIDE_SKIP)
-    above = median_of(lab[: b - a + 1].reshape(-1, 3), axis=0)
-    below = median_of(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
+    lab = _lab8(image, view, top - b, top + b + 1, left + SIDE_SKIP, right - SIDE_SKIP)
+    above = median_u8(lab[: b - a + 1].reshape(-1, 3), axis=0)
+    below = median_u8(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
     return min(1.0, norm(above - below) / TOP_STEP_FULL)
