@@ -200,22 +200,51 @@ def raise_top_by_colour(
     if c0 < 0 or c1 > w_view or top < 3:
         return top
     band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
-    r0 = max(0, top - 2 * (bottom - top))
+    r_full = max(0, top - 2 * (bottom - top))
     r1 = min(bottom, top + band + 1)
+    max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
+    # Most walks stop within a few rows of the top: the band above it is converted first
+    # only that far, and all of it only when the walk runs to that part's first rows.
+    # Every row's figures depend on that row alone (and the reference on the rows below
+    # the top), so the walk and its snap are the ones the whole band gives.
+    r0 = max(r_full, top - (4 * max_gap + 2 * SNAP_ROWS + 8))
+    while True:
+        end, last = _top_walk(image, view, r0, r1, c0, c1, top - r0, max_gap)
+        if r0 == r_full or (last >= 1 and end - SNAP_ROWS >= 0):
+            break
+        r0 = r_full
+    k = top - r0
+    if k - end <= SNAP_ROWS:
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
+def _top_walk(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    c0: int,
+    c1: int,
+    k: int,
+    max_gap: int,
+) -> tuple[int, int]:
+    """The colour walk up from row ``k`` of the band of view rows r0..r1-1 (columns
+    c0..c1-1: the face and BESIDE_COLUMNS either side past SIDE_SKIP): the highest row
+    reached and the last row looked at, in band rows."""
     lab = _lab8(image, view, r0, r1, c0, c1)
     inner = median_u8(
         lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP)], axis=1
     )
     left_out = median_u8(lab[:, :BESIDE_COLUMNS], axis=1)
     right_out = median_u8(lab[:, -BESIDE_COLUMNS:], axis=1)
-    k = top - r0  # the current top's row in the band
     ref = median_of(inner[k + 2 :], axis=0)
     d_face = row_norms(inner - ref)
     spread = float(median_of(d_face[k + 2 :]))
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
-    beside = np.minimum(
-        row_norms(inner - left_out), row_norms(inner - right_out)
-    )
+    beside = np.minimum(row_norms(inner - left_out), row_norms(inner - right_out))
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
     # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
@@ -225,13 +254,7 @@ def raise_top_by_colour(
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
         on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
-    max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
-    end = _walk_colour(inner, on, k, limit, max_gap)
-    if k - end <= SNAP_ROWS:
-        return top
-    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
-    return int(r0 + lo + np.argmax(rows))
+    return _walk_colour(inner, on, k, limit, max_gap)
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
@@ -268,11 +291,12 @@ def _walk_colour(
     start: int,
     limit: float,
     max_gap: int,
-) -> int:
+) -> tuple[int, int]:
     """Highest row above ``start`` reached through ``on`` rows whose colour is within
     ``limit`` of a row reached at least STEP_ROWS below (a gloss or a shadow shades the
     face slowly; the edge to a top face or to the background is a step, blurred over a
-    few rows, that no gap crosses)."""
+    few rows, that no gap crosses); and the last row looked at (the walk ends at row 0
+    or after max_gap + 1 rows that are not the face's)."""
     reached = [start]
     gap, r = 0, start
     while r - 1 >= 0 and gap <= max_gap:
@@ -283,7 +307,7 @@ def _walk_colour(
             gap = 0
         else:
             gap += 1
-    return reached[-1]
+    return reached[-1], r
 
 
 #: A face's top edge with a colour step under this (Lab distance between the rows just
