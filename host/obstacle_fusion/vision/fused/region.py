@@ -13,6 +13,7 @@ not: gradients alone collapsed the width to one plank there.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import cv2
@@ -84,10 +85,13 @@ def _lab8(
     return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
 
 
-def _walk(on: npt.NDArray[np.bool_], start: int, step: int, max_gap: int) -> int:
-    """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap."""
+def _walk(on: Sequence[bool], start: int, step: int, max_gap: int) -> int:
+    """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap.
+
+    ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
+    indexing makes several times dearer over a walk of hundreds of columns."""
     u, v, gap = start, start, 0
-    while 0 <= v + step < on.size and gap <= max_gap:
+    while 0 <= v + step < len(on) and gap <= max_gap:
         v += step
         if on[v]:
             u, gap = v, 0
@@ -134,16 +138,17 @@ def widen_by_colour(
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
+    flags = on.tolist()
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = _walk(on, side - step * 2, step, max_gap)
+        end = _walk(flags, side - step * 2, step, max_gap)
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
             # side search took in the background beside it: nothing stands on the contact
             # row there, the floor runs on behind. A print or tape of another colour on
             # the face's foot is not cut off: it stands out from the floor.
-            end = _walk(on, centre, step, max_gap)
+            end = _walk(flags, centre, step, max_gap)
             cut = slice(min(end, side) + 1, max(end, side))
             if (side - end) * step <= min_move or (
                 float(np.mean(d_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
