@@ -282,7 +282,17 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
-    lab = _band(image, view, top - b, top + b + 1)[:, left + SIDE_SKIP : right - SIDE_SKIP]
-    above = np.median(lab[: b - a + 1].reshape(-1, 3), axis=0)
-    below = np.median(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
-    return min(1.0, float(np.linalg.norm(above - below)) / TOP_STEP_FULL)
+    lab = _band(image, view, top - b, top + b + 1)
+    n = b - a + 1
+    # the middle, and just inside each side: a top face of the front's own shade is no
+    # step in the middle, but it narrows as it recedes, so beside it the wall shows
+    steps = []
+    for c0, c1 in (
+        (left + SIDE_SKIP, right - SIDE_SKIP),
+        (left + SIDE_SKIP, left + SIDE_SKIP + BESIDE_COLUMNS),
+        (right - SIDE_SKIP - BESIDE_COLUMNS, right - SIDE_SKIP),
+    ):
+        above = np.median(lab[:n, c0:c1].reshape(-1, 3), axis=0)
+        below = np.median(lab[-n:, c0:c1].reshape(-1, 3), axis=0)
+        steps.append(float(np.linalg.norm(above - below)))
+    return min(1.0, max(steps) / TOP_STEP_FULL)
