@@ -6,13 +6,16 @@ against a published speed-of-sound table (not the host's formula)."""
 from __future__ import annotations
 
 import os
+import re
 import signal
+import subprocess
 import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from obstacle_fusion import bundled
 from obstacle_fusion.protocol import encode
 from obstacle_fusion.protocol.generated import (
     Ack,
@@ -184,6 +187,83 @@ def test_watchdog_reset_is_reported(emulator_factory: Factory, open_port: Opener
     assert logs_after_boot(port) == []
     emu.control.reset(watchdog=True)  # and again, the hand-over is made at every reset
     assert len(logs_after_boot(port)) == 1
+
+
+@pytest.fixture(scope="module")
+def optiboot_hex(emulator_built: Path) -> Path:
+    """Optiboot 4.4 as a stock Uno carries it (built from Debian's arduino-core-avr)."""
+    if not (bundled.OPTIBOOT_SOURCE / "optiboot.c").is_file():
+        pytest.skip("arduino-core-avr is needed (tools/setup.sh installs it)")
+    done = subprocess.run(
+        ["make", "-s", "-C", str(bundled.REPO_ROOT / "tools" / "emulator"), "optiboot"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    hexfile = bundled.optiboot_hex()
+    assert hexfile is not None
+    return hexfile
+
+
+RESET_NOTE = re.compile(r"MCU reset at ([0-9.]+) s")
+
+
+def hang_and_reboot(emu: Emulator, port: FirmwarePort, interrupts_off: bool) -> tuple[list[Message], float]:
+    """Hang the firmware's main program; the LOGs after its next start and how long after
+    the hang (simulated seconds) the MCU reset."""
+    resets_before = len(RESET_NOTE.findall(emu.stderr_text()))
+    t_before = emu.control.sim_time()
+    emu.control.hang(interrupts_off=interrupts_off)
+    t_after = emu.control.sim_time()
+    logs = logs_after_boot(port)
+    times = [float(t) for t in RESET_NOTE.findall(emu.stderr_text())]
+    assert len(times) == resets_before + 1, emu.stderr_text()[-500:]
+    # The time-out to the reset is counted from the last kick (at most a loop, ~2 ms,
+    # before the hang): 2 x 32768 cycles of the 128 kHz watchdog oscillator = 0.512 s.
+    lo, hi = t_before + 0.512 - 0.004, t_after + 0.512 + 0.001
+    assert lo <= times[-1] <= hi, (t_before, t_after, times[-1])
+    return logs, times[-1] - t_before
+
+
+def test_hang_is_reported_through_optiboot_4_4(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot_hex: Path
+) -> None:
+    """The Uno's stock bootloader, Optiboot 4.4, clears MCUSR and passes nothing in r2, so
+    only the firmware's own watchdog interrupt can leave word of a hang: the main program
+    really stops (the emulator's `hang`), simavr's watchdog fires, Optiboot starts the
+    firmware again and the host gets "watchdog reset". Optiboot's own start (its watchdog
+    reset after the bootloader's wait) and the reset button give no LOG."""
+    emu = emulator_factory(elf=uno_elf, bootloader=optiboot_hex, distance_m=1.0, fast=True, verbose=1)
+    port = open_port(emu)
+    # --wait-client: an external reset, Optiboot waits ~1 s for avrdude, then its watchdog.
+    assert logs_after_boot(port) == []
+    logs, _ = hang_and_reboot(emu, port, interrupts_off=False)
+    assert [(m.level, m.text) for m in logs] == [(LogLevel.WARNING, "watchdog reset")]
+    emu.control.reset()  # the reset button: Optiboot's wait, then its own watchdog reset
+    assert logs_after_boot(port) == []
+    logs, _ = hang_and_reboot(emu, port, interrupts_off=False)  # the marker was cleared, and set again
+    assert len(logs) == 1
+    assert emu.control.stats()["wdt_escalations"] == 0  # simavr's own watchdog reset both times
+
+
+@pytest.mark.parametrize("bootloader", [False, True], ids=["no_bootloader", "optiboot_4_4"])
+def test_hang_with_interrupts_off_still_resets(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot_hex: Path, bootloader: bool
+) -> None:
+    """A hang with interrupts off never runs the watchdog interrupt; the chip resets at the
+    next time-out all the same (datasheet, WDTCSR; the emulator makes simavr do so). The
+    cause reaches the firmware through MCUSR without a bootloader; Optiboot 4.4 loses it
+    (firmware/README.md, the limit)."""
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex if bootloader else None, distance_m=1.0, fast=True, verbose=1
+    )
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    logs, _ = hang_and_reboot(emu, port, interrupts_off=True)
+    assert [m.text for m in logs] == ([] if bootloader else ["watchdog reset"])
+    assert emu.control.stats()["wdt_escalations"] == 1
+    # ...and the watchdog interrupt path works again after such a start.
+    logs, _ = hang_and_reboot(emu, port, interrupts_off=False)
+    assert [m.text for m in logs] == ["watchdog reset"]
 
 
 # --- item 8: the virtual HC-SR04's physics against a published table ---------------------------

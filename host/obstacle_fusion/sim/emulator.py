@@ -327,6 +327,12 @@ class EmulatorControl:
         its watchdog had fired (MCUSR.WDRF set, or r2 under --optiboot)."""
         self.command("reset watchdog" if watchdog else "reset")
 
+    def hang(self, interrupts_off: bool = False) -> None:
+        """Make the firmware's main program stop where it is, as an endless loop would
+        (interrupt handlers still run; interrupts_off: as after `cli`), until the MCU
+        resets: its own watchdog's work, or `reset`."""
+        self.command("hang cli" if interrupts_off else "hang")
+
     def sim_time(self) -> float:
         """Simulated seconds since power-up."""
         return float(self.command("time").split()[0])

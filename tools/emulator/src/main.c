@@ -383,6 +383,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
             e->quirks.sei_fix = 0;
             e->quirks.tifr_fix = 0;
             e->quirks.flag_fix = 0;
+            e->quirks.wdt_fix = 0;
             e->sp.exact_edges = 0;
             e->model_rx_overrun = 0;
             e->uart_rate_fix = 0;
@@ -440,7 +441,7 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              "short_triggers=%llu tx_bytes=%llu tx_written=%llu tx_no_client=%llu "
              "tx_overflow=%llu rx_bytes=%llu rx_fed=%llu rx_overruns=%llu dropped=%llu "
              "corrupted=%llu inserted=%llu resets=%llu tifr_restored=%llu flags_cleared=%llu "
-             "level_polls_cancelled=%llu client=%d "
+             "level_polls_cancelled=%llu wdt_escalations=%llu hang=%d client=%d "
              "max_lag_s=%.6f wall0_s=%.9f cycle0=%llu freq_hz=%lu uart_cycles_per_byte=%llu",
              sim_seconds(e), (unsigned long long)e->avr->cycle,
              meas, ignored, shorts, (unsigned long long)b->tx_bytes,
@@ -451,7 +452,9 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              (unsigned long long)b->inserted, (unsigned long long)e->resets,
              (unsigned long long)e->quirks.tifr_restored,
              (unsigned long long)e->quirks.flags_cleared,
-             (unsigned long long)e->quirks.level_polls_cancelled, e->bridge.client, e->max_lag_s,
+             (unsigned long long)e->quirks.level_polls_cancelled,
+             (unsigned long long)e->quirks.wdt_escalations, e->quirks.hang, e->bridge.client,
+             e->max_lag_s,
              /* The pacing anchor: cycle c runs at CLOCK_MONOTONIC wall0_s + (c - cycle0) /
               * (freq_hz * (1 + ppm/1e6)), the exact host time of any MCU event. */
              now_s(&e->wall0), (unsigned long long)e->cycle0, (unsigned long)e->avr->frequency,
@@ -557,6 +560,8 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
             return;
         }
         e->reset_requested = 2;
+    } else if (!strcmp(cmd, "hang") && (argc == 1 || (argc == 2 && !strcmp(argv[1], "cli")))) {
+        e->quirks.hang = argc == 2 ? 2 : 1;
     } else if (!strcmp(cmd, "time") && argc == 1) {
         snprintf(reply, n, "ok %.9f %llu", sim_seconds(e), (unsigned long long)e->avr->cycle);
         return;
@@ -568,7 +573,7 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
     } else if (!strcmp(cmd, "help")) {
         snprintf(reply, n, "ok commands: distance M|none [SENSOR], temperature C, noise MM, "
                            "dropout P, spike P, uart drop|corrupt|insert P, scene FILE [SENSOR], "
-                           "reset [watchdog], time, stats, quit");
+                           "reset [watchdog], hang [cli], time, stats, quit");
         return;
     } else {
         snprintf(reply, n, "error unknown command or wrong arguments: '%s' (try help)", cmd);
@@ -725,6 +730,7 @@ static void core_reset_hook(avr_t *avr)
 static void after_reset(emu_t *e)
 {
     g_core_was_reset = 0;
+    e->quirks.hang = 0; /* a reset ends the hang: the firmware starts over */
     hand_over(e, e->reset_cause);
     e->reset_cause = 0;
     e->resets++;
@@ -863,6 +869,7 @@ int main(int argc, char **argv)
     e->quirks.sei_fix = 1;
     e->quirks.tifr_fix = 1;
     e->quirks.flag_fix = 1;
+    e->quirks.wdt_fix = 1;
     e->model_rx_overrun = 1;
     e->uart_rate_fix = 1;
     e->parent = getppid();
