@@ -44,10 +44,14 @@ open_port = emulator_fixtures.open_port
 Factory = Callable[..., Emulator]
 Opener = Callable[[Emulator], FirmwarePort]
 
-DEFAULTS = dict(cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000)
+DEFAULTS = dict(
+    cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000
+)
 
 
-def boot(factory: Factory, opener: Opener, elf: Path, **config: object) -> tuple[Emulator, FirmwarePort]:
+def boot(
+    factory: Factory, opener: Opener, elf: Path, **config: object
+) -> tuple[Emulator, FirmwarePort]:
     config.setdefault("fast", True)
     emu = factory(elf=elf, **config)
     port = opener(emu)
@@ -58,7 +62,9 @@ def boot(factory: Factory, opener: Opener, elf: Path, **config: object) -> tuple
     return emu, port
 
 
-def answered(port: FirmwarePort, msg: Message, want: type, timeout_s: float = 5.0) -> Message | None:
+def answered(
+    port: FirmwarePort, msg: Message, want: type, timeout_s: float = 5.0
+) -> Message | None:
     seq = port.send(msg)
 
     def match(m: Message) -> bool:
@@ -125,23 +131,34 @@ def test_a_large_host_write_is_fed_whole_and_later_commands_answered(
         time.sleep(0.1)
         want = emu.control.stats()["rx_fed"] + len(blob)
         flood(emu, port, blob)
-        assert wait_for(lambda w=want: emu.control.stats()["rx_fed"] >= w, 10.0), (round_, rx_figures(emu))
+        assert wait_for(lambda w=want: emu.control.stats()["rx_fed"] >= w, 10.0), (
+            round_,
+            rx_figures(emu),
+        )
         port.collect(0.3)
         reply = answered(port, TimeSync(token=99), TimeSyncReply)
-        assert isinstance(reply, TimeSyncReply) and reply.token == 99, (round_, rx_figures(emu), port.decoder.stats)
+        assert isinstance(reply, TimeSyncReply) and reply.token == 99, (
+            round_,
+            rx_figures(emu),
+            port.decoder.stats,
+        )
 
 
 # --- defect 10 c: the gap between triggers is never under the cycle ----------------------------
 
 
-def test_trigger_gaps_never_under_the_cycle(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_trigger_gaps_never_under_the_cycle(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     """Two sensors in turn at the shortest cycle (29 ms): sensor 0's far obstacle gives a
     27 ms echo, so the 2 ms guard holds the next trigger back about 0.5 ms; sensor 1's
     near one lets the trigger after it go on time. Phase-keeping firmware answered each
     late trigger with a 28.5 ms gap; the truth log's TRIG edges (cycle-exact) show none."""
     width_s = 0.029 + 0.0005 - 0.002 - 0.00046  # cycle + lateness - guard - (pulse + burst)
     v = 331.3 * (1 + 20.0 / 273.15) ** 0.5
-    emu, port = boot(emulator_factory, open_port, uno_elf, distance_m=0.5, sensors=2, max_range_m=6.0)
+    emu, port = boot(
+        emulator_factory, open_port, uno_elf, distance_m=0.5, sensors=2, max_range_m=6.0
+    )
     emu.control.set_distance(width_s * v / 2, sensor=0)
     cfg = dict(DEFAULTS, cycle_ms=29, sensor_mask=0b11, echo_timeout_us=28000, max_echo_us=28000)
     reply = answered(port, SetConfig(**cfg), Ack)
@@ -172,7 +189,9 @@ def logs_after_boot(port: FirmwarePort) -> list[Message]:
 
 
 @pytest.mark.parametrize("optiboot", [True, False], ids=["optiboot", "no_bootloader"])
-def test_watchdog_reset_is_reported(emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot: bool) -> None:
+def test_watchdog_reset_is_reported(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot: bool
+) -> None:
     """Optiboot clears MCUSR before it starts the application and hands the reset cause
     over in r2 (the emulator's --optiboot does the same at every reset). The firmware
     must read r2 when MCUSR is 0: "watchdog reset" after a watchdog reset, nothing after
@@ -207,9 +226,9 @@ def optiboot_hex(emulator_built: Path) -> Path:
 RESET_NOTE = re.compile(r"MCU reset at ([0-9.]+) s")
 
 
-def hang_and_reboot(emu: Emulator, port: FirmwarePort, interrupts_off: bool) -> tuple[list[Message], float]:
-    """Hang the firmware's main program; the LOGs after its next start and how long after
-    the hang (simulated seconds) the MCU reset."""
+def hang_and_reboot(emu: Emulator, port: FirmwarePort, interrupts_off: bool) -> list[Message]:
+    """Hang the firmware's main program; the LOGs after its next start. The reset must
+    come one watchdog period after the hang."""
     resets_before = len(RESET_NOTE.findall(emu.stderr_text()))
     t_before = emu.control.sim_time()
     emu.control.hang(interrupts_off=interrupts_off)
@@ -221,7 +240,14 @@ def hang_and_reboot(emu: Emulator, port: FirmwarePort, interrupts_off: bool) -> 
     # before the hang): 2 x 32768 cycles of the 128 kHz watchdog oscillator = 0.512 s.
     lo, hi = t_before + 0.512 - 0.004, t_after + 0.512 + 0.001
     assert lo <= times[-1] <= hi, (t_before, t_after, times[-1])
-    return logs, times[-1] - t_before
+    return logs
+
+
+def hang_briefly(emu: Emulator, seconds: float) -> None:
+    """Hang the main program for `seconds` (simulated), and wait until it has gone on."""
+    t0 = emu.control.sim_time()
+    emu.control.hang(seconds=seconds)
+    assert wait_for(lambda: emu.control.sim_time() > t0 + seconds + 0.1, 10.0)
 
 
 def test_hang_is_reported_through_optiboot_4_4(
@@ -232,37 +258,118 @@ def test_hang_is_reported_through_optiboot_4_4(
     really stops (the emulator's `hang`), simavr's watchdog fires, Optiboot starts the
     firmware again and the host gets "watchdog reset". Optiboot's own start (its watchdog
     reset after the bootloader's wait) and the reset button give no LOG."""
-    emu = emulator_factory(elf=uno_elf, bootloader=optiboot_hex, distance_m=1.0, fast=True, verbose=1)
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex, distance_m=1.0, fast=True, verbose=1
+    )
     port = open_port(emu)
     # --wait-client: an external reset, Optiboot waits ~1 s for avrdude, then its watchdog.
     assert logs_after_boot(port) == []
-    logs, _ = hang_and_reboot(emu, port, interrupts_off=False)
+    logs = hang_and_reboot(emu, port, interrupts_off=False)
     assert [(m.level, m.text) for m in logs] == [(LogLevel.WARNING, "watchdog reset")]
     emu.control.reset()  # the reset button: Optiboot's wait, then its own watchdog reset
     assert logs_after_boot(port) == []
-    logs, _ = hang_and_reboot(emu, port, interrupts_off=False)  # the marker was cleared, and set again
+    logs = hang_and_reboot(emu, port, interrupts_off=False)  # the marker was cleared, and set again
     assert len(logs) == 1
     assert emu.control.stats()["wdt_escalations"] == 0  # simavr's own watchdog reset both times
 
 
+def test_late_loop_leaves_no_mark(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot_hex: Path
+) -> None:
+    """A main loop late by 0.35 s (past the watchdog interrupt at 0.256 s, before the reset
+    at 0.512 s) goes on: its next kick clears the mark, so a later reset button gives no
+    LOG, and arms the interrupt again, so a later hang is still reported."""
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex, distance_m=1.0, fast=True, verbose=1
+    )
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    for _ in range(2):
+        hang_briefly(emu, 0.35)
+        seen = port.collect(0.2)
+        assert not [m for m in seen if isinstance(m, (Hello, Log))], seen[:5]  # no reset
+        assert [m for m in seen if isinstance(m, Range)]  # ranging again
+    assert emu.control.stats()["resets"] == 1  # only Optiboot's start of the application
+    emu.control.reset()
+    assert logs_after_boot(port) == []
+    hang_briefly(emu, 0.35)  # WDIE cleared by the interrupt...
+    logs = hang_and_reboot(emu, port, interrupts_off=False)  # ...and set again by the kick
+    assert [m.text for m in logs] == ["watchdog reset"]
+
+
+def mark_address(elf: Path) -> int:
+    out = subprocess.run(["avr-nm", str(elf)], capture_output=True, text=True, check=True).stdout
+    found = [
+        int(line.split()[0], 16) & 0xFFFF
+        for line in out.splitlines()
+        if line.endswith(" of_wdt_mark")
+    ]
+    assert len(found) == 1, "the firmware's watchdog mark (of_wdt_mark) is not in the ELF"
+    return found[0]
+
+
+MARK = bytes([0x44, 0x57, 0xBB, 0xA8])  # 0x5744 ("WD") little-endian, then its complement
+
+
+@pytest.mark.parametrize("bootloader", [False, True], ids=["no_bootloader", "optiboot_4_4"])
+def test_only_a_whole_mark_after_a_silent_bootloader_counts(
+    emulator_factory: Factory,
+    open_port: Opener,
+    uno_elf: Path,
+    optiboot_hex: Path,
+    bootloader: bool,
+) -> None:
+    """The mark is read only when nothing else tells the cause (MCUSR and r2 both 0, as
+    after Optiboot 4.4), and only whole: RAM holding the magic with one byte of it or of
+    its complement wrong (power-on noise, an earlier run) gives no LOG. Without a
+    bootloader MCUSR says EXTRF and a whole mark is not believed. The mark lies above
+    Optiboot's page buffer (0x100..0x17F), which flashing overwrites."""
+    address = mark_address(uno_elf)
+    assert 0x180 <= address <= 0x8FF - 64  # above the buffer, below the stack
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex if bootloader else None, distance_m=1.0, fast=True
+    )
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    for k in range(4):
+        bad = bytearray(MARK)
+        bad[k] ^= 0x01
+        emu.control.poke(address, bytes(bad))
+        emu.control.reset()
+        assert logs_after_boot(port) == [], k
+    emu.control.poke(address, MARK)
+    emu.control.reset()
+    assert [m.text for m in logs_after_boot(port)] == (["watchdog reset"] if bootloader else [])
+    emu.control.reset()  # read once: the start clears it
+    assert logs_after_boot(port) == []
+
+
 @pytest.mark.parametrize("bootloader", [False, True], ids=["no_bootloader", "optiboot_4_4"])
 def test_hang_with_interrupts_off_still_resets(
-    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot_hex: Path, bootloader: bool
+    emulator_factory: Factory,
+    open_port: Opener,
+    uno_elf: Path,
+    optiboot_hex: Path,
+    bootloader: bool,
 ) -> None:
     """A hang with interrupts off never runs the watchdog interrupt; the chip resets at the
     next time-out all the same (datasheet, WDTCSR; the emulator makes simavr do so). The
     cause reaches the firmware through MCUSR without a bootloader; Optiboot 4.4 loses it
     (firmware/README.md, the limit)."""
     emu = emulator_factory(
-        elf=uno_elf, bootloader=optiboot_hex if bootloader else None, distance_m=1.0, fast=True, verbose=1
+        elf=uno_elf,
+        bootloader=optiboot_hex if bootloader else None,
+        distance_m=1.0,
+        fast=True,
+        verbose=1,
     )
     port = open_port(emu)
     assert logs_after_boot(port) == []
-    logs, _ = hang_and_reboot(emu, port, interrupts_off=True)
+    logs = hang_and_reboot(emu, port, interrupts_off=True)
     assert [m.text for m in logs] == ([] if bootloader else ["watchdog reset"])
     assert emu.control.stats()["wdt_escalations"] == 1
     # ...and the watchdog interrupt path works again after such a start.
-    logs, _ = hang_and_reboot(emu, port, interrupts_off=False)
+    logs = hang_and_reboot(emu, port, interrupts_off=False)
     assert [m.text for m in logs] == ["watchdog reset"]
 
 

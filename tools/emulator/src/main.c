@@ -464,12 +464,17 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
 static void handle_command(void *ctx, char *line, char *reply, size_t n)
 {
     emu_t *e = ctx;
-    char *argv[4];
+    char *argv[20]; /* poke: address and 16 bytes */
     int argc = 0;
-    for (char *p = strtok(line, " \t"); p && argc < 4; p = strtok(NULL, " \t"))
+    char *p = strtok(line, " \t");
+    for (; p && argc < 20; p = strtok(NULL, " \t"))
         argv[argc++] = p;
     if (argc == 0) {
         snprintf(reply, n, "error empty command");
+        return;
+    }
+    if (p) {
+        snprintf(reply, n, "error %s: too many arguments", argv[0]);
         return;
     }
     const char *cmd = argv[0];
@@ -560,8 +565,53 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
             return;
         }
         e->reset_requested = 2;
-    } else if (!strcmp(cmd, "hang") && (argc == 1 || (argc == 2 && !strcmp(argv[1], "cli")))) {
-        e->quirks.hang = argc == 2 ? 2 : 1;
+    } else if (!strcmp(cmd, "hang") && argc == 2 && !strcmp(argv[1], "off")) {
+        quirks_hang_end(e->avr, 0);
+    } else if (!strcmp(cmd, "hang") && argc <= 3) {
+        /* hang [cli] [SECONDS]: the main program stops (as `rjmp .`; after `cli` too) until
+         * a reset, or for SECONDS of simulated time. */
+        int k = 1, cli = argc > 1 && !strcmp(argv[1], "cli");
+        k += cli;
+        v = 0.0;
+        if (argc > k) {
+            v = strtod(argv[k], &end);
+            if (end == argv[k] || *end || !(v > 0.0 && v <= 3600.0)) {
+                snprintf(reply, n, "error hang: '%s' is not seconds in (0, 3600]", argv[k]);
+                return;
+            }
+            if (argc > k + 1) {
+                snprintf(reply, n, "error hang: use hang [cli] [SECONDS] or hang off");
+                return;
+            }
+        }
+        quirks_hang_end(e->avr, 0);
+        e->quirks.hang = cli ? 2 : 1;
+        e->quirks.hang_until =
+            v > 0.0 ? e->avr->cycle + (uint64_t)llround(v * e->avr->frequency) : 0;
+    } else if (!strcmp(cmd, "poke") && argc >= 3) {
+        /* poke ADDR BYTE...: write the MCU's SRAM (data addresses, e.g. 0x269), as RAM
+         * left by an earlier run or random at power-on would hold. */
+        unsigned long addr = strtoul(argv[1], &end, 0);
+        if (end == argv[1] || *end || addr <= e->avr->ioend ||
+            addr + (unsigned long)(argc - 2) > (unsigned long)e->avr->ramend + 1) {
+            snprintf(reply, n, "error poke: '%s' is not an SRAM address (0x%x..0x%x)", argv[1],
+                     (unsigned)e->avr->ioend + 1, (unsigned)e->avr->ramend);
+            return;
+        }
+        uint8_t bytes[16];
+        if (argc - 2 > (int)sizeof bytes) {
+            snprintf(reply, n, "error poke: at most %d bytes", (int)sizeof bytes);
+            return;
+        }
+        for (int k = 2; k < argc; k++) {
+            unsigned long b = strtoul(argv[k], &end, 0);
+            if (end == argv[k] || *end || b > 0xFF) {
+                snprintf(reply, n, "error poke: '%s' is not a byte", argv[k]);
+                return;
+            }
+            bytes[k - 2] = (uint8_t)b;
+        }
+        memcpy(e->avr->data + addr, bytes, (size_t)(argc - 2));
     } else if (!strcmp(cmd, "time") && argc == 1) {
         snprintf(reply, n, "ok %.9f %llu", sim_seconds(e), (unsigned long long)e->avr->cycle);
         return;
@@ -573,7 +623,8 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
     } else if (!strcmp(cmd, "help")) {
         snprintf(reply, n, "ok commands: distance M|none [SENSOR], temperature C, noise MM, "
                            "dropout P, spike P, uart drop|corrupt|insert P, scene FILE [SENSOR], "
-                           "reset [watchdog], hang [cli], time, stats, quit");
+                           "reset [watchdog], hang [cli] [S] | off, poke ADDR BYTE..., time, "
+                           "stats, quit");
         return;
     } else {
         snprintf(reply, n, "error unknown command or wrong arguments: '%s' (try help)", cmd);
@@ -730,7 +781,7 @@ static void core_reset_hook(avr_t *avr)
 static void after_reset(emu_t *e)
 {
     g_core_was_reset = 0;
-    e->quirks.hang = 0; /* a reset ends the hang: the firmware starts over */
+    quirks_hang_end(e->avr, 1); /* a reset ends the hang: the firmware starts over */
     hand_over(e, e->reset_cause);
     e->reset_cause = 0;
     e->resets++;

@@ -45,13 +45,18 @@ quirks_t *quirks_active;
 void quirks_run(avr_t *avr)
 {
     avr_flashaddr_t new_pc = avr->pc;
-    int spin = quirks_active && quirks_active->hang && avr->state == cpu_Running &&
-               avr->interrupts.running_ptr == 0 &&
-               (quirks_active->hang == 2 || avr->sreg[S_I]);
+    quirks_t *q = quirks_active;
+    if (q && q->hang_until && avr->cycle >= q->hang_until)
+        quirks_hang_end(avr, 0);
+    /* The hang begins in the main program with interrupts on, so a `hang cli` that ends
+     * can give them back. */
+    int spin = q && q->hang && avr->state == cpu_Running && avr->interrupts.running_ptr == 0 &&
+               (q->frozen || avr->sreg[S_I]);
     if (spin) {
         /* The main program is stuck: `rjmp .` (2 cycles), after a `cli` with hang 2. */
-        if (quirks_active->hang == 2)
+        if (!q->frozen && q->hang == 2)
             avr_sreg_set(avr, S_I, 0);
+        q->frozen = 1;
         avr->cycle += 2;
     } else if (avr->state == cpu_Running) {
         new_pc = avr_run_one(avr);
@@ -69,6 +74,18 @@ void quirks_run(avr_t *avr)
     }
     if ((avr->state == cpu_Running || avr->state == cpu_Sleeping) && avr->interrupt_state)
         avr_service_interrupts(avr);
+}
+
+void quirks_hang_end(avr_t *avr, int reset)
+{
+    quirks_t *q = quirks_active;
+    if (!q)
+        return;
+    if (!reset && q->frozen && q->hang == 2)
+        avr_sreg_set(avr, S_I, 1);
+    q->hang = 0;
+    q->hang_until = 0;
+    q->frozen = 0;
 }
 
 #define MAX_WRAPPED 8
