@@ -31,7 +31,7 @@ from obstacle_fusion.protocol.generated import (
     TimeSync,
     TimeSyncReply,
 )
-from obstacle_fusion.sim.emulator import Emulator, wait_for
+from obstacle_fusion.sim.emulator import Emulator, EmulatorError, wait_for
 
 from tests import emulator_fixtures
 from tests.emulator_fixtures import FirmwarePort
@@ -352,6 +352,37 @@ def test_hang_with_interrupts_off_still_resets(
     # ...and the watchdog interrupt path works again after such a start.
     logs = hang_and_reboot(emu, port, interrupts_off=False)
     assert [m.text for m in logs] == ["watchdog reset"]
+
+
+def test_simavr_alone_never_resets_a_hang_with_interrupts_off(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
+    """What the emulator's watchdog fix is for: with --no-quirk-fixes, simavr 1.6 raises
+    the pending watchdog interrupt again at every time-out and never resets. And the
+    control channel refuses bad hang/poke arguments by name."""
+    emu = emulator_factory(elf=uno_elf, distance_m=1.0, fast=True, quirk_fixes=False)
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    for bad, why in [
+        ("hang 0", "not seconds"),
+        ("hang 1 2", "use hang"),
+        ("poke 0xff 1", "not an SRAM address"),
+        ("poke 0x8ff 1 2", "not an SRAM address"),
+        ("poke 0x269 256", "not a byte"),
+        ("poke 0x269" + " 1" * 17, "at most 16"),
+        ("hang" + " 1" * 20, "too many"),
+    ]:
+        with pytest.raises(EmulatorError, match=why):
+            emu.control.command(bad)
+    t0 = emu.control.sim_time()
+    emu.control.hang(interrupts_off=True)
+    assert wait_for(lambda: emu.control.sim_time() > t0 + 0.1, 10.0)
+    hung = emu.control.stats()["measurements"]
+    assert wait_for(lambda: emu.control.sim_time() > t0 + 2.0, 10.0)
+    stats = emu.control.stats()
+    assert stats["measurements"] == hung  # hung all along...
+    assert stats["resets"] == 0 and stats["wdt_escalations"] == 0  # ...and never reset
+    assert not [m for m in port.collect(0.1) if isinstance(m, Hello)]
 
 
 # --- item 8: the virtual HC-SR04's physics against a published table ---------------------------
