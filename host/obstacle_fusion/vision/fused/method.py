@@ -25,6 +25,7 @@ from obstacle_fusion.vision.fused.extent import (
 )
 from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
+from obstacle_fusion.vision.fused.region import widen_by_colour
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
 from obstacle_fusion.vision.fused.search import (
     beam_columns,
@@ -55,7 +56,15 @@ class FusedMethod:
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
 
-    def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
+    def run(
+        self,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        colour: npt.NDArray[Any] | None = None,
+    ) -> Measurement:
+        """``colour``: the BGR frame ``image`` was made from, when ``image`` is one channel
+        of it (the face's colour along its foot sets its width)."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
@@ -140,6 +149,9 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        ul, ur = widen_by_colour(
+            colour if colour is not None else image, v, ax3, rb, int(round(vt)), ul, ur, depth
+        )
         timer.lap("extent")
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]

@@ -1,0 +1,111 @@
+"""The fused method's colour extent: a face is as wide as its colour runs along its foot."""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+import pytest
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import region
+from obstacle_fusion.vision.fused.region import widen_by_colour
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import View
+
+H, W = 240, 320
+TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face; its foot is row BOTTOM
+DEPTH = 1.0  # metres: fx = 300, so MAX_GAP_M (4 cm) is 12 columns here
+FACE = (60, 160, 60)  # BGR green
+FLOOR = (120, 120, 120)
+
+
+def level_view() -> View:
+    """A distortion-free camera with no pitch: the levelled view is the image itself."""
+    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, H / 2], [0.0, 0.0, 1.0]])
+    return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+
+
+def scene(
+    seams: tuple[int, ...] = (),
+    seam_width: int = 2,
+    beyond: tuple[int, int, int] = FLOOR,
+    rng_seed: int = 0,
+) -> npt.NDArray[np.uint8]:
+    """Floor below row BOTTOM, ``beyond`` above it; a green face with dark vertical seams,
+    its planks of slightly different shades, over a textured floor."""
+    rng = np.random.default_rng(rng_seed)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = beyond
+    img[BOTTOM:] = FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = FACE
+    edges = [LEFT, *seams, RIGHT]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        img[TOP:BOTTOM, a:b] += rng.uniform(-6, 6)
+    for s in seams:
+        img[TOP:BOTTOM, s : s + seam_width] = (30, 40, 30)
+    img += rng.normal(0, 12.0, img.shape)  # a photographed floor's grain, everywhere
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def side_strength(img: npt.NDArray[np.uint8]) -> npt.NDArray[np.int16]:
+    grey = img.mean(axis=2)
+    ax = np.zeros(grey.shape, np.int16)
+    ax[:, 1:-1] = np.abs(grey[:, 2:] - grey[:, :-2]).astype(np.int16)
+    return ax
+
+
+def widen(img: npt.NDArray[np.uint8], left: int, right: int) -> tuple[int, int]:
+    return widen_by_colour(img, level_view(), side_strength(img), BOTTOM, TOP, left, right, DEPTH)
+
+
+def test_one_plank_is_widened_to_the_whole_face() -> None:
+    img = scene(seams=(100, 140, 180, 220))
+    left, right = widen(img, 142, 180)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_face_found_whole_keeps_its_sides() -> None:
+    img = scene(seams=(100, 140, 180, 220))
+    assert widen(img, LEFT, RIGHT) == (LEFT, RIGHT)
+
+
+def test_a_gap_wider_than_a_seam_ends_the_face() -> None:
+    """Two boxes side by side, 5 cm apart (15 columns at 1 m): the other is not this one."""
+    img = scene(seams=(150,), seam_width=15)
+    left, right = widen(img, 170, 240)
+    assert left >= 160 and abs(right - RIGHT) <= 2
+
+
+def test_a_seam_within_the_gap_limit_is_crossed() -> None:
+    """The same gap at 3 cm (9 columns) is a seam: the face runs on across it."""
+    img = scene(seams=(150,), seam_width=9)
+    left, right = widen(img, 170, 240)
+    assert abs(left - LEFT) <= 2
+
+
+def test_the_face_colour_beyond_its_foot_without_a_floor_step_is_not_the_face() -> None:
+    """Above the contact row beyond the sides the colour matches the face's, but so does the
+    floor below (a green floor running back): no foot there, so no widening."""
+    img = scene(beyond=FACE)
+    img[BOTTOM:, :LEFT] = img[BOTTOM - 40 : BOTTOM, :LEFT]
+    img[BOTTOM:, RIGHT:] = img[BOTTOM - 40 : BOTTOM, RIGHT:]
+    left, right = widen(img, 100, 220)
+    assert left >= LEFT - 4 and right <= RIGHT + 4
+
+
+def test_a_grey_frame_is_left_alone() -> None:
+    img = scene(seams=(100, 140, 180, 220)).mean(axis=2).astype(np.uint8)
+    assert widen_by_colour(
+        img, level_view(), side_strength(scene()), BOTTOM, TOP, 142, 180, DEPTH
+    ) == (142, 180)
+
+
+@pytest.mark.parametrize("limit", ["MIN_FACE_DISTANCE", "MIN_FLOOR_STEP"])
+def test_the_colour_limits_decide(limit: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Planks differing by about 10 (Lab) from the seed plank count as the face only
+    because MIN_FACE_DISTANCE allows it; the face's foot counts only because it steps
+    from the floor by more than MIN_FLOOR_STEP."""
+    img = scene(seams=(100, 140, 180, 220))
+    img[TOP:BOTTOM, LEFT:140] = np.clip(img[TOP:BOTTOM, LEFT:140].astype(int) + (0, 10, 0), 0, 255)
+    assert widen(img, 142, 180)[0] <= LEFT + 2
+    monkeypatch.setattr(region, limit, {"MIN_FACE_DISTANCE": 5.0, "MIN_FLOOR_STEP": 300.0}[limit])
+    assert widen(img, 142, 180)[0] >= 130
