@@ -358,8 +358,9 @@ def test_simavr_alone_never_resets_a_hang_with_interrupts_off(
     emulator_factory: Factory, open_port: Opener, uno_elf: Path
 ) -> None:
     """What the emulator's watchdog fix is for: with --no-quirk-fixes, simavr 1.6 raises
-    the pending watchdog interrupt again at every time-out and never resets. And the
-    control channel refuses bad hang/poke arguments by name."""
+    the pending watchdog interrupt again at every time-out and never resets the firmware
+    (its watchdog in interrupt and reset mode) hung with interrupts off. And the control
+    channel refuses bad hang/poke arguments by name."""
     emu = emulator_factory(elf=uno_elf, distance_m=1.0, fast=True, quirk_fixes=False)
     port = open_port(emu)
     assert logs_after_boot(port) == []
