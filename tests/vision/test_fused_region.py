@@ -109,3 +109,89 @@ def test_the_colour_limits_decide(limit: str, monkeypatch: pytest.MonkeyPatch) -
     assert widen(img, 142, 180)[0] <= LEFT + 2
     monkeypatch.setattr(region, limit, {"MIN_FACE_DISTANCE": 5.0, "MIN_FLOOR_STEP": 300.0}[limit])
     assert widen(img, 142, 180)[0] >= 130
+
+
+# -- the top from the colour ---------------------------------------------------------------
+
+WALL, WALL_FOOT = (150, 90, 120), (120, 120, 40)  # a purple wall, a teal strip at its foot
+FACE_TOP = 80
+
+
+def wall_scene(
+    top_face_rows: int = 0,
+    top_face: tuple[int, int, int] = (90, 90, 220),
+    narrowing: int = 2,
+) -> npt.NDArray[np.uint8]:
+    """A red face from row FACE_TOP down to BOTTOM in front of a wall whose teal foot strip
+    (rows 140..150) runs behind it; with ``top_face_rows``, a top face of colour
+    ``top_face`` above the front face, its sides ``narrowing`` columns a row towards the
+    image centre as it recedes."""
+    rng = np.random.default_rng(1)
+    img = np.empty((H, W, 3), np.float64)
+    img[:] = WALL
+    img[140:150] = WALL_FOOT
+    img[150:] = FLOOR
+    img[FACE_TOP:BOTTOM, LEFT:RIGHT] = (40, 40, 170)
+    for i in range(top_face_rows):
+        shrink = narrowing * (i + 1)
+        img[FACE_TOP - 1 - i, LEFT + shrink : RIGHT - shrink] = top_face
+    img += rng.normal(0, 4.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def top_strength(img: npt.NDArray[np.uint8]) -> npt.NDArray[np.float32]:
+    grey = img.mean(axis=2)
+    ay = np.zeros(grey.shape, np.float32)
+    ay[1:-1] = np.abs(grey[2:] - grey[:-2])
+    return ay
+
+
+def raise_top(img: npt.NDArray[np.uint8], top: int) -> int:
+    return region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, top, LEFT, RIGHT, DEPTH
+    )
+
+
+def test_a_wall_line_crossing_the_face_is_not_its_top() -> None:
+    """Found at the strip's foot (row 150), the top goes up to the face's own top."""
+    assert abs(raise_top(wall_scene(), 150) - FACE_TOP) <= 2
+
+
+def test_the_true_top_stays() -> None:
+    assert raise_top(wall_scene(), FACE_TOP) == FACE_TOP
+
+
+def test_a_receding_top_face_is_not_raised_into() -> None:
+    """The top face is the face's material in another light and narrows as it recedes."""
+    assert raise_top(wall_scene(top_face_rows=12), FACE_TOP) == FACE_TOP
+
+
+def test_a_top_face_of_the_front_colour_is_told_by_its_narrowing() -> None:
+    """Lit like the front, the top face still recedes: its colour leaves the front's sides."""
+    img = wall_scene(top_face_rows=12, top_face=(40, 40, 170))
+    assert raise_top(img, FACE_TOP) <= FACE_TOP + 1 and raise_top(img, FACE_TOP) >= FACE_TOP - 3
+
+
+def test_a_top_face_as_wide_as_the_front_is_told_by_its_shade() -> None:
+    """Not narrowing (seen from straight ahead), a slightly lighter top face is a step."""
+    img = wall_scene(top_face_rows=12, top_face=(55, 55, 190), narrowing=0)
+    assert raise_top(img, FACE_TOP) >= FACE_TOP - 3
+
+
+def test_the_beside_step_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Above the found top the face must differ from what stands beside it."""
+    monkeypatch.setattr(region, "MIN_BESIDE_STEP", 500.0)
+    assert raise_top(wall_scene(), 150) == 150
+
+
+def test_a_top_face_is_told_from_a_line_inside_the_front() -> None:
+    img = wall_scene(top_face_rows=12)
+    view = level_view()
+    # the 12 rows above the front face are a top face: lighter than the front
+    assert region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT + 30, RIGHT - 30)
+    # 12 rows of the front face itself are not
+    assert not region.looks_like_top_face(img, view, FACE_TOP + 5, FACE_TOP + 17, LEFT, RIGHT)
+    # too thin to judge by colour: left to the gradients
+    assert region.looks_like_top_face(
+        img, view, FACE_TOP + 5, FACE_TOP + 5 + region.MIN_TOP_FACE_ROWS - 1, LEFT, RIGHT
+    )

@@ -25,7 +25,11 @@ from obstacle_fusion.vision.fused.extent import (
 )
 from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
-from obstacle_fusion.vision.fused.region import widen_by_colour
+from obstacle_fusion.vision.fused.region import (
+    looks_like_top_face,
+    raise_top_by_colour,
+    widen_by_colour,
+)
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
 from obstacle_fusion.vision.fused.search import (
     beam_columns,
@@ -131,6 +135,10 @@ class FusedMethod:
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
+        # a background line crossing the face is not its top: the face's colour runs on
+        vt = raise_top_by_colour(
+            colour if colour is not None else image, v, ay, rb, vt, ul, ur, depth
+        )
 
         # confidence
         conf = confidence(best, rivals)
@@ -141,10 +149,14 @@ class FusedMethod:
             return fail
 
         # the front top edge, then sub-pixel refinement
+        seen = colour if colour is not None else image
+        found_top = vt
         vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        if not looks_like_top_face(seen, v, found_top, vt, ul, ur):
+            vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         top_row: float | None = None  # a sub-pixel front top row that needs no refining
         front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
-        if front is not None:
+        if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them

@@ -118,3 +118,131 @@ def widen_by_colour(
         lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
         new.append(int(lo + np.argmax(sides_strength[lo : hi + 1])))
     return new[0], new[1]
+
+
+#: Rows of the face sampled under its top for the face's colour (a share of its height).
+TOP_BAND_SHARE = 0.3
+#: Columns beside each side sampled for what stands beside the face.
+BESIDE_COLUMNS = 6
+#: Columns inside each side left out (the side's blur).
+SIDE_SKIP = 3
+#: Rows of another colour crossed going up without ending the face (a band, a label's edge),
+#: metres at the face.
+MAX_ROW_GAP_M = 0.02
+#: A row is the face's when it also differs from both sides' surroundings by this much.
+MIN_BESIDE_STEP = 12.0
+#: Going up, a row is the face's within this colour distance (or SPREAD_FACTOR times the
+#: face's spread, up to MAX_FACE_DISTANCE): tighter than across, since a box's top face
+#: is its own material in another light, a few units off.
+MIN_TOP_DISTANCE = 6.0
+#: Rows either side of the colour's end searched for the strongest horizontal edge.
+SNAP_ROWS = 3
+
+
+def raise_top_by_colour(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The face's top row, moved up while the rows above it show the face's colour.
+
+    A background line crossing the face (the wall's foot, a shelf) is a horizontal edge
+    between the face's sides; the search takes it for the face's top when the face's sides
+    are faint against the wall in grey. Above it the face shows its own colour still, while
+    the wall beside it does not."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4 or bottom - top < 4:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    if c0 < 0 or c1 > w_view or top < 3:
+        return top
+    band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
+    r0 = max(0, top - 2 * (bottom - top))
+    r1 = min(bottom, top + band + 1)
+    lab = _band(image, view, r0, r1)[:, c0:c1]
+    inner = np.median(
+        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP)], axis=1
+    )
+    left_out = np.median(lab[:, :BESIDE_COLUMNS], axis=1)
+    right_out = np.median(lab[:, -BESIDE_COLUMNS:], axis=1)
+    k = top - r0  # the current top's row in the band
+    ref = np.median(inner[k + 2 :], axis=0)
+    d_face = np.linalg.norm(inner - ref, axis=1)
+    spread = float(np.median(d_face[k + 2 :]))
+    limit = float(np.clip(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
+    beside = np.minimum(
+        np.linalg.norm(inner - left_out, axis=1), np.linalg.norm(inner - right_out, axis=1)
+    )
+    s = BESIDE_COLUMNS + SIDE_SKIP
+    on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
+    # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
+    # towards the vanishing point), so just inside the front face's sides it is not there
+    for near, out in (
+        (lab[:, s : s + BESIDE_COLUMNS], left_out),
+        (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
+    ):
+        on &= np.linalg.norm(np.median(near, axis=1) - out, axis=1) >= MIN_BESIDE_STEP
+    max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
+    end = _walk_colour(inner, on, k, limit, max_gap)
+    if k - end <= SNAP_ROWS:
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
+#: Rows over which the colour going up is compared (an edge's blur spans about three).
+STEP_ROWS = 3
+#: A top face thinner than this (rows) is left to the gradients: its colour is blur.
+MIN_TOP_FACE_ROWS = 6
+
+
+def looks_like_top_face(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    upper: int,
+    lower: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether the rows between ``upper`` and ``lower`` (the face's top as found, and a
+    front top edge below it) differ in colour from the face below ``lower``: a box's top
+    face is lit unlike its front, while a texture line inside the front is not a top face
+    and must not cut the face's height."""
+    n = lower - upper
+    if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
+        return True
+    r1 = min(view.out.shape[0], lower + n + 2)
+    lab = _band(image, view, upper, r1)[:, left + SIDE_SKIP : right - SIDE_SKIP]
+    strip = np.median(lab[1 : n - 1].reshape(-1, 3), axis=0)
+    front = np.median(lab[n + 2 :].reshape(-1, 3), axis=0)
+    return float(np.linalg.norm(strip - front)) >= MIN_TOP_DISTANCE
+
+
+def _walk_colour(
+    colour: npt.NDArray[np.float32],
+    on: npt.NDArray[np.bool_],
+    start: int,
+    limit: float,
+    max_gap: int,
+) -> int:
+    """Highest row above ``start`` reached through ``on`` rows whose colour is within
+    ``limit`` of a row reached at least STEP_ROWS below (a gloss or a shadow shades the
+    face slowly; the edge to a top face or to the background is a step, blurred over a
+    few rows, that no gap crosses)."""
+    reached = [start]
+    gap, r = 0, start
+    while r - 1 >= 0 and gap <= max_gap:
+        r -= 1
+        ref = next((q for q in reversed(reached) if q >= r + STEP_ROWS), start)
+        if on[r] and float(np.linalg.norm(colour[r] - colour[ref])) <= limit:
+            reached.append(r)
+            gap = 0
+        else:
+            gap += 1
+    return reached[-1]
