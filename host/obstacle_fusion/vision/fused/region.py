@@ -296,3 +296,77 @@ def top_agreement(
         below = np.median(lab[-n:, c0:c1].reshape(-1, 3), axis=0)
         steps.append(float(np.linalg.norm(above - below)))
     return min(1.0, max(steps) / TOP_STEP_FULL)
+
+
+#: Width of the strips sampled around a face for a frame's margin, metres at the face.
+MARGIN_STRIP_M = 0.01
+#: The margin's three strips (left, right, below) agree within this colour distance ...
+MARGIN_AGREE = 15.0
+#: ... and differ from the print they surround by at least this.
+MARGIN_VS_PRINT = 20.0
+#: A frame's margin is at most this share of the print's width (and height) wide.
+MAX_MARGIN_SHARE = 0.35
+
+
+def _run_length(colour: npt.NDArray[np.float32], ref: npt.NDArray[np.float32], limit: float) -> int:
+    """How many leading entries of ``colour`` stay within ``limit`` of ``ref``."""
+    off = np.linalg.norm(colour - ref, axis=1) > limit
+    return int(np.argmax(off)) if off.any() else colour.shape[0]
+
+
+def enclose_by_margin(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int, int, int] | None:
+    """A print (a poster, a page, bricks) on a face with a margin of the face's colour.
+
+    The found rectangle is the print when it is surrounded, left, right and below, by one
+    colour unlike its own that ends within a margin's width on each of those sides: the
+    face is then that frame (returned as bottom, top, left, right), its top where the
+    margin colour ends above. Without a rig the print's lower edge can be taken for the
+    floor contact; with one, the print's sides for the face's. Returns None: no frame."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 6:
+        return None
+    h, w = view.out.shape
+    m = max(3, int(round(view.fx * MARGIN_STRIP_M / depth_m)))
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + m + 2
+    reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + m + 2
+    if left - reach_u < 0 or right + reach_u >= w or bottom + reach_v >= h or top - reach_v < 0:
+        return None
+    k_v = max(1, (bottom - top) // 5)
+    k_u = max(1, (right - left) // 5)
+    r0, r1 = top - reach_v, bottom + reach_v + 1
+    lab = _band(image, view, r0, r1)
+    rows = slice(top + k_v - r0, bottom - k_v - r0)
+    # per-column colours across the side strips' rows, per-row colours under the print
+    side_cols = np.median(lab[rows], axis=0)  # W x 3
+    below_rows = np.median(lab[:, left + k_u : right - k_u], axis=1)  # rows x 3
+    print_colour = np.median(lab[rows, left + k_u : right - k_u].reshape(-1, 3), axis=0)
+    strips = [
+        np.median(side_cols[left - 2 - m : left - 2], axis=0),
+        np.median(side_cols[right + 3 : right + 3 + m], axis=0),
+        np.median(below_rows[bottom + 2 - r0 : bottom + 2 + m - r0], axis=0),
+    ]
+    margin = np.median(np.stack(strips), axis=0)
+    if max(float(np.linalg.norm(s - margin)) for s in strips) > MARGIN_AGREE or any(
+        float(np.linalg.norm(s - print_colour)) < MARGIN_VS_PRINT for s in strips
+    ):
+        return None
+    # the margin ends within its reach on each side (a floor or wall of one colour all
+    # round runs on: no frame)
+    out_left = _run_length(side_cols[left - 2 :: -1][:reach_u], margin, MARGIN_AGREE)
+    out_right = _run_length(side_cols[right + 3 :][:reach_u], margin, MARGIN_AGREE)
+    out_below = _run_length(below_rows[bottom + 2 - r0 :][:reach_v], margin, MARGIN_AGREE)
+    if min(out_left, out_right, out_below) < 2 or max(
+        out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
+    ):
+        return None
+    above_rows = np.median(lab[:, left + k_u : right - k_u], axis=1)
+    out_above = _run_length(above_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
+    new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
+    return bottom + 2 + out_below, new_top, left - 2 - out_left, right + 3 + out_right
