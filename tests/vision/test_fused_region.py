@@ -132,6 +132,16 @@ def test_the_floorless_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert widen(scene(), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
 
 
+def test_a_box_of_the_face_colour_standing_farther_back_beside_it_is_not_widened_into() -> None:
+    """Beside the face's right side stands another green box whose foot is 7 rows higher
+    (farther back): above those rows it looks like the face, but the face's own foot, just
+    above the contact row, shows the floor there."""
+    img = scene()
+    img[TOP : BOTTOM - 7, RIGHT : RIGHT + 40] = FACE
+    left, right = widen(img, LEFT, RIGHT)
+    assert right <= RIGHT + 3
+
+
 # -- the top from the colour ---------------------------------------------------------------
 
 WALL, WALL_FOOT = (150, 90, 120), (120, 120, 40)  # a purple wall, a teal strip at its foot

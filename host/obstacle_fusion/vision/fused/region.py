@@ -37,6 +37,8 @@ MAX_FACE_DISTANCE = 35.0
 #: ... and when it differs from the floor just below by at least this (the face's foot is
 #: an edge; farther floor above the contact row is the same floor as below it).
 MIN_FLOOR_STEP = 12.0
+#: Rows just above the contact row (past EDGE_SKIP) read as the foot when moving a side in.
+FOOT_ROWS = 5
 #: Columns each foot colour is averaged over.
 SMOOTH_COLUMNS = 5
 #: Columns of another colour crossed without ending the face (a seam, a joint, tape), metres
@@ -99,6 +101,11 @@ def widen_by_colour(
     # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
     face = cv2.blur(np.median(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     floor = cv2.blur(np.median(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    # the foot itself, just above the contact row: what stands a little farther back
+    # beside the face (another box) shows above it, not here
+    foot = cv2.blur(
+        np.median(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+    )[0]
     seed = slice(left + 2, right - 1)
     ref = np.median(face[seed], axis=0)
     d_face = np.linalg.norm(face - ref, axis=1)
@@ -112,21 +119,23 @@ def widen_by_colour(
     max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
     sides_strength = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    d_foot_floor = np.linalg.norm(foot - floor, axis=1)
+    on_foot = (np.linalg.norm(foot - ref, axis=1) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = _walk(on, side - step * 2, step, max_gap)
+        end = _walk(on & on_foot, side - step * 2, step, max_gap)
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
             # side search took in the background beside it: nothing stands on the contact
             # row there, the floor runs on behind. A print or tape of another colour on
             # the face's foot is not cut off: it stands out from the floor.
-            end = _walk(on, centre, step, max_gap)
+            end = _walk(on_foot, centre, step, max_gap)
             cut = slice(min(end, side) + 1, max(end, side))
             if (side - end) * step <= min_move or (
-                float(np.mean(d_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
+                float(np.mean(d_foot_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
             ):
                 new.append(side)
                 continue
