@@ -28,7 +28,7 @@ BARS = {
     "gloss": 7,
     "plain": 7,
     "poster": 2,
-    "text": 5,
+    "text": 6,
     "brick": 4,
 }
 

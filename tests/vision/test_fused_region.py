@@ -132,6 +132,16 @@ def test_the_floorless_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert widen(scene(), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
 
 
+def test_a_box_of_the_face_colour_standing_farther_back_beside_it_is_not_widened_into() -> None:
+    """Beside the face's right side stands another green box whose foot is 7 rows higher
+    (farther back): above those rows it looks like the face, but the face's own foot, just
+    above the contact row, shows the floor there."""
+    img = scene()
+    img[TOP : BOTTOM - 7, RIGHT : RIGHT + 40] = FACE
+    left, right = widen(img, LEFT, RIGHT)
+    assert right <= RIGHT + 3
+
+
 # -- the top from the colour ---------------------------------------------------------------
 
 WALL, WALL_FOOT = (150, 90, 120), (120, 120, 40)  # a purple wall, a teal strip at its foot
@@ -242,3 +252,54 @@ def test_the_top_step_scales_in_proportion() -> None:
 def test_a_grey_frame_keeps_its_confidence() -> None:
     img = wall_scene().mean(axis=2).astype(np.uint8)
     assert region.top_agreement(img, level_view(), FACE_TOP + 40, LEFT, RIGHT) == 1.0
+
+
+# -- a print inside a frame ----------------------------------------------------------------
+
+PRINT = (50, 60, 200)  # a red print on the green face, its margin MARGIN columns wide
+MARGIN = 12
+
+
+def framed_scene(margin: int = MARGIN) -> npt.NDArray[np.uint8]:
+    img = scene()
+    img[TOP + margin : BOTTOM - margin, LEFT + margin : RIGHT - margin] = PRINT
+    return img
+
+
+def enclose(img: npt.NDArray[np.uint8]) -> tuple[int, int, int, int] | None:
+    m = MARGIN
+    return region.enclose_by_margin(
+        img, level_view(), BOTTOM - m, TOP + m, LEFT + m, RIGHT - m, DEPTH
+    )
+
+
+def test_a_print_with_a_margin_is_enclosed_by_its_frame() -> None:
+    found = enclose(framed_scene())
+    assert found is not None
+    bottom, top, left, right = found
+    assert abs(bottom - BOTTOM) <= 2 and abs(top - TOP) <= 2
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_plain_face_has_no_frame() -> None:
+    """Beside and below a plain red face: a grey wall and floor that run on (no margin
+    that ends)."""
+    img = scene(beyond=FLOOR)
+    img[TOP + MARGIN : BOTTOM - MARGIN, LEFT + MARGIN : RIGHT - MARGIN] = PRINT
+    img[TOP:BOTTOM, LEFT : LEFT + MARGIN] = FLOOR
+    img[TOP:BOTTOM, RIGHT - MARGIN : RIGHT] = FLOOR
+    img[BOTTOM - MARGIN : BOTTOM, LEFT:RIGHT] = FLOOR
+    assert enclose(img) is None
+
+
+def test_a_margin_wider_than_its_share_is_no_frame(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The margin is 12 columns for a 176-column print: a share of 0.07. Allowed at 0.35,
+    refused when the share allowed is under it."""
+    assert enclose(framed_scene()) is not None
+    monkeypatch.setattr(region, "MAX_MARGIN_SHARE", 0.03)
+    assert enclose(framed_scene()) is None
+
+
+def test_the_margin_must_differ_from_the_print(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "MARGIN_VS_PRINT", 400.0)
+    assert enclose(framed_scene()) is None

@@ -26,6 +26,7 @@ from obstacle_fusion.vision.fused.extent import (
 from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
+    enclose_by_margin,
     looks_like_top_face,
     raise_top_by_colour,
     top_agreement,
@@ -131,15 +132,19 @@ class FusedMethod:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
+        seen = colour if colour is not None else image  # the colours the extent reads
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
+        framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
+        if framed is not None and framed[0] >= n - 3:
+            framed = None
+        if framed is not None:
+            rb, vt, ul, ur = framed
         # a background line crossing the face is not its top: the face's colour runs on
-        vt = raise_top_by_colour(
-            colour if colour is not None else image, v, ay, rb, vt, ul, ur, depth
-        )
+        vt = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
 
         # confidence
         conf = confidence(best, rivals)
@@ -150,13 +155,16 @@ class FusedMethod:
             return fail
 
         # the front top edge, then sub-pixel refinement
-        seen = colour if colour is not None else image
         found_top = vt
-        vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        # a frame's top is its margin's (the print below it is no top face)
+        if framed is None:
+            vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        else:
+            sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
         if not looks_like_top_face(seen, v, found_top, vt, ul, ur):
             vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         top_row: float | None = None  # a sub-pixel front top row that needs no refining
-        front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
+        front = None if framed is not None else front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
         if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front
         # the face's front top and bottom edges run on across seams out to its real sides

@@ -27,6 +27,7 @@ from obstacle_fusion.vision.fused.profiles import (
     median_u8,
     norm,
     row_norms,
+    share,
 )
 from obstacle_fusion.vision.types import View
 
@@ -46,6 +47,8 @@ MAX_FACE_DISTANCE = 35.0
 #: ... and when it differs from the floor just below by at least this (the face's foot is
 #: an edge; farther floor above the contact row is the same floor as below it).
 MIN_FLOOR_STEP = 12.0
+#: Rows just above the contact row (past EDGE_SKIP) read as the foot when moving a side in.
+FOOT_ROWS = 5
 #: Columns each foot colour is averaged over.
 SMOOTH_COLUMNS = 5
 #: Columns of another colour crossed without ending the face (a seam, a joint, tape), metres
@@ -124,6 +127,11 @@ def widen_by_colour(
     # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
     face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    # the foot itself, just above the contact row: what stands a little farther back
+    # beside the face (another box) shows above it, not here
+    foot = cv2.blur(
+        median_u8(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+    )[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
     d_face = row_norms(face - ref)
@@ -131,27 +139,30 @@ def widen_by_colour(
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
     d_floor = row_norms(face - floor)
     on = (d_face <= limit) & (d_floor >= MIN_FLOOR_STEP)
-    if np.count_nonzero(on[seed]) / on[seed].size < 0.5:  # (right - left >= 6: not empty)
+    if share(on[seed]) < 0.5:  # (right - left >= 6: not empty)
         return left, right  # the face's own foot is not one colour over the floor
     # the smoothing spreads a seam over SMOOTH_COLUMNS - 1 more columns
     max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
+    d_foot_floor = row_norms(foot - floor)
+    on_foot = (row_norms(foot - ref) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
+    on_both = (on & on_foot).tolist()  # Python lists for the walks
+    on_foot_flags = on_foot.tolist()
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
-    flags = on.tolist()
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = _walk(flags, side - step * 2, step, max_gap)
+        end = _walk(on_both, side - step * 2, step, max_gap)
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
             # side search took in the background beside it: nothing stands on the contact
             # row there, the floor runs on behind. A print or tape of another colour on
             # the face's foot is not cut off: it stands out from the floor.
-            end = _walk(flags, centre, step, max_gap)
+            end = _walk(on_foot_flags, centre, step, max_gap)
             cut = slice(min(end, side) + 1, max(end, side))
             if (side - end) * step <= min_move or (
-                float(np.mean(d_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
+                float(np.mean(d_foot_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
             ):
                 new.append(side)
                 continue
@@ -334,7 +345,97 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
-    lab = _lab8(image, view, top - b, top + b + 1, left + SIDE_SKIP, right - SIDE_SKIP)
-    above = median_u8(lab[: b - a + 1].reshape(-1, 3), axis=0)
-    below = median_u8(lab[-(b - a + 1) :].reshape(-1, 3), axis=0)
-    return min(1.0, norm(above - below) / TOP_STEP_FULL)
+    n = b - a + 1
+    # the middle, and just inside each side: a top face of the front's own shade is no
+    # step in the middle, but it narrows as it recedes, so beside it the wall shows
+    spans = (
+        (left + SIDE_SKIP, right - SIDE_SKIP),
+        (left + SIDE_SKIP, left + SIDE_SKIP + BESIDE_COLUMNS),
+        (right - SIDE_SKIP - BESIDE_COLUMNS, right - SIDE_SKIP),
+    )
+    # only the columns the three spans read are converted
+    u0, u1 = min(c0 for c0, _ in spans), max(c1 for _, c1 in spans)
+    lab = _lab8(image, view, top - b, top + b + 1, u0, u1)
+    steps = []
+    for c0, c1 in spans:
+        above = median_u8(lab[:n, c0 - u0 : c1 - u0].reshape(-1, 3), axis=0)
+        below = median_u8(lab[-n:, c0 - u0 : c1 - u0].reshape(-1, 3), axis=0)
+        steps.append(norm(above - below))
+    return min(1.0, max(steps) / TOP_STEP_FULL)
+
+
+#: Width of the strips sampled around a face for a frame's margin, metres at the face.
+MARGIN_STRIP_M = 0.01
+#: The margin's three strips (left, right, below) agree within this colour distance ...
+MARGIN_AGREE = 15.0
+#: ... and differ from the print they surround by at least this.
+MARGIN_VS_PRINT = 20.0
+#: A frame's margin is at most this share of the print's width (and height) wide.
+MAX_MARGIN_SHARE = 0.35
+
+
+def _run_length(colour: npt.NDArray[np.float32], ref: npt.NDArray[np.float32], limit: float) -> int:
+    """How many leading entries of ``colour`` stay within ``limit`` of ``ref``."""
+    off = row_norms(colour - ref) > limit
+    return int(np.argmax(off)) if off.any() else colour.shape[0]
+
+
+def enclose_by_margin(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int, int, int] | None:
+    """A print (a poster, a page, bricks) on a face with a margin of the face's colour.
+
+    The found rectangle is the print when it is surrounded, left, right and below, by one
+    colour unlike its own that ends within a margin's width on each of those sides: the
+    face is then that frame (returned as bottom, top, left, right), its top where the
+    margin colour ends above. Without a rig the print's lower edge can be taken for the
+    floor contact; with one, the print's sides for the face's. Returns None: no frame."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 6:
+        return None
+    h, w = view.out.shape
+    m = max(3, int(round(view.fx * MARGIN_STRIP_M / depth_m)))
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + m + 2
+    reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + m + 2
+    if left - reach_u < 0 or right + reach_u >= w or bottom + reach_v >= h or top - reach_v < 0:
+        return None
+    k_v = max(1, (bottom - top) // 5)
+    k_u = max(1, (right - left) // 5)
+    r0, r1 = top - reach_v, bottom + reach_v + 1
+    # only the columns read: the side strips' reach either side of the print (u0 on)
+    u0, u1 = max(0, left - 1 - reach_u), min(w, right + 3 + reach_u)
+    lab = _lab8(image, view, r0, r1, u0, u1)
+    rows = slice(top + k_v - r0, bottom - k_v - r0)
+    inside = slice(left + k_u - u0, right - k_u - u0)
+    # per-column colours across the side strips' rows, per-row colours under the print
+    side_cols = median_u8(lab[rows], axis=0)  # (u1 - u0) x 3
+    below_rows = median_u8(lab[:, inside], axis=1)  # rows x 3
+    print_colour = median_u8(lab[rows, inside].reshape(-1, 3), axis=0)
+    strips = [
+        median_of(side_cols[left - 2 - m - u0 : left - 2 - u0], axis=0),
+        median_of(side_cols[right + 3 - u0 : right + 3 + m - u0], axis=0),
+        median_of(below_rows[bottom + 2 - r0 : bottom + 2 + m - r0], axis=0),
+    ]
+    margin = median_of(np.stack(strips), axis=0)
+    if max(norm(s - margin) for s in strips) > MARGIN_AGREE or any(
+        norm(s - print_colour) < MARGIN_VS_PRINT for s in strips
+    ):
+        return None
+    # the margin ends within its reach on each side (a floor or wall of one colour all
+    # round runs on: no frame)
+    out_left = _run_length(side_cols[left - 2 - u0 :: -1][:reach_u], margin, MARGIN_AGREE)
+    out_right = _run_length(side_cols[right + 3 - u0 :][:reach_u], margin, MARGIN_AGREE)
+    out_below = _run_length(below_rows[bottom + 2 - r0 :][:reach_v], margin, MARGIN_AGREE)
+    if min(out_left, out_right, out_below) < 2 or max(
+        out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
+    ):
+        return None
+    above_rows = below_rows  # the same per-row colours (rows r0..r1-1 inside the print)
+    out_above = _run_length(above_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
+    new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
+    return bottom + 2 + out_below, new_top, left - 2 - out_left, right + 3 + out_right
