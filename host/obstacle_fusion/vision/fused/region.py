@@ -407,25 +407,32 @@ def enclose_by_margin(
     k_v = max(1, (bottom - top) // 5)
     k_u = max(1, (right - left) // 5)
     r0, r1 = top - reach_v, bottom + reach_v + 1
-    # only the columns read: the side strips' reach either side of the print (u0 on)
-    u0, u1 = max(0, left - 1 - reach_u), min(w, right + 3 + reach_u)
-    lab = _lab8(image, view, r0, r1, u0, u1)
-    rows = slice(top + k_v - r0, bottom - k_v - r0)
-    inside = slice(left + k_u - u0, right - k_u - u0)
-    # per-column colours across the side strips' rows, per-row colours under the print
-    side_cols = median_u8(lab[rows], axis=0)  # (u1 - u0) x 3
-    below_rows = median_u8(lab[:, inside], axis=1)  # rows x 3
-    print_colour = median_u8(lab[rows, inside].reshape(-1, 3), axis=0)
+    # The three strips and the print first, from their own pixels: most faces have no
+    # margin, and the band around the face is converted only when the strips agree.
+    # (Per-column colours over the side strips' rows, per-row colours under the print:
+    # each a median of its own pixels, the same values the whole band gives.)
+    y0, y1 = top + k_v, bottom - k_v
+    x0, x1 = left + k_u, right - k_u
+    print_colour = median_u8(_lab8(image, view, y0, y1, x0, x1).reshape(-1, 3), axis=0)
     strips = [
-        median_of(side_cols[left - 2 - m - u0 : left - 2 - u0], axis=0),
-        median_of(side_cols[right + 3 - u0 : right + 3 + m - u0], axis=0),
-        median_of(below_rows[bottom + 2 - r0 : bottom + 2 + m - r0], axis=0),
+        median_of(median_u8(_lab8(image, view, y0, y1, left - 2 - m, left - 2), axis=0), axis=0),
+        median_of(
+            median_u8(_lab8(image, view, y0, y1, right + 3, right + 3 + m), axis=0), axis=0
+        ),
+        median_of(
+            median_u8(_lab8(image, view, bottom + 2, bottom + 2 + m, x0, x1), axis=1), axis=0
+        ),
     ]
     margin = median_of(np.stack(strips), axis=0)
     if max(norm(s - margin) for s in strips) > MARGIN_AGREE or any(
         norm(s - print_colour) < MARGIN_VS_PRINT for s in strips
     ):
         return None
+    # only the columns read: the side strips' reach either side of the print (u0 on)
+    u0, u1 = max(0, left - 1 - reach_u), min(w, right + 3 + reach_u)
+    lab = _lab8(image, view, r0, r1, u0, u1)
+    side_cols = median_u8(lab[y0 - r0 : y1 - r0], axis=0)  # (u1 - u0) x 3
+    below_rows = median_u8(lab[:, x0 - u0 : x1 - u0], axis=1)  # rows x 3
     # the margin ends within its reach on each side (a floor or wall of one colour all
     # round runs on: no frame)
     out_left = _run_length(side_cols[left - 2 - u0 :: -1][:reach_u], margin, MARGIN_AGREE)
