@@ -80,7 +80,11 @@ def test_column_means_and_share_are_numpys() -> None:
         assert share(flags) == float(flags.mean())
 
 
-@pytest.mark.parametrize(("shape", "axis"), [((9,), None), ((4, 40, 3), 0), ((33, 10, 3), 1), ((12, 3), 0)])
+@pytest.mark.parametrize(
+    ("shape", "axis"),
+    [((9,), None), ((1, 40, 3), 0), ((4, 40, 3), 0), ((5, 40, 3), 0), ((9, 40, 3), 0),
+     ((33, 10, 3), 1), ((12, 3), 0), ((3, 7), 0)],
+)
 def test_median_u8_is_the_float_median(shape: tuple[int, ...], axis: int | None) -> None:
     rng = np.random.default_rng(shape[0])
     a = rng.integers(0, 256, shape, np.uint8)
