@@ -53,12 +53,21 @@ MIN_TRIM_FLOORLESS = 0.7
 SNAP_COLUMNS = 3
 
 
-def _band(image: npt.NDArray[Any], view: View, r0: int, r1: int) -> npt.NDArray[np.float32]:
-    """The view's rows r0..r1-1 of ``image`` in CIE Lab (float, 8-bit scale)."""
+def _band(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    c0: int = 0,
+    c1: int | None = None,
+    step: int = 1,
+) -> npt.NDArray[np.float32]:
+    """The view's rows r0..r1-1 (columns c0..c1-1, every ``step``-th) of ``image`` in CIE
+    Lab (float, 8-bit scale): only the pixels a stage reads are undistorted and converted."""
     band = cv2.remap(
         image,
-        view.map1[r0:r1],
-        view.map2[r0:r1],
+        view.map1[r0:r1:step, c0:c1:step],
+        view.map2[r0:r1:step, c0:c1:step],
         cv2.INTER_LINEAR,
         borderMode=cv2.BORDER_REPLICATE,
     )
@@ -144,6 +153,9 @@ def widen_by_colour(
     return new[0], new[1]
 
 
+#: Every SUBSAMPLE-th row or column read where a median runs over a face's whole width or
+#: height (the colours are smooth at that scale; the medians cost the stage's time).
+SUBSAMPLE = 3
 #: Rows of the face sampled under its top for the face's colour (a share of its height).
 TOP_BAND_SHARE = 0.3
 #: Columns beside each side sampled for what stands beside the face.
@@ -186,11 +198,39 @@ def raise_top_by_colour(
     if c0 < 0 or c1 > w_view or top < 3:
         return top
     band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
-    r0 = max(0, top - 2 * (bottom - top))
     r1 = min(bottom, top + band + 1)
-    lab = _band(image, view, r0, r1)[:, c0:c1]
+    max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
+    # first only the rows a first step up reads: most tops do not move, and the tall band
+    # (up to twice the face's height) costs the stage's time
+    short = max(0, top - max_gap - STEP_ROWS - SNAP_ROWS - 2)
+    r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap)
+    if short > 0 and end <= max_gap + STEP_ROWS:  # it may run on above the short band
+        r0 = max(0, top - 2 * (bottom - top))
+        r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap)
+    if k - end <= SNAP_ROWS:
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
+def _colour_walk_up(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    top: int,
+    c0: int,
+    c1: int,
+    gap: int,
+) -> tuple[int, int, int]:
+    """The walk of :func:`raise_top_by_colour` over the view's rows r0..r1-1 (columns
+    c0..c1-1: the face and BESIDE_COLUMNS either side): (r0, the band row it reached,
+    the band row of ``top``)."""
+    lab = _band(image, view, r0, r1, c0, c1)
     inner = np.median(
-        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP)], axis=1
+        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP) : SUBSAMPLE],
+        axis=1,
     )
     left_out = np.median(lab[:, :BESIDE_COLUMNS], axis=1)
     right_out = np.median(lab[:, -BESIDE_COLUMNS:], axis=1)
@@ -211,13 +251,7 @@ def raise_top_by_colour(
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
         on &= np.linalg.norm(np.median(near, axis=1) - out, axis=1) >= MIN_BESIDE_STEP
-    max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
-    end = _walk_colour(inner, on, k, limit, max_gap)
-    if k - end <= SNAP_ROWS:
-        return top
-    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
-    return int(r0 + lo + np.argmax(rows))
+    return r0, _walk_colour(inner, on, k, limit, gap), k
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
@@ -242,7 +276,7 @@ def looks_like_top_face(
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
     r1 = min(view.out.shape[0], lower + n + 2)
-    lab = _band(image, view, upper, r1)[:, left + SIDE_SKIP : right - SIDE_SKIP]
+    lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
     strip = np.median(lab[1 : n - 1].reshape(-1, 3), axis=0)
     front = np.median(lab[n + 2 :].reshape(-1, 3), axis=0)
     return float(np.linalg.norm(strip - front)) >= MIN_TOP_DISTANCE
@@ -291,7 +325,8 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
-    lab = _band(image, view, top - b, top + b + 1)
+    lab = _band(image, view, top - b, top + b + 1, left, right)
+    left, right = 0, right - left  # columns of the band
     n = b - a + 1
     # the middle, and just inside each side: a top face of the front's own shade is no
     # step in the middle, but it narrows as it recedes, so beside it the wall shows
@@ -345,27 +380,38 @@ def enclose_by_margin(
     m = max(3, int(round(view.fx * MARGIN_STRIP_M / depth_m)))
     reach_u = int(MAX_MARGIN_SHARE * (right - left)) + m + 2
     reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + m + 2
-    if left - reach_u < 0 or right + reach_u >= w or bottom + reach_v >= h or top - reach_v < 0:
+    if left - reach_u < 3 or right + reach_u + 4 > w or bottom + reach_v >= h or top < reach_v:
         return None
     k_v = max(1, (bottom - top) // 5)
     k_u = max(1, (right - left) // 5)
     r0, r1 = top - reach_v, bottom + reach_v + 1
-    lab = _band(image, view, r0, r1)
-    rows = slice(top + k_v - r0, bottom - k_v - r0)
-    # per-column colours across the side strips' rows, per-row colours under the print
-    side_cols = np.median(lab[rows], axis=0)  # W x 3
-    below_rows = np.median(lab[:, left + k_u : right - k_u], axis=1)  # rows x 3
-    print_colour = np.median(lab[rows, left + k_u : right - k_u].reshape(-1, 3), axis=0)
+    # first the three strips and the print alone (most faces are no print: a quick no)
+    inner_rows = (top + k_v, bottom - k_v)
+    print_colour = np.median(
+        _band(image, view, *inner_rows, left + k_u, right - k_u, SUBSAMPLE).reshape(-1, 3),
+        axis=0,
+    )
     strips = [
-        np.median(side_cols[left - 2 - m : left - 2], axis=0),
-        np.median(side_cols[right + 3 : right + 3 + m], axis=0),
-        np.median(below_rows[bottom + 2 - r0 : bottom + 2 + m - r0], axis=0),
+        np.median(_band(image, view, *inner_rows, left - 2 - m, left - 2).reshape(-1, 3), axis=0),
+        np.median(_band(image, view, *inner_rows, right + 3, right + 3 + m).reshape(-1, 3), axis=0),
+        np.median(
+            _band(image, view, bottom + 2, bottom + 2 + m, left + k_u, right - k_u).reshape(-1, 3),
+            axis=0,
+        ),
     ]
     margin = np.median(np.stack(strips), axis=0)
     if max(float(np.linalg.norm(s - margin)) for s in strips) > MARGIN_AGREE or any(
         float(np.linalg.norm(s - print_colour)) < MARGIN_VS_PRINT for s in strips
     ):
         return None
+    c0 = left - reach_u - 3  # a margin's reach past the 2-3 columns skipped at a side
+    lab = _band(image, view, r0, r1, c0, right + reach_u + 4)
+    left, right = left - c0, right - c0  # columns of the band
+    rows = slice(top + k_v - r0, bottom - k_v - r0)
+    # per-column colours across the side strips' rows, per-row colours under (and over)
+    # the print
+    side_cols = np.median(lab[rows][::SUBSAMPLE], axis=0)  # W x 3
+    below_rows = np.median(lab[:, left + k_u : right - k_u : SUBSAMPLE], axis=1)  # rows x 3
     # the margin ends within its reach on each side (a floor or wall of one colour all
     # round runs on: no frame)
     out_left = _run_length(side_cols[left - 2 :: -1][:reach_u], margin, MARGIN_AGREE)
@@ -375,7 +421,6 @@ def enclose_by_margin(
         out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
     ):
         return None
-    above_rows = np.median(lab[:, left + k_u : right - k_u], axis=1)
-    out_above = _run_length(above_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
+    out_above = _run_length(below_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
     new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
-    return bottom + 2 + out_below, new_top, left - 2 - out_left, right + 3 + out_right
+    return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
