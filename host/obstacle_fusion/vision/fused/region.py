@@ -24,7 +24,6 @@ from obstacle_fusion.vision.fused.profiles import (
     clamp,
     column_means,
     median_of,
-    median_u8,
     norm,
     row_norms,
     share,
@@ -64,28 +63,24 @@ SNAP_COLUMNS = 3
 
 
 def _band(
-    image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int = 0, c1: int | None = None
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    c0: int = 0,
+    c1: int | None = None,
+    step: int = 1,
 ) -> npt.NDArray[np.float32]:
-    """The view's rows r0..r1-1, columns c0..c1-1 (default all), of ``image`` in CIE Lab
-    (float, 8-bit scale)."""
-    return np.asarray(_lab8(image, view, r0, r1, c0, c1), np.float32)
-
-
-def _lab8(
-    image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int = 0, c1: int | None = None
-) -> npt.NDArray[np.uint8]:
-    """:func:`_band` in 8 bits, for medians taken in float32 by median_u8 (no float copy).
-
-    Only that block is remapped and converted: each view pixel depends on its own map
-    entry alone, so it is the same block the whole rows give."""
+    """The view's rows r0..r1-1 (columns c0..c1-1, every ``step``-th) of ``image`` in CIE
+    Lab (float, 8-bit scale): only the pixels a stage reads are undistorted and converted."""
     band = cv2.remap(
         image,
-        view.map1[r0:r1, c0:c1],
-        view.map2[r0:r1, c0:c1],
+        view.map1[r0:r1:step, c0:c1:step],
+        view.map2[r0:r1:step, c0:c1:step],
         cv2.INTER_LINEAR,
         borderMode=cv2.BORDER_REPLICATE,
     )
-    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
+    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB), np.float32)
 
 
 def _walk(on: Sequence[bool], start: int, step: int, max_gap: int) -> int:
@@ -123,14 +118,14 @@ def widen_by_colour(
     floor_rows = r1 - (bottom + EDGE_SKIP + 1)
     if r0 < 0 or floor_rows < 1:
         return left, right  # the face's foot at the image's edge: no floor to compare
-    lab = _lab8(image, view, r0, r1)
+    lab = _band(image, view, r0, r1)
     # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
-    face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
-    floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    face = cv2.blur(median_of(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(median_of(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     # the foot itself, just above the contact row: what stands a little farther back
     # beside the face (another box) shows above it, not here
     foot = cv2.blur(
-        median_u8(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+        median_of(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
     )[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
@@ -174,6 +169,9 @@ def widen_by_colour(
     return new[0], new[1]
 
 
+#: Every SUBSAMPLE-th row or column read where a median runs over a face's whole width or
+#: height (the colours are smooth at that scale; the medians cost the stage's time).
+SUBSAMPLE = 3
 #: Rows of the face sampled under its top for the face's colour (a share of its height).
 TOP_BAND_SHARE = 0.3
 #: Columns beside each side sampled for what stands beside the face.
@@ -216,20 +214,15 @@ def raise_top_by_colour(
     if c0 < 0 or c1 > w_view or top < 3:
         return top
     band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
-    r_full = max(0, top - 2 * (bottom - top))
     r1 = min(bottom, top + band + 1)
     max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
-    # Most walks stop within a few rows of the top: the band above it is converted first
-    # only that far, and all of it only when the walk runs to that part's first rows.
-    # Every row's figures depend on that row alone (and the reference on the rows below
-    # the top), so the walk and its snap are the ones the whole band gives.
-    r0 = max(r_full, top - (4 * max_gap + 2 * SNAP_ROWS + 8))
-    while True:
-        end, last = _top_walk(image, view, r0, r1, c0, c1, top - r0, max_gap)
-        if r0 == r_full or (last >= 1 and end - SNAP_ROWS >= 0):
-            break
-        r0 = r_full
-    k = top - r0
+    # first only the rows a first step up reads: most tops do not move, and the tall band
+    # (up to twice the face's height) costs the stage's time
+    short = max(0, top - max_gap - STEP_ROWS - SNAP_ROWS - 2)
+    r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap)
+    if short > 0 and end <= max_gap + STEP_ROWS:  # it may run on above the short band
+        r0 = max(0, top - 2 * (bottom - top))
+        r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap)
     if k - end <= SNAP_ROWS:
         return top
     lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
@@ -237,30 +230,34 @@ def raise_top_by_colour(
     return int(r0 + lo + np.argmax(rows))
 
 
-def _top_walk(
+def _colour_walk_up(
     image: npt.NDArray[Any],
     view: View,
     r0: int,
     r1: int,
+    top: int,
     c0: int,
     c1: int,
-    k: int,
-    max_gap: int,
-) -> tuple[int, int]:
-    """The colour walk up from row ``k`` of the band of view rows r0..r1-1 (columns
-    c0..c1-1: the face and BESIDE_COLUMNS either side past SIDE_SKIP): the highest row
-    reached and the last row looked at, in band rows."""
-    lab = _lab8(image, view, r0, r1, c0, c1)
-    inner = median_u8(
-        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP)], axis=1
+    gap: int,
+) -> tuple[int, int, int]:
+    """The walk of :func:`raise_top_by_colour` over the view's rows r0..r1-1 (columns
+    c0..c1-1: the face and BESIDE_COLUMNS either side): (r0, the band row it reached,
+    the band row of ``top``)."""
+    lab = _band(image, view, r0, r1, c0, c1)
+    inner = median_of(
+        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP) : SUBSAMPLE],
+        axis=1,
     )
-    left_out = median_u8(lab[:, :BESIDE_COLUMNS], axis=1)
-    right_out = median_u8(lab[:, -BESIDE_COLUMNS:], axis=1)
+    left_out = median_of(lab[:, :BESIDE_COLUMNS], axis=1)
+    right_out = median_of(lab[:, -BESIDE_COLUMNS:], axis=1)
+    k = top - r0  # the current top's row in the band
     ref = median_of(inner[k + 2 :], axis=0)
     d_face = row_norms(inner - ref)
     spread = float(median_of(d_face[k + 2 :]))
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
-    beside = np.minimum(row_norms(inner - left_out), row_norms(inner - right_out))
+    beside = np.minimum(
+        row_norms(inner - left_out), row_norms(inner - right_out)
+    )
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
     # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
@@ -269,8 +266,8 @@ def _top_walk(
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
-        on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
-    return _walk_colour(inner, on, k, limit, max_gap)
+        on &= row_norms(median_of(near, axis=1) - out) >= MIN_BESIDE_STEP
+    return r0, _walk_colour(inner, on, k, limit, gap), k
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
@@ -295,9 +292,9 @@ def looks_like_top_face(
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
     r1 = min(view.out.shape[0], lower + n + 2)
-    lab = _lab8(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
-    strip = median_u8(lab[1 : n - 1].reshape(-1, 3), axis=0)
-    front = median_u8(lab[n + 2 :].reshape(-1, 3), axis=0)
+    lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
+    strip = median_of(lab[1 : n - 1].reshape(-1, 3), axis=0)
+    front = median_of(lab[n + 2 :].reshape(-1, 3), axis=0)
     return norm(strip - front) >= MIN_TOP_DISTANCE
 
 
@@ -307,12 +304,11 @@ def _walk_colour(
     start: int,
     limit: float,
     max_gap: int,
-) -> tuple[int, int]:
+) -> int:
     """Highest row above ``start`` reached through ``on`` rows whose colour is within
     ``limit`` of a row reached at least STEP_ROWS below (a gloss or a shadow shades the
     face slowly; the edge to a top face or to the background is a step, blurred over a
-    few rows, that no gap crosses); and the last row looked at (the walk ends at row 0
-    or after max_gap + 1 rows that are not the face's)."""
+    few rows, that no gap crosses)."""
     reached = [start]
     gap, r = 0, start
     while r - 1 >= 0 and gap <= max_gap:
@@ -323,7 +319,7 @@ def _walk_colour(
             gap = 0
         else:
             gap += 1
-    return reached[-1], r
+    return reached[-1]
 
 
 #: A face's top edge with a colour step under this (Lab distance between the rows just
@@ -345,21 +341,19 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
+    lab = _band(image, view, top - b, top + b + 1, left, right)
+    left, right = 0, right - left  # columns of the band
     n = b - a + 1
     # the middle, and just inside each side: a top face of the front's own shade is no
     # step in the middle, but it narrows as it recedes, so beside it the wall shows
-    spans = (
+    steps = []
+    for c0, c1 in (
         (left + SIDE_SKIP, right - SIDE_SKIP),
         (left + SIDE_SKIP, left + SIDE_SKIP + BESIDE_COLUMNS),
         (right - SIDE_SKIP - BESIDE_COLUMNS, right - SIDE_SKIP),
-    )
-    # only the columns the three spans read are converted
-    u0, u1 = min(c0 for c0, _ in spans), max(c1 for _, c1 in spans)
-    lab = _lab8(image, view, top - b, top + b + 1, u0, u1)
-    steps = []
-    for c0, c1 in spans:
-        above = median_u8(lab[:n, c0 - u0 : c1 - u0].reshape(-1, 3), axis=0)
-        below = median_u8(lab[-n:, c0 - u0 : c1 - u0].reshape(-1, 3), axis=0)
+    ):
+        above = median_of(lab[:n, c0:c1].reshape(-1, 3), axis=0)
+        below = median_of(lab[-n:, c0:c1].reshape(-1, 3), axis=0)
         steps.append(norm(above - below))
     return min(1.0, max(steps) / TOP_STEP_FULL)
 
@@ -402,25 +396,23 @@ def enclose_by_margin(
     m = max(3, int(round(view.fx * MARGIN_STRIP_M / depth_m)))
     reach_u = int(MAX_MARGIN_SHARE * (right - left)) + m + 2
     reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + m + 2
-    if left - reach_u < 0 or right + reach_u >= w or bottom + reach_v >= h or top - reach_v < 0:
+    if left - reach_u < 3 or right + reach_u + 4 > w or bottom + reach_v >= h or top < reach_v:
         return None
     k_v = max(1, (bottom - top) // 5)
     k_u = max(1, (right - left) // 5)
     r0, r1 = top - reach_v, bottom + reach_v + 1
-    # The three strips and the print first, from their own pixels: most faces have no
-    # margin, and the band around the face is converted only when the strips agree.
-    # (Per-column colours over the side strips' rows, per-row colours under the print:
-    # each a median of its own pixels, the same values the whole band gives.)
-    y0, y1 = top + k_v, bottom - k_v
-    x0, x1 = left + k_u, right - k_u
-    print_colour = median_u8(_lab8(image, view, y0, y1, x0, x1).reshape(-1, 3), axis=0)
+    # first the three strips and the print alone (most faces are no print: a quick no)
+    inner_rows = (top + k_v, bottom - k_v)
+    print_colour = median_of(
+        _band(image, view, *inner_rows, left + k_u, right - k_u, SUBSAMPLE).reshape(-1, 3),
+        axis=0,
+    )
     strips = [
-        median_of(median_u8(_lab8(image, view, y0, y1, left - 2 - m, left - 2), axis=0), axis=0),
+        median_of(_band(image, view, *inner_rows, left - 2 - m, left - 2).reshape(-1, 3), axis=0),
+        median_of(_band(image, view, *inner_rows, right + 3, right + 3 + m).reshape(-1, 3), axis=0),
         median_of(
-            median_u8(_lab8(image, view, y0, y1, right + 3, right + 3 + m), axis=0), axis=0
-        ),
-        median_of(
-            median_u8(_lab8(image, view, bottom + 2, bottom + 2 + m, x0, x1), axis=1), axis=0
+            _band(image, view, bottom + 2, bottom + 2 + m, left + k_u, right - k_u).reshape(-1, 3),
+            axis=0,
         ),
     ]
     margin = median_of(np.stack(strips), axis=0)
@@ -428,21 +420,23 @@ def enclose_by_margin(
         norm(s - print_colour) < MARGIN_VS_PRINT for s in strips
     ):
         return None
-    # only the columns read: the side strips' reach either side of the print (u0 on)
-    u0, u1 = max(0, left - 1 - reach_u), min(w, right + 3 + reach_u)
-    lab = _lab8(image, view, r0, r1, u0, u1)
-    side_cols = median_u8(lab[y0 - r0 : y1 - r0], axis=0)  # (u1 - u0) x 3
-    below_rows = median_u8(lab[:, x0 - u0 : x1 - u0], axis=1)  # rows x 3
+    c0 = left - reach_u - 3  # a margin's reach past the 2-3 columns skipped at a side
+    lab = _band(image, view, r0, r1, c0, right + reach_u + 4)
+    left, right = left - c0, right - c0  # columns of the band
+    rows = slice(top + k_v - r0, bottom - k_v - r0)
+    # per-column colours across the side strips' rows, per-row colours under (and over)
+    # the print
+    side_cols = median_of(lab[rows][::SUBSAMPLE], axis=0)  # W x 3
+    below_rows = median_of(lab[:, left + k_u : right - k_u : SUBSAMPLE], axis=1)  # rows x 3
     # the margin ends within its reach on each side (a floor or wall of one colour all
     # round runs on: no frame)
-    out_left = _run_length(side_cols[left - 2 - u0 :: -1][:reach_u], margin, MARGIN_AGREE)
-    out_right = _run_length(side_cols[right + 3 - u0 :][:reach_u], margin, MARGIN_AGREE)
+    out_left = _run_length(side_cols[left - 2 :: -1][:reach_u], margin, MARGIN_AGREE)
+    out_right = _run_length(side_cols[right + 3 :][:reach_u], margin, MARGIN_AGREE)
     out_below = _run_length(below_rows[bottom + 2 - r0 :][:reach_v], margin, MARGIN_AGREE)
     if min(out_left, out_right, out_below) < 2 or max(
         out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
     ):
         return None
-    above_rows = below_rows  # the same per-row colours (rows r0..r1-1 inside the print)
-    out_above = _run_length(above_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
+    out_above = _run_length(below_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
     new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
-    return bottom + 2 + out_below, new_top, left - 2 - out_left, right + 3 + out_right
+    return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
