@@ -24,6 +24,7 @@ from obstacle_fusion.vision.fused.profiles import (
     clamp,
     column_means,
     median_of,
+    median_u8,
     norm,
     row_norms,
     share,
@@ -73,6 +74,20 @@ def _band(
 ) -> npt.NDArray[np.float32]:
     """The view's rows r0..r1-1 (columns c0..c1-1, every ``step``-th) of ``image`` in CIE
     Lab (float, 8-bit scale): only the pixels a stage reads are undistorted and converted."""
+    return np.asarray(_lab8(image, view, r0, r1, c0, c1, step), np.float32)
+
+
+def _lab8(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    c0: int = 0,
+    c1: int | None = None,
+    step: int = 1,
+) -> npt.NDArray[np.uint8]:
+    """:func:`_band` in 8 bits: the stages take only medians of it, by median_u8 (the
+    float32 medians' values, without the float copy)."""
     band = cv2.remap(
         image,
         view.map1[r0:r1:step, c0:c1:step],
@@ -80,7 +95,7 @@ def _band(
         cv2.INTER_LINEAR,
         borderMode=cv2.BORDER_REPLICATE,
     )
-    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB), np.float32)
+    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
 
 
 def _walk(on: Sequence[bool], start: int, step: int, max_gap: int) -> int:
@@ -118,14 +133,14 @@ def widen_by_colour(
     floor_rows = r1 - (bottom + EDGE_SKIP + 1)
     if r0 < 0 or floor_rows < 1:
         return left, right  # the face's foot at the image's edge: no floor to compare
-    lab = _band(image, view, r0, r1)
+    lab = _lab8(image, view, r0, r1)
     # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
-    face = cv2.blur(median_of(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
-    floor = cv2.blur(median_of(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     # the foot itself, just above the contact row: what stands a little farther back
     # beside the face (another box) shows above it, not here
     foot = cv2.blur(
-        median_of(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+        median_u8(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
     )[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
@@ -243,13 +258,13 @@ def _colour_walk_up(
     """The walk of :func:`raise_top_by_colour` over the view's rows r0..r1-1 (columns
     c0..c1-1: the face and BESIDE_COLUMNS either side): (r0, the band row it reached,
     the band row of ``top``)."""
-    lab = _band(image, view, r0, r1, c0, c1)
-    inner = median_of(
+    lab = _lab8(image, view, r0, r1, c0, c1)
+    inner = median_u8(
         lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP) : SUBSAMPLE],
         axis=1,
     )
-    left_out = median_of(lab[:, :BESIDE_COLUMNS], axis=1)
-    right_out = median_of(lab[:, -BESIDE_COLUMNS:], axis=1)
+    left_out = median_u8(lab[:, :BESIDE_COLUMNS], axis=1)
+    right_out = median_u8(lab[:, -BESIDE_COLUMNS:], axis=1)
     k = top - r0  # the current top's row in the band
     ref = median_of(inner[k + 2 :], axis=0)
     d_face = row_norms(inner - ref)
@@ -266,7 +281,7 @@ def _colour_walk_up(
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
-        on &= row_norms(median_of(near, axis=1) - out) >= MIN_BESIDE_STEP
+        on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
     return r0, _walk_colour(inner, on, k, limit, gap), k
 
 
@@ -292,9 +307,9 @@ def looks_like_top_face(
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
     r1 = min(view.out.shape[0], lower + n + 2)
-    lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
-    strip = median_of(lab[1 : n - 1].reshape(-1, 3), axis=0)
-    front = median_of(lab[n + 2 :].reshape(-1, 3), axis=0)
+    lab = _lab8(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
+    strip = median_u8(lab[1 : n - 1].reshape(-1, 3), axis=0)
+    front = median_u8(lab[n + 2 :].reshape(-1, 3), axis=0)
     return norm(strip - front) >= MIN_TOP_DISTANCE
 
 
@@ -341,7 +356,7 @@ def top_agreement(
     a, b = TOP_STEP_ROWS
     if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
         return 1.0
-    lab = _band(image, view, top - b, top + b + 1, left, right)
+    lab = _lab8(image, view, top - b, top + b + 1, left, right)
     left, right = 0, right - left  # columns of the band
     n = b - a + 1
     # the middle, and just inside each side: a top face of the front's own shade is no
@@ -352,8 +367,8 @@ def top_agreement(
         (left + SIDE_SKIP, left + SIDE_SKIP + BESIDE_COLUMNS),
         (right - SIDE_SKIP - BESIDE_COLUMNS, right - SIDE_SKIP),
     ):
-        above = median_of(lab[:n, c0:c1].reshape(-1, 3), axis=0)
-        below = median_of(lab[-n:, c0:c1].reshape(-1, 3), axis=0)
+        above = median_u8(lab[:n, c0:c1].reshape(-1, 3), axis=0)
+        below = median_u8(lab[-n:, c0:c1].reshape(-1, 3), axis=0)
         steps.append(norm(above - below))
     return min(1.0, max(steps) / TOP_STEP_FULL)
 
@@ -403,15 +418,15 @@ def enclose_by_margin(
     r0, r1 = top - reach_v, bottom + reach_v + 1
     # first the three strips and the print alone (most faces are no print: a quick no)
     inner_rows = (top + k_v, bottom - k_v)
-    print_colour = median_of(
-        _band(image, view, *inner_rows, left + k_u, right - k_u, SUBSAMPLE).reshape(-1, 3),
+    print_colour = median_u8(
+        _lab8(image, view, *inner_rows, left + k_u, right - k_u, SUBSAMPLE).reshape(-1, 3),
         axis=0,
     )
     strips = [
-        median_of(_band(image, view, *inner_rows, left - 2 - m, left - 2).reshape(-1, 3), axis=0),
-        median_of(_band(image, view, *inner_rows, right + 3, right + 3 + m).reshape(-1, 3), axis=0),
-        median_of(
-            _band(image, view, bottom + 2, bottom + 2 + m, left + k_u, right - k_u).reshape(-1, 3),
+        median_u8(_lab8(image, view, *inner_rows, left - 2 - m, left - 2).reshape(-1, 3), axis=0),
+        median_u8(_lab8(image, view, *inner_rows, right + 3, right + 3 + m).reshape(-1, 3), axis=0),
+        median_u8(
+            _lab8(image, view, bottom + 2, bottom + 2 + m, left + k_u, right - k_u).reshape(-1, 3),
             axis=0,
         ),
     ]
@@ -421,13 +436,13 @@ def enclose_by_margin(
     ):
         return None
     c0 = left - reach_u - 3  # a margin's reach past the 2-3 columns skipped at a side
-    lab = _band(image, view, r0, r1, c0, right + reach_u + 4)
+    lab = _lab8(image, view, r0, r1, c0, right + reach_u + 4)
     left, right = left - c0, right - c0  # columns of the band
     rows = slice(top + k_v - r0, bottom - k_v - r0)
     # per-column colours across the side strips' rows, per-row colours under (and over)
     # the print
-    side_cols = median_of(lab[rows][::SUBSAMPLE], axis=0)  # W x 3
-    below_rows = median_of(lab[:, left + k_u : right - k_u : SUBSAMPLE], axis=1)  # rows x 3
+    side_cols = median_u8(lab[rows][::SUBSAMPLE], axis=0)  # W x 3
+    below_rows = median_u8(lab[:, left + k_u : right - k_u : SUBSAMPLE], axis=1)  # rows x 3
     # the margin ends within its reach on each side (a floor or wall of one colour all
     # round runs on: no frame)
     out_left = _run_length(side_cols[left - 2 :: -1][:reach_u], margin, MARGIN_AGREE)
