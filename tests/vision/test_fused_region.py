@@ -303,3 +303,52 @@ def test_a_margin_wider_than_its_share_is_no_frame(monkeypatch: pytest.MonkeyPat
 def test_the_margin_must_differ_from_the_print(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "MARGIN_VS_PRINT", 400.0)
     assert enclose(framed_scene()) is None
+
+
+# -- a face by its colour alone --------------------------------------------------------
+
+
+def ay_of(img: npt.NDArray[np.uint8]) -> npt.NDArray[np.float32]:
+    return top_strength(img)
+
+
+def test_a_face_is_found_by_its_colour_at_the_predicted_foot() -> None:
+    img = scene(seams=(100, 140, 180, 220))
+    found = region.face_from_colour(
+        img, level_view(), side_strength(img), ay_of(img), (BOTTOM - 5, BOTTOM + 5), DEPTH
+    )
+    assert found is not None
+    contact, top, left, right, evidence = found
+    assert abs(contact - BOTTOM) <= 2 and abs(top - TOP) <= 3
+    assert abs(left - LEFT) <= 3 and abs(right - RIGHT) <= 3
+    assert 0.5 < evidence <= 1.0
+
+
+def test_no_face_where_floor_and_wall_are_one_colour() -> None:
+    img = scene(beyond=FLOOR)
+    img[TOP:BOTTOM, LEFT:RIGHT] = img[BOTTOM : BOTTOM + 1, LEFT:RIGHT]  # no face at all
+    found = region.face_from_colour(
+        img, level_view(), side_strength(img), ay_of(img), (BOTTOM - 5, BOTTOM + 5), DEPTH
+    )
+    assert found is None
+
+
+def test_a_brick_face_the_edges_miss_is_found_by_colour_with_a_modest_confidence(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A red brick face on a blue floor (room procedural/110): the joints' edges drown its
+    sides, so the edge search finds no clear face; by colour it is measured, but never
+    as a sure detection."""
+    from obstacle_fusion.sim.room_scene import render_room
+    from obstacle_fusion.vision.fused import method
+    from obstacle_fusion.vision.measure import Measurer
+
+    image, truth, spec = render_room("procedural", 110, False)
+    cam = CameraModel.paper(500, 375)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
+    assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
+    monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
+    assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
