@@ -152,25 +152,24 @@ class StreamDecoder:
         good = 0
         zeros = 0
         for part in parts:
-            body = None
-            if _SHORTEST_RUN <= len(part) <= LONGEST_RUN:
+            if part:
+                # A run too long for any frame decodes to a body too long for any entry.
                 try:
                     body = cobs_decode(part)
-                except _CobsError:
-                    pass
-                else:
                     entry = fast[body[0]]
-                    if entry is not None:
-                        cls, size, unpack, seed = entry
-                        if len(body) == size and not crc(body, seed):
-                            append(cls(*unpack(body, 2)))
-                            seq = body[1]
-                            if last is not None:
-                                gaps += (seq - last - 1) & 0xFF
-                            last = seq
-                            good += 1
-                            continue
-            elif not part:
+                except (_CobsError, IndexError):  # no COBS; a run that decodes to nothing
+                    entry = None
+                if entry is not None:
+                    cls, size, unpack, seed = entry
+                    if len(body) == size and not crc(body, seed):
+                        append(cls(*unpack(body, 2)))
+                        seq = body[1]
+                        if last is not None:
+                            gaps += (seq - last - 1) & 0xFF
+                        last = seq
+                        good += 1
+                        continue
+            else:
                 zeros += 1
                 continue
             self.last_seq = last
@@ -180,12 +179,12 @@ class StreamDecoder:
             if len(part) > LONGEST_RUN:
                 msg = self._bad_run(part, len(part) - LONGEST_RUN, "oversized")
             else:
-                if body is None:
-                    try:
-                        body = cobs_decode(part)
-                    except _CobsError:
-                        pass
-                msg = self._slow_path(part, body)
+                decoded: bytes | None
+                try:
+                    decoded = cobs_decode(part)
+                except _CobsError:
+                    decoded = None
+                msg = self._slow_path(part, decoded)
             last = self.last_seq
             if msg is not None:
                 append(msg)
