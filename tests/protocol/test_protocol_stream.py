@@ -370,6 +370,63 @@ def test_a_clean_run_is_decoded_whole_with_no_frame_by_frame_step(monkeypatch) -
     assert decoder.last_seq == (250 + 39) & 0xFF and decoder.pending_bytes == 5
 
 
+def _whole_runs(monkeypatch) -> list[int | None]:  # type: ignore[no-untyped-def]
+    """Record how many messages each whole-chunk attempt returned (None: it declined)."""
+    from obstacle_fusion.protocol import stream
+
+    seen: list[int | None] = []
+    real = stream.StreamDecoder._decode_run
+
+    def spy(self, *args):  # type: ignore[no-untyped-def]
+        got = real(self, *args)
+        seen.append(None if got is None else len(got))
+        return got
+
+    monkeypatch.setattr(stream.StreamDecoder, "_decode_run", spy)
+    return seen
+
+
+def test_eight_frames_the_shortest_frames_and_a_run_after_an_overflow_go_whole(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """The whole-chunk path takes a chunk of 8 frames, a run of the shortest frames (STOP: no
+    payload, 5 bytes), and a run that follows the end of an overflowed run in its chunk."""
+    from obstacle_fusion.protocol.generated import Stop
+
+    seen = _whole_runs(monkeypatch)
+    decoder = StreamDecoder()
+    assert len(decoder.feed(b"".join(_ranges(8)))) == 8
+    assert decoder.feed(b"".join(encode(Stop(), seq) for seq in range(8, 20))) == [Stop()] * 12
+    decoder.feed(b"\x01" * 300)  # no frame is this long: the tail overflows
+    got = decoder.feed(b"\x01" * 10 + b"\x00" + b"".join(_ranges(9, first_seq=20)))
+    assert len(got) == 9
+    assert seen == [8, 12, 9]
+    s = decoder.stats
+    assert (s.oversized, s.seq_gaps, s.frames) == (1, 0, 29)
+
+
+def test_frames_of_a_wrong_length_with_a_right_crc_in_a_run_are_bad_lengths() -> None:
+    """Two frames with RANGE's id and a right CRC, one byte short and one byte long (the
+    second's seq byte equal to RANGE's id): the chunk is as long as a run of RANGE and every
+    19th body byte is RANGE's id, but its delimiters are not every 20th byte: two bad
+    lengths, and the other frames decoded."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+
+    def frame(body: bytes) -> bytes:
+        crc = binascii.crc_hqx(body, CRC_SEEDS[Range.MSG_ID]).to_bytes(2, "big")
+        return bytes(cobs.encode(body + crc)) + b"\x00"
+
+    frames = _ranges(10)
+    frames[4] = frame(bytes((Range.MSG_ID, 4)) + bytes(range(1, 14)))  # 13-byte payload
+    frames[5] = frame(bytes((Range.MSG_ID, Range.MSG_ID)) + bytes(range(1, 16)))  # 15 bytes
+    assert len(frames[4]) + len(frames[5]) == 2 * len(frames[0])
+    decoder = StreamDecoder()
+    got = decoder.feed(b"".join(frames))
+    assert [m.measurement for m in got] == [0, 1, 2, 3, 6, 7, 8, 9]  # type: ignore[attr-defined]
+    assert decoder.stats.bad_lengths == 2 and decoder.stats.frames == 8
+
+
 def test_a_run_with_gaps_counts_every_lost_frame() -> None:
     frames = _ranges(30)
     del frames[20:23]  # 3 lost
