@@ -439,6 +439,21 @@ def test_a_run_with_gaps_counts_every_lost_frame() -> None:
     _same_as_frame_by_frame([b"".join(frames), b"".join(_ranges(10, first_seq=40))])
 
 
+def test_a_run_that_skips_or_repeats_its_seq_counts_the_gaps() -> None:
+    """Every other frame lost (0, 2, 4, ...), and one seq sent again and again (a repeat is
+    255 lost frames, as frame by frame): the consecutive-seq shortcut must not pass them."""
+    evens = b"".join(_ranges(40)[0::2])
+    decoder = StreamDecoder()
+    assert len(decoder.feed(evens)) == 20
+    assert decoder.stats.seq_gaps == 19 and decoder.last_seq == 38
+    ack = Ack(command_id=1, command_seq=2)
+    assert decoder.feed(encode(ack, 40) * 10) == [ack] * 10  # an even seq repeated
+    assert decoder.stats.seq_gaps == 19 + 1 + 9 * 255
+    assert decoder.feed(encode(ack, 41) * 10) == [ack] * 10  # an odd one
+    assert decoder.stats.seq_gaps == 19 + 1 + 9 * 255 + 9 * 255
+    _same_as_frame_by_frame([evens, encode(ack, 40) * 10, encode(ack, 41) * 10])
+
+
 def test_a_bad_frame_in_a_run_is_counted_and_the_others_come_out() -> None:
     """One frame of a run with a wrong CRC, one that is no COBS (same length): the run falls
     back to frame by frame, which counts both and decodes the other frames."""
