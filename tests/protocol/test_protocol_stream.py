@@ -425,6 +425,10 @@ def test_frames_of_a_wrong_length_with_a_right_crc_in_a_run_are_bad_lengths() ->
     got = decoder.feed(b"".join(frames))
     assert [m.measurement for m in got] == [0, 1, 2, 3, 6, 7, 8, 9]  # type: ignore[attr-defined]
     assert decoder.stats.bad_lengths == 2 and decoder.stats.frames == 8
+    # Frame by frame too: four bytes too long, four too short, a right CRC.
+    for payload in (bytes(range(1, 19)), bytes(range(1, 11))):
+        assert decoder.feed(frame(bytes((Range.MSG_ID, 10)) + payload)) == []
+    assert decoder.stats.bad_lengths == 4 and decoder.stats.frames == 8
 
 
 def test_a_run_with_gaps_counts_every_lost_frame() -> None:
