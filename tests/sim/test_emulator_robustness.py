@@ -6,13 +6,16 @@ against a published speed-of-sound table (not the host's formula)."""
 from __future__ import annotations
 
 import os
+import re
 import signal
+import subprocess
 import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from obstacle_fusion import bundled
 from obstacle_fusion.protocol import encode
 from obstacle_fusion.protocol.generated import (
     Ack,
@@ -28,7 +31,7 @@ from obstacle_fusion.protocol.generated import (
     TimeSync,
     TimeSyncReply,
 )
-from obstacle_fusion.sim.emulator import Emulator, wait_for
+from obstacle_fusion.sim.emulator import Emulator, EmulatorError, wait_for
 
 from tests import emulator_fixtures
 from tests.emulator_fixtures import FirmwarePort
@@ -184,6 +187,203 @@ def test_watchdog_reset_is_reported(emulator_factory: Factory, open_port: Opener
     assert logs_after_boot(port) == []
     emu.control.reset(watchdog=True)  # and again, the hand-over is made at every reset
     assert len(logs_after_boot(port)) == 1
+
+
+@pytest.fixture(scope="module")
+def optiboot_hex(emulator_built: Path) -> Path:
+    """Optiboot 4.4 as a stock Uno carries it (built from Debian's arduino-core-avr)."""
+    if not (bundled.OPTIBOOT_SOURCE / "optiboot.c").is_file():
+        pytest.skip("arduino-core-avr is needed (tools/setup.sh installs it)")
+    done = subprocess.run(
+        ["make", "-s", "-C", str(bundled.REPO_ROOT / "tools" / "emulator"), "optiboot"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    hexfile = bundled.optiboot_hex()
+    assert hexfile is not None
+    return hexfile
+
+
+RESET_NOTE = re.compile(r"MCU reset at ([0-9.]+) s")
+
+
+def hang_and_reboot(emu: Emulator, port: FirmwarePort, interrupts_off: bool) -> list[Message]:
+    """Hang the firmware's main program; the LOGs after its next start. The reset must
+    come one watchdog period after the hang."""
+    resets_before = len(RESET_NOTE.findall(emu.stderr_text()))
+    t_before = emu.control.sim_time()
+    emu.control.hang(interrupts_off=interrupts_off)
+    t_after = emu.control.sim_time()
+    logs = logs_after_boot(port)
+    times = [float(t) for t in RESET_NOTE.findall(emu.stderr_text())]
+    assert len(times) == resets_before + 1, emu.stderr_text()[-500:]
+    # The time-out to the reset is counted from the last kick (at most a loop, ~2 ms,
+    # before the hang): 2 x 32768 cycles of the 128 kHz watchdog oscillator = 0.512 s.
+    lo, hi = t_before + 0.512 - 0.004, t_after + 0.512 + 0.001
+    assert lo <= times[-1] <= hi, (t_before, t_after, times[-1])
+    return logs
+
+
+def hang_briefly(emu: Emulator, seconds: float) -> None:
+    """Hang the main program for `seconds` (simulated), and wait until it has gone on."""
+    t0 = emu.control.sim_time()
+    emu.control.hang(seconds=seconds)
+    assert wait_for(lambda: emu.control.sim_time() > t0 + seconds + 0.1, 10.0)
+
+
+def test_hang_is_reported_through_optiboot_4_4(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot_hex: Path
+) -> None:
+    """The Uno's stock bootloader, Optiboot 4.4, clears MCUSR and passes nothing in r2, so
+    only the firmware's own watchdog interrupt can leave word of a hang: the main program
+    really stops (the emulator's `hang`), simavr's watchdog fires, Optiboot starts the
+    firmware again and the host gets "watchdog reset". Optiboot's own start (its watchdog
+    reset after the bootloader's wait) and the reset button give no LOG."""
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex, distance_m=1.0, fast=True, verbose=1
+    )
+    port = open_port(emu)
+    # --wait-client: an external reset, Optiboot waits ~1 s for avrdude, then its watchdog.
+    assert logs_after_boot(port) == []
+    logs = hang_and_reboot(emu, port, interrupts_off=False)
+    assert [(m.level, m.text) for m in logs] == [(LogLevel.WARNING, "watchdog reset")]
+    emu.control.reset()  # the reset button: Optiboot's wait, then its own watchdog reset
+    assert logs_after_boot(port) == []
+    logs = hang_and_reboot(emu, port, interrupts_off=False)  # the marker was cleared, and set again
+    assert len(logs) == 1
+    assert emu.control.stats()["wdt_escalations"] == 0  # simavr's own watchdog reset both times
+
+
+def test_late_loop_leaves_no_mark(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot_hex: Path
+) -> None:
+    """A main loop late by 0.35 s (past the watchdog interrupt at 0.256 s, before the reset
+    at 0.512 s) goes on: its next kick clears the mark, so a later reset button gives no
+    LOG, and arms the interrupt again, so a later hang is still reported."""
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex, distance_m=1.0, fast=True, verbose=1
+    )
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    for _ in range(2):
+        hang_briefly(emu, 0.35)
+        seen = port.collect(0.2)
+        assert not [m for m in seen if isinstance(m, (Hello, Log))], seen[:5]  # no reset
+        assert [m for m in seen if isinstance(m, Range)]  # ranging again
+    assert emu.control.stats()["resets"] == 1  # only Optiboot's start of the application
+    emu.control.reset()
+    assert logs_after_boot(port) == []
+    hang_briefly(emu, 0.35)  # WDIE cleared by the interrupt...
+    logs = hang_and_reboot(emu, port, interrupts_off=False)  # ...and set again by the kick
+    assert [m.text for m in logs] == ["watchdog reset"]
+
+
+def mark_address(elf: Path) -> int:
+    out = subprocess.run(["avr-nm", str(elf)], capture_output=True, text=True, check=True).stdout
+    found = [
+        int(line.split()[0], 16) & 0xFFFF
+        for line in out.splitlines()
+        if line.endswith(" of_wdt_mark")
+    ]
+    assert len(found) == 1, "the firmware's watchdog mark (of_wdt_mark) is not in the ELF"
+    return found[0]
+
+
+MARK = bytes([0x44, 0x57, 0xBB, 0xA8])  # 0x5744 ("WD") little-endian, then its complement
+
+
+@pytest.mark.parametrize("bootloader", [False, True], ids=["no_bootloader", "optiboot_4_4"])
+def test_only_a_whole_mark_after_a_silent_bootloader_counts(
+    emulator_factory: Factory,
+    open_port: Opener,
+    uno_elf: Path,
+    optiboot_hex: Path,
+    bootloader: bool,
+) -> None:
+    """The mark is read only when nothing else tells the cause (MCUSR and r2 both 0, as
+    after Optiboot 4.4), and only whole: RAM holding the magic with one byte of it or of
+    its complement wrong (power-on noise, an earlier run) gives no LOG. Without a
+    bootloader MCUSR says EXTRF and a whole mark is not believed. The mark lies above
+    Optiboot's page buffer (0x100..0x17F), which flashing overwrites."""
+    address = mark_address(uno_elf)
+    assert 0x180 <= address <= 0x8FF - 64  # above the buffer, below the stack
+    emu = emulator_factory(
+        elf=uno_elf, bootloader=optiboot_hex if bootloader else None, distance_m=1.0, fast=True
+    )
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    for k in range(4):
+        bad = bytearray(MARK)
+        bad[k] ^= 0x01
+        emu.control.poke(address, bytes(bad))
+        emu.control.reset()
+        assert logs_after_boot(port) == [], k
+    emu.control.poke(address, MARK)
+    emu.control.reset()
+    assert [m.text for m in logs_after_boot(port)] == (["watchdog reset"] if bootloader else [])
+    emu.control.reset()  # read once: the start clears it
+    assert logs_after_boot(port) == []
+
+
+@pytest.mark.parametrize("bootloader", [False, True], ids=["no_bootloader", "optiboot_4_4"])
+def test_hang_with_interrupts_off_still_resets(
+    emulator_factory: Factory,
+    open_port: Opener,
+    uno_elf: Path,
+    optiboot_hex: Path,
+    bootloader: bool,
+) -> None:
+    """A hang with interrupts off never runs the watchdog interrupt; the chip resets at the
+    next time-out all the same (datasheet, WDTCSR; the emulator makes simavr do so). The
+    cause reaches the firmware through MCUSR without a bootloader; Optiboot 4.4 loses it
+    (firmware/README.md, the limit)."""
+    emu = emulator_factory(
+        elf=uno_elf,
+        bootloader=optiboot_hex if bootloader else None,
+        distance_m=1.0,
+        fast=True,
+        verbose=1,
+    )
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    logs = hang_and_reboot(emu, port, interrupts_off=True)
+    assert [m.text for m in logs] == ([] if bootloader else ["watchdog reset"])
+    assert emu.control.stats()["wdt_escalations"] == 1
+    # ...and the watchdog interrupt path works again after such a start.
+    logs = hang_and_reboot(emu, port, interrupts_off=False)
+    assert [m.text for m in logs] == ["watchdog reset"]
+
+
+def test_simavr_alone_never_resets_a_hang_with_interrupts_off(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
+    """What the emulator's watchdog fix is for: with --no-quirk-fixes, simavr 1.6 raises
+    the pending watchdog interrupt again at every time-out and never resets the firmware
+    (its watchdog in interrupt and reset mode) hung with interrupts off. And the control
+    channel refuses bad hang/poke arguments by name."""
+    emu = emulator_factory(elf=uno_elf, distance_m=1.0, fast=True, quirk_fixes=False)
+    port = open_port(emu)
+    assert logs_after_boot(port) == []
+    for bad, why in [
+        ("hang 0", "not seconds"),
+        ("hang 1 2", "use hang"),
+        ("poke 0xff 1", "not an SRAM address"),
+        ("poke 0x8ff 1 2", "not an SRAM address"),
+        ("poke 0x269 256", "not a byte"),
+        ("poke 0x269" + " 1" * 17, "at most 16"),
+        ("hang" + " 1" * 20, "too many"),
+    ]:
+        with pytest.raises(EmulatorError, match=why):
+            emu.control.command(bad)
+    t0 = emu.control.sim_time()
+    emu.control.hang(interrupts_off=True)
+    assert wait_for(lambda: emu.control.sim_time() > t0 + 0.1, 10.0)
+    hung = emu.control.stats()["measurements"]
+    assert wait_for(lambda: emu.control.sim_time() > t0 + 2.0, 10.0)
+    stats = emu.control.stats()
+    assert stats["measurements"] == hung  # hung all along...
+    assert stats["resets"] == 0 and stats["wdt_escalations"] == 0  # ...and never reset
+    assert not [m for m in port.collect(0.1) if isinstance(m, Hello)]
 
 
 # --- item 8: the virtual HC-SR04's physics against a published table ---------------------------

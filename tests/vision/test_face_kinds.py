@@ -25,10 +25,10 @@ BARS = {
     "seams": 7,
     "tape": 7,
     "panels": 7,
-    "gloss": 6,
+    "gloss": 7,
     "plain": 7,
     "poster": 2,
-    "text": 4,
+    "text": 6,
     "brick": 4,
 }
 

@@ -1,5 +1,5 @@
 /* Arduino Uno HAL: Timer1 input capture on ICP1 (D8) for ECHO, TRIG on D9..D12, USART0
- * at 115200 8N1 with interrupt-driven rings, idle sleep, watchdog.
+ * at 115200 8N1 with interrupt-driven rings, idle sleep, watchdog (interrupt, then reset).
  *
  * Timer1 runs free at 2 MHz (prescaler 8) in normal mode; its overflow interrupt counts
  * wraps (every 32.768 ms) and of_ticks.h extends every 16-bit reading with that count.
@@ -41,9 +41,18 @@ static of_ring_t tx_ring;
 
 /* MCUSR as it was at reset; .noinit, since it is saved before RAM is initialised. */
 static uint8_t reset_cause __attribute__((section(".noinit")));
-/* r2 as the application found it: Optiboot (>= 4.6, the Uno's bootloader) clears MCUSR
- * before it starts the application and hands the reset cause over in r2. */
+/* r2 as the application found it: Optiboot >= 4.6 clears MCUSR before it starts the
+ * application and hands the reset cause over in r2. */
 static uint8_t boot_r2 __attribute__((section(".noinit")));
+/* Left by the watchdog interrupt, read at the next start: the word of a hang that outlives
+ * a bootloader which clears MCUSR and passes nothing (Optiboot 4.4, a stock Uno's). A
+ * 16-bit magic and its complement, so power-on RAM is unlikely to fake it; .noinit (after
+ * .bss, above Optiboot's page buffer at 0x100..0x17F) keeps it across the reset. */
+#define WDT_MARK 0x5744u /* "WD" */
+volatile uint8_t of_wdt_mark[4] __attribute__((section(".noinit")));
+/* Interrupt and system reset mode, 250 ms: the first time-out runs WDT_vect (hardware
+ * then clears WDIE), the second resets. 2 x 0.256 s from the last kick, as 0.5 s alone. */
+#define WDT_MODE (_BV(WDIE) | _BV(WDE) | _BV(WDP2))
 
 /* The very first code after the reset vector, before anything touches r2; then r2 is
  * cleared, and the Makefile keeps the compiler off it (-ffixed-r2), so a bootloader that
@@ -57,7 +66,7 @@ void save_r2(void)
 
 /* The watchdog stays on across a watchdog reset: turn it off before main runs. MCUSR is
  * 0 only when a bootloader cleared it (every reset sets one of its flags): then the cause
- * is the one the bootloader passed in r2. */
+ * is the one the bootloader passed in r2, else (r2 0: nothing passed) the mark. */
 void wdt_init(void) __attribute__((naked, used, section(".init3")));
 void wdt_init(void)
 {
@@ -65,8 +74,32 @@ void wdt_init(void)
     if (reset_cause == 0u && (boot_r2 & 0xF0u) == 0u) { /* MCUSR's bits 7..4 read 0 */
         reset_cause = boot_r2;
     }
+    if (reset_cause == 0u && of_wdt_mark[0] == (uint8_t)WDT_MARK &&
+        of_wdt_mark[1] == (uint8_t)(WDT_MARK >> 8) && of_wdt_mark[2] == (uint8_t)~WDT_MARK &&
+        of_wdt_mark[3] == (uint8_t)(~WDT_MARK >> 8)) {
+        reset_cause = _BV(WDRF);
+    }
+    of_wdt_mark[0] = 0u;
     MCUSR = 0;
     wdt_disable();
+}
+
+/* The main loop missed its kick by 256 ms: leave the mark. It touches no flag, so no
+ * SREG save; hardware has cleared WDIE, and the next time-out resets unless a late kick
+ * comes first (then it clears the mark again). */
+ISR(WDT_vect, ISR_NAKED)
+{
+    __asm__ volatile("push r24\n\t"
+                     "ldi r24, %[b0]\n\tsts %[m0], r24\n\t"
+                     "ldi r24, %[b1]\n\tsts %[m1], r24\n\t"
+                     "ldi r24, %[b2]\n\tsts %[m2], r24\n\t"
+                     "ldi r24, %[b3]\n\tsts %[m3], r24\n\t"
+                     "pop r24\n\t"
+                     "reti"
+                     :
+                     : [m0] "i"(&of_wdt_mark[0]), [m1] "i"(&of_wdt_mark[1]),
+                       [m2] "i"(&of_wdt_mark[2]), [m3] "i"(&of_wdt_mark[3]), [b0] "M"(WDT_MARK & 0xFFu), [b1] "M"(WDT_MARK >> 8),
+                       [b2] "M"(~WDT_MARK & 0xFFu), [b3] "M"((~WDT_MARK >> 8) & 0xFFu));
 }
 
 ISR(TIMER1_OVF_vect)
@@ -158,7 +191,8 @@ void hal_init(void)
     UCSR0B = _BV(RXCIE0) | _BV(RXEN0) | _BV(TXEN0);
 
     set_sleep_mode(SLEEP_MODE_IDLE);
-    wdt_enable(WDTO_500MS);
+    wdt_enable(WDTO_250MS);
+    WDTCSR = WDT_MODE; /* WDE and the prescaler unchanged: no timed sequence */
     sei();
 }
 
@@ -265,7 +299,13 @@ bool hal_reset_by_watchdog(void)
     return (reset_cause & _BV(WDRF)) != 0;
 }
 
+/* A kick that finds WDIE cleared follows a late loop (the interrupt ran, the reset had not
+ * come yet): the mark goes, the interrupt is armed again. */
 void hal_watchdog_kick(void)
 {
     wdt_reset();
+    if ((WDTCSR & _BV(WDIE)) == 0u) {
+        of_wdt_mark[0] = 0u;
+        WDTCSR = WDT_MODE;
+    }
 }

@@ -327,6 +327,25 @@ class EmulatorControl:
         its watchdog had fired (MCUSR.WDRF set, or r2 under --optiboot)."""
         self.command("reset watchdog" if watchdog else "reset")
 
+    def hang(self, interrupts_off: bool = False, seconds: float | None = None) -> None:
+        """Make the firmware's main program stop where it is, as an endless loop would
+        (interrupt handlers still run; interrupts_off: as after `cli`), until the MCU
+        resets (its own watchdog's work, or `reset`), or for `seconds` of simulated time
+        (then it goes on, interrupts on again)."""
+        words = ["hang"] + (["cli"] if interrupts_off else [])
+        if seconds is not None:
+            words.append(repr(float(seconds)))
+        self.command(" ".join(words))
+
+    def resume(self) -> None:
+        """End a hang: the main program goes on."""
+        self.command("hang off")
+
+    def poke(self, address: int, data: bytes) -> None:
+        """Write the MCU's SRAM at a data address (at most 16 bytes): what an earlier run
+        left there, or power-on noise."""
+        self.command(f"poke {address:#x} " + " ".join(f"{b:#x}" for b in data))
+
     def sim_time(self) -> float:
         """Simulated seconds since power-up."""
         return float(self.command("time").split()[0])

@@ -12,7 +12,7 @@ import copy
 import dataclasses
 import logging
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import cv2
 import numpy as np
@@ -97,7 +97,8 @@ class Measurer:
         try; the first that gives a face wins (below the face there is only floor, so the
         lowest step that stands a face on it is the contact: ranking the rows by confidence
         instead picked steps inside the face or the box's top on independently made rooms)."""
-        view: View = impl.view  # type: ignore[attr-defined]
+        fused = cast(FusedMethod, impl)
+        view: View = fused.view
         depth = self.rig.face_depth(range_m)
         rows = contact_rows(image, view, depth)
         timer.lap("floor_contact")
@@ -111,8 +112,8 @@ class Measurer:
                 trial.rig = dataclasses.replace(
                     self.rig, camera_height_m=height, camera_pitch_deg=0.0
                 )
-                impl.view = trial  # type: ignore[attr-defined]
-                result = impl.run(face_floor_grey(image, view, row, depth), range_m, timer)
+                fused.view = trial
+                result = fused.run(face_floor_grey(image, view, row, depth), range_m, timer, image)
                 result.camera_height_m = height
                 if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
                     best = result
@@ -120,7 +121,7 @@ class Measurer:
                     best = result
                     break
         finally:
-            impl.view = view  # type: ignore[attr-defined]
+            fused.view = view
         if best is None:
             return Measurement(
                 False,
@@ -152,10 +153,11 @@ class Measurer:
             contact = view.cy + view.fy * self.rig.camera_height_m / depth
             grey = face_floor_grey(image, view, contact, depth)
             timer.lap("face_channel")
-            result = impl.run(grey, range_m, timer)
+            fused = cast(FusedMethod, impl)
+            result = fused.run(grey, range_m, timer, image)
             if not result.detected and grey is not image:
                 # the colour turn can also fade an edge luminance had: try luminance
-                result = impl.run(image, range_m, timer)
+                result = fused.run(image, range_m, timer)
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source

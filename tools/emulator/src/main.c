@@ -383,6 +383,7 @@ static void parse_args(emu_t *e, int argc, char **argv)
             e->quirks.sei_fix = 0;
             e->quirks.tifr_fix = 0;
             e->quirks.flag_fix = 0;
+            e->quirks.wdt_fix = 0;
             e->sp.exact_edges = 0;
             e->model_rx_overrun = 0;
             e->uart_rate_fix = 0;
@@ -440,7 +441,7 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              "short_triggers=%llu tx_bytes=%llu tx_written=%llu tx_no_client=%llu "
              "tx_overflow=%llu rx_bytes=%llu rx_fed=%llu rx_overruns=%llu dropped=%llu "
              "corrupted=%llu inserted=%llu resets=%llu tifr_restored=%llu flags_cleared=%llu "
-             "level_polls_cancelled=%llu client=%d "
+             "level_polls_cancelled=%llu wdt_escalations=%llu hang=%d client=%d "
              "max_lag_s=%.6f wall0_s=%.9f cycle0=%llu freq_hz=%lu uart_cycles_per_byte=%llu",
              sim_seconds(e), (unsigned long long)e->avr->cycle,
              meas, ignored, shorts, (unsigned long long)b->tx_bytes,
@@ -451,7 +452,9 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
              (unsigned long long)b->inserted, (unsigned long long)e->resets,
              (unsigned long long)e->quirks.tifr_restored,
              (unsigned long long)e->quirks.flags_cleared,
-             (unsigned long long)e->quirks.level_polls_cancelled, e->bridge.client, e->max_lag_s,
+             (unsigned long long)e->quirks.level_polls_cancelled,
+             (unsigned long long)e->quirks.wdt_escalations, e->quirks.hang, e->bridge.client,
+             e->max_lag_s,
              /* The pacing anchor: cycle c runs at CLOCK_MONOTONIC wall0_s + (c - cycle0) /
               * (freq_hz * (1 + ppm/1e6)), the exact host time of any MCU event. */
              now_s(&e->wall0), (unsigned long long)e->cycle0, (unsigned long)e->avr->frequency,
@@ -461,12 +464,17 @@ static void cmd_stats(emu_t *e, char *reply, size_t n)
 static void handle_command(void *ctx, char *line, char *reply, size_t n)
 {
     emu_t *e = ctx;
-    char *argv[4];
+    char *argv[20]; /* poke: address and 16 bytes */
     int argc = 0;
-    for (char *p = strtok(line, " \t"); p && argc < 4; p = strtok(NULL, " \t"))
+    char *p = strtok(line, " \t");
+    for (; p && argc < 20; p = strtok(NULL, " \t"))
         argv[argc++] = p;
     if (argc == 0) {
         snprintf(reply, n, "error empty command");
+        return;
+    }
+    if (p) {
+        snprintf(reply, n, "error %s: too many arguments", argv[0]);
         return;
     }
     const char *cmd = argv[0];
@@ -557,6 +565,53 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
             return;
         }
         e->reset_requested = 2;
+    } else if (!strcmp(cmd, "hang") && argc == 2 && !strcmp(argv[1], "off")) {
+        quirks_hang_end(e->avr, 0);
+    } else if (!strcmp(cmd, "hang") && argc <= 3) {
+        /* hang [cli] [SECONDS]: the main program stops (as `rjmp .`; after `cli` too) until
+         * a reset, or for SECONDS of simulated time. */
+        int k = 1, cli = argc > 1 && !strcmp(argv[1], "cli");
+        k += cli;
+        v = 0.0;
+        if (argc > k) {
+            v = strtod(argv[k], &end);
+            if (end == argv[k] || *end || !(v > 0.0 && v <= 3600.0)) {
+                snprintf(reply, n, "error hang: '%s' is not seconds in (0, 3600]", argv[k]);
+                return;
+            }
+            if (argc > k + 1) {
+                snprintf(reply, n, "error hang: use hang [cli] [SECONDS] or hang off");
+                return;
+            }
+        }
+        quirks_hang_end(e->avr, 0);
+        e->quirks.hang = cli ? 2 : 1;
+        e->quirks.hang_until =
+            v > 0.0 ? e->avr->cycle + (uint64_t)llround(v * e->avr->frequency) : 0;
+    } else if (!strcmp(cmd, "poke") && argc >= 3) {
+        /* poke ADDR BYTE...: write the MCU's SRAM (data addresses, e.g. 0x269), as RAM
+         * left by an earlier run or random at power-on would hold. */
+        unsigned long addr = strtoul(argv[1], &end, 0);
+        if (end == argv[1] || *end || addr <= e->avr->ioend ||
+            addr + (unsigned long)(argc - 2) > (unsigned long)e->avr->ramend + 1) {
+            snprintf(reply, n, "error poke: '%s' is not an SRAM address (0x%x..0x%x)", argv[1],
+                     (unsigned)e->avr->ioend + 1, (unsigned)e->avr->ramend);
+            return;
+        }
+        uint8_t bytes[16];
+        if (argc - 2 > (int)sizeof bytes) {
+            snprintf(reply, n, "error poke: at most %d bytes", (int)sizeof bytes);
+            return;
+        }
+        for (int k = 2; k < argc; k++) {
+            unsigned long b = strtoul(argv[k], &end, 0);
+            if (end == argv[k] || *end || b > 0xFF) {
+                snprintf(reply, n, "error poke: '%s' is not a byte", argv[k]);
+                return;
+            }
+            bytes[k - 2] = (uint8_t)b;
+        }
+        memcpy(e->avr->data + addr, bytes, (size_t)(argc - 2));
     } else if (!strcmp(cmd, "time") && argc == 1) {
         snprintf(reply, n, "ok %.9f %llu", sim_seconds(e), (unsigned long long)e->avr->cycle);
         return;
@@ -568,7 +623,8 @@ static void handle_command(void *ctx, char *line, char *reply, size_t n)
     } else if (!strcmp(cmd, "help")) {
         snprintf(reply, n, "ok commands: distance M|none [SENSOR], temperature C, noise MM, "
                            "dropout P, spike P, uart drop|corrupt|insert P, scene FILE [SENSOR], "
-                           "reset [watchdog], time, stats, quit");
+                           "reset [watchdog], hang [cli] [S] | off, poke ADDR BYTE..., time, "
+                           "stats, quit");
         return;
     } else {
         snprintf(reply, n, "error unknown command or wrong arguments: '%s' (try help)", cmd);
@@ -725,6 +781,7 @@ static void core_reset_hook(avr_t *avr)
 static void after_reset(emu_t *e)
 {
     g_core_was_reset = 0;
+    quirks_hang_end(e->avr, 1); /* a reset ends the hang: the firmware starts over */
     hand_over(e, e->reset_cause);
     e->reset_cause = 0;
     e->resets++;
@@ -863,6 +920,7 @@ int main(int argc, char **argv)
     e->quirks.sei_fix = 1;
     e->quirks.tifr_fix = 1;
     e->quirks.flag_fix = 1;
+    e->quirks.wdt_fix = 1;
     e->model_rx_overrun = 1;
     e->uart_rate_fix = 1;
     e->parent = getppid();

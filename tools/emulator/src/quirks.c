@@ -16,7 +16,16 @@
  * INT0/INT1 low level: when the pin goes low in low-level mode (the reset default),
  * simavr 1.6 starts a poll that raises the interrupt every cycle while the pin stays low,
  * and never checks the mode again, so it goes on after EICRA selects an edge. On each
- * EICRA write we cancel the polls of interrupts that are no longer level-triggered. */
+ * EICRA write we cancel the polls of interrupts that are no longer level-triggered.
+ *
+ * Watchdog in interrupt-and-reset mode (WDE and WDIE): the datasheet (WDTCSR, WDIE) says
+ * that if the interrupt is not executed before the next time-out, a system reset is
+ * applied. simavr 1.6 (and its later releases) raises the interrupt again at every
+ * time-out while WDIE is set, so a program hung with interrupts off never resets. We
+ * watch the watchdog interrupt: from its first raise in that mode we time one more
+ * time-out (restarted by WDR, as the chip's counter is) and, if the interrupt is still
+ * pending then, reset the MCU the way simavr's own watchdog reset does (WDRF, WDE,
+ * 16 ms). */
 #include "quirks.h"
 
 #include <string.h>
@@ -24,6 +33,7 @@
 #include "avr_extint.h"
 #include "avr_ioport.h"
 #include "avr_timer.h"
+#include "avr_watchdog.h"
 #include "sim_core.h"
 #include "sim_cycle_timers.h"
 #include "sim_regbit.h"
@@ -35,7 +45,20 @@ quirks_t *quirks_active;
 void quirks_run(avr_t *avr)
 {
     avr_flashaddr_t new_pc = avr->pc;
-    if (avr->state == cpu_Running) {
+    quirks_t *q = quirks_active;
+    if (q && q->hang_until && avr->cycle >= q->hang_until)
+        quirks_hang_end(avr, 0);
+    /* The hang begins in the main program with interrupts on, so a `hang cli` that ends
+     * can give them back. */
+    int spin = q && q->hang && avr->state == cpu_Running && avr->interrupts.running_ptr == 0 &&
+               (q->frozen || avr->sreg[S_I]);
+    if (spin) {
+        /* The main program is stuck: `rjmp .` (2 cycles), after a `cli` with hang 2. */
+        if (!q->frozen && q->hang == 2)
+            avr_sreg_set(avr, S_I, 0);
+        q->frozen = 1;
+        avr->cycle += 2;
+    } else if (avr->state == cpu_Running) {
         new_pc = avr_run_one(avr);
         if (quirks_active && quirks_active->sei_fix && avr->interrupt_state == -2)
             avr->interrupt_state = -1;
@@ -51,6 +74,18 @@ void quirks_run(avr_t *avr)
     }
     if ((avr->state == cpu_Running || avr->state == cpu_Sleeping) && avr->interrupt_state)
         avr_service_interrupts(avr);
+}
+
+void quirks_hang_end(avr_t *avr, int reset)
+{
+    quirks_t *q = quirks_active;
+    if (!q)
+        return;
+    if (!reset && q->frozen && q->hang == 2)
+        avr_sreg_set(avr, S_I, 1);
+    q->hang = 0;
+    q->hang_until = 0;
+    q->frozen = 0;
 }
 
 #define MAX_WRAPPED 8
@@ -220,9 +255,71 @@ static void install_eicra(avr_t *avr)
     }
 }
 
+static avr_watchdog_t *g_wdt;
+static int (*g_wdt_ioctl)(struct avr_io_t *io, uint32_t ctl, void *param);
+
+static void wdt_reset_now(avr_t *avr)
+{
+    avr_reset(avr); /* the watchdog's reset handler puts the run callback back */
+}
+
+static avr_cycle_count_t wdt_next_timeout(avr_t *avr, avr_cycle_count_t when, void *param)
+{
+    avr_watchdog_t *p = param;
+    (void)when;
+    if (p->watchdog.pending && avr_regbit_get(avr, p->watchdog.enable) &&
+        avr_regbit_get(avr, p->wde)) {
+        p->reset_context.avr_run = avr->run;
+        p->reset_context.wdrf = 1;
+        avr->run = wdt_reset_now;
+        if (quirks_active)
+            quirks_active->wdt_escalations++;
+    }
+    return 0;
+}
+
+/* The watchdog interrupt's pending line: 1 when raised, 0 when executed or cleared. */
+static void wdt_pending(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    avr_watchdog_t *p = param;
+    avr_t *avr = p->io.avr;
+    (void)irq;
+    if (!value)
+        avr_cycle_timer_cancel(avr, wdt_next_timeout, p);
+    else if (avr_regbit_get(avr, p->watchdog.enable) && avr_regbit_get(avr, p->wde) &&
+             !avr_cycle_timer_status(avr, wdt_next_timeout, p))
+        avr_cycle_timer_register(avr, p->cycle_count, wdt_next_timeout, p);
+}
+
+/* WDR restarts the chip's counter, so it moves the next time-out too. */
+static int wdt_ioctl(struct avr_io_t *io, uint32_t ctl, void *param)
+{
+    int res = g_wdt_ioctl(io, ctl, param);
+    if (ctl == AVR_IOCTL_WATCHDOG_RESET && avr_cycle_timer_status(io->avr, wdt_next_timeout, g_wdt))
+        avr_cycle_timer_register(io->avr, g_wdt->cycle_count, wdt_next_timeout, g_wdt);
+    return res;
+}
+
+static void install_wdt(avr_t *avr)
+{
+    for (avr_io_t *io = avr->io_port; io; io = io->next) {
+        if (!io->kind || strcmp(io->kind, "watchdog") != 0 || !io->ioctl)
+            continue;
+        g_wdt = (avr_watchdog_t *)io;
+        if (!g_wdt->watchdog.vector || !g_wdt->watchdog.enable.reg)
+            return;
+        g_wdt_ioctl = io->ioctl;
+        io->ioctl = wdt_ioctl;
+        avr_irq_register_notify(g_wdt->watchdog.irq + AVR_INT_IRQ_PENDING, wdt_pending, g_wdt);
+        return;
+    }
+}
+
 int quirks_install(avr_t *avr, quirks_t *q)
 {
     quirks_active = q;
+    if (q->wdt_fix)
+        install_wdt(avr);
     if (q->flag_fix) {
         install_flagregs(avr);
         install_eicra(avr);

@@ -4,9 +4,13 @@
  *   "PCIFR ok" / "EIFR ok" if writing one to a pin-change / external interrupt flag
  *   cancels the pending interrupt,
  *   "INT ok" if INT1, its pin low while in (default) low-level mode, stays quiet once
- *   EICRA selects the rising edge. */
+ *   EICRA selects the rising edge,
+ *   "WDT wdr ok" then (after the reset) "WDT reset" if the watchdog in interrupt and
+ *   system reset mode, its interrupt pending with interrupts off, resets at the next
+ *   time-out and not before (WDR restarts the count); "WDT bad" if it never resets. */
 #include <avr/interrupt.h>
 #include <avr/io.h>
+#include <avr/wdt.h>
 #include <stdint.h>
 
 static volatile uint8_t hits;
@@ -28,12 +32,31 @@ static void put(const char *s)
     }
 }
 
+/* n Timer1 overflows at clk/1 (4.1 ms each), interrupts off. */
+static void wait_ovf(uint8_t n)
+{
+    while (n--) {
+        TIFR1 = _BV(TOV1);
+        while (!(TIFR1 & _BV(TOV1))) {
+        }
+    }
+}
+
 int main(void)
 {
+    uint8_t mcusr = MCUSR;
+    MCUSR = 0;
+    wdt_disable();
     UBRR0 = 16;
     UCSR0A = _BV(U2X0);
     UCSR0B = _BV(TXEN0);
     UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
+    if (mcusr & _BV(WDRF)) { /* the end of the WDT probe below */
+        put("WDT reset\n");
+        put("DONE\n");
+        for (;;) {
+        }
+    }
 
     /* TIFR: wait for an overflow flag with interrupts off, then clear only ICF1. */
     TCCR1A = 0;
@@ -88,6 +111,23 @@ int main(void)
     }
     cli();
     put(int1_hits ? "INT bad\n" : "INT ok\n");
+
+    /* WDT: interrupt and reset mode at 16 ms, interrupts off. After the first time-out
+     * (WDIF, the interrupt pending), two WDRs 12 ms apart keep the chip alive; then no
+     * more: it must reset 16 ms later (into the MCUSR branch above). */
+    EIMSK = 0;
+    TIMSK1 = 0;
+    wdt_enable(WDTO_15MS);
+    WDTCSR = _BV(WDIE) | _BV(WDE);
+    while (!(WDTCSR & _BV(WDIF))) {
+    }
+    wdt_reset();
+    wait_ovf(3);
+    wdt_reset();
+    wait_ovf(3);
+    put("WDT wdr ok\n");
+    wait_ovf(25);
+    put("WDT bad\n");
     put("DONE\n");
     for (;;) {
     }

@@ -25,6 +25,13 @@ from obstacle_fusion.vision.fused.extent import (
 )
 from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
+from obstacle_fusion.vision.fused.region import (
+    enclose_by_margin,
+    looks_like_top_face,
+    raise_top_by_colour,
+    top_agreement,
+    widen_by_colour,
+)
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
 from obstacle_fusion.vision.fused.search import (
     beam_columns,
@@ -55,7 +62,15 @@ class FusedMethod:
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
 
-    def run(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
+    def run(
+        self,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        colour: npt.NDArray[Any] | None = None,
+    ) -> Measurement:
+        """``colour``: the BGR frame ``image`` was made from, when ``image`` is one channel
+        of it (the face's colour along its foot sets its width)."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
@@ -117,11 +132,19 @@ class FusedMethod:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
+        seen = colour if colour is not None else image  # the colours the extent reads
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
+        framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
+        if framed is not None and framed[0] >= n - 3:
+            framed = None
+        if framed is not None:
+            rb, vt, ul, ur = framed
+        # a background line crossing the face is not its top: the face's colour runs on
+        vt = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
 
         # confidence
         conf = confidence(best, rivals)
@@ -132,14 +155,29 @@ class FusedMethod:
             return fail
 
         # the front top edge, then sub-pixel refinement
-        vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        found_top = vt
+        # a frame's top is its margin's (the print below it is no top face)
+        if framed is None:
+            vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        else:
+            sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+        if not looks_like_top_face(seen, v, found_top, vt, ul, ur):
+            vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         top_row: float | None = None  # a sub-pixel front top row that needs no refining
-        front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
-        if front is not None:
+        front = None if framed is not None else front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
+        if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
+        # a top that is no colour boundary may be a line on the face or behind it
+        conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
+        reason = refusal(conf, self.min_confidence)
+        if reason is not None:
+            fail.confidence = round(conf, 3)
+            fail.reason = reason
+            return fail
         timer.lap("extent")
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]

@@ -94,12 +94,12 @@ def refine(
     # Where the straight part ends is the front corner.
     bottom = _bottom_profile(ay, bottom_a, bottom_b, ul, ur)
     if bottom is not None:
-        left_a, left_b = _side_face(
-            ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b
-        )
-        right_a, right_b = _side_face(
-            ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b
-        )
+        new_left = _side_face(ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b)
+        new_right = _side_face(ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b)
+        # A camera sees at most one side face of a box (the one turned towards it): a
+        # "side face" on both sides is a break in the bottom edge (a seam), not a corner.
+        if new_left == (left_a, left_b) or new_right == (right_a, right_b):
+            (left_a, left_b), (right_a, right_b) = new_left, new_right
 
     def corner(
         ha: float, hb: float, va: float, vb: float

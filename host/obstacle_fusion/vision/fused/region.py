@@ -1,0 +1,426 @@
+"""A face's width from its colour: the columns whose foot looks like the face's.
+
+Receives the chosen face (floor-contact row, top row, side columns, in the levelled view)
+and the input BGR frame; returns the side columns moved outward to where the face's colour
+ends along its foot. A face is one surface standing on the floor-contact row: just above
+that row, across its whole width, it shows its own colour (plank seams, joints and tape
+are a few columns of another one), and just below it the floor. Beyond its sides the rows
+above the contact row show what stands farther back (the floor, the wall), which is
+neither the face's colour nor, for the floor, any different from the floor below. On
+photographed floors the face's edges are lost in the floor's texture, while its colour is
+not: gradients alone collapsed the width to one plank there.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.types import View
+
+#: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
+EDGE_SKIP = 2
+#: Face rows sampled above the contact row: this share of the face's height, within limits.
+FACE_BAND_SHARE = 0.25
+FACE_BAND_ROWS = (3, 12)
+#: Floor rows sampled below the contact row.
+FLOOR_BAND_ROWS = 4
+#: A column's foot is the face's when its colour (CIE Lab, 8-bit scale) is within this
+#: many times the face's own spread of the face's colour ...
+SPREAD_FACTOR = 3.0
+#: ... and never farther than MAX_FACE_DISTANCE, never required closer than MIN_FACE_DISTANCE.
+MIN_FACE_DISTANCE = 18.0
+MAX_FACE_DISTANCE = 35.0
+#: ... and when it differs from the floor just below by at least this (the face's foot is
+#: an edge; farther floor above the contact row is the same floor as below it).
+MIN_FLOOR_STEP = 12.0
+#: Rows just above the contact row (past EDGE_SKIP) read as the foot when moving a side in.
+FOOT_ROWS = 5
+#: Columns each foot colour is averaged over.
+SMOOTH_COLUMNS = 5
+#: Columns of another colour crossed without ending the face (a seam, a joint, tape), metres
+#: at the face.
+MAX_GAP_M = 0.04
+#: A side moves only when the face's colour runs on past it by this share of its width.
+MIN_WIDEN_SHARE = 0.1
+#: A side moves in only over columns where this share shows no foot (no step from the
+#: floor below to what is above the contact row).
+MIN_TRIM_FLOORLESS = 0.7
+#: Columns either side of the colour's end searched for the strongest vertical edge.
+SNAP_COLUMNS = 3
+
+
+def _band(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    c0: int = 0,
+    c1: int | None = None,
+    step: int = 1,
+) -> npt.NDArray[np.float32]:
+    """The view's rows r0..r1-1 (columns c0..c1-1, every ``step``-th) of ``image`` in CIE
+    Lab (float, 8-bit scale): only the pixels a stage reads are undistorted and converted."""
+    band = cv2.remap(
+        image,
+        view.map1[r0:r1:step, c0:c1:step],
+        view.map2[r0:r1:step, c0:c1:step],
+        cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REPLICATE,
+    )
+    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB), np.float32)
+
+
+def _walk(on: npt.NDArray[np.bool_], start: int, step: int, max_gap: int) -> int:
+    """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap."""
+    u, v, gap = start, start, 0
+    while 0 <= v + step < on.size and gap <= max_gap:
+        v += step
+        if on[v]:
+            u, gap = v, 0
+        else:
+            gap += 1
+    return u
+
+
+def widen_by_colour(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int]:
+    """The face's sides, moved out to where its colour along its foot ends."""
+    if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
+        return left, right
+    h_view = view.out.shape[0]
+    rows = int(np.clip(FACE_BAND_SHARE * (bottom - top), *FACE_BAND_ROWS))
+    r0 = bottom - EDGE_SKIP - rows
+    r1 = min(bottom + EDGE_SKIP + FLOOR_BAND_ROWS + 1, h_view)
+    floor_rows = r1 - (bottom + EDGE_SKIP + 1)
+    if r0 < 0 or floor_rows < 1:
+        return left, right  # the face's foot at the image's edge: no floor to compare
+    lab = _band(image, view, r0, r1)
+    # per column, W x 3, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
+    face = cv2.blur(np.median(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(np.median(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    # the foot itself, just above the contact row: what stands a little farther back
+    # beside the face (another box) shows above it, not here
+    foot = cv2.blur(
+        np.median(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+    )[0]
+    seed = slice(left + 2, right - 1)
+    ref = np.median(face[seed], axis=0)
+    d_face = np.linalg.norm(face - ref, axis=1)
+    spread = float(np.median(d_face[seed]))
+    limit = float(np.clip(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
+    d_floor = np.linalg.norm(face - floor, axis=1)
+    on = (d_face <= limit) & (d_floor >= MIN_FLOOR_STEP)
+    if float(np.mean(on[seed])) < 0.5:
+        return left, right  # the face's own foot is not one colour over the floor
+    # the smoothing spreads a seam over SMOOTH_COLUMNS - 1 more columns
+    max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
+    min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
+    sides_strength = np.asarray(ax[top : bottom + 1].mean(axis=0), np.float32)
+    d_foot_floor = np.linalg.norm(foot - floor, axis=1)
+    on_foot = (np.linalg.norm(foot - ref, axis=1) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
+    # the face's run starts from its foot's middle: the on-column nearest the centre
+    inside = np.nonzero(on[left : right + 1])[0] + left
+    centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
+    new = []
+    for side, step in ((left, -1), (right, 1)):
+        end = _walk(on & on_foot, side - step * 2, step, max_gap)
+        if (end - side) * step <= min_move:
+            # not wider: narrower when the face's colour ends well inside the side (the
+            # side search took in the background beside it: nothing stands on the contact
+            # row there, the floor runs on behind. A print or tape of another colour on
+            # the face's foot is not cut off: it stands out from the floor.
+            end = _walk(on_foot, centre, step, max_gap)
+            cut = slice(min(end, side) + 1, max(end, side))
+            if (side - end) * step <= min_move or (
+                float(np.mean(d_foot_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
+            ):
+                new.append(side)
+                continue
+        lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
+        new.append(int(lo + np.argmax(sides_strength[lo : hi + 1])))
+    return new[0], new[1]
+
+
+#: Every SUBSAMPLE-th row or column read where a median runs over a face's whole width or
+#: height (the colours are smooth at that scale; the medians cost the stage's time).
+SUBSAMPLE = 3
+#: Rows of the face sampled under its top for the face's colour (a share of its height).
+TOP_BAND_SHARE = 0.3
+#: Columns beside each side sampled for what stands beside the face.
+BESIDE_COLUMNS = 6
+#: Columns inside each side left out (the side's blur).
+SIDE_SKIP = 3
+#: Rows of another colour crossed going up without ending the face (a band, a label's edge),
+#: metres at the face.
+MAX_ROW_GAP_M = 0.02
+#: A row is the face's when it also differs from both sides' surroundings by this much.
+MIN_BESIDE_STEP = 12.0
+#: Going up, a row is the face's within this colour distance (or SPREAD_FACTOR times the
+#: face's spread, up to MAX_FACE_DISTANCE): tighter than across, since a box's top face
+#: is its own material in another light, a few units off.
+MIN_TOP_DISTANCE = 6.0
+#: Rows either side of the colour's end searched for the strongest horizontal edge.
+SNAP_ROWS = 3
+
+
+def raise_top_by_colour(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The face's top row, moved up while the rows above it show the face's colour.
+
+    A background line crossing the face (the wall's foot, a shelf) is a horizontal edge
+    between the face's sides; the search takes it for the face's top when the face's sides
+    are faint against the wall in grey. Above it the face shows its own colour still, while
+    the wall beside it does not."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4 or bottom - top < 4:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    if c0 < 0 or c1 > w_view or top < 3:
+        return top
+    band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
+    r1 = min(bottom, top + band + 1)
+    max_gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
+    # first only the rows a first step up reads: most tops do not move, and the tall band
+    # (up to twice the face's height) costs the stage's time
+    short = max(0, top - max_gap - STEP_ROWS - SNAP_ROWS - 2)
+    r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap)
+    if short > 0 and end <= max_gap + STEP_ROWS:  # it may run on above the short band
+        r0 = max(0, top - 2 * (bottom - top))
+        r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap)
+    if k - end <= SNAP_ROWS:
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
+def _colour_walk_up(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    top: int,
+    c0: int,
+    c1: int,
+    gap: int,
+) -> tuple[int, int, int]:
+    """The walk of :func:`raise_top_by_colour` over the view's rows r0..r1-1 (columns
+    c0..c1-1: the face and BESIDE_COLUMNS either side): (r0, the band row it reached,
+    the band row of ``top``)."""
+    lab = _band(image, view, r0, r1, c0, c1)
+    inner = np.median(
+        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP) : SUBSAMPLE],
+        axis=1,
+    )
+    left_out = np.median(lab[:, :BESIDE_COLUMNS], axis=1)
+    right_out = np.median(lab[:, -BESIDE_COLUMNS:], axis=1)
+    k = top - r0  # the current top's row in the band
+    ref = np.median(inner[k + 2 :], axis=0)
+    d_face = np.linalg.norm(inner - ref, axis=1)
+    spread = float(np.median(d_face[k + 2 :]))
+    limit = float(np.clip(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
+    beside = np.minimum(
+        np.linalg.norm(inner - left_out, axis=1), np.linalg.norm(inner - right_out, axis=1)
+    )
+    s = BESIDE_COLUMNS + SIDE_SKIP
+    on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
+    # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
+    # towards the vanishing point), so just inside the front face's sides it is not there
+    for near, out in (
+        (lab[:, s : s + BESIDE_COLUMNS], left_out),
+        (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
+    ):
+        on &= np.linalg.norm(np.median(near, axis=1) - out, axis=1) >= MIN_BESIDE_STEP
+    return r0, _walk_colour(inner, on, k, limit, gap), k
+
+
+#: Rows over which the colour going up is compared (an edge's blur spans about three).
+STEP_ROWS = 3
+#: A top face thinner than this (rows) is left to the gradients: its colour is blur.
+MIN_TOP_FACE_ROWS = 6
+
+
+def looks_like_top_face(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    upper: int,
+    lower: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether the rows between ``upper`` and ``lower`` (the face's top as found, and a
+    front top edge below it) differ in colour from the face below ``lower``: a box's top
+    face is lit unlike its front, while a texture line inside the front is not a top face
+    and must not cut the face's height."""
+    n = lower - upper
+    if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
+        return True
+    r1 = min(view.out.shape[0], lower + n + 2)
+    lab = _band(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
+    strip = np.median(lab[1 : n - 1].reshape(-1, 3), axis=0)
+    front = np.median(lab[n + 2 :].reshape(-1, 3), axis=0)
+    return float(np.linalg.norm(strip - front)) >= MIN_TOP_DISTANCE
+
+
+def _walk_colour(
+    colour: npt.NDArray[np.float32],
+    on: npt.NDArray[np.bool_],
+    start: int,
+    limit: float,
+    max_gap: int,
+) -> int:
+    """Highest row above ``start`` reached through ``on`` rows whose colour is within
+    ``limit`` of a row reached at least STEP_ROWS below (a gloss or a shadow shades the
+    face slowly; the edge to a top face or to the background is a step, blurred over a
+    few rows, that no gap crosses)."""
+    reached = [start]
+    gap, r = 0, start
+    while r - 1 >= 0 and gap <= max_gap:
+        r -= 1
+        ref = next((q for q in reversed(reached) if q >= r + STEP_ROWS), start)
+        if on[r] and float(np.linalg.norm(colour[r] - colour[ref])) <= limit:
+            reached.append(r)
+            gap = 0
+        else:
+            gap += 1
+    return reached[-1]
+
+
+#: A face's top edge with a colour step under this (Lab distance between the rows just
+#: above and just below it, inside the sides) scales the confidence down in proportion.
+TOP_STEP_FULL = 12.0
+#: Rows either side of the top edge sampled (past the edge's blur).
+TOP_STEP_ROWS = (2, 5)
+
+
+def top_agreement(
+    image: npt.NDArray[Any] | None, view: View, top: int, left: int, right: int
+) -> float:
+    """0..1: how clearly the face's colour ends at its top row.
+
+    Where the top found is the face's own, the colour changes there (to a top face, the
+    wall, a label's margin); where it is a line on the face or in the room behind it,
+    the rows above and below it look alike. Measured on independently made rooms, most
+    confident detections with a wrong height had a step under 10 here, right ones over 12."""
+    a, b = TOP_STEP_ROWS
+    if image is None or image.ndim != 3 or top < b or right - left < 2 * SIDE_SKIP + 4:
+        return 1.0
+    lab = _band(image, view, top - b, top + b + 1, left, right)
+    left, right = 0, right - left  # columns of the band
+    n = b - a + 1
+    # the middle, and just inside each side: a top face of the front's own shade is no
+    # step in the middle, but it narrows as it recedes, so beside it the wall shows
+    steps = []
+    for c0, c1 in (
+        (left + SIDE_SKIP, right - SIDE_SKIP),
+        (left + SIDE_SKIP, left + SIDE_SKIP + BESIDE_COLUMNS),
+        (right - SIDE_SKIP - BESIDE_COLUMNS, right - SIDE_SKIP),
+    ):
+        above = np.median(lab[:n, c0:c1].reshape(-1, 3), axis=0)
+        below = np.median(lab[-n:, c0:c1].reshape(-1, 3), axis=0)
+        steps.append(float(np.linalg.norm(above - below)))
+    return min(1.0, max(steps) / TOP_STEP_FULL)
+
+
+#: Width of the strips sampled around a face for a frame's margin, metres at the face.
+MARGIN_STRIP_M = 0.01
+#: The margin's three strips (left, right, below) agree within this colour distance ...
+MARGIN_AGREE = 15.0
+#: ... and differ from the print they surround by at least this.
+MARGIN_VS_PRINT = 20.0
+#: A frame's margin is at most this share of the print's width (and height) wide.
+MAX_MARGIN_SHARE = 0.35
+
+
+def _run_length(colour: npt.NDArray[np.float32], ref: npt.NDArray[np.float32], limit: float) -> int:
+    """How many leading entries of ``colour`` stay within ``limit`` of ``ref``."""
+    off = np.linalg.norm(colour - ref, axis=1) > limit
+    return int(np.argmax(off)) if off.any() else colour.shape[0]
+
+
+def enclose_by_margin(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int, int, int] | None:
+    """A print (a poster, a page, bricks) on a face with a margin of the face's colour.
+
+    The found rectangle is the print when it is surrounded, left, right and below, by one
+    colour unlike its own that ends within a margin's width on each of those sides: the
+    face is then that frame (returned as bottom, top, left, right), its top where the
+    margin colour ends above. Without a rig the print's lower edge can be taken for the
+    floor contact; with one, the print's sides for the face's. Returns None: no frame."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 6:
+        return None
+    h, w = view.out.shape
+    m = max(3, int(round(view.fx * MARGIN_STRIP_M / depth_m)))
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + m + 2
+    reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + m + 2
+    if left - reach_u < 3 or right + reach_u + 4 > w or bottom + reach_v >= h or top < reach_v:
+        return None
+    k_v = max(1, (bottom - top) // 5)
+    k_u = max(1, (right - left) // 5)
+    r0, r1 = top - reach_v, bottom + reach_v + 1
+    # first the three strips and the print alone (most faces are no print: a quick no)
+    inner_rows = (top + k_v, bottom - k_v)
+    print_colour = np.median(
+        _band(image, view, *inner_rows, left + k_u, right - k_u, SUBSAMPLE).reshape(-1, 3),
+        axis=0,
+    )
+    strips = [
+        np.median(_band(image, view, *inner_rows, left - 2 - m, left - 2).reshape(-1, 3), axis=0),
+        np.median(_band(image, view, *inner_rows, right + 3, right + 3 + m).reshape(-1, 3), axis=0),
+        np.median(
+            _band(image, view, bottom + 2, bottom + 2 + m, left + k_u, right - k_u).reshape(-1, 3),
+            axis=0,
+        ),
+    ]
+    margin = np.median(np.stack(strips), axis=0)
+    if max(float(np.linalg.norm(s - margin)) for s in strips) > MARGIN_AGREE or any(
+        float(np.linalg.norm(s - print_colour)) < MARGIN_VS_PRINT for s in strips
+    ):
+        return None
+    c0 = left - reach_u - 3  # a margin's reach past the 2-3 columns skipped at a side
+    lab = _band(image, view, r0, r1, c0, right + reach_u + 4)
+    left, right = left - c0, right - c0  # columns of the band
+    rows = slice(top + k_v - r0, bottom - k_v - r0)
+    # per-column colours across the side strips' rows, per-row colours under (and over)
+    # the print
+    side_cols = np.median(lab[rows][::SUBSAMPLE], axis=0)  # W x 3
+    below_rows = np.median(lab[:, left + k_u : right - k_u : SUBSAMPLE], axis=1)  # rows x 3
+    # the margin ends within its reach on each side (a floor or wall of one colour all
+    # round runs on: no frame)
+    out_left = _run_length(side_cols[left - 2 :: -1][:reach_u], margin, MARGIN_AGREE)
+    out_right = _run_length(side_cols[right + 3 :][:reach_u], margin, MARGIN_AGREE)
+    out_below = _run_length(below_rows[bottom + 2 - r0 :][:reach_v], margin, MARGIN_AGREE)
+    if min(out_left, out_right, out_below) < 2 or max(
+        out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
+    ):
+        return None
+    out_above = _run_length(below_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
+    new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
+    return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right

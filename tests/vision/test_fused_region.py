@@ -1,0 +1,305 @@
+"""The fused method's colour extent: a face is as wide as its colour runs along its foot."""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+import pytest
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import region
+from obstacle_fusion.vision.fused.region import widen_by_colour
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import View
+
+H, W = 240, 320
+TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face; its foot is row BOTTOM
+DEPTH = 1.0  # metres: fx = 300, so MAX_GAP_M (4 cm) is 12 columns here
+FACE = (60, 160, 60)  # BGR green
+FLOOR = (120, 120, 120)
+
+
+def level_view() -> View:
+    """A distortion-free camera with no pitch: the levelled view is the image itself."""
+    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, H / 2], [0.0, 0.0, 1.0]])
+    return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+
+
+def scene(
+    seams: tuple[int, ...] = (),
+    seam_width: int = 2,
+    beyond: tuple[int, int, int] = FLOOR,
+    rng_seed: int = 0,
+) -> npt.NDArray[np.uint8]:
+    """Floor below row BOTTOM, ``beyond`` above it; a green face with dark vertical seams,
+    its planks of slightly different shades, over a textured floor."""
+    rng = np.random.default_rng(rng_seed)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = beyond
+    img[BOTTOM:] = FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = FACE
+    edges = [LEFT, *seams, RIGHT]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        img[TOP:BOTTOM, a:b] += rng.uniform(-6, 6)
+    for s in seams:
+        img[TOP:BOTTOM, s : s + seam_width] = (30, 40, 30)
+    img += rng.normal(0, 12.0, img.shape)  # a photographed floor's grain, everywhere
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def side_strength(img: npt.NDArray[np.uint8]) -> npt.NDArray[np.int16]:
+    grey = img.mean(axis=2)
+    ax = np.zeros(grey.shape, np.int16)
+    ax[:, 1:-1] = np.abs(grey[:, 2:] - grey[:, :-2]).astype(np.int16)
+    return ax
+
+
+def widen(img: npt.NDArray[np.uint8], left: int, right: int) -> tuple[int, int]:
+    return widen_by_colour(img, level_view(), side_strength(img), BOTTOM, TOP, left, right, DEPTH)
+
+
+def test_one_plank_is_widened_to_the_whole_face() -> None:
+    img = scene(seams=(100, 140, 180, 220))
+    left, right = widen(img, 142, 180)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_face_found_whole_keeps_its_sides() -> None:
+    img = scene(seams=(100, 140, 180, 220))
+    assert widen(img, LEFT, RIGHT) == (LEFT, RIGHT)
+
+
+def test_a_gap_wider_than_a_seam_ends_the_face() -> None:
+    """Two boxes side by side, 5 cm apart (15 columns at 1 m): the other is not this one."""
+    img = scene(seams=(150,), seam_width=15)
+    left, right = widen(img, 170, 240)
+    assert left >= 160 and abs(right - RIGHT) <= 2
+
+
+def test_a_seam_within_the_gap_limit_is_crossed() -> None:
+    """The same gap at 3 cm (9 columns) is a seam: the face runs on across it."""
+    img = scene(seams=(150,), seam_width=9)
+    left, right = widen(img, 170, 240)
+    assert abs(left - LEFT) <= 2
+
+
+def test_the_face_colour_beyond_its_foot_without_a_floor_step_is_not_the_face() -> None:
+    """Above the contact row beyond the sides the colour matches the face's, but so does the
+    floor below (a green floor running back): no foot there, so no widening."""
+    img = scene(beyond=FACE)
+    img[BOTTOM:, :LEFT] = img[BOTTOM - 40 : BOTTOM, :LEFT]
+    img[BOTTOM:, RIGHT:] = img[BOTTOM - 40 : BOTTOM, RIGHT:]
+    left, right = widen(img, 100, 220)
+    assert left >= LEFT - 4 and right <= RIGHT + 4
+
+
+def test_a_grey_frame_is_left_alone() -> None:
+    img = scene(seams=(100, 140, 180, 220)).mean(axis=2).astype(np.uint8)
+    assert widen_by_colour(
+        img, level_view(), side_strength(scene()), BOTTOM, TOP, 142, 180, DEPTH
+    ) == (142, 180)
+
+
+@pytest.mark.parametrize("limit", ["MIN_FACE_DISTANCE", "MIN_FLOOR_STEP"])
+def test_the_colour_limits_decide(limit: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Planks differing by about 10 (Lab) from the seed plank count as the face only
+    because MIN_FACE_DISTANCE allows it; the face's foot counts only because it steps
+    from the floor by more than MIN_FLOOR_STEP."""
+    img = scene(seams=(100, 140, 180, 220))
+    img[TOP:BOTTOM, LEFT:140] = np.clip(img[TOP:BOTTOM, LEFT:140].astype(int) + (0, 10, 0), 0, 255)
+    assert widen(img, 142, 180)[0] <= LEFT + 2
+    monkeypatch.setattr(region, limit, {"MIN_FACE_DISTANCE": 5.0, "MIN_FLOOR_STEP": 300.0}[limit])
+    assert widen(img, 142, 180)[0] >= 130
+
+
+def test_a_side_taken_out_on_the_floor_behind_is_brought_in() -> None:
+    """The side search ran on 40 columns past the right side, over floor that runs on
+    behind the face (no foot there): the side comes back to the face's."""
+    img = scene()
+    left, right = widen(img, LEFT, RIGHT + 40)
+    assert left == LEFT and abs(right - RIGHT) <= 2
+
+
+def test_a_print_on_the_face_foot_is_not_cut_off() -> None:
+    """The right 60 columns of the face carry a red print down to its foot: another colour,
+    but it stands on the contact row (a step from the floor below), so the side stays."""
+    img = scene()
+    img[TOP:BOTTOM, RIGHT - 60 : RIGHT] = (40, 40, 200)
+    assert widen(img, LEFT, RIGHT) == (LEFT, RIGHT)
+
+
+def test_the_floorless_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "MIN_TRIM_FLOORLESS", 1.01)
+    assert widen(scene(), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+
+
+def test_a_box_of_the_face_colour_standing_farther_back_beside_it_is_not_widened_into() -> None:
+    """Beside the face's right side stands another green box whose foot is 7 rows higher
+    (farther back): above those rows it looks like the face, but the face's own foot, just
+    above the contact row, shows the floor there."""
+    img = scene()
+    img[TOP : BOTTOM - 7, RIGHT : RIGHT + 40] = FACE
+    left, right = widen(img, LEFT, RIGHT)
+    assert right <= RIGHT + 3
+
+
+# -- the top from the colour ---------------------------------------------------------------
+
+WALL, WALL_FOOT = (150, 90, 120), (120, 120, 40)  # a purple wall, a teal strip at its foot
+FACE_TOP = 80
+
+
+def wall_scene(
+    top_face_rows: int = 0,
+    top_face: tuple[int, int, int] = (90, 90, 220),
+    narrowing: int = 2,
+) -> npt.NDArray[np.uint8]:
+    """A red face from row FACE_TOP down to BOTTOM in front of a wall whose teal foot strip
+    (rows 140..150) runs behind it; with ``top_face_rows``, a top face of colour
+    ``top_face`` above the front face, its sides ``narrowing`` columns a row towards the
+    image centre as it recedes."""
+    rng = np.random.default_rng(1)
+    img = np.empty((H, W, 3), np.float64)
+    img[:] = WALL
+    img[140:150] = WALL_FOOT
+    img[150:] = FLOOR
+    img[FACE_TOP:BOTTOM, LEFT:RIGHT] = (40, 40, 170)
+    for i in range(top_face_rows):
+        shrink = narrowing * (i + 1)
+        img[FACE_TOP - 1 - i, LEFT + shrink : RIGHT - shrink] = top_face
+    img += rng.normal(0, 4.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def top_strength(img: npt.NDArray[np.uint8]) -> npt.NDArray[np.float32]:
+    grey = img.mean(axis=2)
+    ay = np.zeros(grey.shape, np.float32)
+    ay[1:-1] = np.abs(grey[2:] - grey[:-2])
+    return ay
+
+
+def raise_top(img: npt.NDArray[np.uint8], top: int) -> int:
+    return region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, top, LEFT, RIGHT, DEPTH
+    )
+
+
+def test_a_wall_line_crossing_the_face_is_not_its_top() -> None:
+    """Found at the strip's foot (row 150), the top goes up to the face's own top."""
+    assert abs(raise_top(wall_scene(), 150) - FACE_TOP) <= 2
+
+
+def test_the_true_top_stays() -> None:
+    assert raise_top(wall_scene(), FACE_TOP) == FACE_TOP
+
+
+def test_a_receding_top_face_is_not_raised_into() -> None:
+    """The top face is the face's material in another light and narrows as it recedes."""
+    assert raise_top(wall_scene(top_face_rows=12), FACE_TOP) == FACE_TOP
+
+
+def test_a_top_face_of_the_front_colour_is_told_by_its_narrowing() -> None:
+    """Lit like the front, the top face still recedes: its colour leaves the front's sides."""
+    img = wall_scene(top_face_rows=12, top_face=(40, 40, 170))
+    assert raise_top(img, FACE_TOP) <= FACE_TOP + 1 and raise_top(img, FACE_TOP) >= FACE_TOP - 3
+
+
+def test_a_top_face_as_wide_as_the_front_is_told_by_its_shade() -> None:
+    """Not narrowing (seen from straight ahead), a slightly lighter top face is a step."""
+    img = wall_scene(top_face_rows=12, top_face=(55, 55, 190), narrowing=0)
+    assert raise_top(img, FACE_TOP) >= FACE_TOP - 3
+
+
+def test_the_beside_step_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Above the found top the face must differ from what stands beside it."""
+    monkeypatch.setattr(region, "MIN_BESIDE_STEP", 500.0)
+    assert raise_top(wall_scene(), 150) == 150
+
+
+def test_a_top_face_is_told_from_a_line_inside_the_front() -> None:
+    img = wall_scene(top_face_rows=12)
+    view = level_view()
+    # the 12 rows above the front face are a top face: lighter than the front
+    assert region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT + 30, RIGHT - 30)
+    # 12 rows of the front face itself are not
+    assert not region.looks_like_top_face(img, view, FACE_TOP + 5, FACE_TOP + 17, LEFT, RIGHT)
+    # too thin to judge by colour: left to the gradients
+    assert region.looks_like_top_face(
+        img, view, FACE_TOP + 5, FACE_TOP + 5 + region.MIN_TOP_FACE_ROWS - 1, LEFT, RIGHT
+    )
+
+
+def test_a_top_that_is_a_colour_boundary_keeps_the_confidence() -> None:
+    img = wall_scene()
+    assert region.top_agreement(img, level_view(), FACE_TOP, LEFT, RIGHT) == 1.0
+
+
+def test_a_top_inside_one_colour_cuts_the_confidence() -> None:
+    img = wall_scene()
+    assert region.top_agreement(img, level_view(), FACE_TOP + 40, LEFT, RIGHT) < 0.3
+
+
+def test_the_top_step_scales_in_proportion() -> None:
+    """A step of half TOP_STEP_FULL (Lab) gives about half the confidence."""
+    img = np.full((H, W, 3), 128, np.uint8)
+    img[FACE_TOP:] = 128 + 6  # grey: Lab L moves by about 6 for 6 grey levels
+    lab = region._band(img, level_view(), FACE_TOP - 5, FACE_TOP + 6)
+    step = float(np.linalg.norm(lab[0, 100] - lab[-1, 100]))
+    expected = step / region.TOP_STEP_FULL
+    got = region.top_agreement(img, level_view(), FACE_TOP, LEFT, RIGHT)
+    assert 0.2 < expected < 0.9 and abs(got - expected) < 0.05
+
+
+def test_a_grey_frame_keeps_its_confidence() -> None:
+    img = wall_scene().mean(axis=2).astype(np.uint8)
+    assert region.top_agreement(img, level_view(), FACE_TOP + 40, LEFT, RIGHT) == 1.0
+
+
+# -- a print inside a frame ----------------------------------------------------------------
+
+PRINT = (50, 60, 200)  # a red print on the green face, its margin MARGIN columns wide
+MARGIN = 12
+
+
+def framed_scene(margin: int = MARGIN) -> npt.NDArray[np.uint8]:
+    img = scene()
+    img[TOP + margin : BOTTOM - margin, LEFT + margin : RIGHT - margin] = PRINT
+    return img
+
+
+def enclose(img: npt.NDArray[np.uint8]) -> tuple[int, int, int, int] | None:
+    m = MARGIN
+    return region.enclose_by_margin(
+        img, level_view(), BOTTOM - m, TOP + m, LEFT + m, RIGHT - m, DEPTH
+    )
+
+
+def test_a_print_with_a_margin_is_enclosed_by_its_frame() -> None:
+    found = enclose(framed_scene())
+    assert found is not None
+    bottom, top, left, right = found
+    assert abs(bottom - BOTTOM) <= 2 and abs(top - TOP) <= 2
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_plain_face_has_no_frame() -> None:
+    """Beside and below a plain red face: a grey wall and floor that run on (no margin
+    that ends)."""
+    img = scene(beyond=FLOOR)
+    img[TOP + MARGIN : BOTTOM - MARGIN, LEFT + MARGIN : RIGHT - MARGIN] = PRINT
+    img[TOP:BOTTOM, LEFT : LEFT + MARGIN] = FLOOR
+    img[TOP:BOTTOM, RIGHT - MARGIN : RIGHT] = FLOOR
+    img[BOTTOM - MARGIN : BOTTOM, LEFT:RIGHT] = FLOOR
+    assert enclose(img) is None
+
+
+def test_a_margin_wider_than_its_share_is_no_frame(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The margin is 12 columns for a 176-column print: a share of 0.07. Allowed at 0.35,
+    refused when the share allowed is under it."""
+    assert enclose(framed_scene()) is not None
+    monkeypatch.setattr(region, "MAX_MARGIN_SHARE", 0.03)
+    assert enclose(framed_scene()) is None
+
+
+def test_the_margin_must_differ_from_the_print(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "MARGIN_VS_PRINT", 400.0)
+    assert enclose(framed_scene()) is None
