@@ -352,3 +352,31 @@ def test_a_brick_face_the_edges_miss_is_found_by_colour_with_a_modest_confidence
     assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
     assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
+
+
+def test_sides_that_are_colour_boundaries_keep_the_confidence() -> None:
+    img = scene()
+    assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT) == 1.0
+
+
+def test_a_side_on_a_seam_inside_the_face_cuts_the_confidence() -> None:
+    """The right side taken on a seam 60 columns inside the face: the face's colour is on
+    both sides of it."""
+    img = scene()
+    img[TOP:BOTTOM, 200:202] = (30, 40, 30)  # a dark seam, one plank's shade either side
+    assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, 200) < 0.3
+
+
+def test_the_side_step_scales_in_proportion() -> None:
+    """Beyond the right side a colour half SIDE_STEP_FULL (Lab) away from the face's."""
+    img = np.full((H, W, 3), 120, np.uint8)
+    img[:, RIGHT:] = 126
+    lab = region._band(img, level_view(), 100, 101)
+    step = float(np.linalg.norm(lab[0, RIGHT - 10] - lab[0, RIGHT + 10]))
+    got = region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT)
+    # the left side has no step at all: the weaker side decides
+    assert got == 0.0
+    img[:, : LEFT + 1] = 126
+    got = region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT)
+    assert 0.2 < step / region.SIDE_STEP_FULL < 0.9
+    assert abs(got - step / region.SIDE_STEP_FULL) < 0.05

@@ -30,6 +30,7 @@ from obstacle_fusion.vision.fused.region import (
     face_from_colour,
     looks_like_top_face,
     raise_top_by_colour,
+    side_agreement,
     top_agreement,
     widen_by_colour,
 )
@@ -197,6 +198,7 @@ class FusedMethod:
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
         # a top that is no colour boundary may be a line on the face or behind it
         conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
+        conf *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
             fail.confidence = round(conf, 3)

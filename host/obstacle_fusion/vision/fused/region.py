@@ -510,3 +510,18 @@ def _side_step(
         beside = np.median(_band(image, view, r0, r1, c, d).reshape(-1, 3), axis=0)
         steps.append(float(np.linalg.norm(inside - beside)))
     return min(steps)
+
+
+#: Sides with a colour step under this (Lab, the face just inside against what is just
+#: beside) scale the confidence down in proportion.
+SIDE_STEP_FULL = 12.0
+
+
+def side_agreement(
+    image: npt.NDArray[Any] | None, view: View, bottom: int, top: int, left: int, right: int
+) -> float:
+    """0..1: how clearly the face's colour ends at its weaker side (a seam inside the face
+    or a shadow beside it is no colour step)."""
+    if image is None or image.ndim != 3 or bottom - top < 8:
+        return 1.0
+    return min(1.0, _side_step(image, view, bottom, top, left, right) / SIDE_STEP_FULL)
