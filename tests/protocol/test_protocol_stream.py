@@ -312,3 +312,272 @@ def test_gaps_use_the_sequence_byte_not_the_id_or_payload() -> None:
     decoder.feed(encode(Ack(command_id=0x41, command_seq=0), 3))
     decoder.feed(b"\x13\x37" + encode(Ack(command_id=0x41, command_seq=0), 6))
     assert decoder.stats.resyncs == 1 and decoder.stats.seq_gaps == 2
+
+
+# --- The whole-chunk path: a chunk of frames of one fixed-length message, decoded at once ---
+
+
+def _ranges(count: int, first_seq: int = 0) -> list[bytes]:
+    return [
+        encode(Range(measurement=i, sensor_id=i % 4, trigger_us=60_000 * i, echo_ticks=4000 + i,
+                     status=0), (first_seq + i) & 0xFF)
+        for i in range(count)
+    ]
+
+
+def _frame_by_frame(monkeypatch: object, pieces: list[bytes]) -> StreamDecoder:
+    """A decoder fed ``pieces`` with the whole-chunk path switched off."""
+    from obstacle_fusion.protocol import stream
+
+    decoder = StreamDecoder()
+    old = stream.RUN_MIN_FRAMES
+    stream.RUN_MIN_FRAMES = 10**9
+    try:
+        decoder.out = feed_all(decoder, pieces)  # type: ignore[attr-defined]
+    finally:
+        stream.RUN_MIN_FRAMES = old
+    return decoder
+
+
+def _same_as_frame_by_frame(pieces: list[bytes]) -> list[Message]:
+    ref = _frame_by_frame(None, pieces)
+    decoder = StreamDecoder()
+    got = feed_all(decoder, pieces)
+    assert got == ref.out  # type: ignore[attr-defined]
+    assert decoder.stats == ref.stats
+    assert (decoder.last_seq, decoder.pending_bytes) == (ref.last_seq, ref.pending_bytes)
+    return got
+
+
+def test_a_clean_run_is_decoded_whole_with_no_frame_by_frame_step(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """With the frame-by-frame decoders made to fail, a chunk of RANGE frames still comes
+    out whole: the whole-chunk path decoded it, with the counters of a frame-by-frame run."""
+    from obstacle_fusion.protocol import stream
+
+    frames = _ranges(40, first_seq=250)  # the seq wraps inside the run
+    expected = _same_as_frame_by_frame([b"".join(frames)])
+
+    def no(*args: object) -> None:
+        raise AssertionError("decoded frame by frame")
+
+    monkeypatch.setattr(stream, "_FAST", [None] * 256)
+    monkeypatch.setattr(stream, "decode_body", no)
+    decoder = StreamDecoder()
+    decoder.last_seq = 248  # seq 249 lost before the run
+    assert decoder.feed(b"".join(frames) + frames[0][:5]) == expected
+    s = decoder.stats
+    assert (s.frames, s.seq_gaps, s.bad_frames, s.bytes_discarded) == (40, 1, 0, 0)
+    assert decoder.last_seq == (250 + 39) & 0xFF and decoder.pending_bytes == 5
+
+
+def _whole_runs(monkeypatch) -> list[int | None]:  # type: ignore[no-untyped-def]
+    """Record how many messages each whole-chunk attempt returned (None: it declined)."""
+    from obstacle_fusion.protocol import stream
+
+    seen: list[int | None] = []
+    real = stream.StreamDecoder._decode_run
+
+    def spy(self, *args):  # type: ignore[no-untyped-def]
+        got = real(self, *args)
+        seen.append(None if got is None else len(got))
+        return got
+
+    monkeypatch.setattr(stream.StreamDecoder, "_decode_run", spy)
+    return seen
+
+
+def test_eight_frames_the_shortest_frames_and_a_run_after_an_overflow_go_whole(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """The whole-chunk path takes a chunk of 8 frames, a run of the shortest frames (STOP: no
+    payload, 5 bytes), and a run that follows the end of an overflowed run in its chunk."""
+    from obstacle_fusion.protocol.generated import Stop
+
+    seen = _whole_runs(monkeypatch)
+    decoder = StreamDecoder()
+    assert len(decoder.feed(b"".join(_ranges(8)))) == 8
+    assert decoder.feed(b"".join(encode(Stop(), seq) for seq in range(8, 20))) == [Stop()] * 12
+    decoder.feed(b"\x01" * 300)  # no frame is this long: the tail overflows
+    got = decoder.feed(b"\x01" * 10 + b"\x00" + b"".join(_ranges(9, first_seq=20)))
+    assert len(got) == 9
+    assert seen == [8, 12, 9]
+    s = decoder.stats
+    assert (s.oversized, s.seq_gaps, s.frames) == (1, 0, 29)
+
+
+def test_frames_of_a_wrong_length_with_a_right_crc_in_a_run_are_bad_lengths() -> None:
+    """Two frames with RANGE's id and a right CRC, one byte short and one byte long (the
+    second's seq byte equal to RANGE's id): the chunk is as long as a run of RANGE and every
+    19th body byte is RANGE's id, but its delimiters are not every 20th byte: two bad
+    lengths, and the other frames decoded."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+
+    def frame(body: bytes) -> bytes:
+        crc = binascii.crc_hqx(body, CRC_SEEDS[Range.MSG_ID]).to_bytes(2, "big")
+        return bytes(cobs.encode(body + crc)) + b"\x00"
+
+    frames = _ranges(10)
+    frames[4] = frame(bytes((Range.MSG_ID, 4)) + bytes(range(1, 14)))  # 13-byte payload
+    frames[5] = frame(bytes((Range.MSG_ID, Range.MSG_ID)) + bytes(range(1, 16)))  # 15 bytes
+    assert len(frames[4]) + len(frames[5]) == 2 * len(frames[0])
+    decoder = StreamDecoder()
+    got = decoder.feed(b"".join(frames))
+    assert [m.measurement for m in got] == [0, 1, 2, 3, 6, 7, 8, 9]  # type: ignore[attr-defined]
+    assert decoder.stats.bad_lengths == 2 and decoder.stats.frames == 8
+    # Frame by frame too: four bytes too long, four too short, a right CRC.
+    for payload in (bytes(range(1, 19)), bytes(range(1, 11))):
+        assert decoder.feed(frame(bytes((Range.MSG_ID, 10)) + payload)) == []
+    assert decoder.stats.bad_lengths == 4 and decoder.stats.frames == 8
+
+
+def test_a_run_with_gaps_counts_every_lost_frame() -> None:
+    frames = _ranges(30)
+    del frames[20:23]  # 3 lost
+    del frames[5]  # 1 lost
+    decoder = StreamDecoder()
+    assert len(decoder.feed(b"".join(frames))) == 26
+    assert decoder.stats.seq_gaps == 4 and decoder.last_seq == 29
+    assert len(decoder.feed(b"".join(_ranges(10, first_seq=40)))) == 10  # 30..39 lost
+    assert decoder.stats.seq_gaps == 4 + 10 and decoder.last_seq == 49
+    _same_as_frame_by_frame([b"".join(frames), b"".join(_ranges(10, first_seq=40))])
+
+
+def test_a_run_that_skips_or_repeats_its_seq_counts_the_gaps() -> None:
+    """Every other frame lost (0, 2, 4, ...), and one seq sent again and again (a repeat is
+    255 lost frames, as frame by frame): the consecutive-seq shortcut must not pass them."""
+    evens = b"".join(_ranges(40)[0::2])
+    decoder = StreamDecoder()
+    assert len(decoder.feed(evens)) == 20
+    assert decoder.stats.seq_gaps == 19 and decoder.last_seq == 38
+    ack = Ack(command_id=1, command_seq=2)
+    assert decoder.feed(encode(ack, 40) * 10) == [ack] * 10  # an even seq repeated
+    assert decoder.stats.seq_gaps == 19 + 1 + 9 * 255
+    assert decoder.feed(encode(ack, 41) * 10) == [ack] * 10  # an odd one
+    assert decoder.stats.seq_gaps == 19 + 1 + 9 * 255 + 9 * 255
+    _same_as_frame_by_frame([evens, encode(ack, 40) * 10, encode(ack, 41) * 10])
+
+
+def test_a_bad_frame_in_a_run_is_counted_and_the_others_come_out() -> None:
+    """One frame of a run with a wrong CRC, one that is no COBS (same length): the run falls
+    back to frame by frame, which counts both and decodes the other frames."""
+    from cobs import cobs
+
+    frames = [bytearray(f) for f in _ranges(20)]
+    body = bytearray(cobs.decode(bytes(frames[4][:-1])))
+    body[-1] ^= 0x10  # COBS intact, CRC wrong
+    frames[4] = bytearray(cobs.encode(bytes(body)) + b"\x00")
+    frames[11][0] = 0x7F  # a code byte pointing past the frame's end
+    decoder = StreamDecoder()
+    got = decoder.feed(b"".join(frames))
+    assert [m.measurement for m in got] == [i for i in range(20) if i not in (4, 11)]  # type: ignore[attr-defined]
+    s = decoder.stats
+    assert (s.crc_errors, s.cobs_errors, s.frames, s.seq_gaps) == (1, 1, 18, 2)
+    _same_as_frame_by_frame([bytes(b"".join(frames))])
+
+
+def test_a_crc_right_for_another_message_of_the_same_length_is_a_crc_error() -> None:
+    """CONFIG has RANGE's length: a frame with CONFIG's id and a CRC seeded as RANGE's is
+    a CRC error inside a run of RANGE too, never a RANGE."""
+    import binascii
+
+    from cobs import cobs
+    from obstacle_fusion.protocol.codec import CRC_SEEDS
+    from obstacle_fusion.protocol.generated import Config
+
+    frames = _ranges(12)
+    body = bytearray(cobs.decode(frames[6][:-1]))
+    body[0] = Config.MSG_ID
+    crc = binascii.crc_hqx(bytes(body[:-2]), CRC_SEEDS[Range.MSG_ID])
+    body[-2:] = crc.to_bytes(2, "big")
+    frames[6] = bytes(cobs.encode(bytes(body))) + b"\x00"
+    decoder = StreamDecoder()
+    got = decoder.feed(b"".join(frames))
+    assert len(got) == 11 and all(isinstance(m, Range) for m in got)
+    assert decoder.stats.crc_errors == 1 and decoder.stats.frames == 11
+
+
+def test_frames_of_other_lengths_summing_to_a_run_are_decoded_one_by_one() -> None:
+    """A SET_CONFIG (one byte shorter than RANGE) and a LOG one byte longer, in a run of
+    RANGE: the chunk is as long as a run of RANGE, but its delimiters are not every 20th
+    byte, so the frames are decoded one by one, each as what it is."""
+    from obstacle_fusion.protocol.generated import SetConfig
+
+    frames = _ranges(16)
+    short = encode(SetConfig(cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000,
+                             heartbeat_ms=1000), 5)
+    long = encode(Log(level=1, text="x" * 14), 6)
+    assert len(short) + len(long) == 2 * len(frames[0])
+    frames[5:7] = [short, long]
+    got = _same_as_frame_by_frame([b"".join(frames)])
+    assert [type(m).__name__ for m in got[4:8]] == ["Range", "SetConfig", "Log", "Range"]
+    assert len(got) == 16
+
+
+def test_a_run_of_hello_starts_a_new_count_at_each_one() -> None:
+    from obstacle_fusion.protocol.generated import Hello
+
+    hello = Hello(1, 2, 0, 1, 0, 1, 16_000_000, 2_000_000, 1)
+    decoder = StreamDecoder()
+    decoder.feed(encode(Ack(command_id=1, command_seq=0), 0))
+    got = decoder.feed(b"".join(encode(hello, seq) for seq in (9, 200, 3, 77, 1, 5, 100, 42, 7)))
+    assert got == [hello] * 9
+    assert decoder.stats.seq_gaps == 0 and decoder.last_seq == 7
+
+
+def test_a_run_of_empty_frames_is_counted_not_raised() -> None:
+    """b"\\x01" decodes to an empty body: eight of them are eight truncated frames."""
+    decoder = StreamDecoder()
+    assert decoder.feed(b"\x01\x00" * 8 + b"".join(_ranges(8))) == _same_as_frame_by_frame(
+        [b"\x01\x00" * 8 + b"".join(_ranges(8))]
+    )
+    assert decoder.stats.truncated == 8 and decoder.stats.frames == 8
+
+
+def _mutate(frame: bytes, kind: int, at: int) -> bytes:
+    if len(frame) < 2:  # a frame already lost or cut to its delimiter
+        return frame
+    out = bytearray(frame)
+    pos = at % (len(out) - 1)
+    if kind == 0:
+        out[pos] ^= 0x5A  # a flipped byte (maybe a new 0x00)
+    elif kind == 1:
+        del out[pos]  # a lost byte
+    elif kind == 2:
+        out.insert(pos, 0)  # a new delimiter
+    elif kind == 3:
+        out[pos] = 0xFF
+    return bytes(out)
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow], max_examples=150, deadline=None)
+@given(
+    st.integers(8, 60),
+    st.integers(0, 255),
+    st.lists(st.tuples(st.integers(0, 59), st.integers(0, 4), st.integers(0, 40)), max_size=4),
+    st.lists(st.integers(0, 1500), max_size=4),
+    st.sampled_from(["range", "heartbeat", "config"]),
+)
+def test_runs_with_any_damage_decode_as_frame_by_frame(
+    count: int, first_seq: int, damage: list[tuple[int, int, int]], cuts: list[int], kind: str
+) -> None:
+    """Runs of one message, a few frames damaged (a byte flipped, lost, turned into 0x00 or
+    0xFF, a frame lost), in any chunking: the same messages, counters, last seq and pending
+    bytes as the frame-by-frame decoder."""
+    from obstacle_fusion.protocol.generated import Config
+
+    if kind == "range":
+        frames = _ranges(count, first_seq)
+    elif kind == "heartbeat":
+        frames = [encode(Heartbeat(uptime_ms=i, frames_sent=i * 3, rx_errors=0, tx_overruns=0,
+                                   state=1), (first_seq + i) & 0xFF) for i in range(count)]
+    else:
+        frames = [encode(Config(cycle_ms=60, sensor_mask=1, max_echo_us=i, echo_timeout_us=40000,
+                                heartbeat_ms=1000, state=1), (first_seq + i) & 0xFF)
+                  for i in range(count)]
+    for index, how, at in damage:
+        index %= len(frames)
+        frames[index] = b"" if how == 4 else _mutate(frames[index], how, at)
+    data = b"".join(frames)
+    _same_as_frame_by_frame(chunked(data, cuts))
+    _same_as_frame_by_frame([data])

@@ -303,3 +303,80 @@ def test_a_margin_wider_than_its_share_is_no_frame(monkeypatch: pytest.MonkeyPat
 def test_the_margin_must_differ_from_the_print(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "MARGIN_VS_PRINT", 400.0)
     assert enclose(framed_scene()) is None
+
+
+# -- a face by its colour alone --------------------------------------------------------
+
+
+def ay_of(img: npt.NDArray[np.uint8]) -> npt.NDArray[np.float32]:
+    return top_strength(img)
+
+
+def test_a_face_is_found_by_its_colour_at_the_predicted_foot() -> None:
+    img = scene(seams=(100, 140, 180, 220))
+    found = region.face_from_colour(
+        img, level_view(), side_strength(img), ay_of(img), (BOTTOM - 5, BOTTOM + 5), DEPTH
+    )
+    assert found is not None
+    contact, top, left, right, evidence = found
+    assert abs(contact - BOTTOM) <= 2 and abs(top - TOP) <= 3
+    assert abs(left - LEFT) <= 3 and abs(right - RIGHT) <= 3
+    assert 0.5 < evidence <= 1.0
+
+
+def test_no_face_where_floor_and_wall_are_one_colour() -> None:
+    img = scene(beyond=FLOOR)
+    img[TOP:BOTTOM, LEFT:RIGHT] = img[BOTTOM : BOTTOM + 1, LEFT:RIGHT]  # no face at all
+    found = region.face_from_colour(
+        img, level_view(), side_strength(img), ay_of(img), (BOTTOM - 5, BOTTOM + 5), DEPTH
+    )
+    assert found is None
+
+
+def test_a_brick_face_the_edges_miss_is_found_by_colour_with_a_modest_confidence(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A red brick face on a blue floor (room procedural/110): the joints' edges drown its
+    sides, so the edge search finds no clear face; by colour it is measured, but never
+    as a sure detection."""
+    from obstacle_fusion.sim.room_scene import render_room
+    from obstacle_fusion.vision.fused import method
+    from obstacle_fusion.vision.measure import Measurer
+
+    image, truth, spec = render_room("procedural", 110, False)
+    cam = CameraModel.paper(500, 375)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
+    assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
+    monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
+    assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
+
+
+def test_sides_that_are_colour_boundaries_keep_the_confidence() -> None:
+    img = scene()
+    assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT) == 1.0
+
+
+def test_a_side_on_a_seam_inside_the_face_cuts_the_confidence() -> None:
+    """The right side taken on a seam 60 columns inside the face: the face's colour is on
+    both sides of it."""
+    img = scene()
+    img[TOP:BOTTOM, 200:202] = (30, 40, 30)  # a dark seam, one plank's shade either side
+    assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, 200) < 0.3
+
+
+def test_the_side_step_scales_in_proportion() -> None:
+    """Beyond the right side a colour half SIDE_STEP_FULL (Lab) away from the face's."""
+    img = np.full((H, W, 3), 120, np.uint8)
+    img[:, RIGHT:] = 126
+    lab = region._band(img, level_view(), 100, 101)
+    step = float(np.linalg.norm(lab[0, RIGHT - 10] - lab[0, RIGHT + 10]))
+    got = region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT)
+    # the left side has no step at all: the weaker side decides
+    assert got == 0.0
+    img[:, : LEFT + 1] = 126
+    got = region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT)
+    assert 0.2 < step / region.SIDE_STEP_FULL < 0.9
+    assert abs(got - step / region.SIDE_STEP_FULL) < 0.05

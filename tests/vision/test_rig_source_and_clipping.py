@@ -70,6 +70,23 @@ def test_contact_rows_take_the_step_not_a_seam_line_below_it() -> None:
     assert rows and abs(rows[0] - 300) <= 2
 
 
+
+def test_contact_rows_reach_past_a_striped_floor_to_the_face() -> None:
+    """Three wide boards of another shade on the floor give five steps below the face's
+    foot (rows 312 to 360): the face's own contact, row 300, is still among the candidates
+    tried, the sixth from the bottom (MAX_CANDIDATES = 8; with four, only board edges were
+    tried)."""
+    h, w = 375, 500
+    img = np.full((h, w, 3), 150, np.uint8)  # wall
+    img[200:] = (60, 90, 120)  # floor
+    for r in (312, 336, 360):  # boards of another shade, 12 rows each
+        img[r : r + 12] = (30, 140, 60)
+    img[250:300, 150:350] = (200, 60, 40)  # the face, standing on row 300
+    view = View(CAM, Rig(), "level")
+    flat = View(CameraModel(view.k.copy(), np.zeros(5), w, h), Rig(), "level")
+    rows = contact_rows(img, flat, depth_m=1.5)
+    assert any(abs(r - 300) <= 2 for r in rows), rows
+
 def test_the_channel_adds_the_face_floor_colour_step_luminance_misses() -> None:
     view_cam = CameraModel(CAM.camera_matrix.copy(), np.zeros(5), 500, 375)
     view = View(view_cam, Rig(), "level")

@@ -154,7 +154,7 @@ class Measurer:
             grey = face_floor_grey(image, view, contact, depth)
             timer.lap("face_channel")
             fused = cast(FusedMethod, impl)
-            result = fused.run(grey, range_m, timer, image)
+            result = fused.run(grey, range_m, timer, image, rescue=grey is image)
             if not result.detected and grey is not image:
                 # the colour turn can also fade an edge luminance had: try luminance
                 result = fused.run(image, range_m, timer)

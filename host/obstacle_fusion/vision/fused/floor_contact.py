@@ -19,7 +19,7 @@ from obstacle_fusion.vision.types import View
 STEP_ROWS = 5  # rows averaged on each side of a candidate step
 MIN_STEP_GREY = 10.0  # a step smaller than this (colour distance, 8-bit) is floor texture
 NOISE_FACTOR = 5.0  # a step must stand this many median steps above the floor's own
-MAX_CANDIDATES = 4
+MAX_CANDIDATES = 8
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
 
 

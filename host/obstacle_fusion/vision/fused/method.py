@@ -27,8 +27,10 @@ from obstacle_fusion.vision.fused.profiles import clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     enclose_by_margin,
+    face_from_colour,
     looks_like_top_face,
     raise_top_by_colour,
+    side_agreement,
     top_agreement,
     widen_by_colour,
 )
@@ -42,6 +44,10 @@ from obstacle_fusion.vision.fused.search import (
 from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE
 from obstacle_fusion.vision.types import Measurement, Timer, View
+
+#: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
+#: detection: on textured rooms its height was often short of the face's).
+RESCUE_MAX_CONFIDENCE = 0.4
 
 
 class FusedMethod:
@@ -61,6 +67,7 @@ class FusedMethod:
         self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
+        self._noise = 1.0  # the frame's |d/dy| noise level, for the colour rescue
 
     def run(
         self,
@@ -68,9 +75,12 @@ class FusedMethod:
         range_m: float,
         timer: Timer,
         colour: npt.NDArray[Any] | None = None,
+        rescue: bool = True,
     ) -> Measurement:
         """``colour``: the BGR frame ``image`` was made from, when ``image`` is one channel
-        of it (the face's colour along its foot sets its width)."""
+        of it (the face's colour along its foot sets its width). ``rescue``: where the
+        edges give no clear face, seek it by its colour (off for a first try that a
+        caller repeats on another channel)."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
@@ -107,6 +117,7 @@ class FusedMethod:
         # and the reads cost less than in float32)
         cv2.dilate(ax, self._kernel3, dst=ax3)
         noise = median(ay[::4, ::4]) / 0.6745 + 1.0
+        self._noise = noise
         timer.lap("gradients")
 
         # candidate search and scoring, one floor-contact row at a time
@@ -128,11 +139,18 @@ class FusedMethod:
                 break  # a clear face at the most likely floor-contact row
         best, rivals = verified(v, ax, cands)
         timer.lap("search")
+        seen = colour if colour is not None else image  # the colours the extent reads
         if best is None:
+            rescued = (
+                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, range_m, timer)
+                if rescue
+                else None
+            )
+            if rescued is not None:
+                return rescued
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
-        seen = colour if colour is not None else image  # the colours the extent reads
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
@@ -150,6 +168,13 @@ class FusedMethod:
         conf = confidence(best, rivals)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
+            rescued = (
+                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, range_m, timer)
+                if rescue
+                else None
+            )
+            if rescued is not None and (rescued.confidence or 0.0) > conf:
+                return rescued
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
@@ -173,12 +198,71 @@ class FusedMethod:
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
         # a top that is no colour boundary may be a line on the face or behind it
         conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
+        conf *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
         timer.lap("extent")
+        return self._refine(
+            ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span
+        )
+
+    def _colour_face(
+        self,
+        seen: npt.NDArray[Any],
+        ax: npt.NDArray[np.int16],
+        ay: npt.NDArray[np.float32],
+        ax3: npt.NDArray[np.int16],
+        dy: npt.NDArray[np.int16],
+        rows: tuple[int, int],
+        depth: float,
+        range_m: float,
+        timer: Timer,
+    ) -> Measurement | None:
+        """The face from its colour alone (:func:`.region.face_from_colour`), measured, or
+        None: where the edges gave no face or no clear one (a brick pattern's joints, a
+        face the floor's shade in grey)."""
+        found = face_from_colour(seen, self.view, ax3, ay, rows, depth)
+        if found is None:
+            return None
+        rb, vt, ul, ur, evidence = found
+        # the sides, in the gradients, may run on above where the colour walk stopped (a
+        # joint or a label across the face): the face's top is where they end
+        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, self._noise)
+        if evidence < self.min_confidence or rb >= ay.shape[0] - 3:
+            return None
+        # without edges to confirm it, a face found by colour alone is never a sure one
+        conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
+        if conf < self.min_confidence:
+            return None
+        sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+        return self._refine(
+            ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
+        )
+
+    def _refine(
+        self,
+        ax: npt.NDArray[np.int16],
+        ay: npt.NDArray[np.float32],
+        ax3: npt.NDArray[np.int16],
+        dy: npt.NDArray[np.int16],
+        rb: int,
+        ul: int,
+        ur: int,
+        vt: int,
+        sign: float,
+        top_row: float | None,
+        conf: float,
+        depth: float,
+        range_m: float,
+        timer: Timer,
+        span: tuple[int, int] | None,
+    ) -> Measurement:
+        """The chosen face measured: the top edge's gradient window, then :func:`refine`."""
+        n = ay.shape[0]
+        v = self.view
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]
         r0 = int(clamp(vt - 3, 0, n - 7))

@@ -215,8 +215,10 @@ def raise_top_by_colour(
     left: int,
     right: int,
     depth_m: float,
+    reach: int | None = None,
 ) -> int:
-    """The face's top row, moved up while the rows above it show the face's colour.
+    """The face's top row, moved up while the rows above it show the face's colour
+    (at most ``reach`` rows up; default twice the face's height as found).
 
     A background line crossing the face (the wall's foot, a shelf) is a horizontal edge
     between the face's sides; the search takes it for the face's top when the face's sides
@@ -236,7 +238,7 @@ def raise_top_by_colour(
     short = max(0, top - max_gap - STEP_ROWS - SNAP_ROWS - 2)
     r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap)
     if short > 0 and end <= max_gap + STEP_ROWS:  # it may run on above the short band
-        r0 = max(0, top - 2 * (bottom - top))
+        r0 = max(0, top - (2 * (bottom - top) if reach is None else reach))
         r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap)
     if k - end <= SNAP_ROWS:
         return top
@@ -455,3 +457,102 @@ def enclose_by_margin(
     out_above = _run_length(below_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
     new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
     return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
+
+
+#: Half the beam's core sampled for the face's colour at its foot, metres at the face.
+CORE_HALF_M = 0.03
+#: Rows either side of a contact row read for the face (above) and the floor (below).
+CONTACT_ROWS = 5
+#: Rows above the contact row taken as the face before its top is sought (enough for a
+#: brick course, so that the face's own spread of colour is known).
+SEED_ROWS = 24
+#: A colour face needs a foot this distinct from the floor (Lab) for full evidence.
+FULL_FOOT_STEP = 40.0
+#: ... and sides this distinct from what stands beside it.
+FULL_SIDE_STEP = 30.0
+
+
+def face_from_colour(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ax: npt.NDArray[np.int16],
+    ay: npt.NDArray[np.float32],
+    rows: tuple[int, int],
+    depth_m: float,
+) -> tuple[int, int, int, int, float] | None:
+    """A face found by its colour alone, where the edges found none: (contact row, top row,
+    left, right, evidence 0..1) in the levelled view, or None.
+
+    The sonar says something stands at this depth, and the rig where its foot meets the
+    floor (``rows``: the band of likely contact rows). Just above that row, in the beam's
+    core, is the face; just below, the floor. The contact row is where that colour step
+    is largest; the face runs along its foot as far as its colour does (as in
+    :func:`widen_by_colour`), and up as far as :func:`raise_top_by_colour` follows it.
+    Faces whose texture drowns their edges (a brick pattern's joints) are found so."""
+    if image is None or image.ndim != 3:
+        return None
+    h, w = view.out.shape
+    r0, r1 = rows
+    core = max(2, int(round(view.fx * CORE_HALF_M / depth_m)))
+    c0, c1 = int(view.cx) - core, int(view.cx) + core + 1
+    lo, hi = r0 - CONTACT_ROWS - 2, r1 + CONTACT_ROWS + 3
+    if lo < 0 or hi > h or c0 < 0 or c1 > w:
+        return None
+    prof = np.median(_band(image, view, lo, hi, c0, c1), axis=1)  # per row
+    best_step, contact = 0.0, -1
+    for r in range(r0, r1 + 1):
+        i = r - lo
+        above = np.median(prof[i - CONTACT_ROWS - 1 : i - 1], axis=0)
+        below = np.median(prof[i + 2 : i + CONTACT_ROWS + 2], axis=0)
+        step = float(np.linalg.norm(above - below))
+        if step > best_step:
+            best_step, contact = step, r
+    if contact < 0 or best_step < MIN_FLOOR_STEP:
+        return None
+    # sides: the foot's colour run from the core, as wide as the face's colour goes
+    left, right = widen_by_colour(
+        image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m
+    )
+    if right - left < 2 * SIDE_SKIP + 6:
+        return None
+    start = contact - SEED_ROWS
+    top = raise_top_by_colour(image, view, ay, contact, start, left, right, depth_m, start)
+    if top >= start:
+        return None  # the face's colour does not run up: no face shape
+    side_step = _side_step(image, view, contact, top, left, right)
+    evidence = min(1.0, best_step / FULL_FOOT_STEP) * min(1.0, side_step / FULL_SIDE_STEP)
+    return contact, top, left, right, evidence
+
+
+def _side_step(
+    image: npt.NDArray[Any], view: View, bottom: int, top: int, left: int, right: int
+) -> float:
+    """The weaker side's colour step: the face just inside against what is just beside."""
+    w = view.out.shape[1]
+    r0, r1 = top + (bottom - top) // 4, bottom - (bottom - top) // 4
+    steps = []
+    for a, b, c, d in (
+        (left + 2, left + 2 + BESIDE_COLUMNS, left - 2 - BESIDE_COLUMNS, left - 2),
+        (right - 2 - BESIDE_COLUMNS, right - 2, right + 3, right + 3 + BESIDE_COLUMNS),
+    ):
+        if c < 0 or d > w or r1 - r0 < 2:
+            return 0.0
+        inside = np.median(_band(image, view, r0, r1, a, b).reshape(-1, 3), axis=0)
+        beside = np.median(_band(image, view, r0, r1, c, d).reshape(-1, 3), axis=0)
+        steps.append(float(np.linalg.norm(inside - beside)))
+    return min(steps)
+
+
+#: Sides with a colour step under this (Lab, the face just inside against what is just
+#: beside) scale the confidence down in proportion.
+SIDE_STEP_FULL = 12.0
+
+
+def side_agreement(
+    image: npt.NDArray[Any] | None, view: View, bottom: int, top: int, left: int, right: int
+) -> float:
+    """0..1: how clearly the face's colour ends at its weaker side (a seam inside the face
+    or a shadow beside it is no colour step)."""
+    if image is None or image.ndim != 3 or bottom - top < 8:
+        return 1.0
+    return min(1.0, _side_step(image, view, bottom, top, left, right) / SIDE_STEP_FULL)
