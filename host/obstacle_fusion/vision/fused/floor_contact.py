@@ -14,6 +14,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from obstacle_fusion.vision.fused.profiles import median_of, row_norms
 from obstacle_fusion.vision.types import View
 
 STEP_ROWS = 5  # rows averaged on each side of a candidate step
@@ -49,8 +50,8 @@ def contact_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> li
     v = np.arange(top + k, n - k)
     above = (cs[v] - cs[v - k]) / k
     below = (cs[v + k] - cs[v]) / k
-    step = np.linalg.norm(above - below, axis=1)
-    threshold = max(MIN_STEP_GREY, NOISE_FACTOR * float(np.median(step)))
+    step = row_norms(above - below)
+    threshold = max(MIN_STEP_GREY, NOISE_FACTOR * float(median_of(step)))
     out: list[int] = []
     for i in range(len(step) - 2, 0, -1):  # from the bottom up
         s = step[i]
@@ -58,12 +59,12 @@ def contact_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> li
             continue
         row = int(v[i])
         # the floor's colour below the step, robust to a seam line right under it
-        floor = np.median(rows[row + 2 : row + 2 + 2 * k], axis=0)
+        floor = median_of(rows[row + 2 : row + 2 + 2 * k], axis=0)
         higher = rows[max(top, row - 4 * k) : row - 1]
         if len(higher) == 0:
             continue
         # the rows above stay off the floor's colour: a step, not a seam line
-        if float(np.median(np.linalg.norm(higher - floor, axis=1))) < MIN_STEP_GREY:
+        if float(median_of(row_norms(higher - floor))) < MIN_STEP_GREY:
             continue
         out.append(row)
         if len(out) >= MAX_CANDIDATES:

@@ -498,13 +498,13 @@ def face_from_colour(
     lo, hi = r0 - CONTACT_ROWS - 2, r1 + CONTACT_ROWS + 3
     if lo < 0 or hi > h or c0 < 0 or c1 > w:
         return None
-    prof = np.median(_band(image, view, lo, hi, c0, c1), axis=1)  # per row
+    prof = median_u8(_lab8(image, view, lo, hi, c0, c1), axis=1)  # per row
     best_step, contact = 0.0, -1
     for r in range(r0, r1 + 1):
         i = r - lo
-        above = np.median(prof[i - CONTACT_ROWS - 1 : i - 1], axis=0)
-        below = np.median(prof[i + 2 : i + CONTACT_ROWS + 2], axis=0)
-        step = float(np.linalg.norm(above - below))
+        above = median_of(prof[i - CONTACT_ROWS - 1 : i - 1], axis=0)
+        below = median_of(prof[i + 2 : i + CONTACT_ROWS + 2], axis=0)
+        step = norm(above - below)
         if step > best_step:
             best_step, contact = step, r
     if contact < 0 or best_step < MIN_FLOOR_STEP:
@@ -537,9 +537,9 @@ def _side_step(
     ):
         if c < 0 or d > w or r1 - r0 < 2:
             return 0.0
-        inside = np.median(_band(image, view, r0, r1, a, b).reshape(-1, 3), axis=0)
-        beside = np.median(_band(image, view, r0, r1, c, d).reshape(-1, 3), axis=0)
-        steps.append(float(np.linalg.norm(inside - beside)))
+        inside = median_u8(_lab8(image, view, r0, r1, a, b).reshape(-1, 3), axis=0)
+        beside = median_u8(_lab8(image, view, r0, r1, c, d).reshape(-1, 3), axis=0)
+        steps.append(norm(inside - beside))
     return min(steps)
 
 
