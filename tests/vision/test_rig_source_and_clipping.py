@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
@@ -128,3 +129,33 @@ def test_a_face_cut_by_the_border_is_never_a_confident_full_width() -> None:
         assert "right" in res.clipped
         assert res.to_dict()["width_is_lower_bound"] is True
         assert res.width_m < truth["width_m"]
+
+
+def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A row that would put the lens 5 cm above the floor (a line on the wall, a print's
+    edge) is not taken for the obstacle's foot; one at 30 cm is."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+
+    spec = clean_room(4001)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.05, 0.30)}
+    tried: list[float] = []
+    run = FusedMethod.run
+
+    def counting_run(self: FusedMethod, *args: object, **kwargs: object) -> object:
+        tried.append(self.view.rig.camera_height_m)
+        return run(self, *args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(FusedMethod, "run", counting_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.05], row_at[0.30]])
+    Measurer(CAM, None).measure(image, truth["range_m"])
+    assert len(tried) == 1 and abs(tried[0] - 0.30) < 0.01
+    tried.clear()
+    monkeypatch.setattr(measure, "MIN_ESTIMATED_CAMERA_HEIGHT_M", 0.0)
+    Measurer(CAM, None).measure(image, truth["range_m"])
+    assert any(abs(h - 0.05) < 0.01 for h in tried)

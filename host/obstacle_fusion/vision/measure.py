@@ -106,7 +106,7 @@ class Measurer:
         try:
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
-                if not 0.0 < height < 5.0:
+                if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
                     continue
                 trial = copy.copy(view)
                 trial.rig = dataclasses.replace(
@@ -168,6 +168,11 @@ class Measurer:
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
 
+
+#: With no rig, a floor-contact row that would put the lens lower than this above the floor
+#: is not tried: it is a line on the wall or a print's edge far above the floor, not the
+#: obstacle's foot (on textured rooms such rows gave most of the gross errors with no rig).
+MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
 
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.

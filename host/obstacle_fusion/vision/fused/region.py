@@ -1,16 +1,24 @@
-"""A face's width from its colour: the columns whose foot looks like the face's.
+"""The face's extent and confidence from its colour, after the edges chose a face.
 
 Receives the chosen face (floor-contact row, top row, side columns, in the levelled view)
-and the input BGR frame; returns the side columns moved outward to where the face's colour
-ends along its foot. A face is one surface standing on the floor-contact row: just above
-that row, across its whole width, it shows its own colour (plank seams, joints and tape
-are a few columns of another one), and just below it the floor. Beyond its sides the rows
-above the contact row show what stands farther back (the floor, the wall), which is
-neither the face's colour nor, for the floor, any different from the floor below. On
-photographed floors the face's edges are lost in the floor's texture, while its colour is
-not: gradients alone collapsed the width to one plank there.
-"""
+and the input BGR frame (read in CIE Lab, only the view pixels each stage needs); returns
+the face's sides, top or frame moved to where its colour ends, a confidence factor, or a
+face found by colour alone. A face is one surface standing on the floor-contact row: just
+above that row, across its whole width, it shows its own colour (plank seams, joints and
+tape are a few columns of another one), and just below it the floor; above the contact row
+beyond its sides is what stands farther back. On photographed floors and walls the face's
+edges drown in the texture while its colour does not: gradients alone collapsed the width
+to one plank, took a wall line crossing the face for its top and a print for the face.
 
+* :func:`widen_by_colour`: the sides, out along the foot's colour run (or in, over columns
+  with no foot at all);
+* :func:`enclose_by_margin`: a print inside a margin of one colour is enclosed by its frame;
+* :func:`raise_top_by_colour`: the top, up past a background line crossing the face;
+* :func:`looks_like_top_face`: whether rows under the top are a box's top face;
+* :func:`top_agreement`, :func:`side_agreement`: confidence factors, how clearly the
+  colour ends at the top and at the weaker side;
+* :func:`face_from_colour`: a face where the edges found none.
+"""
 from __future__ import annotations
 
 from collections.abc import Sequence
