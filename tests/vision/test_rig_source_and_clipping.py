@@ -159,3 +159,36 @@ def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(
     monkeypatch.setattr(measure, "MIN_ESTIMATED_CAMERA_HEIGHT_M", 0.0)
     Measurer(CAM, None).measure(image, truth["range_m"])
     assert any(abs(h - 0.05) < 0.01 for h in tried)
+
+
+def test_with_no_rig_a_stream_tries_the_last_frames_camera_height_first(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The rows are sought on the first frame; the next frame of the same scene takes the
+    height the first one accepted, with no search; a frame where that height gives no face
+    seeks again (and forgets it)."""
+    from obstacle_fusion.vision import measure
+
+    spec = clean_room(4001)
+    spec = dataclasses.replace(spec, rig=dataclasses.replace(spec.rig, camera_pitch_deg=0.0))
+    image, truth = RoomRenderer(CAM).render(spec)
+    sought: list[int] = []
+    find = measure.contact_rows
+
+    def counting(*args: object) -> list[int]:
+        sought.append(1)
+        return find(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(measure, "contact_rows", counting)
+    measurer = Measurer(CAM, None)
+    first = measurer.measure(image, truth["range_m"])
+    assert first.detected and len(sought) == 1
+    second = measurer.measure(image, truth["range_m"])
+    assert len(sought) == 1
+    assert second.detected and second.camera_height_m == first.camera_height_m
+    assert second.height_m == pytest.approx(first.height_m, abs=1e-9)
+    blank = np.full_like(image, 128)
+    assert not measurer.measure(blank, truth["range_m"]).detected
+    assert len(sought) == 2
+    measurer.measure(image, truth["range_m"])
+    assert len(sought) == 3  # the blank frame's failure forgot the height

@@ -381,3 +381,26 @@ def test_odd_frames_never_raise() -> None:
                 assert res.height_m is not None and np.isfinite(res.height_m)
             else:
                 assert res.reason
+
+
+@pytest.mark.parametrize("size", ["height_m", "width_m"])
+def test_fused_never_reports_a_face_refined_to_a_sliver(
+    size: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A refinement that ends under MIN_SIZE_M across is refused with a reason, not reported."""
+    import dataclasses
+
+    from obstacle_fusion.vision.fused import method
+
+    rig = Rig()
+    spec = clean_room()
+    sc = render_scene(spec, CAM, rig, 3)
+    assert Measurer(CAM, rig).measure(sc.image, spec.distance_m).detected
+    refine = method.refine
+
+    def sliver(*args: object) -> object:
+        return dataclasses.replace(refine(*args), **{size: 0.9 * method.MIN_SIZE_M})  # type: ignore[arg-type]
+
+    monkeypatch.setattr(method, "refine", sliver)
+    res = Measurer(CAM, rig).measure(sc.image, spec.distance_m)
+    assert not res.detected and "under the 3 cm" in (res.reason or "")

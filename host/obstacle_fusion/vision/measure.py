@@ -76,6 +76,8 @@ class Measurer:
         self.method = method
         self.min_confidence = min_confidence  # None: the method's default (fused only)
         self._per_size: dict[tuple[int, int], Method] = {}
+        # with no rig: the camera height the last frame's floor contact gave (None: seek)
+        self._last_height: float | None = None
 
     def _method_for(self, width: int, height: int) -> Method:
         key = (width, height)
@@ -96,32 +98,51 @@ class Measurer:
         """Each floor-contact row found in the image, lowest first, is one camera height to
         try; the first that gives a face wins (below the face there is only floor, so the
         lowest step that stands a face on it is the contact: ranking the rows by confidence
-        instead picked steps inside the face or the box's top on independently made rooms)."""
+        instead picked steps inside the face or the box's top on independently made rooms).
+
+        In a stream the camera height does not change between frames: the height the last
+        frame accepted is tried first, and the rows are sought only when it gives no face
+        (one trial a frame instead of up to eight, until the run's online rig exists)."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
-        rows = contact_rows(image, view, depth)
-        timer.lap("floor_contact")
         best: Measurement | None = None
+
+        def trial(height: float, row: float) -> Measurement:
+            fused.view = copy.copy(view)
+            fused.view.rig = dataclasses.replace(
+                self.rig, camera_height_m=height, camera_pitch_deg=0.0
+            )
+            result = fused.run(face_floor_grey(image, view, row, depth), range_m, timer, image)
+            result.camera_height_m = height
+            return result
+
+        def accepted(result: Measurement) -> bool:
+            return result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
+
         try:
+            last = self._last_height
+            if last is not None:
+                best = trial(last, view.cy + view.fy * last / depth)
+                if accepted(best):
+                    return best
+            rows = contact_rows(image, view, depth)
+            timer.lap("floor_contact")
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
                 if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
                     continue
-                trial = copy.copy(view)
-                trial.rig = dataclasses.replace(
-                    self.rig, camera_height_m=height, camera_pitch_deg=0.0
-                )
-                fused.view = trial
-                result = fused.run(face_floor_grey(image, view, row, depth), range_m, timer, image)
-                result.camera_height_m = height
+                result = trial(height, row)
                 if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
                     best = result
-                if result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT:
+                if accepted(result):
                     best = result
                     break
         finally:
             fused.view = view
+            self._last_height = (
+                best.camera_height_m if best is not None and accepted(best) else None
+            )
         if best is None:
             return Measurement(
                 False,

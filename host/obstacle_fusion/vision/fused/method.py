@@ -42,7 +42,7 @@ from obstacle_fusion.vision.fused.search import (
     side_candidates,
 )
 from obstacle_fusion.vision.fused.top import front_from_back, front_top
-from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE
+from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.types import Measurement, Timer, View
 
 #: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
@@ -269,7 +269,7 @@ class FusedMethod:
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
         np.maximum(win, 0.0, out=win)
-        return refine(
+        result = refine(
             v,
             self.name,
             ax,
@@ -287,3 +287,17 @@ class FusedMethod:
             timer,
             span,
         )
+        small = min(result.height_m or 0.0, result.width_m or 0.0)
+        if small < MIN_SIZE_M:
+            # a face that refined down to a sliver is no measurement (the search never
+            # proposes one so small): say so rather than report it
+            return Measurement(
+                detected=False,
+                method=self.name,
+                range_m=range_m,
+                distance_m=range_m,
+                confidence=result.confidence,
+                reason=f"the face refined to {small * 100:.1f} cm across, under the "
+                f"{MIN_SIZE_M * 100:.0f} cm the method measures",
+            )
+        return result
