@@ -12,6 +12,7 @@ from obstacle_fusion.vision.fused.extent import (
     raise_top_past_inner_edges,
     widen_across_seams,
 )
+from obstacle_fusion.vision.fused.profiles import walk_on
 
 H, W = 240, 320
 TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face
@@ -69,9 +70,10 @@ def test_edges_running_on_to_no_vertical_side_do_not_widen() -> None:
 def test_the_walk_steps_over_gaps_up_to_its_limit() -> None:
     on = np.ones(40, bool)
     on[20 : 20 + extent.MAX_GAP] = False
-    assert extent._walk(on, 5, 1) == 39
+    assert walk_on(on, 5, 1, extent.MAX_GAP) == 39
+    assert walk_on(on[::-1], 34, -1, extent.MAX_GAP) == 0  # the other way
     on[20 : 20 + extent.MAX_GAP + 1] = False
-    assert extent._walk(on, 5, 1) == 19
+    assert walk_on(on, 5, 1, extent.MAX_GAP) == 19
 
 
 def test_a_label_across_the_face_does_not_become_its_top() -> None:

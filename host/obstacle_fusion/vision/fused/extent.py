@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.profiles import column_means, median_of, share
+from obstacle_fusion.vision.fused.profiles import column_means, median_of, share, walk_on
 
 #: The edges count as running on while their strength stays above this share of the face's.
 CONTINUE_SHARE = 0.5
@@ -56,21 +56,6 @@ def _edge_profile(ay: npt.NDArray[np.float32], row: int) -> npt.NDArray[np.float
     r0 = max(0, row - EDGE_ROWS)
     r1 = min(ay.shape[0], row + EDGE_ROWS + 1)
     return np.asarray(ay[r0:r1].max(axis=0), np.float32)
-
-
-def _walk(on: npt.NDArray[np.bool_], start: int, step: int) -> int:
-    """Last column from ``start`` in direction ``step`` where ``on`` holds, stepping over
-    gaps of up to MAX_GAP columns (a dark seam dims the top edge across it)."""
-    u = start
-    gap = 0
-    v = start
-    while 0 <= v + step < on.size and gap <= MAX_GAP:
-        v += step
-        if on[v]:
-            u, gap = v, 0
-        else:
-            gap += 1
-    return u
 
 
 def _stands(present: npt.NDArray[np.bool_]) -> bool:
@@ -152,7 +137,7 @@ def _outer_side(
     No vertical edge where the edges end: a background line ran on, not the face; an edge
     that does not stand the whole height down to the floor (a side face's far corner, a
     chair's leg behind) is not the face's side either."""
-    end = _walk(runs_on, side, step)
+    end = walk_on(runs_on, side, step, MAX_GAP)  # a dark seam dims the top edge across it
     if abs(end - side) <= min_move:
         return side  # the edges stop at (or just past) the side: it is the face's
     lo, hi = _snap_window(side, end, step, sides.size)

@@ -9,6 +9,7 @@ sums of integer-valued images are exact in float32 below 2**24.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import cv2
@@ -117,6 +118,21 @@ def mean(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     """Mean via sum (np.mean's Python-level wrapper dominates on small arrays)."""
     n = a.size if axis is None else a.shape[axis]
     return a.sum(axis=axis) * (1.0 / max(n, 1))
+
+
+def walk_on(on: Sequence[bool] | npt.NDArray[np.bool_], start: int, step: int, max_gap: int) -> int:
+    """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap.
+
+    ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
+    indexing makes several times dearer over a walk of hundreds of columns."""
+    u, v, gap = start, start, 0
+    while 0 <= v + step < len(on) and gap <= max_gap:
+        v += step
+        if on[v]:
+            u, gap = v, 0
+        else:
+            gap += 1
+    return u
 
 
 def col_means(a: npt.NDArray[Any]) -> F32:

@@ -19,9 +19,9 @@ to one plank, took a wall line crossing the face for its top and a print for the
   colour ends at the top and at the weaker side;
 * :func:`face_from_colour`: a face where the edges found none.
 """
+
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any
 
 import cv2
@@ -36,6 +36,7 @@ from obstacle_fusion.vision.fused.profiles import (
     norm,
     row_norms,
     share,
+    walk_on,
 )
 from obstacle_fusion.vision.types import View
 
@@ -106,21 +107,6 @@ def _lab8(
     return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
 
 
-def _walk(on: Sequence[bool], start: int, step: int, max_gap: int) -> int:
-    """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap.
-
-    ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
-    indexing makes several times dearer over a walk of hundreds of columns."""
-    u, v, gap = start, start, 0
-    while 0 <= v + step < len(on) and gap <= max_gap:
-        v += step
-        if on[v]:
-            u, gap = v, 0
-        else:
-            gap += 1
-    return u
-
-
 def widen_by_colour(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -171,13 +157,13 @@ def widen_by_colour(
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = _walk(on_both, side - step * 2, step, max_gap)
+        end = walk_on(on_both, side - step * 2, step, max_gap)
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
             # side search took in the background beside it: nothing stands on the contact
             # row there, the floor runs on behind. A print or tape of another colour on
             # the face's foot is not cut off: it stands out from the floor.
-            end = _walk(on_foot_flags, centre, step, max_gap)
+            end = walk_on(on_foot_flags, centre, step, max_gap)
             cut = slice(min(end, side) + 1, max(end, side))
             if (side - end) * step <= min_move or (
                 float(np.mean(d_foot_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
@@ -280,9 +266,7 @@ def _colour_walk_up(
     d_face = row_norms(inner - ref)
     spread = float(median_of(d_face[k + 2 :]))
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
-    beside = np.minimum(
-        row_norms(inner - left_out), row_norms(inner - right_out)
-    )
+    beside = np.minimum(row_norms(inner - left_out), row_norms(inner - right_out))
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
     # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
