@@ -179,7 +179,7 @@ def raise_top_past_inner_edges(
     if min(strength) < MIN_EDGE_SNR * noise:
         return top
     on = (cols[0] >= SIDE_SHARE * strength[0]) & (cols[1] >= SIDE_SHARE * strength[1])
-    end = _walk_up(on, top)
+    end = walk_on(on, top, -1, MAX_ROW_GAP)  # up, over a dark band or a seam across
     if top - end <= SNAP_ROWS // 2:
         return top
     # the top edge lies where the sides ended, or just above (blur): never back down
@@ -187,18 +187,6 @@ def raise_top_past_inner_edges(
     r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
     rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
     return int(r0 + np.argmax(rows))
-
-
-def _walk_up(on: npt.NDArray[np.bool_], start: int) -> int:
-    """Highest row above ``start`` reached through ``on`` rows, gaps up to MAX_ROW_GAP."""
-    v, gap, reached = start, 0, start
-    while v - 1 >= 0 and gap <= MAX_ROW_GAP:
-        v -= 1
-        if on[v]:
-            reached, gap = v, 0
-        else:
-            gap += 1
-    return reached
 
 
 #: The frame's sides must be at least this share of the print's sides' strength.

@@ -67,7 +67,6 @@ class FusedMethod:
         self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
         self._dx = np.empty((h, w), np.int16)
         self._dy = np.empty((h, w), np.int16)
-        self._noise = 1.0  # the frame's |d/dy| noise level, for the colour rescue
 
     def run(
         self,
@@ -117,7 +116,6 @@ class FusedMethod:
         # and the reads cost less than in float32)
         cv2.dilate(ax, self._kernel3, dst=ax3)
         noise = median(ay[::4, ::4]) / 0.6745 + 1.0
-        self._noise = noise
         timer.lap("gradients")
 
         # candidate search and scoring, one floor-contact row at a time
@@ -142,7 +140,7 @@ class FusedMethod:
         seen = colour if colour is not None else image  # the colours the extent reads
         if best is None:
             rescued = (
-                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, range_m, timer)
+                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, noise, range_m, timer)
                 if rescue
                 else None
             )
@@ -169,7 +167,7 @@ class FusedMethod:
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
             rescued = (
-                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, range_m, timer)
+                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, noise, range_m, timer)
                 if rescue
                 else None
             )
@@ -218,6 +216,7 @@ class FusedMethod:
         dy: npt.NDArray[np.int16],
         rows: tuple[int, int],
         depth: float,
+        noise: float,
         range_m: float,
         timer: Timer,
     ) -> Measurement | None:
@@ -230,7 +229,7 @@ class FusedMethod:
         rb, vt, ul, ur, evidence = found
         # the sides, in the gradients, may run on above where the colour walk stopped (a
         # joint or a label across the face): the face's top is where they end
-        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, self._noise)
+        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
         if evidence < self.min_confidence or rb >= ay.shape[0] - 3:
             return None
         # without edges to confirm it, a face found by colour alone is never a sure one
