@@ -92,3 +92,14 @@ def test_median_u8_is_the_float_median(shape: tuple[int, ...], axis: int | None)
     got = median_u8(a, axis)
     assert np.asarray(got).dtype == np.float32
     assert np.array_equal(got, want)
+
+
+def test_empty_blocks_give_numpy_s_answers_not_a_crash() -> None:
+    """OpenCV's reduce and sort crash on empty blocks; a face at a tiny frame's top edge
+    asked for the column means of no rows (seen as a segfault on a 40x30 frame)."""
+    from obstacle_fusion.vision.fused.profiles import column_means, median_u8
+
+    assert column_means(np.zeros((0, 7), np.int16)).tolist() == [0.0] * 7
+    assert column_means(np.zeros((3, 0), np.int16)).shape == (0,)
+    empty = np.zeros((3, 0, 3), np.uint8)
+    assert median_u8(empty, axis=0).shape == (0, 3)

@@ -63,7 +63,7 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     lanes faster than float32 ones), the middle values then taken to float32, the two
     middle ones averaged there (8-bit values are exact in float32: the same result)."""
     n = a.size if axis is None else a.shape[axis]
-    if n == 0:
+    if a.size == 0:  # numpy's answer for empty lanes (OpenCV's sort would crash on them)
         return np.median(a.astype(np.float32), axis=axis)
     k = n // 2
     if axis == 0 and 2 <= n <= SHORT_LANES:
@@ -93,6 +93,8 @@ def column_means(a: npt.NDArray[np.int16]) -> npt.NDArray[np.float32]:
     """``np.asarray(a.mean(axis=0), np.float32)`` of an int16 block: the column sums by
     cv2.reduce in float64 (integers: exact, whatever the order), then divided by the row
     count as numpy's mean does; several times faster than numpy's cast-and-add."""
+    if a.shape[0] == 0 or a.shape[1] == 0:  # OpenCV's reduce crashes on an empty block
+        return np.zeros(a.shape[1], np.float32)
     sums = cv2.reduce(a, 0, cv2.REDUCE_SUM, dtype=cv2.CV_64F)[0]
     return np.asarray(sums / a.shape[0], np.float32)
 

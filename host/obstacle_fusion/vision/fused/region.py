@@ -173,7 +173,7 @@ def widen_by_colour(
         lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
         # the sides' strength only over the columns searched (sums of integers: exact,
         # the same means as over the whole width)
-        strength = column_means(ax[top : bottom + 1, lo : hi + 1])
+        strength = column_means(ax[max(top, 0) : bottom + 1, lo : hi + 1])
         new.append(int(lo + np.argmax(strength)))
     return new[0], new[1]
 
@@ -499,8 +499,8 @@ def face_from_colour(
         step = norm(above - below)
         if step > best_step:
             best_step, contact = step, r
-    if contact < 0 or best_step < MIN_FLOOR_STEP:
-        return None
+    if contact < 0 or best_step < MIN_FLOOR_STEP or contact - SEED_ROWS < 3:
+        return None  # no step, or no room above it for a face (a tiny or tilted frame)
     # sides: the foot's colour run from the core, as wide as the face's colour goes
     left, right = widen_by_colour(
         image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m
