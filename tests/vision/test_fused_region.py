@@ -354,6 +354,28 @@ def test_a_brick_face_the_edges_miss_is_found_by_colour_with_a_modest_confidence
     assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
 
 
+def test_a_face_refused_for_its_sides_is_sought_again_by_colour(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A purple brick box on a sand floor (room procedural/128): the edges give a face
+    whose sides are no colour step (refused late, by side_agreement); the colour search
+    then finds the whole face."""
+    from obstacle_fusion.sim.room_scene import render_room
+    from obstacle_fusion.vision.fused import method
+    from obstacle_fusion.vision.measure import Measurer
+
+    image, truth, spec = render_room("procedural", 128, False)
+    cam = CameraModel.paper(500, 375)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.02)
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.02)
+    assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
+    monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
+    refused = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert not refused.detected and "confidence" in (refused.reason or "")
+
+
 def test_sides_that_are_colour_boundaries_keep_the_confidence() -> None:
     img = scene()
     assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT) == 1.0
