@@ -191,6 +191,29 @@ def test_a_wall_line_crossing_the_face_is_not_its_top() -> None:
     assert abs(raise_top(wall_scene(), 150) - FACE_TOP) <= 2
 
 
+def test_a_side_found_on_a_seam_does_not_stop_the_top() -> None:
+    """The search's right side on a seam inside the face (the face's colour runs on past
+    it): what is beside that side is the face, so only the other side tells the face from
+    the wall, and the top still goes up to the face's own."""
+    seam = RIGHT - 40
+    img = wall_scene()
+    img[FACE_TOP:BOTTOM, seam : seam + 2] = (20, 20, 90)
+    top = region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, 150, LEFT, seam, DEPTH
+    )
+    assert abs(top - FACE_TOP) <= 2
+
+
+def test_a_face_with_no_side_against_the_background_keeps_its_top() -> None:
+    """Both sides inside one-colour area (a found face within a larger one of its colour):
+    nothing tells the face from what is beside it."""
+    img = wall_scene()
+    top = region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, 150, LEFT + 40, RIGHT - 40, DEPTH
+    )
+    assert top == 150
+
+
 def test_the_true_top_stays() -> None:
     assert raise_top(wall_scene(), FACE_TOP) == FACE_TOP
 

@@ -319,16 +319,26 @@ def _colour_walk_up(
     d_face = row_norms(inner - ref)
     spread = float(median_of(d_face[k + 2 :]))
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
-    beside = np.minimum(row_norms(inner - left_out), row_norms(inner - right_out))
     s = BESIDE_COLUMNS + SIDE_SKIP
-    on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
-    # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
-    # towards the vanishing point), so just inside the front face's sides it is not there
+    on = d_face <= MAX_FACE_DISTANCE
+    sides = 0
     for near, out in (
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
+        beside = row_norms(inner - out)
+        if float(median_of(beside[k + 2 :])) < MIN_BESIDE_STEP:
+            # the face's colour runs on past this side below the top too: the side is a
+            # seam the width stage will cross, and what is beside it tells nothing
+            continue
+        sides += 1
+        on &= beside >= MIN_BESIDE_STEP
+        # the face's colour reaches its sides: a top face narrows as it recedes (its
+        # sides run towards the vanishing point), so just inside the front face's sides
+        # it is not there
         on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
+    if sides == 0:
+        return r0, k, k  # no side tells the face from what stands beside it
     return r0, _walk_colour(inner, on, k, limit, gap), k
 
 
