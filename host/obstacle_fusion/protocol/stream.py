@@ -23,6 +23,7 @@ they accept only frames it would accept, and hand everything else to it.
 from __future__ import annotations
 
 import binascii
+import gc
 import struct
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
@@ -42,7 +43,7 @@ LONGEST_RUN = MAX_FRAME - 1
 # The shortest run that can be a frame: id, seq and CRC behind one COBS code byte.
 _SHORTEST_RUN = 5
 _HELLO_ID = Hello.MSG_ID
-_FastEntry = tuple[Callable[..., Message], int, Callable[[bytes, int], tuple[Any, ...]], int]
+_FastEntry = tuple[Callable[..., Message], Callable[[bytes], tuple[Any, ...]], int]
 # Fixed-length messages but HELLO (whose seq starts a new count) decode on the fast path,
 # indexed by message id: (class, body length, struct unpacker, CRC seed); None otherwise.
 _FAST: list[_FastEntry | None] = [None] * 256
@@ -52,8 +53,8 @@ _RunEntry = tuple[Callable[..., Message], int, int, struct.Struct]
 _RUN: list[_RunEntry | None] = [None] * 256
 for _msg_id, _cls in MESSAGES.items():
     if _cls.TEXT_FIELD is None and _msg_id != _HELLO_ID:
-        _FAST[_msg_id] = (_cls, _cls.MIN_LEN + 4, _cls.STRUCT.unpack_from, CRC_SEEDS[_msg_id])
         _row = struct.Struct("<xx" + _cls.STRUCT.format.lstrip("<") + "xx")
+        _FAST[_msg_id] = (_cls, _row.unpack, CRC_SEEDS[_msg_id])
         _RUN[_msg_id] = (_cls, _row.size, CRC_SEEDS[_msg_id], _row)
 # A chunk with at least this many frames tries the whole-chunk path first.
 RUN_MIN_FRAMES = 8
@@ -113,9 +114,63 @@ class StreamDecoder:
     def feed(self, chunk: bytes) -> list[Message]:
         stats = self.stats
         stats.bytes += len(chunk)
-        data = self._tail + chunk if self._tail else bytes(chunk)
+        data = self._tail + chunk  # bytes, whatever buffer the chunk is
         parts = data.split(b"\x00")
         tail = parts.pop()
+        last = self.last_seq
+        if (
+            len(parts) >= RUN_MIN_FRAMES
+            or len(tail) > LONGEST_RUN
+            or self._overflow
+            or last is None
+        ):
+            return self._feed_parts(data, parts, tail)
+        # The common case of a short chunk: no run to try, nothing overflowed, a seq to
+        # count from. Each frame is tried as an intact fixed-length frame; anything else
+        # goes to the frame-by-frame step of the general path (_one).
+        self._tail = tail
+        out: list[Message] = []
+        append = out.append
+        fast = _FAST
+        gaps = 0
+        others = 0  # messages that came from _one (it counts its own frames)
+        zeros = 0
+        for part in parts:
+            try:
+                body = _cobs_decode(part)
+                cls, unpack, seed = fast[body[0]]  # type: ignore[misc]
+                values = unpack(body)  # a body of another length: struct.error
+            except (_CobsError, IndexError, TypeError, struct.error):
+                # No COBS; an empty part (a 0x00 run); no fast entry; a wrong length.
+                pass
+            else:
+                if not _crc(body, seed):
+                    append(cls(*values))
+                    seq = body[1]
+                    gaps += (seq - last - 1) & 0xFF  # type: ignore[operator]
+                    last = seq
+                    continue
+            if not part:
+                zeros += 1
+                continue
+            self.last_seq = last
+            msg = self._one(part)
+            last = self.last_seq
+            if msg is not None:
+                append(msg)
+                others += 1
+        self.last_seq = last
+        if gaps:
+            stats.seq_gaps += gaps
+        stats.frames += len(out) - others
+        if zeros:
+            stats.stray_zeros += zeros
+            stats.bytes_discarded += zeros
+        return out
+
+    def _feed_parts(self, data: bytes, parts: list[bytes], tail: bytes) -> list[Message]:
+        """The general path: ``data`` split at its delimiters into ``parts`` and ``tail``."""
+        stats = self.stats
         end = len(data) - len(tail)  # just after the last delimiter
         if len(tail) > LONGEST_RUN:
             # Only the last LONGEST_RUN bytes can still become (the end of) a frame.
@@ -156,13 +211,13 @@ class StreamDecoder:
                 # A run too long for any frame decodes to a body too long for any entry.
                 try:
                     body = cobs_decode(part)
-                    entry = fast[body[0]]
-                except (_CobsError, IndexError):  # no COBS; a run that decodes to nothing
-                    entry = None
-                if entry is not None:
-                    cls, size, unpack, seed = entry
-                    if len(body) == size and not crc(body, seed):
-                        append(cls(*unpack(body, 2)))
+                    cls, unpack, seed = fast[body[0]]  # type: ignore[misc]
+                    values = unpack(body)
+                except (_CobsError, IndexError, TypeError, struct.error):
+                    pass
+                else:
+                    if not crc(body, seed):
+                        append(cls(*values))
                         seq = body[1]
                         if last is not None:
                             gaps += (seq - last - 1) & 0xFF
@@ -173,18 +228,7 @@ class StreamDecoder:
                 zeros += 1
                 continue
             self.last_seq = last
-            stats.seq_gaps += gaps
-            stats.frames += good
-            gaps = good = 0
-            if len(part) > LONGEST_RUN:
-                msg = self._bad_run(part, len(part) - LONGEST_RUN, "oversized")
-            else:
-                decoded: bytes | None
-                try:
-                    decoded = cobs_decode(part)
-                except _CobsError:
-                    decoded = None
-                msg = self._slow_path(part, decoded)
+            msg = self._one(part)
             last = self.last_seq
             if msg is not None:
                 append(msg)
@@ -195,6 +239,18 @@ class StreamDecoder:
             stats.stray_zeros += zeros
             stats.bytes_discarded += zeros
         return out
+
+    def _one(self, part: bytes) -> Message | None:
+        """A run (not empty, ended by its delimiter) that is no intact fixed-length frame:
+        decoded by the general decoder, or counted, or a frame recovered from its end."""
+        if len(part) > LONGEST_RUN:
+            return self._bad_run(part, len(part) - LONGEST_RUN, "oversized")
+        decoded: bytes | None
+        try:
+            decoded = _cobs_decode(part)
+        except _CobsError:
+            decoded = None
+        return self._slow_path(part, decoded)
 
     def _decode_run(
         self, parts: list[bytes], data: bytes, start: int, end: int
@@ -229,7 +285,16 @@ class StreamDecoder:
         gaps = 0 if last is None else (seqs[0] - last - 1) & 0xFF
         if seqs[:-1].translate(_NEXT_SEQ) != seqs[1:]:
             gaps += sum((b - a - 1) & 0xFF for a, b in zip(seqs[:-1], seqs[1:], strict=True))
-        out: list[Message] = list(starmap(cls, row.iter_unpack(blob)))
+        if gc.isenabled():
+            # The messages are all alive until returned: an automatic collection while
+            # they are built would only walk them (and move them to older generations).
+            gc.disable()
+            try:
+                out: list[Message] = list(starmap(cls, row.iter_unpack(blob)))
+            finally:
+                gc.enable()
+        else:
+            out = list(starmap(cls, row.iter_unpack(blob)))
         self.stats.seq_gaps += gaps
         self.stats.frames += n
         self.last_seq = seqs[-1]
