@@ -9,15 +9,20 @@ pending tail (``pending_bytes``), or ``bytes_discarded``. A run longer than the 
 frame is ``oversized`` however it was chunked, and a 0x00 with no frame before it is a
 ``stray_zeros``.
 
-Two fast paths decode the common cases with the results and counters of the general path:
+Fast paths decode the common cases with the results and counters of the general path:
 they accept only frames it would accept, and hand everything else to it.
 
 * A chunk whose frames are all one fixed-length message (a run of RANGE) is decoded whole:
   every delimiter's place checked by one strided slice, the frames' COBS by one ``map``,
   each frame's own CRC by one ``map``, the ids and sequence numbers by strided slices, and
   the messages built by ``Struct.iter_unpack``: no Python-level step per frame.
-* Otherwise an intact fixed-length frame runs inline in ``feed``: one COBS decode, one
-  table look-up, one CRC, one struct unpack and the message's constructor.
+* Otherwise an intact fixed-length frame runs inline: one COBS decode, one table look-up,
+  one struct unpack (which checks the length), one CRC and the message's constructor. A
+  short chunk (fewer than RUN_MIN_FRAMES frames, nothing overflowed, a seq to count from)
+  takes a lean copy of that loop straight in ``feed``; the rest goes to ``_feed_parts``.
+* A chunk of PAUSE_GC_FRAMES frames or more is decoded with the automatic garbage
+  collection paused: its messages live until it returns them, so a collection could free
+  none of them. Every message is built in full (no field decoded later on access).
 """
 
 from __future__ import annotations
@@ -45,7 +50,8 @@ _SHORTEST_RUN = 5
 _HELLO_ID = Hello.MSG_ID
 _FastEntry = tuple[Callable[..., Message], Callable[[bytes], tuple[Any, ...]], int]
 # Fixed-length messages but HELLO (whose seq starts a new count) decode on the fast path,
-# indexed by message id: (class, body length, struct unpacker, CRC seed); None otherwise.
+# indexed by message id: (class, unpacker of a whole body that skips its id, seq and CRC
+# and raises struct.error for any other length, CRC seed); None otherwise.
 _FAST: list[_FastEntry | None] = [None] * 256
 _RunEntry = tuple[Callable[..., Message], int, int, struct.Struct]
 # The same messages decoded a chunk at a time: (class, body length, CRC seed, a Struct over
@@ -58,6 +64,9 @@ for _msg_id, _cls in MESSAGES.items():
         _RUN[_msg_id] = (_cls, _row.size, CRC_SEEDS[_msg_id], _row)
 # A chunk with at least this many frames tries the whole-chunk path first.
 RUN_MIN_FRAMES = 8
+# A chunk with at least this many frames is decoded with the automatic garbage collection
+# paused (it is restored before feed returns, and left alone if it was off).
+PAUSE_GC_FRAMES = 8
 # seq -> seq + 1 (mod 256): a run of sequence numbers has no gap when shifting all but its
 # last by one gives all but its first.
 _NEXT_SEQ = bytes((i + 1) & 0xFF for i in range(256))
@@ -124,10 +133,19 @@ class StreamDecoder:
             or self._overflow
             or last is None
         ):
-            return self._feed_parts(data, parts, tail)
+            if len(parts) < PAUSE_GC_FRAMES or not gc.isenabled():
+                return self._feed_parts(data, parts, tail)
+            # The messages of a chunk are all alive until it returns them: an automatic
+            # collection while they are built could only walk them and move them to an
+            # older generation (a tenth of the time of a 64 KiB chunk of RANGE).
+            gc.disable()
+            try:
+                return self._feed_parts(data, parts, tail)
+            finally:
+                gc.enable()
         # The common case of a short chunk: no run to try, nothing overflowed, a seq to
-        # count from. Each frame is tried as an intact fixed-length frame; anything else
-        # goes to the frame-by-frame step of the general path (_one).
+        # count from. Each frame is tried as an intact fixed-length frame (as in the
+        # general path's loop); anything else goes to its frame-by-frame step (_one).
         self._tail = tail
         out: list[Message] = []
         append = out.append
@@ -285,16 +303,7 @@ class StreamDecoder:
         gaps = 0 if last is None else (seqs[0] - last - 1) & 0xFF
         if seqs[:-1].translate(_NEXT_SEQ) != seqs[1:]:
             gaps += sum((b - a - 1) & 0xFF for a, b in zip(seqs[:-1], seqs[1:], strict=True))
-        if gc.isenabled():
-            # The messages are all alive until returned: an automatic collection while
-            # they are built would only walk them (and move them to older generations).
-            gc.disable()
-            try:
-                out: list[Message] = list(starmap(cls, row.iter_unpack(blob)))
-            finally:
-                gc.enable()
-        else:
-            out = list(starmap(cls, row.iter_unpack(blob)))
+        out: list[Message] = list(starmap(cls, row.iter_unpack(blob)))
         self.stats.seq_gaps += gaps
         self.stats.frames += n
         self.last_seq = seqs[-1]
