@@ -123,7 +123,7 @@ class StreamDecoder:
     def feed(self, chunk: bytes) -> list[Message]:
         stats = self.stats
         stats.bytes += len(chunk)
-        data = self._tail + chunk  # bytes, whatever buffer the chunk is
+        data = self._tail + chunk if self._tail else bytes(chunk)
         parts = data.split(b"\x00")
         tail = parts.pop()
         last = self.last_seq
