@@ -157,17 +157,15 @@ class StreamDecoder:
             try:
                 body = _cobs_decode(part)
                 cls, unpack, seed = fast[body[0]]  # type: ignore[misc]
-                values = unpack(body)  # a body of another length: struct.error
-            except (_CobsError, IndexError, TypeError, struct.error):
-                # No COBS; an empty part (a 0x00 run); no fast entry; a wrong length.
-                pass
-            else:
                 if not _crc(body, seed):
-                    append(cls(*values))
+                    append(cls(*unpack(body)))  # a body of another length: struct.error
                     seq = body[1]
                     gaps += (seq - last - 1) & 0xFF  # type: ignore[operator]
                     last = seq
                     continue
+            except (_CobsError, IndexError, TypeError, struct.error):
+                # No COBS; an empty part (a 0x00 run); no fast entry; a wrong length.
+                pass
             if not part:
                 zeros += 1
                 continue
@@ -230,18 +228,16 @@ class StreamDecoder:
                 try:
                     body = cobs_decode(part)
                     cls, unpack, seed = fast[body[0]]  # type: ignore[misc]
-                    values = unpack(body)
-                except (_CobsError, IndexError, TypeError, struct.error):
-                    pass
-                else:
                     if not crc(body, seed):
-                        append(cls(*values))
+                        append(cls(*unpack(body)))
                         seq = body[1]
                         if last is not None:
                             gaps += (seq - last - 1) & 0xFF
                         last = seq
                         good += 1
                         continue
+                except (_CobsError, IndexError, TypeError, struct.error):
+                    pass
             else:
                 zeros += 1
                 continue
