@@ -212,8 +212,10 @@ class StreamDecoder:
         if len(parts) >= RUN_MIN_FRAMES:
             run = self._decode_run(parts, data, start, end)
             if run is not None:
-                out += run
-                return out
+                if out:  # a frame recovered from the end of an overflowed run
+                    out += run
+                    return out
+                return run
         append = out.append
         fast = _FAST
         crc = _crc
