@@ -251,7 +251,7 @@ def high_view(cy: float = 20.0) -> View:
 def test_a_top_face_is_told_from_a_line_inside_the_front() -> None:
     img = wall_scene(top_face_rows=12)
     view = high_view()
-    # the 12 rows above the front face are a top face: lighter than the front, narrowing
+    # the 12 rows above the front face are a top face: lighter than the front
     assert region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT, RIGHT)
     # 12 rows of the front face itself are not
     assert not region.looks_like_top_face(img, view, FACE_TOP + 5, FACE_TOP + 17, LEFT, RIGHT)
