@@ -111,7 +111,7 @@ def _differs(a: Any, b: Any) -> bool:
             return False
         return abs(a - b) > 1e-9
     if isinstance(a, list) and isinstance(b, list):
-        return len(a) != len(b) or any(_differs(x, y) for x, y in zip(a, b))
+        return len(a) != len(b) or any(_differs(x, y) for x, y in zip(a, b, strict=True))
     return bool(a != b)
 
 
@@ -119,7 +119,7 @@ def compare(old: list[dict], new: list[dict]) -> list[str]:
     if len(old) != len(new):
         return [f"{len(old)} answers before, {len(new)} now"]
     bad = []
-    for a, b in zip(old, new):
+    for a, b in zip(old, new, strict=True):
         for f in ("scene", "call", *FIELDS):
             if _differs(a.get(f), b.get(f)):
                 bad.append(f"{b['scene']} call {b['call']}: {f} {a.get(f)!r} -> {b.get(f)!r}")
@@ -142,9 +142,7 @@ def main() -> int:
     if args.scenes_cache is not None and args.scenes_cache.exists():
         scenes = load_scenes(args.scenes_cache)
     else:
-        scenes = render_all(
-            camera, args.ordinary, args.hard, args.seed, args.room_seed, args.rooms
-        )
+        scenes = render_all(camera, args.ordinary, args.hard, args.seed, args.room_seed, args.rooms)
         if args.scenes_cache is not None:
             save_scenes(args.scenes_cache, scenes)
     rows = answers(camera, scenes)

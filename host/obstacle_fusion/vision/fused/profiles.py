@@ -31,7 +31,27 @@ def median(a: npt.NDArray[Any]) -> float:
     if flat.size == 0:
         return 0.0
     k = flat.size // 2
-    return float(np.partition(flat, k)[k])
+    return float(partitioned(flat, k)[k])
+
+
+def partitioned(a: npt.NDArray[Any], kth: int, axis: int = -1) -> npt.NDArray[Any]:
+    """``np.partition(a, kth, axis)``: a copy, partitioned in place (the same call numpy's
+    Python-level wrapper makes, without the wrapper)."""
+    s = a.copy(order="K")
+    s.partition(kth, axis=axis)
+    return s
+
+
+def lanes_last(a: npt.NDArray[Any], axis: int) -> npt.NDArray[Any]:
+    """``np.moveaxis(a, axis, -1)``: the same view, without the wrapper's axis checks
+    (they cost more than the sorts that follow on the small blocks the stages read)."""
+    nd = a.ndim
+    axis = axis + nd if axis < 0 else axis
+    if not 0 <= axis < nd:
+        return np.moveaxis(a, axis, -1)  # its error
+    if axis == nd - 1:
+        return a.view()
+    return a.transpose([i for i in range(nd) if i != axis] + [axis])
 
 
 def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
@@ -46,7 +66,7 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     if axis is None:
         s = np.sort(a, axis=None)
     else:
-        s = np.moveaxis(a, axis, -1).copy(order="C")  # the lanes contiguous, then sorted
+        s = lanes_last(a, axis).copy(order="C")  # the lanes contiguous, then sorted
         s.sort(axis=-1)
     n = s.shape[-1]
     if n == 0:
@@ -76,7 +96,7 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
         if axis is None:
             s = a.astype(np.uint16).ravel()
         else:
-            s = np.moveaxis(a, axis, -1).astype(np.uint16, order="C")
+            s = lanes_last(a, axis).astype(np.uint16, order="C")
         s.sort(axis=-1)
         lo, hi = s[..., k - 1] if k else s[..., k], s[..., k]
     mid = hi.astype(np.float32)

@@ -25,6 +25,7 @@ from obstacle_fusion.vision.fused.profiles import (
     clamp,
     fit_vertical,
     grey_range_sums,
+    partitioned,
     range_sums,
     running_counts,
 )
@@ -54,7 +55,7 @@ def _face_term(face: Any, bands: Any) -> Any:
 def _face_shade(means: F32, rb: int, kf: int) -> F32:
     """Per column, the face's own shade: the median of the kf row means starting 3 rows
     above the floor-contact row (clear of the bottom edge's blur)."""
-    return np.partition(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+    return partitioned(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
 
 
 def _first_match(match: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
@@ -394,7 +395,12 @@ def band_face_share(
     n = tops.size
     cols = (pp * BANDS)[None, :] + np.arange(BANDS)[:, None]
     shares = _shade_share(
-        upto, first, np.tile(tops, BANDS), cols.ravel(), rb, np.tile(rb - tops, BANDS)
+        upto,
+        first,
+        np.concatenate([tops] * BANDS),
+        cols.ravel(),
+        rb,
+        np.concatenate([rb - tops] * BANDS),
     )
     return np.minimum.reduce(shares.reshape(BANDS, n), axis=0)
 
