@@ -72,9 +72,9 @@ def render_all(
     for fam in FAMILIES:
         for hard in (False, True):
             for s in range(room_seed, room_seed + rooms):
-                image, truth, spec = render_room(fam, s, hard, camera)
+                image, truth, room = render_room(fam, s, hard, camera)
                 name = f"rooms/{fam}/{'hard' if hard else 'ord'}/{s}"
-                out.append((name + "/rig", image, float(truth["range_m"]), spec.rig))
+                out.append((name + "/rig", image, float(truth["range_m"]), room.rig))
                 out.append((name + "/norig", image, float(truth["range_m"]), None))
     return out
 
