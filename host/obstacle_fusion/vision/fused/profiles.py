@@ -147,8 +147,8 @@ def walk_on(on: Sequence[bool] | npt.NDArray[np.bool_], start: int, step: int, m
 
     ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
     indexing makes several times dearer over a walk of hundreds of columns."""
-    u, v, gap = start, start, 0
-    while 0 <= v + step < len(on) and gap <= max_gap:
+    u, v, gap, n = start, start, 0, len(on)
+    while 0 <= v + step < n and gap <= max_gap:
         v += step
         if on[v]:
             u, gap = v, 0
