@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from obstacle_fusion.vision.fused.profiles import norm
 from obstacle_fusion.vision.types import View
 
 #: Share of the face-floor colour direction in the projection (the rest is luminance).
@@ -83,9 +84,9 @@ def face_floor_grey(
     if face is None or floor is None:
         return image
     step = face - floor
-    size = float(np.linalg.norm(step))
+    size = norm(step)
     luma_unit = _LUMA_UNIT
-    chroma = float(np.linalg.norm(step - float(step @ luma_unit) * luma_unit))
+    chroma = norm(step - float(step @ luma_unit) * luma_unit)
     if size < MIN_COLOUR_STEP or chroma < MIN_CHROMA_STEP:
         return image  # luminance sees the face's foot already: nothing to add
     towards = step / size
@@ -93,7 +94,7 @@ def face_floor_grey(
         towards = -towards
     luma_len = _LUMA_LEN
     weights = (1.0 - FACE_SHARE) * _LUMA / luma_len + FACE_SHARE * towards
-    weights *= luma_len / float(np.linalg.norm(weights))
+    weights *= luma_len / norm(weights)
     # black stays at or above 0 whatever the signs of the weights
     offset = -255.0 * float(np.minimum(weights, 0.0).sum())
     matrix = np.array([[*weights, offset]], np.float32)

@@ -147,7 +147,7 @@ def _outer_side(
     if abs(end - side) <= min_move:
         return side  # the edges stop at (or just past) the side: it is the face's
     lo, hi = _snap_window(side, end, step, sides.size)
-    best = int(lo + np.argmax(sides[lo : hi + 1]))
+    best = int(lo + sides[lo : hi + 1].argmax())
     present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
     return best if float(sides[best]) >= need and _stands(present) else None
 
@@ -192,7 +192,7 @@ def raise_top_past_inner_edges(
     # on the inner edge the sides ran past
     r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
     rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
-    return int(r0 + np.argmax(rows))
+    return int(r0 + rows.argmax())
 
 
 #: The frame's sides must be at least this share of the print's sides' strength.

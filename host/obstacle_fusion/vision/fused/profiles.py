@@ -64,7 +64,8 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     array's own float type).
     """
     if axis is None:
-        s = np.sort(a, axis=None)
+        s = a.flatten()  # np.sort(a, axis=None): a flat copy, sorted
+        s.sort()
     else:
         s = lanes_last(a, axis).copy(order="C")  # the lanes contiguous, then sorted
         s.sort(axis=-1)
@@ -174,7 +175,7 @@ def local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
     if p.size < 3:
         return np.zeros(0, np.intp)
     mid = p[1:-1]
-    idx = np.nonzero((mid >= p[:-2]) & (mid > p[2:]) & (mid > threshold))[0] + 1
+    idx = ((mid >= p[:-2]) & (mid > p[2:]) & (mid > threshold)).nonzero()[0] + 1
     return idx
 
 
@@ -236,7 +237,7 @@ def first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
     """
     miss = ~np.ascontiguousarray(on.T)
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
-    return np.where(gap.any(axis=1), np.argmax(gap, axis=1), miss.shape[1])
+    return np.where(gap.any(axis=1), gap.argmax(axis=1), miss.shape[1])
 
 
 def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
@@ -249,11 +250,11 @@ def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
     hit = t[:, :-2] & t[:, 1:-1] & t[:, 2:]
     hit[:, min(late_rows, hit.shape[1]) :] = False
     has = hit.any(axis=1)
-    start = np.argmax(hit, axis=1)
+    start = hit.argmax(axis=1)
     miss = ~t
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:]
     gap &= np.arange(n - 2)[None, :] >= start[:, None]
-    end = np.where(gap.any(axis=1), np.argmax(gap, axis=1), n)
+    end = np.where(gap.any(axis=1), gap.argmax(axis=1), n)
     return np.where(has, end - start, 0)
 
 
@@ -291,7 +292,7 @@ def _fit_edges(
     """
     peaks = []
     for win, _, lo in windows:
-        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        peak = win[lo : lo + 3].argmax(axis=0) + lo
         np.minimum(peak, 5, out=peak)
         peaks.append(peak)
     stacked = np.concatenate([win for win, _, _ in windows], axis=1, dtype=np.float32)
