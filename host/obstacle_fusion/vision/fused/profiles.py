@@ -27,11 +27,12 @@ def clamp(x: float, lo: float, hi: float) -> float:
 
 def median(a: npt.NDArray[Any]) -> float:
     """Median by partition: np.median's wrapper costs more than the work on small arrays."""
-    flat = a.ravel()
-    if flat.size == 0:
+    if a.size == 0:
         return 0.0
+    flat = a.flatten()  # one copy (np.partition of a.ravel() copied a strided block twice)
     k = flat.size // 2
-    return float(partitioned(flat, k)[k])
+    flat.partition(k)
+    return float(flat[k])
 
 
 def partitioned(a: npt.NDArray[Any], kth: int, axis: int = -1) -> npt.NDArray[Any]:
