@@ -29,6 +29,7 @@ def scene(
     seam_width: int = 2,
     beyond: tuple[int, int, int] = FLOOR,
     rng_seed: int = 0,
+    seam_colour: tuple[int, int, int] = (30, 40, 30),
 ) -> npt.NDArray[np.uint8]:
     """Floor below row BOTTOM, ``beyond`` above it; a green face with dark vertical seams,
     its planks of slightly different shades, over a textured floor."""
@@ -41,7 +42,7 @@ def scene(
     for a, b in zip(edges[:-1], edges[1:], strict=True):
         img[TOP:BOTTOM, a:b] += rng.uniform(-6, 6)
     for s in seams:
-        img[TOP:BOTTOM, s : s + seam_width] = (30, 40, 30)
+        img[TOP:BOTTOM, s : s + seam_width] = seam_colour
     img += rng.normal(0, 12.0, img.shape)  # a photographed floor's grain, everywhere
     return np.clip(img, 0, 255).astype(np.uint8)
 
@@ -69,8 +70,9 @@ def test_a_face_found_whole_keeps_its_sides() -> None:
 
 
 def test_a_gap_wider_than_a_seam_ends_the_face() -> None:
-    """Two boxes side by side, 5 cm apart (15 columns at 1 m): the other is not this one."""
-    img = scene(seams=(150,), seam_width=15)
+    """Two boxes side by side, 5 cm apart (15 columns at 1 m), the floor and the wall
+    behind seen between them: the other is not this one."""
+    img = scene(seams=(150,), seam_width=15, seam_colour=FLOOR)
     left, right = widen(img, 170, 240)
     assert left >= 160 and abs(right - RIGHT) <= 2
 
@@ -106,6 +108,7 @@ def test_the_colour_limits_decide(limit: str, monkeypatch: pytest.MonkeyPatch) -
     from the floor by more than MIN_FLOOR_STEP."""
     img = scene(seams=(100, 140, 180, 220))
     img[TOP:BOTTOM, LEFT:140] = np.clip(img[TOP:BOTTOM, LEFT:140].astype(int) + (0, 10, 0), 0, 255)
+    monkeypatch.setattr(region, "OUTLINE_MIN_SHARE", 2.0)  # the colour run alone
     assert widen(img, 142, 180)[0] <= LEFT + 2
     monkeypatch.setattr(region, limit, {"MIN_FACE_DISTANCE": 5.0, "MIN_FLOOR_STEP": 300.0}[limit])
     assert widen(img, 142, 180)[0] >= 130
@@ -186,6 +189,29 @@ def raise_top(img: npt.NDArray[np.uint8], top: int) -> int:
 def test_a_wall_line_crossing_the_face_is_not_its_top() -> None:
     """Found at the strip's foot (row 150), the top goes up to the face's own top."""
     assert abs(raise_top(wall_scene(), 150) - FACE_TOP) <= 2
+
+
+def test_a_side_found_on_a_seam_does_not_stop_the_top() -> None:
+    """The search's right side on a seam inside the face (the face's colour runs on past
+    it): what is beside that side is the face, so only the other side tells the face from
+    the wall, and the top still goes up to the face's own."""
+    seam = RIGHT - 40
+    img = wall_scene()
+    img[FACE_TOP:BOTTOM, seam : seam + 2] = (20, 20, 90)
+    top = region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, 150, LEFT, seam, DEPTH
+    )
+    assert abs(top - FACE_TOP) <= 2
+
+
+def test_a_face_with_no_side_against_the_background_keeps_its_top() -> None:
+    """Both sides inside one-colour area (a found face within a larger one of its colour):
+    nothing tells the face from what is beside it."""
+    img = wall_scene()
+    top = region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, 150, LEFT + 40, RIGHT - 40, DEPTH
+    )
+    assert top == 150
 
 
 def test_the_true_top_stays() -> None:
@@ -354,6 +380,28 @@ def test_a_brick_face_the_edges_miss_is_found_by_colour_with_a_modest_confidence
     assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
 
 
+def test_a_face_refused_for_its_sides_is_sought_again_by_colour(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A purple brick box on a sand floor (room procedural/128): the edges give a face
+    whose sides are no colour step (refused late, by side_agreement); the colour search
+    then finds the whole face."""
+    from obstacle_fusion.sim.room_scene import render_room
+    from obstacle_fusion.vision.fused import method
+    from obstacle_fusion.vision.measure import Measurer
+
+    image, truth, spec = render_room("procedural", 128, False)
+    cam = CameraModel.paper(500, 375)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.02)
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.02)
+    assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
+    monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
+    refused = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert not refused.detected and "confidence" in (refused.reason or "")
+
+
 def test_sides_that_are_colour_boundaries_keep_the_confidence() -> None:
     img = scene()
     assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT) == 1.0
@@ -380,3 +428,74 @@ def test_the_side_step_scales_in_proportion() -> None:
     got = region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT)
     assert 0.2 < step / region.SIDE_STEP_FULL < 0.9
     assert abs(got - step / region.SIDE_STEP_FULL) < 0.05
+
+
+PLANK_COLOURS = ((60, 160, 60), (40, 40, 200), (200, 120, 40), (60, 160, 60))
+
+
+def planks_of_colours(top_line: bool = False) -> npt.NDArray[np.uint8]:
+    """A face of four planks of far-apart colours (no colour run crosses a plank) on the
+    grey floor; ``top_line``: a dark line on the wall at the face's top row, running on
+    past both sides (the wall's foot, a shelf)."""
+    img = scene()
+    bounds = np.linspace(LEFT, RIGHT, len(PLANK_COLOURS) + 1).astype(int)
+    rng = np.random.default_rng(1)
+    for a, b, colour in zip(bounds[:-1], bounds[1:], PLANK_COLOURS, strict=True):
+        patch = np.asarray(colour, np.float64) + rng.normal(0, 12.0, (BOTTOM - TOP, b - a, 3))
+        img[TOP:BOTTOM, a:b] = np.clip(patch, 0, 255).astype(np.uint8)
+    if top_line:
+        img[TOP - 8 : TOP, :] = (20, 20, 20)
+    return img
+
+
+def test_a_face_of_many_colours_is_widened_along_its_outline() -> None:
+    img = planks_of_colours()
+    first = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48  # the third plank
+    left, right = widen(img, *first)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_background_line_at_the_top_row_is_no_outline() -> None:
+    img = planks_of_colours(top_line=True)
+    first = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
+    left, right = widen(img, *first)
+    assert abs(left - first[0]) <= 3 and abs(right - first[1]) <= 3
+
+
+def test_the_outline_side_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    img = planks_of_colours()
+    first = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
+    # the face's outer sides against the grey wall are no stronger than a plank's edge
+    monkeypatch.setattr(region, "OUTLINE_SIDE_SHARE", 3.0)
+    left, right = widen(img, *first)
+    assert abs(left - first[0]) <= 3 and abs(right - first[1]) <= 3
+
+
+def test_the_outline_must_hold_over_its_share(monkeypatch: pytest.MonkeyPatch) -> None:
+    img = planks_of_colours()
+    # the foot's step broken over 6 columns in every 10: no solid outline at 0.8
+    for a in range(LEFT + 10, (LEFT + RIGHT) // 2, 10):
+        img[BOTTOM - 12 : BOTTOM, a : a + 6] = FLOOR
+    first = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
+    assert abs(widen(img, *first)[0] - first[0]) <= 3
+    monkeypatch.setattr(region, "OUTLINE_MIN_SHARE", 0.3)
+    assert abs(widen(img, *first)[0] - LEFT) <= 2
+
+
+def test_a_face_widened_far_past_the_search_columns_is_fitted_over_its_width(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A box of planks (room procedural/127) whose search found one plank: widened along
+    its outline, its bottom line is fitted over the whole face, not over the plank (a
+    line fitted over 9 columns tilts with its noise, and the tilt reads as yaw)."""
+    from obstacle_fusion.sim.room_scene import render_room
+    from obstacle_fusion.vision.fused import refine
+    from obstacle_fusion.vision.measure import Measurer
+
+    image, truth, spec = render_room("procedural", 127, False)
+    cam = CameraModel.paper(500, 375)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.02)
+    monkeypatch.setattr(refine, "MIN_SPAN_SHARE", 0.0)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.width_m > 1.2 * truth["width_m"]

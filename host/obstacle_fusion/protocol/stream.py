@@ -9,20 +9,26 @@ pending tail (``pending_bytes``), or ``bytes_discarded``. A run longer than the 
 frame is ``oversized`` however it was chunked, and a 0x00 with no frame before it is a
 ``stray_zeros``.
 
-Two fast paths decode the common cases with the results and counters of the general path:
+Fast paths decode the common cases with the results and counters of the general path:
 they accept only frames it would accept, and hand everything else to it.
 
 * A chunk whose frames are all one fixed-length message (a run of RANGE) is decoded whole:
   every delimiter's place checked by one strided slice, the frames' COBS by one ``map``,
   each frame's own CRC by one ``map``, the ids and sequence numbers by strided slices, and
   the messages built by ``Struct.iter_unpack``: no Python-level step per frame.
-* Otherwise an intact fixed-length frame runs inline in ``feed``: one COBS decode, one
-  table look-up, one CRC, one struct unpack and the message's constructor.
+* Otherwise an intact fixed-length frame runs inline: one COBS decode, one table look-up,
+  one struct unpack (which checks the length), one CRC and the message's constructor. A
+  short chunk (fewer than RUN_MIN_FRAMES frames, nothing overflowed, a seq to count from)
+  takes a lean copy of that loop straight in ``feed``; the rest goes to ``_feed_parts``.
+* A chunk of PAUSE_GC_FRAMES frames or more is decoded with the automatic garbage
+  collection paused: its messages live until it returns them, so a collection could free
+  none of them. Every message is built in full (no field decoded later on access).
 """
 
 from __future__ import annotations
 
 import binascii
+import gc
 import struct
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
@@ -42,9 +48,10 @@ LONGEST_RUN = MAX_FRAME - 1
 # The shortest run that can be a frame: id, seq and CRC behind one COBS code byte.
 _SHORTEST_RUN = 5
 _HELLO_ID = Hello.MSG_ID
-_FastEntry = tuple[Callable[..., Message], int, Callable[[bytes, int], tuple[Any, ...]], int]
+_FastEntry = tuple[Callable[..., Message], Callable[[bytes], tuple[Any, ...]], int]
 # Fixed-length messages but HELLO (whose seq starts a new count) decode on the fast path,
-# indexed by message id: (class, body length, struct unpacker, CRC seed); None otherwise.
+# indexed by message id: (class, unpacker of a whole body that skips its id, seq and CRC
+# and raises struct.error for any other length, CRC seed); None otherwise.
 _FAST: list[_FastEntry | None] = [None] * 256
 _RunEntry = tuple[Callable[..., Message], int, int, struct.Struct]
 # The same messages decoded a chunk at a time: (class, body length, CRC seed, a Struct over
@@ -52,11 +59,14 @@ _RunEntry = tuple[Callable[..., Message], int, int, struct.Struct]
 _RUN: list[_RunEntry | None] = [None] * 256
 for _msg_id, _cls in MESSAGES.items():
     if _cls.TEXT_FIELD is None and _msg_id != _HELLO_ID:
-        _FAST[_msg_id] = (_cls, _cls.MIN_LEN + 4, _cls.STRUCT.unpack_from, CRC_SEEDS[_msg_id])
         _row = struct.Struct("<xx" + _cls.STRUCT.format.lstrip("<") + "xx")
+        _FAST[_msg_id] = (_cls, _row.unpack, CRC_SEEDS[_msg_id])
         _RUN[_msg_id] = (_cls, _row.size, CRC_SEEDS[_msg_id], _row)
 # A chunk with at least this many frames tries the whole-chunk path first.
 RUN_MIN_FRAMES = 8
+# A chunk with at least this many frames is decoded with the automatic garbage collection
+# paused (it is restored before feed returns, and left alone if it was off).
+PAUSE_GC_FRAMES = 8
 # seq -> seq + 1 (mod 256): a run of sequence numbers has no gap when shifting all but its
 # last by one gives all but its first.
 _NEXT_SEQ = bytes((i + 1) & 0xFF for i in range(256))
@@ -116,6 +126,68 @@ class StreamDecoder:
         data = self._tail + chunk if self._tail else bytes(chunk)
         parts = data.split(b"\x00")
         tail = parts.pop()
+        last = self.last_seq
+        if (
+            len(parts) >= RUN_MIN_FRAMES
+            or len(tail) > LONGEST_RUN
+            or self._overflow
+            or last is None
+        ):
+            if len(parts) < PAUSE_GC_FRAMES or not gc.isenabled():
+                return self._feed_parts(data, parts, tail)
+            # The messages of a chunk are all alive until it returns them: an automatic
+            # collection while they are built could only walk them and move them to an
+            # older generation (a fifth of the time of a 64 KiB chunk of RANGE). gc's
+            # switch is process-wide: nothing else in the package turns it.
+            gc.disable()
+            try:
+                return self._feed_parts(data, parts, tail)
+            finally:
+                gc.enable()
+        # The common case of a short chunk: no run to try, nothing overflowed, a seq to
+        # count from. Each frame is tried as an intact fixed-length frame (as in the
+        # general path's loop); anything else goes to its frame-by-frame step (_one).
+        self._tail = tail
+        out: list[Message] = []
+        append = out.append
+        fast = _FAST
+        gaps = 0
+        others = 0  # messages that came from _one (it counts its own frames)
+        zeros = 0
+        for part in parts:
+            try:
+                body = _cobs_decode(part)
+                cls, unpack, seed = fast[body[0]]  # type: ignore[misc]
+                if not _crc(body, seed):
+                    append(cls(*unpack(body)))  # a body of another length: struct.error
+                    seq = body[1]
+                    gaps += (seq - last - 1) & 0xFF  # type: ignore[operator]
+                    last = seq
+                    continue
+            except (_CobsError, IndexError, TypeError, struct.error):
+                # No COBS; an empty part (a 0x00 run); no fast entry; a wrong length.
+                pass
+            if not part:
+                zeros += 1
+                continue
+            self.last_seq = last
+            msg = self._one(part)
+            last = self.last_seq
+            if msg is not None:
+                append(msg)
+                others += 1
+        self.last_seq = last
+        if gaps:
+            stats.seq_gaps += gaps
+        stats.frames += len(out) - others
+        if zeros:
+            stats.stray_zeros += zeros
+            stats.bytes_discarded += zeros
+        return out
+
+    def _feed_parts(self, data: bytes, parts: list[bytes], tail: bytes) -> list[Message]:
+        """The general path: ``data`` split at its delimiters into ``parts`` and ``tail``."""
+        stats = self.stats
         end = len(data) - len(tail)  # just after the last delimiter
         if len(tail) > LONGEST_RUN:
             # Only the last LONGEST_RUN bytes can still become (the end of) a frame.
@@ -141,8 +213,10 @@ class StreamDecoder:
         if len(parts) >= RUN_MIN_FRAMES:
             run = self._decode_run(parts, data, start, end)
             if run is not None:
-                out += run
-                return out
+                if out:  # a frame recovered from the end of an overflowed run
+                    out += run
+                    return out
+                return run
         append = out.append
         fast = _FAST
         crc = _crc
@@ -156,35 +230,22 @@ class StreamDecoder:
                 # A run too long for any frame decodes to a body too long for any entry.
                 try:
                     body = cobs_decode(part)
-                    entry = fast[body[0]]
-                except (_CobsError, IndexError):  # no COBS; a run that decodes to nothing
-                    entry = None
-                if entry is not None:
-                    cls, size, unpack, seed = entry
-                    if len(body) == size and not crc(body, seed):
-                        append(cls(*unpack(body, 2)))
+                    cls, unpack, seed = fast[body[0]]  # type: ignore[misc]
+                    if not crc(body, seed):
+                        append(cls(*unpack(body)))
                         seq = body[1]
                         if last is not None:
                             gaps += (seq - last - 1) & 0xFF
                         last = seq
                         good += 1
                         continue
+                except (_CobsError, IndexError, TypeError, struct.error):
+                    pass
             else:
                 zeros += 1
                 continue
             self.last_seq = last
-            stats.seq_gaps += gaps
-            stats.frames += good
-            gaps = good = 0
-            if len(part) > LONGEST_RUN:
-                msg = self._bad_run(part, len(part) - LONGEST_RUN, "oversized")
-            else:
-                decoded: bytes | None
-                try:
-                    decoded = cobs_decode(part)
-                except _CobsError:
-                    decoded = None
-                msg = self._slow_path(part, decoded)
+            msg = self._one(part)
             last = self.last_seq
             if msg is not None:
                 append(msg)
@@ -195,6 +256,18 @@ class StreamDecoder:
             stats.stray_zeros += zeros
             stats.bytes_discarded += zeros
         return out
+
+    def _one(self, part: bytes) -> Message | None:
+        """A run (not empty, ended by its delimiter) that is no intact fixed-length frame:
+        decoded by the general decoder, or counted, or a frame recovered from its end."""
+        if len(part) > LONGEST_RUN:
+            return self._bad_run(part, len(part) - LONGEST_RUN, "oversized")
+        decoded: bytes | None
+        try:
+            decoded = _cobs_decode(part)
+        except _CobsError:
+            decoded = None
+        return self._slow_path(part, decoded)
 
     def _decode_run(
         self, parts: list[bytes], data: bytes, start: int, end: int

@@ -136,12 +136,16 @@ class FusedMethod:
         best, rivals = verified(v, ax, cands)
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
+
+        def rescue_by_colour() -> Measurement | None:
+            """Where the edges give no face, or none clear, the face by its colour."""
+            if not rescue:
+                return None
+            rows = (r0b, r1b)
+            return self._colour_face(seen, ax, ay, ax3, dy, rows, depth, noise, range_m, timer)
+
         if best is None:
-            rescued = (
-                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, noise, range_m, timer)
-                if rescue
-                else None
-            )
+            rescued = rescue_by_colour()
             if rescued is not None:
                 return rescued
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
@@ -164,11 +168,7 @@ class FusedMethod:
         conf = confidence(best, rivals)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
-            rescued = (
-                self._colour_face(seen, ax, ay, ax3, dy, (r0b, r1b), depth, noise, range_m, timer)
-                if rescue
-                else None
-            )
+            rescued = rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
             fail.confidence = round(conf, 3)
@@ -197,6 +197,9 @@ class FusedMethod:
         conf *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
+            rescued = rescue_by_colour()
+            if rescued is not None and (rescued.confidence or 0.0) > conf:
+                return rescued
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail

@@ -48,6 +48,16 @@ class _BottomProfile(NamedTuple):
     on: list[bool]  # on the line and strong
 
 
+#: Top and bottom edges are fitted over the search's columns only while they span at
+#: least this share of the face's width.
+MIN_SPAN_SHARE = 0.3
+#: The largest yaw of a face off square to the beam that the side-face test allows for.
+MAX_YAW_DEG = 5.0
+#: A side face's bottom must rise at least this share of the least rise its width and
+#: the vanishing point give (the blur and the fit's noise take some).
+SIDE_FACE_RISE_SHARE = 0.5
+
+
 def refine(
     view: View,
     method: str,
@@ -79,6 +89,8 @@ def refine(
     h_roi, w_img = ay.shape
     # horizontal edges: per-column sub-pixel peaks near rb and vt
     fl, fr = span if span is not None else (ul, ur)
+    if fr - fl < MIN_SPAN_SHARE * (ur - ul):
+        fl, fr = ul, ur  # a line fitted over a sliver of the face tilts with its noise
     m = max(1, (fr - fl) // 10)
     cols = np.arange(fl + m, fr - m + 1)
     (bottom_a, bottom_b), (top_a, top_b) = fit_horizontal([(ay, rb), (top_edge, vt)], cols, h_roi)
@@ -94,8 +106,16 @@ def refine(
     # Where the straight part ends is the front corner.
     bottom = _bottom_profile(ay, bottom_a, bottom_b, ul, ur)
     if bottom is not None:
-        new_left = _side_face(ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b)
-        new_right = _side_face(ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b)
+        # a side face recedes along the floor, its bottom edge towards the vanishing point
+        # of the depth direction: (cx, cy) in the level view, moved by the box's yaw
+        reach = v.fx * math.tan(math.radians(MAX_YAW_DEG))
+        vp = (v.cx, v.cy, reach)
+        new_left = _side_face(
+            ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, -1, left_a, left_b, vp
+        )
+        new_right = _side_face(
+            ax, bottom, bottom_a, bottom_b, ul, ur, vt, rb, 1, right_a, right_b, vp
+        )
         # A camera sees at most one side face of a box (the one turned towards it): a
         # "side face" on both sides is a break in the bottom edge (a seam), not a corner.
         if new_left == (left_a, left_b) or new_right == (right_a, right_b):
@@ -216,8 +236,13 @@ def _side_face(
     direction: int,
     va: float,
     vb: float,
+    vp: tuple[float, float, float],
 ) -> tuple[float, float]:
     """The front face's vertical edge on one side, moved inwards past a side face.
+
+    ``vp``: the depth direction's vanishing point (u, v) in the level view and how far
+    (columns) a yawed box moves it; a side face lies between its corner and that point,
+    so one reaching past it is a seam or a print on the front face.
 
     ``direction`` -1 for the left side, +1 for the right; (va, vb) is the fitted edge
     u = va + vb v, returned unchanged when no side face is seen.
@@ -268,6 +293,16 @@ def _side_face(
         return va, vb
     if not (min(end_u, edge_u) - 1.0 <= corner_u <= max(end_u, edge_u) + 1.0):
         return va, vb
+    # the side face's bottom runs from the corner towards the vanishing point: over its
+    # width it rises at least as steeply as a line to the farthest point a yaw allows
+    vp_u, vp_v, reach = vp
+    room = (vp_u + direction * reach - corner_u) * direction
+    if room <= 1.0:
+        return va, vb  # no side face shows on this side of the vanishing point
+    slope_min = max(0.0, ba + bb * corner_u - vp_v) / room
+    rise = -float(np.add.reduce(dev[outer])) / outer.size
+    if rise < SIDE_FACE_RISE_SHARE * slope_min * abs(edge_u - corner_u):
+        return va, vb  # flat: a seam or a print's edge on the front face
     # a vertical edge (front/side shading) near the corner gives the slope; else vertical
     mv = max(1, (rb - vt) // 10)
     rows = np.arange(vt + mv, rb - mv + 1)

@@ -155,9 +155,33 @@ def widen_by_colour(
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
+    outline: list[bool] | None = None  # columns with both a foot and a top step
+    top_step: list[bool] = []
+    outline_gap = max(2, int(round(view.fx * OUTLINE_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     new = []
     for side, step in ((left, -1), (right, 1)):
         end = walk_on(on_both, side - step * 2, step, max_gap)
+        if (end - side) * step <= min_move:
+            # a face of several colours (planks, tape, a print) ends its colour run at
+            # the first change; its outline runs on: a foot on the floor and a top
+            # against what is behind, where beside the face there is neither
+            if outline is None:
+                top_step = _top_step_columns(image, view, top)
+                outline = (np.asarray(top_step) & (d_foot_floor >= MIN_FLOOR_STEP)).tolist()
+            end_outline = walk_on(outline, side - step * 2, step, outline_gap)
+            # the face's top edge ends at its side: a top edge running on past the outline's
+            # end is a background line at the top's row (the wall's foot), no evidence
+            span = outline[min(side, end_outline) : max(side, end_outline) + 1]
+            solid = sum(span) >= OUTLINE_MIN_SHARE * len(span)  # not a floor's pattern
+            if (
+                solid
+                and abs(walk_on(top_step, side - step * 2, step, outline_gap) - end_outline)
+                <= max_gap
+            ):
+                moved = _snap_side(ax, top, bottom, end_outline)
+                # ... and there the face has a side as clear as the one it ran on from
+                if moved[1] >= OUTLINE_SIDE_SHARE * _snap_side(ax, top, bottom, side)[1]:
+                    end = end_outline
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
             # side search took in the background beside it: nothing stands on the contact
@@ -170,12 +194,41 @@ def widen_by_colour(
             ):
                 new.append(side)
                 continue
-        lo, hi = max(end - SNAP_COLUMNS, 0), min(end + SNAP_COLUMNS, on.size - 1)
-        # the sides' strength only over the columns searched (sums of integers: exact,
-        # the same means as over the whole width)
-        strength = column_means(ax[max(top, 0) : bottom + 1, lo : hi + 1])
-        new.append(int(lo + np.argmax(strength)))
+        new.append(_snap_side(ax, top, bottom, end)[0])
     return new[0], new[1]
+
+
+def _snap_side(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> tuple[int, float]:
+    """The strongest vertical edge within SNAP_COLUMNS of ``column``: (column, its mean
+    |d/dx| over the face's rows)."""
+    lo, hi = max(column - SNAP_COLUMNS, 0), min(column + SNAP_COLUMNS, ax.shape[1] - 1)
+    # the sides' strength only over the columns searched (sums of integers: exact, the
+    # same means as over the whole width)
+    strength = column_means(ax[max(top, 0) : bottom + 1, lo : hi + 1])
+    best = int(np.argmax(strength))
+    return lo + best, float(strength[best])
+
+
+#: Columns off the outline crossed (metres at the face): a seam's, a joint's width.
+OUTLINE_GAP_M = 0.02
+#: ... and the outline must hold over this share of the columns it crossed.
+OUTLINE_MIN_SHARE = 0.8
+#: A side moved out along the outline must be an edge at least this share as strong as
+#: the side it moved from.
+OUTLINE_SIDE_SHARE = 0.25
+
+
+def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[bool]:
+    """Per column: the face's top row is a colour step (the rows just above it against
+    those just below)."""
+    r0, r1 = top - TOP_STEP_ROWS[1] - 1, top + TOP_STEP_ROWS[1] + 2
+    if r0 < 0 or r1 > view.out.shape[0]:
+        return [False] * view.out.shape[1]
+    lab = _lab8(image, view, r0, r1)
+    n = TOP_STEP_ROWS[1] - TOP_STEP_ROWS[0] + 1
+    above = cv2.blur(median_u8(lab[:n], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    below = cv2.blur(median_u8(lab[-n:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    return (row_norms(above - below) >= MIN_FLOOR_STEP).tolist()
 
 
 #: Every SUBSAMPLE-th row or column read where a median runs over a face's whole width or
@@ -266,16 +319,26 @@ def _colour_walk_up(
     d_face = row_norms(inner - ref)
     spread = float(median_of(d_face[k + 2 :]))
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
-    beside = np.minimum(row_norms(inner - left_out), row_norms(inner - right_out))
     s = BESIDE_COLUMNS + SIDE_SKIP
-    on = (d_face <= MAX_FACE_DISTANCE) & (beside >= MIN_BESIDE_STEP)
-    # the face's colour reaches its sides: a top face narrows as it recedes (its sides run
-    # towards the vanishing point), so just inside the front face's sides it is not there
+    on = d_face <= MAX_FACE_DISTANCE
+    sides = 0
     for near, out in (
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
+        beside = row_norms(inner - out)
+        if float(median_of(beside[k + 2 :])) < MIN_BESIDE_STEP:
+            # the face's colour runs on past this side below the top too: the side is a
+            # seam the width stage will cross, and what is beside it tells nothing
+            continue
+        sides += 1
+        on &= beside >= MIN_BESIDE_STEP
+        # the face's colour reaches its sides: a top face narrows as it recedes (its
+        # sides run towards the vanishing point), so just inside the front face's sides
+        # it is not there
         on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
+    if sides == 0:
+        return r0, k, k  # no side tells the face from what stands beside it
     return r0, _walk_colour(inner, on, k, limit, gap), k
 
 

@@ -1,0 +1,229 @@
+"""The decoder's fast paths against its plain path, on random mixed and damaged streams.
+
+Fast paths: the lean loop ``feed`` runs for a short chunk, the inline fixed-length frame
+(table look-up, whole-body struct, CRC), the whole-chunk run of one message, and the
+garbage collection paused for a long chunk. The plain path has them all off: every frame
+goes through ``decode_body``. Whatever the chunking, both must give the same messages, the
+same counters, the same last seq and the same pending bytes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from obstacle_fusion.protocol import StreamDecoder, encode, stream
+from obstacle_fusion.protocol.generated import MESSAGES, Heartbeat, Hello, Message, Range
+
+_INT_RANGES = {
+    "B": (0, 0xFF), "H": (0, 0xFFFF), "I": (0, 0xFFFFFFFF),
+    "b": (-0x80, 0x7F), "h": (-0x8000, 0x7FFF), "i": (-0x80000000, 0x7FFFFFFF),
+}
+
+
+def _message_strategy(cls: type[Message]) -> st.SearchStrategy[Message]:
+    values = [st.integers(*_INT_RANGES[code]) for code in cls.STRUCT.format.lstrip("<")]
+    if cls.TEXT_FIELD is not None:
+        values.append(st.text(st.characters(min_codepoint=32, max_codepoint=126),
+                              max_size=cls.MAX_LEN - cls.MIN_LEN))
+    return st.tuples(*values).map(lambda v: cls(*v))
+
+
+# Every message the spec knows (both directions: the decoder takes any known id).
+any_message = st.one_of(*[_message_strategy(cls) for cls in MESSAGES.values()])
+
+# What can happen to a frame on the wire: 0 none, 1 a byte flipped (maybe into 0x00),
+# 2 a byte lost, 3 a 0x00 inserted, 4 a byte turned into 0xFF, 5 cut short, 6 lost whole.
+damage = st.tuples(st.sampled_from([0, 0, 0, 0, 1, 2, 3, 4, 5, 6]), st.integers(0, 60))
+
+item = st.one_of(
+    # one frame, its seq advanced by 1 (or by more: frames lost before it)
+    st.tuples(st.just("frame"), any_message, st.sampled_from([1, 1, 1, 2, 7]), damage),
+    # a run of one fixed-length message (the whole-chunk path), a few frames damaged
+    st.tuples(st.just("run"), st.sampled_from(["range", "heartbeat"]), st.integers(1, 40),
+              st.lists(st.tuples(st.integers(0, 39), damage), max_size=3)),
+    # line noise: random bytes (0x00 included), a run of 0x00, a run longer than any frame
+    st.tuples(st.just("noise"), st.binary(max_size=30)),
+    st.tuples(st.just("zeros"), st.integers(1, 5)),
+    st.tuples(st.just("long"), st.integers(54, 300), st.integers(1, 255)),
+)
+
+
+def _damaged(frame: bytes, how: int, at: int) -> bytes:
+    if how == 0 or len(frame) < 2:  # undamaged, or already lost or cut to its delimiter
+        return frame
+    if how == 6:
+        return b""
+    out = bytearray(frame)
+    pos = at % (len(out) - 1)  # never the delimiter itself
+    if how == 1:
+        out[pos] ^= 0x5A
+    elif how == 2:
+        del out[pos]
+    elif how == 3:
+        out.insert(pos, 0)
+    elif how == 4:
+        out[pos] = 0xFF
+    else:
+        del out[pos:-1]
+    return bytes(out)
+
+
+def build_stream(items: list[Any], first_seq: int) -> bytes:
+    out = bytearray()
+    seq = first_seq
+    for entry in items:
+        kind = entry[0]
+        if kind == "frame":
+            _, msg, step, (how, at) = entry
+            seq = 0 if isinstance(msg, Hello) else (seq + step) & 0xFF
+            out += _damaged(encode(msg, seq), how, at)
+        elif kind == "run":
+            _, which, count, hurts = entry
+            frames = []
+            for i in range(count):
+                seq = (seq + 1) & 0xFF
+                if which == "range":
+                    msg: Message = Range(measurement=i, sensor_id=i % 4, trigger_us=60_000 * i,
+                                         echo_ticks=4000 + 7 * i, status=i % 4)
+                else:
+                    msg = Heartbeat(uptime_ms=1000 * i, frames_sent=3 * i, rx_errors=0,
+                                    tx_overruns=i % 2, state=1)
+                frames.append(encode(msg, seq))
+            for index, (how, at) in hurts:
+                frames[index % count] = _damaged(frames[index % count], how, at)
+            out += b"".join(frames)
+        elif kind == "noise":
+            out += entry[1]
+        elif kind == "zeros":
+            out += bytes(entry[1])
+        else:
+            out += bytes([entry[2]]) * entry[1]
+    return bytes(out)
+
+
+@contextmanager
+def plain_path() -> Iterator[None]:
+    """Every fast path off: no fixed-length table, no whole-chunk run, no GC pause."""
+    saved = stream._FAST, stream.RUN_MIN_FRAMES, stream.PAUSE_GC_FRAMES
+    stream._FAST = [None] * 256
+    stream.RUN_MIN_FRAMES = stream.PAUSE_GC_FRAMES = 10**9
+    try:
+        yield
+    finally:
+        stream._FAST, stream.RUN_MIN_FRAMES, stream.PAUSE_GC_FRAMES = saved
+
+
+def pieces_of(data: bytes, size: int) -> list[bytes]:
+    return [data[i : i + size] for i in range(0, len(data), size)]
+
+
+def decode(pieces: list[bytes], last_seq: int | None) -> tuple[list[Message], dict[str, int],
+                                                               int | None, int]:
+    decoder = StreamDecoder()
+    decoder.last_seq = last_seq
+    out: list[Message] = []
+    for piece in pieces:
+        out += decoder.feed(piece)
+    return out, decoder.stats.as_dict(), decoder.last_seq, decoder.pending_bytes
+
+
+def cut(data: bytes, cuts: list[int]) -> list[bytes]:
+    points = sorted({c % (len(data) + 1) for c in cuts})
+    return [data[a:b] for a, b in zip([0, *points], [*points, len(data)], strict=True)]
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow], max_examples=120, deadline=None)
+@given(
+    st.lists(item, min_size=1, max_size=30),
+    st.integers(0, 255),
+    st.sampled_from([None, 0, 254]),
+    st.lists(st.integers(0, 5000), max_size=6),
+)
+def test_fast_paths_decode_exactly_as_the_plain_path(
+    items: list[Any], first_seq: int, last_seq: int | None, cuts: list[int]
+) -> None:
+    data = build_stream(items, first_seq)
+    with plain_path():
+        expected = decode(pieces_of(data, 1), last_seq)
+        assert decode([data], last_seq) == expected  # the plain path ignores chunking too
+    assert expected[1]["bytes"] == len(data)
+    for size in (1, 3, 20, 64, 1024, 65536):
+        assert decode(pieces_of(data, size), last_seq) == expected, size
+    assert decode(cut(data, cuts), last_seq) == expected
+
+
+def test_the_fast_paths_are_taken_and_the_plain_path_is_not() -> None:
+    """The comparison above means something only if the fast paths ran: a clean run of
+    RANGE goes whole, a short chunk is decoded by the lean loop without decode_body, and
+    the plain path sends every frame through decode_body."""
+    frames = b"".join(encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i,
+                                   status=0), i) for i in range(40))
+    calls: list[int] = []
+    real_run = StreamDecoder._decode_run
+    real_body = stream.decode_body
+
+    def run_spy(self: StreamDecoder, *args: Any) -> Any:
+        got = real_run(self, *args)
+        calls.append(-1 if got is None else len(got))
+        return got
+
+    def body_spy(body: bytes) -> Message:
+        calls.append(0)
+        return real_body(body)
+
+    saved = StreamDecoder._decode_run, stream.decode_body
+    StreamDecoder._decode_run = run_spy  # type: ignore[method-assign]
+    stream.decode_body = body_spy
+    try:
+        decoder = StreamDecoder()
+        assert len(decoder.feed(frames)) == 40 and calls == [40]  # one whole-chunk run
+        calls.clear()
+        assert len(decoder.feed(frames[:60])) == 3 and calls == []  # lean loop, inline
+        with plain_path():
+            calls.clear()
+            assert len(StreamDecoder().feed(frames)) == 40 and calls == [0] * 40
+    finally:
+        StreamDecoder._decode_run, stream.decode_body = saved
+
+
+class _RecordingGC:
+    """Stands for the gc module in stream: records what the decoder asks of it."""
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self.calls: list[str] = []
+
+    def isenabled(self) -> bool:
+        self.calls.append("isenabled")
+        return self.enabled
+
+    def disable(self) -> None:
+        self.calls.append("disable")
+        self.enabled = False
+
+    def enable(self) -> None:
+        self.calls.append("enable")
+        self.enabled = True
+
+
+def test_a_long_chunk_pauses_the_gc_and_restores_it(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    frames = [encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0), i)
+              for i in range(40)]
+    fake = _RecordingGC(enabled=True)
+    monkeypatch.setattr(stream, "gc", fake)
+    decoder = StreamDecoder()
+    assert len(decoder.feed(b"".join(frames))) == 40
+    assert fake.calls == ["isenabled", "disable", "enable"] and fake.enabled
+    fake.calls.clear()
+    assert len(decoder.feed(b"".join(frames[:7]))) == 7  # fewer than PAUSE_GC_FRAMES
+    assert fake.calls == []
+    assert len(decoder.feed(b"\x01" * 500 + b"".join(frames[:8]))) == 8  # general path, paused
+    assert fake.calls == ["isenabled", "disable", "enable"] and fake.enabled
+    fake = _RecordingGC(enabled=False)  # collection off: left off
+    monkeypatch.setattr(stream, "gc", fake)
+    assert len(decoder.feed(b"".join(frames))) == 40
+    assert fake.calls == ["isenabled"] and not fake.enabled
