@@ -34,6 +34,7 @@ EVEN_SHARE = 0.5
 MIN_WIDEN_SHARE = 0.15
 #: Columns averaged when walking along an edge (one noisy column stops nothing).
 WALK_WINDOW = 3
+_WALK_KERNEL = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW  # the walks' running mean
 #: Columns where the edges may dip (a seam, a joint) without ending the face.
 MAX_GAP = 4
 #: Where the top and bottom edges end, a side as strong as this share of the chosen
@@ -108,7 +109,7 @@ def widen_across_seams(
     for profile, ref in ((gb, ref_b), (gt, ref_t)):
         if ref < EVEN_SHARE * _p90(profile[inner]):
             return left, right  # the edge does not run along the face itself: no face here
-    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    kernel = _WALK_KERNEL
     # both edges run on: together at CONTINUE_SHARE of the face's, neither below
     # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
     sb = np.convolve(gb, kernel, mode="same") / ref_b
@@ -225,7 +226,7 @@ def enclose_inner_frame(
     ref_b = float(median_of(gb[inner]))
     if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * _p90(gb[inner]):
         return left, right, top
-    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    kernel = _WALK_KERNEL
     runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
     sides = column_means(ax[top : bottom + 1])
     # a print's edges may be far stronger than the face's own sides against the room
