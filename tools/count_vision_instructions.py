@@ -14,6 +14,7 @@ per-camera setup cancel out). Needs valgrind (Debian's package); takes a few min
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import shutil
 import subprocess
@@ -71,6 +72,10 @@ def _count(method: str, scenes: int, runs: int) -> int:
         capture_output=True,
         text=True,
         check=True,
+        # numpy's OpenBLAS starts worker threads that spin while idle: their instructions
+        # are counted too and vary with the timing (+-0.7 M a frame seen); the method's
+        # BLAS calls are too small for a second thread, so one thread computes the same
+        env={**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"},
     )
     found = re.search(r"Collected\s*:\s*(\d+)", out.stderr)
     if found is None:
@@ -97,7 +102,7 @@ def main() -> int:
     more = _count(args.method, args.scenes, 1 + _EXTRA_RUNS)
     per_frame = (more - once) / (_EXTRA_RUNS * args.scenes)
     print(
-        f"{args.method}: {per_frame / 1e6:.1f} M instructions per 500x375 frame "
+        f"{args.method}: {per_frame / 1e6:.2f} M instructions per 500x375 frame "
         f"({args.scenes} ordinary scenes, seed 2026)"
     )
     return 0

@@ -38,7 +38,15 @@ def _fused(camera: CameraModel, rig: Rig, min_confidence: float | None) -> Metho
     fused = FusedMethod(View(camera, rig, "level"))
     if min_confidence is not None:
         fused.min_confidence = min_confidence
+    warm_colour_tables()
     return fused
+
+
+def warm_colour_tables() -> None:
+    """Build OpenCV's CIE Lab tables now: its first 8-bit BGR to Lab conversion in a process
+    builds them (~90 ms), which would otherwise land on the first colour frame's clock (the
+    region stages read the frame in Lab). The tables are fixed: no result changes."""
+    cv2.cvtColor(np.zeros((1, 1, 3), np.uint8), cv2.COLOR_BGR2LAB)
 
 
 METHODS: dict[str, Callable[[CameraModel, Rig, float | None], Method]] = {

@@ -127,9 +127,10 @@ class View:
     def to_input(self, pts: npt.ArrayLike) -> FloatArray:
         """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""
         p = np.asarray(pts, dtype=np.float64).reshape(-1, 2)
-        rays = np.stack(
-            [(p[:, 0] - self.cx) / self.fx, (p[:, 1] - self.cy) / self.fy, np.ones(len(p))], axis=1
-        )
+        rays = np.empty((len(p), 3))  # np.stack's columns, filled without its wrapper
+        np.divide(p[:, 0] - self.cx, self.fx, out=rays[:, 0])
+        np.divide(p[:, 1] - self.cy, self.fy, out=rays[:, 1])
+        rays[:, 2] = 1.0
         cam = rays @ self.rotation  # R^T applied to row vectors: level -> camera frame
         return self.camera.project(cam)
 

@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from obstacle_fusion.vision.fused.profiles import norm
 from obstacle_fusion.vision.types import View
 
 #: Share of the face-floor colour direction in the projection (the rest is luminance).
@@ -37,20 +38,35 @@ BAND_ROWS = 12.0
 _LUMA = np.array([0.114, 0.587, 0.299])  # BGR weights of OpenCV's grey
 
 
-def _mean_colour(image: npt.NDArray[Any], pts: npt.NDArray[np.float64]) -> npt.NDArray[Any] | None:
-    """Mean colour of the 3x3 patches around the points that lie inside the image."""
+def _mean_colours(
+    image: npt.NDArray[Any], pts: npt.NDArray[np.float64], groups: int
+) -> list[npt.NDArray[Any] | None]:
+    """Mean colour of the 3x3 patches around the points that lie inside the image, for
+    each of ``groups`` equal consecutive groups of ``pts`` (None: none inside), from one
+    gather: np.mean of 8-bit values is their integer sum, exact in float64, over the count,
+    so the grouping changes no value."""
     h, w = image.shape[:2]
     x = np.rint(pts[:, 0]).astype(int)
     y = np.rint(pts[:, 1]).astype(int)
     keep = (x >= 1) & (x < w - 1) & (y >= 1) & (y < h - 1)
-    if not keep.any():
-        return None
-    x, y = x[keep], y[keep]
-    patches = image[y[:, None, None] + _PATCH[0], x[:, None, None] + _PATCH[1]]
-    return patches.reshape(-1, image.shape[2]).mean(axis=0)
+    xs, ys = np.where(keep, x, 1), np.where(keep, y, 1)  # out-of-image points not summed
+    patches = image[ys[:, None, None] + _PATCH[0], xs[:, None, None] + _PATCH[1]]
+    sums = patches.reshape(len(pts), -1, image.shape[2]).sum(axis=1, dtype=np.int64)
+    per = len(pts) // groups
+    out: list[npt.NDArray[Any] | None] = []
+    for g in range(groups):
+        k = keep[g * per : (g + 1) * per]
+        n = int(np.count_nonzero(k))
+        # np.mean of the kept patches: their integer sum (exact in float64) over the count
+        out.append(None if n == 0 else sums[g * per : (g + 1) * per][k].sum(axis=0) / (9 * n))
+    return out
 
 
 _PATCH = np.mgrid[-1:2, -1:2]  # row and column offsets of a 3x3 patch
+#: The sample offsets (du units across, rows) around the contact row's centre column.
+_OFFSETS = np.array([(a, r) for a in (-1.0, 0.0, 1.0) for r in SAMPLE_ROWS])
+_LUMA_LEN = float(np.linalg.norm(_LUMA))
+_LUMA_UNIT = _LUMA / _LUMA_LEN
 
 
 def face_floor_grey(
@@ -60,26 +76,25 @@ def face_floor_grey(
     if image.ndim != 3:
         return image
     du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
-    offsets = np.array([(a * du, r) for a in (-1.0, 0.0, 1.0) for r in SAMPLE_ROWS])
+    offsets = _OFFSETS * [du, 1.0]  # (a du, r): the same products
     centre = np.array([view.cx, contact_row])
     # the face's samples above the contact row, the floor's below it: one projection
     pts = view.to_input(np.concatenate([centre + offsets * [1.0, -1.0], centre + offsets]))
-    face = _mean_colour(image, pts[: len(offsets)])
-    floor = _mean_colour(image, pts[len(offsets) :])
+    face, floor = _mean_colours(image, pts, 2)
     if face is None or floor is None:
         return image
     step = face - floor
-    size = float(np.linalg.norm(step))
-    luma_unit = _LUMA / float(np.linalg.norm(_LUMA))
-    chroma = float(np.linalg.norm(step - float(step @ luma_unit) * luma_unit))
+    size = norm(step)
+    luma_unit = _LUMA_UNIT
+    chroma = norm(step - float(step @ luma_unit) * luma_unit)
     if size < MIN_COLOUR_STEP or chroma < MIN_CHROMA_STEP:
         return image  # luminance sees the face's foot already: nothing to add
     towards = step / size
     if float(towards @ _LUMA) < 0.0:
         towards = -towards
-    luma_len = float(np.linalg.norm(_LUMA))
+    luma_len = _LUMA_LEN
     weights = (1.0 - FACE_SHARE) * _LUMA / luma_len + FACE_SHARE * towards
-    weights *= luma_len / float(np.linalg.norm(weights))
+    weights *= luma_len / norm(weights)
     # black stays at or above 0 whatever the signs of the weights
     offset = -255.0 * float(np.minimum(weights, 0.0).sum())
     matrix = np.array([[*weights, offset]], np.float32)

@@ -14,7 +14,13 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.profiles import column_means, median_of, share, walk_on
+from obstacle_fusion.vision.fused.profiles import (
+    column_means,
+    median_of,
+    partitioned,
+    share,
+    walk_on,
+)
 
 #: The edges count as running on while their strength stays above this share of the face's.
 CONTINUE_SHARE = 0.5
@@ -28,6 +34,7 @@ EVEN_SHARE = 0.5
 MIN_WIDEN_SHARE = 0.15
 #: Columns averaged when walking along an edge (one noisy column stops nothing).
 WALK_WINDOW = 3
+_WALK_KERNEL = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW  # the walks' running mean
 #: Columns where the edges may dip (a seam, a joint) without ending the face.
 MAX_GAP = 4
 #: Where the top and bottom edges end, a side as strong as this share of the chosen
@@ -48,7 +55,7 @@ MIN_EDGE_SNR = 3.0
 def _p90(values: npt.NDArray[np.float32]) -> float:
     """The 90th percentile by one partition (np.percentile costs more than the stage)."""
     k = int(0.9 * (values.size - 1))
-    return float(np.partition(values, k)[k])
+    return float(partitioned(values, k)[k])
 
 
 def _edge_profile(ay: npt.NDArray[np.float32], row: int) -> npt.NDArray[np.float32]:
@@ -102,7 +109,7 @@ def widen_across_seams(
     for profile, ref in ((gb, ref_b), (gt, ref_t)):
         if ref < EVEN_SHARE * _p90(profile[inner]):
             return left, right  # the edge does not run along the face itself: no face here
-    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    kernel = _WALK_KERNEL
     # both edges run on: together at CONTINUE_SHARE of the face's, neither below
     # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
     sb = np.convolve(gb, kernel, mode="same") / ref_b
@@ -141,7 +148,7 @@ def _outer_side(
     if abs(end - side) <= min_move:
         return side  # the edges stop at (or just past) the side: it is the face's
     lo, hi = _snap_window(side, end, step, sides.size)
-    best = int(lo + np.argmax(sides[lo : hi + 1]))
+    best = int(lo + sides[lo : hi + 1].argmax())
     present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
     return best if float(sides[best]) >= need and _stands(present) else None
 
@@ -186,7 +193,7 @@ def raise_top_past_inner_edges(
     # on the inner edge the sides ran past
     r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
     rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
-    return int(r0 + np.argmax(rows))
+    return int(r0 + rows.argmax())
 
 
 #: The frame's sides must be at least this share of the print's sides' strength.
@@ -219,7 +226,7 @@ def enclose_inner_frame(
     ref_b = float(median_of(gb[inner]))
     if ref_b < MIN_EDGE_SNR * noise or ref_b < EVEN_SHARE * _p90(gb[inner]):
         return left, right, top
-    kernel = np.ones(WALK_WINDOW, np.float32) / WALK_WINDOW
+    kernel = _WALK_KERNEL
     runs_on = np.convolve(gb, kernel, mode="same") >= CONTINUE_SHARE * ref_b
     sides = column_means(ax[top : bottom + 1])
     # a print's edges may be far stronger than the face's own sides against the room

@@ -64,8 +64,7 @@ class FusedMethod:
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
         self._buf = np.empty((2, h, w), np.float32)  # |dy|, top edge
-        self._adx = np.empty((2, h, w), np.int16)  # |dx| and its 1x3 dilation
-        self._dx = np.empty((h, w), np.int16)
+        self._adx = np.empty((2, h, w), np.int16)  # d/dx, made |dx| in place; its dilation
         self._dy = np.empty((h, w), np.int16)
 
     def run(
@@ -107,10 +106,9 @@ class FusedMethod:
         # the same values the float Sobels give, for less than one of them costs; the
         # signed d/dy and |d/dx| stay int16 (their sums are taken in float32 where
         # needed: integers under 2**24, exact)
-        dx, dy = self._dx[:n], self._dy[:n]
-        cv2.spatialGradient(roi, dx, dy)
-        ax, ax3 = self._adx[0, :n], self._adx[1, :n]
-        np.abs(dx, out=ax)
+        ax, ax3, dy = self._adx[0, :n], self._adx[1, :n], self._dy[:n]
+        cv2.spatialGradient(roi, ax, dy)
+        np.abs(ax, out=ax)  # d/dx is read only as |d/dx|: one buffer less to stream
         np.abs(dy, out=ay)
         # tolerate a column of drift on vertical edges (int16: exact, and the dilation
         # and the reads cost less than in float32)

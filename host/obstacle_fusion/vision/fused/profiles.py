@@ -27,11 +27,32 @@ def clamp(x: float, lo: float, hi: float) -> float:
 
 def median(a: npt.NDArray[Any]) -> float:
     """Median by partition: np.median's wrapper costs more than the work on small arrays."""
-    flat = a.ravel()
-    if flat.size == 0:
+    if a.size == 0:
         return 0.0
+    flat = a.flatten()  # one copy (np.partition of a.ravel() copied a strided block twice)
     k = flat.size // 2
-    return float(np.partition(flat, k)[k])
+    flat.partition(k)
+    return float(flat[k])
+
+
+def partitioned(a: npt.NDArray[Any], kth: int, axis: int = -1) -> npt.NDArray[Any]:
+    """``np.partition(a, kth, axis)``: a copy, partitioned in place (the same call numpy's
+    Python-level wrapper makes, without the wrapper)."""
+    s = a.copy(order="K")
+    s.partition(kth, axis=axis)
+    return s
+
+
+def lanes_last(a: npt.NDArray[Any], axis: int) -> npt.NDArray[Any]:
+    """``np.moveaxis(a, axis, -1)``: the same view, without the wrapper's axis checks
+    (they cost more than the sorts that follow on the small blocks the stages read)."""
+    nd = a.ndim
+    axis = axis + nd if axis < 0 else axis
+    if not 0 <= axis < nd:
+        return np.moveaxis(a, axis, -1)  # its error
+    if axis == nd - 1:
+        return a.view()
+    return a.transpose([i for i in range(nd) if i != axis] + [axis])
 
 
 def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
@@ -44,9 +65,10 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     array's own float type).
     """
     if axis is None:
-        s = np.sort(a, axis=None)
+        s = a.flatten()  # np.sort(a, axis=None): a flat copy, sorted
+        s.sort()
     else:
-        s = np.moveaxis(a, axis, -1).copy(order="C")  # the lanes contiguous, then sorted
+        s = lanes_last(a, axis).copy(order="C")  # the lanes contiguous, then sorted
         s.sort(axis=-1)
     n = s.shape[-1]
     if n == 0:
@@ -76,7 +98,7 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
         if axis is None:
             s = a.astype(np.uint16).ravel()
         else:
-            s = np.moveaxis(a, axis, -1).astype(np.uint16, order="C")
+            s = lanes_last(a, axis).astype(np.uint16, order="C")
         s.sort(axis=-1)
         lo, hi = s[..., k - 1] if k else s[..., k], s[..., k]
     mid = hi.astype(np.float32)
@@ -127,8 +149,8 @@ def walk_on(on: Sequence[bool] | npt.NDArray[np.bool_], start: int, step: int, m
 
     ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
     indexing makes several times dearer over a walk of hundreds of columns."""
-    u, v, gap = start, start, 0
-    while 0 <= v + step < len(on) and gap <= max_gap:
+    u, v, gap, n = start, start, 0, len(on)
+    while 0 <= v + step < n and gap <= max_gap:
         v += step
         if on[v]:
             u, gap = v, 0
@@ -154,7 +176,7 @@ def local_maxima(p: F32, threshold: float) -> npt.NDArray[np.intp]:
     if p.size < 3:
         return np.zeros(0, np.intp)
     mid = p[1:-1]
-    idx = np.nonzero((mid >= p[:-2]) & (mid > p[2:]) & (mid > threshold))[0] + 1
+    idx = ((mid >= p[:-2]) & (mid > p[2:]) & (mid > threshold)).nonzero()[0] + 1
     return idx
 
 
@@ -216,7 +238,7 @@ def first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
     """
     miss = ~np.ascontiguousarray(on.T)
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
-    return np.where(gap.any(axis=1), np.argmax(gap, axis=1), miss.shape[1])
+    return np.where(gap.any(axis=1), gap.argmax(axis=1), miss.shape[1])
 
 
 def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
@@ -229,11 +251,11 @@ def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
     hit = t[:, :-2] & t[:, 1:-1] & t[:, 2:]
     hit[:, min(late_rows, hit.shape[1]) :] = False
     has = hit.any(axis=1)
-    start = np.argmax(hit, axis=1)
+    start = hit.argmax(axis=1)
     miss = ~t
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:]
     gap &= np.arange(n - 2)[None, :] >= start[:, None]
-    end = np.where(gap.any(axis=1), np.argmax(gap, axis=1), n)
+    end = np.where(gap.any(axis=1), gap.argmax(axis=1), n)
     return np.where(has, end - start, 0)
 
 
@@ -271,7 +293,7 @@ def _fit_edges(
     """
     peaks = []
     for win, _, lo in windows:
-        peak = np.argmax(win[lo : lo + 3], axis=0) + lo
+        peak = win[lo : lo + 3].argmax(axis=0) + lo
         np.minimum(peak, 5, out=peak)
         peaks.append(peak)
     stacked = np.concatenate([win for win, _, _ in windows], axis=1, dtype=np.float32)

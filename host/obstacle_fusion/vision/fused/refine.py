@@ -206,11 +206,11 @@ def _bottom_profile(ay: F32, ba: float, bb: float, ul: int, ur: int) -> _BottomP
     if cols.size < 8:
         return None
     pred = ba + bb * cols
-    r0 = np.round(pred).astype(np.intp)
+    r0 = pred.round().astype(np.intp)
     np.maximum(r0, 3, out=r0)
     np.minimum(r0, h - 4, out=r0)
     win = ay[r0[None, :] + _WIN7, cols[None, :]]  # 7 x n
-    peak = np.argmax(win[1:-1], axis=0) + 1  # 1..5
+    peak = win[1:-1].argmax(axis=0) + 1  # 1..5
     strength = win.ravel()[peak * cols.size + np.arange(cols.size)]
     pos = r0 - 3 + peak + subpixel(win, peak)
     dev = pos - pred
@@ -249,7 +249,7 @@ def _side_face(
     """
     w = ax.shape[1]
     cols, strength, pos, dev, ref, on = bottom
-    mid = int(np.searchsorted(cols, (ul + ur) // 2))
+    mid = int(cols.searchsorted((ul + ur) // 2))
     order = range(mid, -1, -1) if direction < 0 else range(mid, cols.size)
     end = mid
     off_run = 0
@@ -281,7 +281,7 @@ def _side_face(
     n_between = np.count_nonzero(between)  # seg[between].mean() without the wrapper
     if n_between and np.count_nonzero(seg & between) / n_between < 0.6:
         return va, vb
-    on_seg = np.nonzero(seg)[0]
+    on_seg = seg.nonzero()[0]
     outer = on_seg[-3:] if direction > 0 else on_seg[:3]
     clear_rise = float(np.add.reduce(dev[outer])) / outer.size <= -1.5
     sa, sb = lsq(cols[seg].astype(np.float64), pos[seg])
@@ -331,7 +331,7 @@ def _edge_end(ax3: I16, a: float, b: float, vt: int, rb: int) -> float | None:
     if hi - lo < 6:
         return None
     rows = np.arange(lo, hi + 1)
-    cols = np.round(a + b * rows).astype(np.intp)
+    cols = (a + b * rows).round().astype(np.intp)
     np.maximum(cols, 1, out=cols)  # np.clip's wrapper costs more than the work here
     np.minimum(cols, w - 2, out=cols)
     strength = ax3[rows, cols].astype(np.float32)  # cols are within 1..w-2: exact
@@ -344,7 +344,7 @@ def _edge_end(ax3: I16, a: float, b: float, vt: int, rb: int) -> float | None:
     # below for two more rows (a dip where the background behind the side changes, from
     # floor to wall, is not the end); the scan in Python bools
     weak = (strength < half).tolist()
-    for i in range(int(np.searchsorted(rows, mid0)) - 1, 0, -1):
+    for i in range(int(rows.searchsorted(mid0)) - 1, 0, -1):
         if weak[i] and not weak[i + 1] and all(weak[max(0, i - 2) : i]):
             frac = (half - strength[i]) / max(float(strength[i + 1] - strength[i]), 1e-6)
             return float(rows[i] + frac)

@@ -25,6 +25,7 @@ from obstacle_fusion.vision.fused.profiles import (
     clamp,
     fit_vertical,
     grey_range_sums,
+    partitioned,
     range_sums,
     running_counts,
 )
@@ -54,7 +55,7 @@ def _face_term(face: Any, bands: Any) -> Any:
 def _face_shade(means: F32, rb: int, kf: int) -> F32:
     """Per column, the face's own shade: the median of the kf row means starting 3 rows
     above the floor-contact row (clear of the bottom edge's blur)."""
-    return np.partition(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
+    return partitioned(means[rb - 3 - kf : rb - 3], kf // 2, axis=0)[kf // 2]
 
 
 def _first_match(match: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
@@ -187,7 +188,7 @@ def score_pairs(
             for r in (e - 1, e):
                 if 0 < r < top_limit:
                     mask[r, j] = True
-    pp, tops = np.nonzero(mask.T)  # pair-major, rows ascending within a pair
+    pp, tops = mask.T.nonzero()  # pair-major, rows ascending within a pair
     if tops.size == 0:
         return []
     tl, tr = il[pp], ir[pp]
@@ -230,7 +231,7 @@ def score_pairs(
     o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
     # running row sums at the top rows (exact in float32: integers under 2**24)
     run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
-    np.cumsum(ay[tops, o_lo:o_hi], axis=1, out=run[:, 1:])
+    ay[tops, o_lo:o_hi].cumsum(axis=1, out=run[:, 1:])
     ends = run[np.arange(tops.size)[:, None], o_at[pp]]  # T x 4
     inv_t = o_inv[pp]
     o_l = (ends[:, 1] - ends[:, 0]) * inv_t[:, 0]
@@ -289,8 +290,8 @@ def score_pairs(
     score_t, fit = _top_score(feats)
     # the bottom edge's strength between the sides (max over +-1 row), per pair
     m3 = np.zeros(w_ay + 1, np.float32)  # exact: integers under 2**24
-    np.cumsum(ay[rb - 1 : rb + 2].max(axis=0), out=m3[1:])
-    bounds = np.searchsorted(pp, np.arange(n_p + 1)).tolist()
+    np.maximum.reduce(ay[rb - 1 : rb + 2], axis=0).cumsum(out=m3[1:])
+    bounds = pp.searchsorted(np.arange(n_p + 1)).tolist()
     debug = log.isEnabledFor(logging.DEBUG)
     csum_s = sides.csum
     cands: list[Candidate] = []
@@ -317,7 +318,7 @@ def score_pairs(
                     face_frac[k],
                     face_above[k],
                 )
-        i = s0 + int(np.argmax(score_t[s0:s1]))
+        i = s0 + int(score_t[s0:s1].argmax())
         vt = int(tops[i])
         snr_b = float(np.float32(m3[c1] - m3[c0]) * (1.0 / (c1 - c0))) / noise
         inv_h = 1.0 / (rb - vt)
@@ -349,7 +350,7 @@ def band_ranges(ps: list[tuple[int, int, int, int]]) -> npt.NDArray[np.intp]:
     inner = np.array([(c0, c1) for _, _, c0, c1 in ps], np.intp).reshape(-1, 2)
     c0 = inner[:, :1]
     # band edges c0 + round(b (c1 - c0) / BANDS), rounded half to even as Python's round
-    cuts = c0 + np.round(np.arange(BANDS + 1) * (inner[:, 1:] - c0) / BANDS).astype(np.intp)
+    cuts = c0 + (np.arange(BANDS + 1) * (inner[:, 1:] - c0) / BANDS).round().astype(np.intp)
     out = np.empty((len(ps), BANDS, 2), np.intp)
     out[:, :, 0] = cuts[:, :-1]
     out[:, :, 1] = np.maximum(cuts[:, 1:], cuts[:, :-1] + 1)
@@ -394,7 +395,12 @@ def band_face_share(
     n = tops.size
     cols = (pp * BANDS)[None, :] + np.arange(BANDS)[:, None]
     shares = _shade_share(
-        upto, first, np.tile(tops, BANDS), cols.ravel(), rb, np.tile(rb - tops, BANDS)
+        upto,
+        first,
+        np.concatenate([tops] * BANDS),
+        cols.ravel(),
+        rb,
+        np.concatenate([rb - tops] * BANDS),
     )
     return np.minimum.reduce(shares.reshape(BANDS, n), axis=0)
 

@@ -215,7 +215,7 @@ def _rank_sides(
     One ranking per group of peak columns (the left side's, the right side's); the
     run lengths of all groups' strongest columns are found in one pass.
     """
-    chosen = [g[np.argsort(-prof_v[g])][: 3 * MAX_SIDE_CANDIDATES] for g in groups]
+    chosen = [g[(-prof_v[g]).argsort()][: 3 * MAX_SIDE_CANDIDATES] for g in groups]
     cols_all = np.concatenate(chosen)
     if cols_all.size == 0:
         return [[] for _ in groups]
@@ -228,7 +228,7 @@ def _rank_sides(
     # run that starts higher up (within the tall strip) counts too, but ranks below
     # every run from the floor, so it only fills the places those leave free.
     # (only the columns with no run from the floor need their late run: the same values)
-    short = np.nonzero(run_len < 3)[0]
+    short = (run_len < 3).nonzero()[0]
     late = np.zeros(run_len.size, np.intp)
     if short.size:
         late[short] = late_run(on[:, short], late_rows)
@@ -243,7 +243,7 @@ def _rank_sides(
     for cols in chosen:
         end = start + cols.size
         keep = run_len[start:end] >= 3
-        order = np.argsort(-rank_all[start:end][keep])[:MAX_SIDE_CANDIDATES]
+        order = (-rank_all[start:end][keep]).argsort()[:MAX_SIDE_CANDIDATES]
         ranked.append([int(c) for c in cols[keep][order]])
         start = end
     return ranked

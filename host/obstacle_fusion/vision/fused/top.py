@@ -89,7 +89,7 @@ def front_from_back(
     if level <= 0.0:
         return None
     half = 0.5 * level
-    on = np.nonzero(prof >= half)[0]
+    on = (prof >= half).nonzero()[0]
     if on.size < 4:
         return None
     a, b = float(c0 + on[0]), float(c0 + on[-1])
