@@ -24,9 +24,14 @@ from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.paper import PaperMethod
-from obstacle_fusion.vision.pitch import camera_height_for_row, pitch_from_lines
+from obstacle_fusion.vision.pitch import (
+    camera_height_for_row,
+    level_scales,
+    pitch_from_undistorted,
+    refit_side,
+)
 from obstacle_fusion.vision.rig import Rig, check_range
-from obstacle_fusion.vision.types import Measurement, Method, Timer, View
+from obstacle_fusion.vision.types import Line, Measurement, Method, Timer, View
 
 log = logging.getLogger(__name__)
 
@@ -146,7 +151,7 @@ class Measurer:
                 result = method.run(grey, range_m, timer, image)
             finally:
                 method.view = base
-            result.camera_height_m = height
+            result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
             return result
 
@@ -172,7 +177,7 @@ class Measurer:
                     best = result
                     break
             if best is not None and accepted(best) and best.camera_pitch_deg == 0.0:
-                levelled = self._with_pitch(best, view, depth, trial)
+                levelled = self._with_pitch(best, image, view, depth, trial)
                 timer.lap("pitch")
                 if levelled is not None:
                     best = levelled
@@ -195,29 +200,54 @@ class Measurer:
     def _with_pitch(
         self,
         found: Measurement,
+        image: npt.NDArray[Any],
         view: View,
         depth: float,
         trial: Callable[[float, float | None, float], Measurement],
     ) -> Measurement | None:
-        """The face measured again with the pitch its sides give, or None (no confident
-        pitch, a camera height out of range, or no face in the levelled view)."""
+        """The face with the pitch its sides give, or None (no confident pitch, or a camera
+        height out of range). Measured again in the view levelled for that pitch; when that
+        finds no face or another one, the pitch-0 face's size scaled to the levelled view."""
         if (found.confidence or 0.0) < PITCH_MIN_CONFIDENCE:
             return None
-        est = pitch_from_lines(found.lines, view.camera)
+        if len(found.lines) != 4:
+            return None
+        pts = view.camera.undistort_points(np.array(found.lines).reshape(-1, 2)).reshape(4, 4)
+        row = float(pts[0, 1::2].mean())  # the face's floor contact in the pitch-0 view
+        # the sides fitted again, free to lean, in the pitch-0 view (undistorted pixels)
+        grey = view.warp(face_floor_grey(image, view, row, depth))
+        left = refit_side(grey, cast(Line, tuple(pts[2])))
+        right = refit_side(grey, cast(Line, tuple(pts[3])))
+        if left is None or right is None:
+            left, right = cast(Line, tuple(pts[2])), cast(Line, tuple(pts[3]))
+        est = pitch_from_undistorted(left, right, view.fy, view.cy)
         if est is None:
             return None
         pitch = round(est.pitch_deg, PITCH_DECIMALS)
         if pitch == 0.0:
             return None
-        bottom = view.camera.undistort_points(np.array(found.lines[0]).reshape(2, 2))
-        row = float(bottom[:, 1].mean())  # the face's floor contact in the pitch-0 view
         height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
         if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
             return None
+        h_scale, w_scale = level_scales(found.lines, view.camera, pitch)
+        fixed = copy.copy(found)
+        fixed.height_m = (found.height_m or 0.0) * h_scale
+        fixed.width_m = (found.width_m or 0.0) * w_scale
+        if found.height_px is not None:
+            fixed.height_px = found.height_px * h_scale
+        if found.width_px is not None:
+            fixed.width_px = found.width_px * w_scale
+        fixed.camera_height_m = float(height)
+        fixed.camera_pitch_deg = pitch
         result = trial(height, None, pitch)
         if not (result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT):
-            log.debug("pitch %.2f deg gave no face; kept pitch 0", pitch)
-            return None
+            log.debug("pitch %.1f deg: no face levelled; the pitch-0 face scaled", pitch)
+            return fixed
+        agree = (
+            abs((result.height_m or 0.0) / fixed.height_m - 1.0) <= RERUN_AGREE
+            and abs((result.width_m or 0.0) / fixed.width_m - 1.0) <= RERUN_AGREE
+        )
+        return result if agree else fixed
         return result
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
@@ -267,8 +297,16 @@ MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
 #: when none does, the most confident of the rows tried.
 ESTIMATE_ACCEPT = 0.2
 
-#: With no rig, a face found at pitch 0 with at least this confidence gives the pitch.
-PITCH_MIN_CONFIDENCE = 0.3
+#: With no rig, a face found at pitch 0 with at least this confidence gives the pitch (any
+#: face the estimate accepts: on the tuning rooms 0.3 left a fifth of the faces unlevelled
+#: for no fewer gross errors).
+PITCH_MIN_CONFIDENCE = ESTIMATE_ACCEPT
+
+#: The face measured again in the levelled view replaces the pitch-0 one scaled to that
+#: view (:func:`~obstacle_fusion.vision.pitch.level_scales`) only when its height and width
+#: agree with those within this share: a new search can settle on another face (a seam,
+#: the box's top), and the pitch changes a face's size by a few percent, never more.
+RERUN_AGREE = 0.05
 
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
