@@ -215,9 +215,9 @@ class Measurer:
         pts = view.camera.undistort_points(np.array(found.lines).reshape(-1, 2)).reshape(4, 4)
         row = float(pts[0, 1::2].mean())  # the face's floor contact in the pitch-0 view
         # the sides fitted again, free to lean, in the pitch-0 view (undistorted pixels)
-        grey = view.warp(face_floor_grey(image, view, row, depth))
-        left = refit_side(grey, cast(Line, tuple(pts[2])))
-        right = refit_side(grey, cast(Line, tuple(pts[3])))
+        seen = cv2.remap(image, view.map1, view.map2, cv2.INTER_LINEAR)
+        left = refit_side(seen, cast(Line, tuple(pts[2])))
+        right = refit_side(seen, cast(Line, tuple(pts[3])))
         if left is None or right is None:
             left, right = cast(Line, tuple(pts[2])), cast(Line, tuple(pts[3]))
         est = pitch_from_undistorted(left, right, view.fy, view.cy)

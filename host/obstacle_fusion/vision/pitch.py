@@ -48,8 +48,11 @@ REFIT_HALF_PX = 4
 REFIT_ROUNDS = 3
 #: ... leaving out this share of the side's length at each end (corners, the top face).
 REFIT_MARGIN_SHARE = 0.1
-#: ... on rows whose gradient peak (8-bit grey, central difference) is at least this.
-REFIT_MIN_GRADIENT = 8.0
+#: ... on rows whose gradient peak (8-bit, central difference, summed over the channels)
+#: is at least this.
+REFIT_MIN_GRADIENT = 12.0
+#: ... and only when at least this share of the side's rows show the edge.
+REFIT_MIN_SHARE = 0.6
 #: An estimate beyond this (degrees) is refused: a robot camera tilted further is not a
 #: reading of the face's sides but of a side that is no vertical edge (a seam, a shadow).
 MAX_PITCH_DEG = 10.0
@@ -122,8 +125,10 @@ def pitch_from_undistorted(left: Line, right: Line, fy: float, cy: float) -> Pit
     return PitchEstimate(deg, sigma, side, sep)
 
 
-def refit_side(grey: npt.NDArray[np.uint8], side: Line) -> Line | None:
-    """A vertical edge fitted again in ``grey`` (undistorted), free to lean: ``side``
+def refit_side(image: npt.NDArray[np.uint8], side: Line) -> Line | None:
+    """A vertical edge fitted again in ``image`` (undistorted, grey or colour: the colour
+    difference across the edge, summed over the channels, is its gradient; a face and a
+    wall of one brightness still differ in hue), free to lean: ``side``
     (u0, v0, u1, v1) is where it was found. Per row, the peak of the horizontal gradient
     within :data:`REFIT_HALF_PX` of the line (sub-pixel), a line through them with the
     outliers dropped, :data:`REFIT_ROUNDS` times over, each round centred on the last fit;
@@ -134,7 +139,7 @@ def refit_side(grey: npt.NDArray[np.uint8], side: Line) -> Line | None:
     u0, v0, u1, v1 = side
     if v1 < v0:
         u0, v0, u1, v1 = u1, v1, u0, v0
-    h, w = grey.shape
+    h, w = image.shape[:2]
     margin = REFIT_MARGIN_SHARE * (v1 - v0)
     rows = np.arange(int(math.ceil(v0 + margin)), int(math.floor(v1 - margin)) + 1)
     rows = rows[(rows >= 0) & (rows < h)]
@@ -143,7 +148,7 @@ def refit_side(grey: npt.NDArray[np.uint8], side: Line) -> Line | None:
     slope = (u1 - u0) / (v1 - v0) if v1 != v0 else 0.0
     a = u0 - slope * v0
     offsets = np.arange(-REFIT_HALF_PX, REFIT_HALF_PX + 1)
-    img = grey.astype(np.float32)
+    img = image.astype(np.float32).reshape(h, w, -1)
     vf = rows.astype(np.float64)
     for _ in range(REFIT_ROUNDS):
         centre = np.rint(a + slope * vf).astype(np.int64)
@@ -152,7 +157,7 @@ def refit_side(grey: npt.NDArray[np.uint8], side: Line) -> Line | None:
         if np.count_nonzero(ok) < MIN_SIDE_PX / 2:
             return None
         r, c, cen = rows[ok], cols[ok], centre[ok]
-        grad = np.abs(img[r[:, None], c + 1] - img[r[:, None], c - 1])
+        grad = np.abs(img[r[:, None], c + 1] - img[r[:, None], c - 1]).sum(axis=2)
         k = np.argmax(grad, axis=1)
         k = np.clip(k, 1, grad.shape[1] - 2)
         i = np.arange(len(k))
@@ -162,8 +167,8 @@ def refit_side(grey: npt.NDArray[np.uint8], side: Line) -> Line | None:
         u = cen + offsets[k] + np.clip(off, -0.5, 0.5)
         strong = g1 >= REFIT_MIN_GRADIENT
         x, y = r[strong].astype(np.float64), u[strong]
-        if x.size < MIN_SIDE_PX / 2:
-            return None
+        if x.size < max(MIN_SIDE_PX / 2, REFIT_MIN_SHARE * rows.size):
+            return None  # the edge fades along the side: its lean is not read
         slope, a = np.polyfit(x, y, 1)
         res = np.abs(y - (a + slope * x))
         keep = res <= max(0.75, 2.5 * float(np.median(res)))
