@@ -219,7 +219,7 @@ class Measurer:
         left = refit_side(seen, cast(Line, tuple(pts[2])))
         right = refit_side(seen, cast(Line, tuple(pts[3])))
         if left is None or right is None:
-            left, right = cast(Line, tuple(pts[2])), cast(Line, tuple(pts[3]))
+            return None  # a side whose lean cannot be read: no pitch
         est = pitch_from_undistorted(left, right, view.fy, view.cy)
         if est is None:
             return None

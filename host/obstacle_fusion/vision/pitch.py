@@ -51,6 +51,9 @@ REFIT_MARGIN_SHARE = 0.1
 #: ... on rows whose gradient peak (8-bit, central difference, summed over the channels)
 #: is at least this.
 REFIT_MIN_GRADIENT = 12.0
+#: ... and only when its ends stay within this many pixels of the side found (the lean
+#: the method's fit misses moves an end by a pixel or two; more is another edge).
+REFIT_MAX_SHIFT_PX = 2.5
 #: ... and only when at least this share of the side's rows show the edge.
 REFIT_MIN_SHARE = 0.6
 #: An estimate beyond this (degrees) is refused: a robot camera tilted further is not a
@@ -175,7 +178,10 @@ def refit_side(image: npt.NDArray[np.uint8], side: Line) -> Line | None:
         if np.count_nonzero(keep) < MIN_SIDE_PX / 2:
             return None
         slope, a = np.polyfit(x[keep], y[keep], 1)
-    return (float(a + slope * v0), float(v0), float(a + slope * v1), float(v1))
+    ends = (float(a + slope * v0), float(a + slope * v1))
+    if max(abs(ends[0] - u0), abs(ends[1] - u1)) > REFIT_MAX_SHIFT_PX:
+        return None  # drifted onto another edge (a seam, the wall's, a shadow's)
+    return (ends[0], float(v0), ends[1], float(v1))
 
 
 def pitch_from_lines(lines: Sequence[Line], camera: CameraModel) -> PitchEstimate | None:
