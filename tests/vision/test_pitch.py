@@ -13,12 +13,15 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.pitch import (
     MAX_PITCH_DEG,
+    MAX_SIGMA_DEG,
     MIN_SEPARATION_PX,
     MIN_SIDE_PX,
+    REFIT_MAX_SHIFT_PX,
     camera_height_for_row,
     level_scales,
     pitch_from_lines,
     pitch_from_sides,
+    refit_side,
 )
 from obstacle_fusion.vision.rig import Rig
 
@@ -191,3 +194,99 @@ def test_a_rig_file_reports_no_estimated_pitch() -> None:
     image, truth = RoomRenderer(CAM).render(spec)
     res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     assert res.rig_source == "file" and res.camera_pitch_deg is None
+
+
+def test_the_side_length_and_separation_limits_are_where_stated() -> None:
+    """Just under MIN_SIDE_PX: refused; just over: read (a wide face, so the expected error
+    alone would not refuse it)."""
+    under = face_lines(4.0, depth=1.5, floor=0.3, height=0.124, x_left=-0.5, x_right=0.5)
+    over = face_lines(4.0, depth=1.5, floor=0.3, height=0.138, x_left=-0.5, x_right=0.5)
+    assert abs(under[2][3] - under[2][1]) < MIN_SIDE_PX < abs(over[2][3] - over[2][1])
+    assert pitch_from_lines(under, CAM) is None
+    est = pitch_from_lines(over, CAM)
+    assert est is not None and est.pitch_deg == pytest.approx(4.0, abs=0.01)
+    near = face_lines(4.0, depth=0.6, floor=0.2, height=0.18, x_left=0.0, x_right=0.05)
+    far = face_lines(4.0, depth=0.6, floor=0.2, height=0.18, x_left=0.0, x_right=0.056)
+    assert near[3][0] - near[2][0] < MIN_SEPARATION_PX < far[3][0] - far[2][0]
+    assert pitch_from_lines(near, CAM) is None
+    assert pitch_from_lines(far, CAM) is not None
+
+
+def test_the_pitch_limit_is_where_stated() -> None:
+    assert MAX_PITCH_DEG == 10.0
+    assert pitch_from_lines(face_lines(9.7), CAM) is not None
+    assert pitch_from_lines(face_lines(10.3), CAM) is None
+    assert pitch_from_lines(face_lines(-10.3), CAM) is None
+
+
+def test_the_expected_error_limit_refuses_a_short_narrow_face() -> None:
+    """Sides 55 px long: 0.26 m apart (expected error 0.82 deg) is refused, 0.3 m apart
+    (0.71 deg) is read."""
+    est = pitch_from_lines(
+        face_lines(4.0, depth=1.0, floor=0.2, height=0.12, x_left=0.0, x_right=0.26), CAM
+    )
+    assert est is None
+    est = pitch_from_lines(
+        face_lines(4.0, depth=1.0, floor=0.2, height=0.12, x_left=0.0, x_right=0.3), CAM
+    )
+    assert est is not None and est.sigma_deg == pytest.approx(0.708, abs=0.01)
+    assert est.sigma_deg <= MAX_SIGMA_DEG
+
+
+def leaning_edge(lean_px: float, rows: int = 200, width: int = 120) -> np.ndarray:
+    """A dark left half, a light right half, the edge moving ``lean_px`` over the rows."""
+    v, u = np.mgrid[0:rows, 0:width].astype(np.float64)
+    edge = 60.0 + lean_px * v / (rows - 1)
+    img = 40.0 + 160.0 * np.clip(u - edge + 0.5, 0.0, 1.0)
+    return np.repeat(img[:, :, None], 3, axis=2).astype(np.uint8)
+
+
+def test_refit_side_reads_a_lean_the_first_fit_missed() -> None:
+    img = leaning_edge(3.0)
+    # found upright at the edge's mean column: the refit leans it by 3 px over the rows
+    u0, v0, u1, v1 = refit_side(img, (61.5, 10.0, 61.5, 189.0))  # type: ignore[misc]
+    assert (v0, v1) == (10.0, 189.0)
+    assert (u1 - u0) / (v1 - v0) == pytest.approx(3.0 / 199.0, abs=0.002)
+    assert u0 == pytest.approx(60.0 + 3.0 * 10 / 199, abs=0.2)
+
+
+def test_refit_side_refuses_a_drift_onto_another_edge() -> None:
+    img = leaning_edge(0.0)
+    # the found side lies 3.5 px beside the only edge: the refit would move it too far
+    assert refit_side(img, (63.0, 10.0, 63.0, 189.0)) is None
+    assert REFIT_MAX_SHIFT_PX < 3.0
+    # a flat image has no edge to read
+    assert refit_side(np.full((200, 120, 3), 90, np.uint8), (60.0, 10.0, 60.0, 189.0)) is None
+
+
+def test_refit_side_needs_the_edge_along_most_of_the_side() -> None:
+    """The edge seen on 70 % of the side's rows is read; on 50 %, refused (REFIT_MIN_SHARE)."""
+    img = leaning_edge(2.0)
+    faded = img.copy()
+    faded[10:64] = 90  # 54 of the 180 rows read (rows 10..189 less the margins): 30 % gone
+    assert refit_side(faded, (61.0, 0.0, 61.0, 199.0)) is not None
+    faded[10:100] = 90  # half gone
+    assert refit_side(faded, (61.0, 0.0, 61.0, 199.0)) is None
+
+
+def test_a_levelled_rerun_that_disagrees_gives_the_pitch_0_face_scaled(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """When the search in the levelled view settles on another face (here: forced by a
+    tolerance no rerun meets), the pitch-0 face's size, scaled to the levelled view, stands."""
+    spec = pitched_room(4002, 4.0)
+    image, truth = RoomRenderer(CAM).render(spec)
+    monkeypatch.setattr(measure_mod, "PITCH_MIN_CONFIDENCE", 1.01)
+    flat = Measurer(CAM, None).measure(image, truth["range_m"])
+    monkeypatch.setattr(measure_mod, "PITCH_MIN_CONFIDENCE", measure_mod.ESTIMATE_ACCEPT)
+    monkeypatch.setattr(measure_mod, "RERUN_AGREE", -1.0)
+    scaled = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert scaled.camera_pitch_deg is not None and abs(scaled.camera_pitch_deg - 4.0) <= 1.0
+    hs, ws = level_scales(flat.lines, CAM, scaled.camera_pitch_deg)
+    assert hs != pytest.approx(1.0, abs=0.005)
+    assert scaled.height_m == pytest.approx(flat.height_m * hs, rel=1e-9)
+    assert scaled.width_m == pytest.approx(flat.width_m * ws, rel=1e-9)
+    assert scaled.lines == flat.lines
+    assert abs(scaled.height_m / truth["height_m"] - 1.0) < abs(
+        flat.height_m / truth["height_m"] - 1.0
+    )

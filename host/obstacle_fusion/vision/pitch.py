@@ -45,7 +45,7 @@ MAX_SIGMA_DEG = 0.8
 #: The side refit looks this many pixels either side of the line found.
 REFIT_HALF_PX = 4
 #: ... over this many rounds, each centred on the last fit.
-REFIT_ROUNDS = 3
+REFIT_ROUNDS = 2
 #: ... leaving out this share of the side's length at each end (corners, the top face).
 REFIT_MARGIN_SHARE = 0.1
 #: ... on rows whose gradient peak (8-bit, central difference, summed over the channels)
