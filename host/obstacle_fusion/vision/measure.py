@@ -126,7 +126,8 @@ class Measurer:
         vertical sides converge towards the vertical vanishing point,
         :mod:`obstacle_fusion.vision.pitch`); when that estimate is confident, the camera
         height follows from the face's floor-contact row and that pitch, and the face is
-        measured once more in the view levelled for it (kept when it still finds a face).
+        measured once more in the view levelled for it (kept when it finds the same face,
+        else the pitch-0 face's size scaled to that view).
 
         In a stream the camera height and pitch do not change between frames: the ones the
         last frame accepted are tried first, and the rows are sought only when they give no
