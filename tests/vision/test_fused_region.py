@@ -241,16 +241,32 @@ def test_the_beside_step_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert raise_top(wall_scene(), 150) == 150
 
 
+def high_view(cy: float = 20.0) -> View:
+    """level_view with the horizon at row ``cy``: the lens above the face's top (row
+    FACE_TOP), so its top face shows, receding towards (W / 2, cy)."""
+    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, cy], [0.0, 0.0, 1.0]])
+    return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+
+
 def test_a_top_face_is_told_from_a_line_inside_the_front() -> None:
     img = wall_scene(top_face_rows=12)
-    view = level_view()
+    view = high_view()
     # the 12 rows above the front face are a top face: lighter than the front
-    assert region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT + 30, RIGHT - 30)
+    assert region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT, RIGHT)
     # 12 rows of the front face itself are not
     assert not region.looks_like_top_face(img, view, FACE_TOP + 5, FACE_TOP + 17, LEFT, RIGHT)
     # too thin to judge by colour: left to the gradients
     assert region.looks_like_top_face(
         img, view, FACE_TOP + 5, FACE_TOP + 5 + region.MIN_TOP_FACE_ROWS - 1, LEFT, RIGHT
+    )
+
+
+def test_a_top_face_shows_only_below_the_horizon() -> None:
+    """The same band with the horizon under it (the lens below the box's top): no top
+    face can show, whatever its colour."""
+    img = wall_scene(top_face_rows=12)
+    assert not region.looks_like_top_face(
+        img, high_view(FACE_TOP + 1.0), FACE_TOP - 12, FACE_TOP, LEFT, RIGHT
     )
 
 
