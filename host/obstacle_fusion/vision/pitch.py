@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -128,7 +129,7 @@ def pitch_from_undistorted(left: Line, right: Line, fy: float, cy: float) -> Pit
     return PitchEstimate(deg, sigma, side, sep)
 
 
-def refit_side(image: npt.NDArray[np.uint8], side: Line) -> Line | None:
+def refit_side(image: npt.NDArray[Any], side: Line) -> Line | None:
     """A vertical edge fitted again in ``image`` (undistorted, grey or colour: the colour
     difference across the edge, summed over the channels, is its gradient; a face and a
     wall of one brightness still differ in hue), free to lean: ``side``
