@@ -515,3 +515,37 @@ def test_a_face_widened_far_past_the_search_columns_is_fitted_over_its_width(
     monkeypatch.setattr(refine, "MIN_SPAN_SHARE", 0.0)
     res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert res.width_m > 1.2 * truth["width_m"]
+
+
+def framed_print_scene() -> npt.NDArray[np.uint8]:
+    """wall_scene's red face with a print over its middle: bands of far-apart colours,
+    six rows each, inside a 25-column margin of the face's red."""
+    img = wall_scene()
+    colours = ((200, 200, 60), (30, 120, 30), (220, 220, 220), (20, 60, 120), (150, 40, 150))
+    for i, row in enumerate(range(FACE_TOP + 10, BOTTOM - 10, 6)):
+        img[row : row + 6, LEFT + 25 : RIGHT - 25] = colours[i % len(colours)]
+    return img
+
+
+def test_a_margin_along_the_sides_carries_the_top_past_a_print() -> None:
+    """Found on a band inside the print, the top goes up along the margin to the face's
+    own top: the print's rows change colour every few rows, the margin does not."""
+    img = framed_print_scene()
+    top = region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, 150, LEFT, RIGHT, DEPTH
+    )
+    assert abs(top - FACE_TOP) <= 2
+
+
+def test_a_margin_must_keep_its_own_colour() -> None:
+    """Above the framed face, a surface of the face's red turning slowly lighter (a lamp's
+    glow on the wall): the margin's walk stops where its colour has left the face's red,
+    it does not drift along with the light."""
+    img = framed_print_scene().astype(np.float64)
+    for i in range(40):
+        img[FACE_TOP - 1 - i, LEFT:RIGHT] = np.array((40, 40, 170)) + 1.2 * (i + 1)
+    img = np.clip(img, 0, 255).astype(np.uint8)
+    top = region.raise_top_by_colour(
+        img, level_view(), top_strength(img), BOTTOM, FACE_TOP, LEFT, RIGHT, DEPTH
+    )
+    assert top >= FACE_TOP - 15

@@ -321,7 +321,7 @@ def _colour_walk_up(
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = d_face <= MAX_FACE_DISTANCE
-    sides = 0
+    edges: list[int] = []  # how far the strip just inside each side runs up
     for near, out in (
         (lab[:, s : s + BESIDE_COLUMNS], left_out),
         (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
@@ -331,15 +331,25 @@ def _colour_walk_up(
             # the face's colour runs on past this side below the top too: the side is a
             # seam the width stage will cross, and what is beside it tells nothing
             continue
-        sides += 1
         on &= beside >= MIN_BESIDE_STEP
         # the face's colour reaches its sides: a top face narrows as it recedes (its
         # sides run towards the vanishing point), so just inside the front face's sides
         # it is not there
-        on &= row_norms(median_u8(near, axis=1) - out) >= MIN_BESIDE_STEP
-    if sides == 0:
+        strip = median_u8(near, axis=1)
+        strip_on = row_norms(strip - out) >= MIN_BESIDE_STEP
+        on &= strip_on
+        # a print over the middle of the face (a poster, a page, text) changes the
+        # middle's colour row by row; a margin of the face's own colour along its sides
+        # runs on up to the face's top
+        d_strip = row_norms(strip - median_of(strip[k + 2 :], axis=0))
+        strip_limit = clamp(
+            SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
+        )
+        strip_on &= d_strip <= strip_limit  # the margin keeps its own colour, no drift
+        edges.append(_walk_colour(strip, strip_on, k, float(strip_limit), gap))
+    if not edges:
         return r0, k, k  # no side tells the face from what stands beside it
-    return r0, _walk_colour(inner, on, k, limit, gap), k
+    return r0, min(_walk_colour(inner, on, k, limit, gap), max(edges)), k
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
