@@ -8,9 +8,11 @@ shadows, random rigs), not the generator the method was tuned on. Families endin
 For each family and scene kind (ordinary / hard) it prints, over the scenes whose face lies
 whole in the image: mean and median height/width error of the detected ones, missed (not
 detected), gross (an error over 25 %), with the true rig (``--rig file``) and with no rig
-(the floor contact estimated from the image). Clipped scenes are counted apart: they must
-come back flagged (``clipped``), never as a full width. Then the reliability table: of the
-detections at or above each confidence, the share with both errors within 5 %.
+(the floor contact and the camera pitch estimated from the image; the no-rig rows add
+how many faces gave a pitch and its error against the true rig). Clipped scenes are
+counted apart: they must come back flagged (``clipped``), never as a full width. Then the
+reliability table: of the detections at or above each confidence, the share with both
+errors within 5 %.
 
     .venv/bin/python tools/bench_rooms.py                      # 25 + 25 scenes per family
     .venv/bin/python tools/bench_rooms.py --families photo-holdout --scenes 50 --seed 100
@@ -43,6 +45,7 @@ class Outcome:
     err_w: float = float("nan")
     confidence: float = 0.0
     ms: float = 0.0
+    pitch_err: float | None = None  # estimated minus true camera pitch (no rig, levelled)
 
 
 def run_family(family: str, scenes: int, seed: int, camera: CameraModel) -> list[Outcome]:
@@ -65,6 +68,8 @@ def run_family(family: str, scenes: int, seed: int, camera: CameraModel) -> list
                     confidence=r.confidence or 0.0,
                     ms=ms,
                 )
+                if not with_rig and r.camera_pitch_deg:  # 0: the pitch was not read
+                    o.pitch_err = r.camera_pitch_deg - spec.rig.camera_pitch_deg
                 if r.detected and r.height_m is not None and r.width_m is not None:
                     o.err_h = abs(r.height_m - truth["height_m"]) / truth["height_m"]
                     o.err_w = abs(r.width_m - truth["width_m"]) / truth["width_m"]
@@ -88,12 +93,20 @@ def summary(rows: list[Outcome]) -> str:
     gross = sum(1 for o in det if max(o.err_h, o.err_w) > 0.25)
     clipped = [o for o in rows if o.clipped_truth]
     flagged = sum(1 for o in clipped if o.flagged or not o.detected)
+    pitch = ""
+    errs = sorted(abs(o.pitch_err) for o in rows if o.pitch_err is not None)
+    if errs:
+        p90 = errs[min(len(errs) - 1, int(0.9 * len(errs)))]
+        pitch = (
+            f" pitch read {len(errs)}, |error| median {statistics.median(errs):.2f} "
+            f"p90 {p90:.2f} max {errs[-1]:.2f} deg"
+        )
     return (
         f"h {_pct(eh, 'mean'):5.1f}% w {_pct(ew, 'mean'):5.1f}% "
         f"(median {_pct(eh, 'median'):4.1f} / {_pct(ew, 'median'):4.1f}) "
         f"missed {len(whole) - len(det):2d}/{len(whole):2d} gross {gross:2d} "
         f"clipped flagged-or-refused {flagged}/{len(clipped)} "
-        f"ms {statistics.median([o.ms for o in rows]):.1f}"
+        f"ms {statistics.median([o.ms for o in rows]):.1f}{pitch}"
     )
 
 

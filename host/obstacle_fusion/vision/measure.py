@@ -24,8 +24,14 @@ from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.paper import PaperMethod
+from obstacle_fusion.vision.pitch import (
+    camera_height_for_row,
+    level_scales,
+    pitch_from_undistorted,
+    refit_side,
+)
 from obstacle_fusion.vision.rig import Rig, check_range
-from obstacle_fusion.vision.types import Measurement, Method, Timer, View
+from obstacle_fusion.vision.types import Line, Measurement, Method, Timer, View
 
 log = logging.getLogger(__name__)
 
@@ -84,8 +90,10 @@ class Measurer:
         self.method = method
         self.min_confidence = min_confidence  # None: the method's default (fused only)
         self._per_size: dict[tuple[int, int], Method] = {}
-        # with no rig: the camera height the last frame's floor contact gave (None: seek)
-        self._last_height: float | None = None
+        # with no rig: the camera height and pitch the last frame gave (None: seek)
+        self._last_rig: tuple[float, float] | None = None
+        # with no rig: fused methods levelled for the pitches recent frames gave
+        self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
 
     def _method_for(self, width: int, height: int) -> Method:
         key = (width, height)
@@ -100,6 +108,20 @@ class Measurer:
         """Build the per-size state now (maps, tables), not on the first frame's clock."""
         self._method_for(width, height)
 
+    def _pitched_method(self, width: int, height: int, pitch_deg: float) -> FusedMethod:
+        """A fused method whose view is levelled for ``pitch_deg`` (maps built once per
+        pitch; a stream's few recent pitches are kept)."""
+        key = (width, height, pitch_deg)
+        impl = self._pitched.pop(key, None)
+        if impl is None:
+            cam = self.camera.scaled_to(width, height)
+            rig = dataclasses.replace(self.rig, camera_pitch_deg=pitch_deg)
+            impl = cast(FusedMethod, METHODS[self.method](cam, rig, self.min_confidence))
+        self._pitched[key] = impl  # most recent last
+        while len(self._pitched) > PITCHED_VIEWS_KEPT:
+            del self._pitched[next(iter(self._pitched))]
+        return impl
+
     def _run_estimated(
         self, impl: Method, image: npt.NDArray[Any], range_m: float, timer: Timer
     ) -> Measurement:
@@ -108,30 +130,47 @@ class Measurer:
         lowest step that stands a face on it is the contact: ranking the rows by confidence
         instead picked steps inside the face or the box's top on independently made rooms).
 
-        In a stream the camera height does not change between frames: the height the last
-        frame accepted is tried first, and the rows are sought only when it gives no face
-        (one trial a frame instead of up to eight, until the run's online rig exists)."""
+        Those trials take the pitch as 0. The face found then gives the pitch (its two
+        vertical sides converge towards the vertical vanishing point,
+        :mod:`obstacle_fusion.vision.pitch`); when that estimate is confident, the camera
+        height follows from the face's floor-contact row and that pitch, and the face is
+        measured once more in the view levelled for it (kept when it finds the same face,
+        else the pitch-0 face's size scaled to that view).
+
+        In a stream the camera height and pitch do not change between frames: the ones the
+        last frame accepted are tried first, and the rows are sought only when they give no
+        face (one trial a frame instead of up to eight, until the run's online rig exists)."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
         best: Measurement | None = None
+        h_img, w_img = image.shape[:2]
 
-        def trial(height: float, row: float) -> Measurement:
-            fused.view = copy.copy(view)
-            fused.view.rig = dataclasses.replace(
-                self.rig, camera_height_m=height, camera_pitch_deg=0.0
+        def trial(height: float, row: float | None = None, pitch: float = 0.0) -> Measurement:
+            method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
+            base = method.view
+            method.view = copy.copy(base)
+            method.view.rig = dataclasses.replace(
+                self.rig, camera_height_m=height, camera_pitch_deg=pitch
             )
-            result = fused.run(face_floor_grey(image, view, row, depth), range_m, timer, image)
-            result.camera_height_m = height
+            if row is None:
+                row = base.cy + base.fy * height / depth
+            try:
+                grey = face_floor_grey(image, base, row, depth)
+                result = method.run(grey, range_m, timer, image)
+            finally:
+                method.view = base
+            result.camera_height_m = float(height)
+            result.camera_pitch_deg = pitch
             return result
 
         def accepted(result: Measurement) -> bool:
             return result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
 
         try:
-            last = self._last_height
+            last = self._last_rig
             if last is not None:
-                best = trial(last, view.cy + view.fy * last / depth)
+                best = trial(last[0], None, last[1])
                 if accepted(best):
                     return best
             rows = contact_rows(image, view, depth)
@@ -146,10 +185,16 @@ class Measurer:
                 if accepted(result):
                     best = result
                     break
+            if best is not None and accepted(best) and best.camera_pitch_deg == 0.0:
+                levelled = self._with_pitch(best, image, view, depth, trial)
+                timer.lap("pitch")
+                if levelled is not None:
+                    best = levelled
         finally:
-            fused.view = view
-            self._last_height = (
-                best.camera_height_m if best is not None and accepted(best) else None
+            self._last_rig = (
+                (best.camera_height_m or 0.0, best.camera_pitch_deg or 0.0)
+                if best is not None and accepted(best)
+                else None
             )
         if best is None:
             return Measurement(
@@ -160,6 +205,59 @@ class Measurer:
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         return best
+
+    def _with_pitch(
+        self,
+        found: Measurement,
+        image: npt.NDArray[Any],
+        view: View,
+        depth: float,
+        trial: Callable[[float, float | None, float], Measurement],
+    ) -> Measurement | None:
+        """The face with the pitch its sides give, or None (no confident pitch, or a camera
+        height out of range). Measured again in the view levelled for that pitch; when that
+        finds no face or another one, the pitch-0 face's size scaled to the levelled view."""
+        if (found.confidence or 0.0) < PITCH_MIN_CONFIDENCE:
+            return None
+        if len(found.lines) != 4:
+            return None
+        pts = view.camera.undistort_points(np.array(found.lines).reshape(-1, 2)).reshape(4, 4)
+        row = float(pts[0, 1::2].mean())  # the face's floor contact in the pitch-0 view
+        # the sides fitted again, free to lean, in the pitch-0 view (undistorted pixels)
+        seen = cv2.remap(image, view.map1, view.map2, cv2.INTER_LINEAR)
+        left = refit_side(seen, cast(Line, tuple(pts[2])))
+        right = refit_side(seen, cast(Line, tuple(pts[3])))
+        if left is None or right is None:
+            return None  # a side whose lean cannot be read: no pitch
+        est = pitch_from_undistorted(left, right, view.fy, view.cy)
+        if est is None:
+            return None
+        pitch = round(est.pitch_deg, PITCH_DECIMALS)
+        if pitch == 0.0:
+            return None
+        height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
+        if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+            return None
+        h_scale, w_scale = level_scales(found.lines, view.camera, pitch)
+        fixed = copy.copy(found)
+        fixed.height_m = (found.height_m or 0.0) * h_scale
+        fixed.width_m = (found.width_m or 0.0) * w_scale
+        if found.height_px is not None:
+            fixed.height_px = found.height_px * h_scale
+        if found.width_px is not None:
+            fixed.width_px = found.width_px * w_scale
+        fixed.camera_height_m = float(height)
+        fixed.camera_pitch_deg = pitch
+        result = trial(height, None, pitch)
+        if not (result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT):
+            log.debug("pitch %.1f deg: no face levelled; the pitch-0 face scaled", pitch)
+            return fixed
+        agree = (
+            abs((result.height_m or 0.0) / fixed.height_m - 1.0) <= RERUN_AGREE
+            and abs((result.width_m or 0.0) / fixed.width_m - 1.0) <= RERUN_AGREE
+        )
+        return result if agree else fixed
+        return result
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
@@ -192,6 +290,7 @@ class Measurer:
         result.rig_source = self.rig_source
         if result.camera_height_m is None and self.rig_source == "estimated":
             result.camera_height_m = self.rig.camera_height_m  # a rig fitted online
+            result.camera_pitch_deg = self.rig.camera_pitch_deg
         result.clipped = clipped_sides(result.box_px, image.shape[1], image.shape[0])
         result.timings_ms = dict(timer.ms)
         result.timings_ms["total"] = sum(timer.ms.values())
@@ -206,6 +305,24 @@ MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.
 ESTIMATE_ACCEPT = 0.2
+
+#: With no rig, a face found at pitch 0 with at least this confidence gives the pitch (any
+#: face the estimate accepts: on the tuning rooms 0.3 left a fifth of the faces unlevelled
+#: for no fewer gross errors).
+PITCH_MIN_CONFIDENCE = ESTIMATE_ACCEPT
+
+#: The face measured again in the levelled view replaces the pitch-0 one scaled to that
+#: view (:func:`~obstacle_fusion.vision.pitch.level_scales`) only when its height and width
+#: agree with those within this share: a new search can settle on another face (a seam,
+#: the box's top), and the pitch changes a face's size by a few percent, never more.
+RERUN_AGREE = 0.05
+
+#: The pitch estimate is rounded to this many decimals of a degree (the levelled views
+#: built for a stream are keyed by it; 0.05 degrees moves no measurement).
+PITCH_DECIMALS = 1
+
+#: Levelled views kept for the pitches of recent frames (each holds its maps and buffers).
+PITCHED_VIEWS_KEPT = 4
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5

@@ -22,6 +22,7 @@ FloatArray = npt.NDArray[np.float64]
 Box = tuple[float, float, float, float]
 Line = tuple[float, float, float, float]
 
+
 @dataclass
 class Measurement:
     """One frame's answer. Pixel coordinates are in the input (distorted) image."""
@@ -41,6 +42,7 @@ class Measurement:
     reason: str = ""  # why nothing was detected
     rig_source: str = "file"  # file: given; estimated: found in the image; default: assumed
     camera_height_m: float | None = None  # the estimated camera height (rig_source estimated)
+    camera_pitch_deg: float | None = None  # the pitch used with it (positive: looking down)
     clipped: list[str] = field(default_factory=list)  # image borders cutting the face
 
     def to_dict(self) -> dict[str, Any]:
