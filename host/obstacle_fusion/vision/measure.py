@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import logging
+import math
 from collections.abc import Callable
 from typing import Any, cast
 
@@ -175,9 +176,13 @@ class Measurer:
                     return best
             rows = contact_rows(image, view, depth)
             timer.lap("floor_contact")
+            near_horizon: list[int] = []
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
-                if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                if height >= 5.0:
+                    continue
+                if height < MIN_ESTIMATED_CAMERA_HEIGHT_M:
+                    near_horizon.append(row)
                     continue
                 result = trial(height, row)
                 if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
@@ -185,7 +190,35 @@ class Measurer:
                 if accepted(result):
                     best = result
                     break
-            if best is not None and accepted(best) and best.camera_pitch_deg == 0.0:
+            if best is None or not best.detected:
+                # no face stands on any row a level camera allows: a contact this near the
+                # horizon would put a level lens on the floor, but a camera pitched down
+                # sees it there. Each such row is tried at a usual height and the pitch
+                # that puts the contact on it (the face's sides then give the pitch).
+                above = view.fy * math.tan(math.radians(MAX_ESTIMATED_PITCH_DEG))
+                lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
+                near_horizon += [r for r in contact_rows(image, view, depth, above) if r < lowest]
+                for row in sorted(set(near_horizon), reverse=True):
+                    pitch = math.degrees(
+                        math.atan(NOMINAL_CAMERA_HEIGHT_M / depth)
+                        - math.atan((row - view.cy) / view.fy)
+                    )
+                    if pitch > MAX_ESTIMATED_PITCH_DEG:
+                        continue
+                    result = trial(NOMINAL_CAMERA_HEIGHT_M, None, round(pitch, PITCH_DECIMALS))
+                    if not accepted(result):
+                        continue
+                    # kept when the face's own sides confirm a pitch that stands the lens
+                    # at least MIN_ESTIMATED_CAMERA_HEIGHT_M above the floor, or, with the
+                    # pitch guessed, when the face is a sure one
+                    confirmed = self._with_pitch(result, image, view, depth, trial)
+                    timer.lap("pitch")
+                    if confirmed is None and (result.confidence or 0.0) >= GUESSED_PITCH_SURE:
+                        confirmed = result
+                    if confirmed is not None:
+                        best = confirmed
+                        break
+            if best is not None and accepted(best):
                 levelled = self._with_pitch(best, image, view, depth, trial)
                 timer.lap("pitch")
                 if levelled is not None:
@@ -233,11 +266,17 @@ class Measurer:
         if est is None:
             return None
         pitch = round(est.pitch_deg, PITCH_DECIMALS)
-        if pitch == 0.0:
+        if pitch == 0.0 and not found.camera_pitch_deg:
             return None
         height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
         if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
             return None
+        if found.camera_pitch_deg:
+            # found in a view levelled for a guessed pitch: measured again at this one and
+            # the camera height its floor-contact row gives
+            again = trial(height, None, pitch)
+            accepted = again.detected and (again.confidence or 0.0) >= ESTIMATE_ACCEPT
+            return again if accepted else None
         h_scale, w_scale = level_scales(found.lines, view.camera, pitch)
         fixed = copy.copy(found)
         fixed.height_m = (found.height_m or 0.0) * h_scale
@@ -257,7 +296,6 @@ class Measurer:
             and abs((result.width_m or 0.0) / fixed.width_m - 1.0) <= RERUN_AGREE
         )
         return result if agree else fixed
-        return result
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
@@ -301,6 +339,13 @@ class Measurer:
 #: is not tried: it is a line on the wall or a print's edge far above the floor, not the
 #: obstacle's foot (on textured rooms such rows gave most of the gross errors with no rig).
 MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
+#: With no rig, a contact row nearer the horizon than that height allows is tried as seen
+#: by a camera this high, pitched down to put the contact there ...
+NOMINAL_CAMERA_HEIGHT_M = 0.3
+#: ... by at most this much (a robot's camera is mounted near level).
+MAX_ESTIMATED_PITCH_DEG = 8.0
+#: ... and such a face whose sides give no pitch is kept only from this confidence up.
+GUESSED_PITCH_SURE = 0.5
 
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.

@@ -36,12 +36,17 @@ def band_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> npt.N
     return rows.reshape(rows.shape[0], -1)
 
 
-def contact_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> list[int]:
-    """Candidate floor-contact rows (view rows), lowest first; empty when none stands out."""
+def contact_rows(
+    image: npt.NDArray[np.uint8], view: View, depth_m: float, above_px: float = 0.0
+) -> list[int]:
+    """Candidate floor-contact rows (view rows), lowest first; empty when none stands out.
+
+    ``above_px``: how far above the view's centre row the floor may still show (a camera
+    pitched down lifts the horizon); with no pitch the floor lies below the horizon."""
     rows = band_rows(image, view, depth_m)
     n = rows.shape[0]
     k = STEP_ROWS
-    top = int(view.cy) + 2  # with no pitch, the floor lies below the horizon
+    top = max(k, int(view.cy - above_px) + 2)
     if n - top < 4 * k:
         return []
     cs = np.vstack(
