@@ -71,3 +71,40 @@ def test_a_lagging_camera_shows_the_scene_of_latency_earlier() -> None:
     assert src.scene_time_of(2) == pytest.approx(0.2 - 0.08)  # stamped 0.2, shows 0.12
     with pytest.raises(Exception, match="latency"):
         SyntheticCamera(demo_scenario(), synthetic_camera_model(), Rig(), latency_s=-0.1)
+
+
+def test_the_renderers_cold_first_frame_is_rendered_before_the_clock_runs(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A live camera renders each frame a lead before its instant, the lead twice the
+    slowest of the last 15 renders. The renderer's first frame builds its state and is
+    several frames slow: rendered at construction, off the clock, it sets no lead (counted,
+    it made the next 15 renders start at once, beside the host's work on the frame before:
+    the run's first second of frames took twice as long)."""
+    from obstacle_fusion.sim import synthetic_camera
+
+    calls: list[int] = []
+    real = synthetic_camera.renderer_for
+
+    class Counting:
+        def __init__(self, inner: object) -> None:
+            self.inner = inner
+
+        def render(self, *args: object) -> object:
+            calls.append(1)
+            return self.inner.render(*args)  # type: ignore[attr-defined]
+
+    monkeypatch.setattr(synthetic_camera, "renderer_for", lambda *a: Counting(real(*a)))
+    now = [100.0]
+    live = SyntheticCamera(
+        demo_scenario(),
+        synthetic_camera_model(500, 375),
+        Rig(),
+        clock=lambda: now[0],
+        sleep=lambda s: now.__setitem__(0, now[0] + s),
+    )
+    assert len(calls) == 1 and not live._render_s  # rendered, not counted in the lead
+    assert live.read() is not None
+    assert len(calls) == 2 and len(live._render_s) == 1
+    SyntheticCamera(demo_scenario(), synthetic_camera_model(500, 375), Rig(), realtime=False)
+    assert len(calls) == 2  # a camera that is not live keeps no lead: no extra render

@@ -86,6 +86,12 @@ class SyntheticCamera(FrameSource):
         self._k = 0
         self.recent: deque[tuple[int, float | None]] = deque(maxlen=256)  # (index, scene time)
         self._render_s: deque[float] = deque(maxlen=15)  # recent render durations
+        if realtime:
+            # the renderer's first frame builds its per-scene state and costs several
+            # frames' time: rendered here, off the clock, it would otherwise set the lead
+            # (twice the slowest recent render) for the next 15 frames, whose renders then
+            # start at once and run beside the host's work on the frame before
+            self._renderer.render(self.spec_at(self.scene_time(start)), np.random.default_rng(seed))
 
     @property
     def nominal_fps(self) -> float:
