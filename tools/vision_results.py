@@ -27,6 +27,7 @@ from typing import Any
 
 import cv2
 import numpy as np
+from bench_vision import random_rig  # the benchmark's rigs, drawn in its order
 from obstacle_fusion.sim.room_scene import FAMILIES, render_room
 from obstacle_fusion.sim.scene import SceneSpec, render_scene
 from obstacle_fusion.vision.camera import CameraModel
@@ -45,17 +46,6 @@ FIELDS = (
 )
 
 
-def _bench_rig(rng: np.random.Generator) -> Rig:
-    """tools/bench_vision.py's random rig, drawn in the same order."""
-    return Rig(
-        camera_height_m=float(rng.uniform(0.12, 0.40)),
-        camera_pitch_deg=float(rng.uniform(0.0, 10.0)),
-        sonar_below_m=float(rng.uniform(0.0, 0.08)),
-        sonar_ahead_m=float(rng.uniform(-0.02, 0.03)),
-        sonar_right_m=float(rng.uniform(-0.02, 0.02)),
-    )
-
-
 def render_all(
     camera: CameraModel, n_ordinary: int, n_hard: int, seed: int, room_seed: int, rooms: int
 ) -> list[tuple[str, np.ndarray, float, Rig | None]]:
@@ -64,7 +54,7 @@ def render_all(
     rng = np.random.default_rng(seed)
     for kind, n in (("ordinary", n_ordinary), ("hard", n_hard)):
         for i in range(n):
-            rig = _bench_rig(rng)
+            rig = random_rig(rng)
             spec = SceneSpec.random(rng, kind == "hard", camera, rig)
             scene = render_scene(spec, camera, rig, int(rng.integers(1 << 31)))
             noisy = spec.distance_m * (1.0 + rng.normal(0.0, 0.003)) + rng.normal(0.0, 0.002)

@@ -375,43 +375,32 @@ def test_no_face_where_floor_and_wall_are_one_colour() -> None:
     assert found is None
 
 
-def test_a_brick_face_the_edges_miss_is_found_by_colour_with_a_modest_confidence(
-    monkeypatch: pytest.MonkeyPatch,
+@pytest.mark.parametrize(
+    ("seed", "rel"),
+    [
+        # a red brick face on a blue floor: the joints' edges drown its sides, so the edge
+        # search finds no clear face (refused early)
+        (110, 0.05),
+        # a purple brick box on a sand floor: the edges give a face whose sides are no
+        # colour step (refused late, by side_agreement)
+        (128, 0.02),
+    ],
+)
+def test_a_face_the_edges_miss_or_refuse_is_found_by_colour_with_a_modest_confidence(
+    seed: int, rel: float, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """A red brick face on a blue floor (room procedural/110): the joints' edges drown its
-    sides, so the edge search finds no clear face; by colour it is measured, but never
-    as a sure detection."""
+    """Rooms procedural/110 and /128: by colour the face is measured, but never as a
+    sure detection; without the colour search it is refused."""
     from obstacle_fusion.sim.room_scene import render_room
     from obstacle_fusion.vision.fused import method
     from obstacle_fusion.vision.measure import Measurer
 
-    image, truth, spec = render_room("procedural", 110, False)
+    image, truth, spec = render_room("procedural", seed, False)
     cam = CameraModel.paper(500, 375)
     res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert res.detected, res.reason
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
-    monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
-    assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
-
-
-def test_a_face_refused_for_its_sides_is_sought_again_by_colour(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    """A purple brick box on a sand floor (room procedural/128): the edges give a face
-    whose sides are no colour step (refused late, by side_agreement); the colour search
-    then finds the whole face."""
-    from obstacle_fusion.sim.room_scene import render_room
-    from obstacle_fusion.vision.fused import method
-    from obstacle_fusion.vision.measure import Measurer
-
-    image, truth, spec = render_room("procedural", 128, False)
-    cam = CameraModel.paper(500, 375)
-    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.02)
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.02)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=rel)
+    assert res.height_m == pytest.approx(truth["height_m"], rel=rel)
     assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
     refused = Measurer(cam, spec.rig).measure(image, truth["range_m"])
@@ -531,9 +520,7 @@ def test_a_margin_along_the_sides_carries_the_top_past_a_print() -> None:
     """Found on a band inside the print, the top goes up along the margin to the face's
     own top: the print's rows change colour every few rows, the margin does not."""
     img = framed_print_scene()
-    top = region.raise_top_by_colour(
-        img, level_view(), top_strength(img), BOTTOM, 150, LEFT, RIGHT, DEPTH
-    )
+    top = raise_top(img, 150)
     assert abs(top - FACE_TOP) <= 2
 
 
@@ -545,7 +532,5 @@ def test_a_margin_must_keep_its_own_colour() -> None:
     for i in range(40):
         img[FACE_TOP - 1 - i, LEFT:RIGHT] = np.array((40, 40, 170)) + 1.2 * (i + 1)
     img = np.clip(img, 0, 255).astype(np.uint8)
-    top = region.raise_top_by_colour(
-        img, level_view(), top_strength(img), BOTTOM, FACE_TOP, LEFT, RIGHT, DEPTH
-    )
+    top = raise_top(img, FACE_TOP)
     assert top >= FACE_TOP - 15
