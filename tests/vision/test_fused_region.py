@@ -534,3 +534,31 @@ def test_a_margin_must_keep_its_own_colour() -> None:
     img = np.clip(img, 0, 255).astype(np.uint8)
     top = raise_top(img, FACE_TOP)
     assert top >= FACE_TOP - 15
+
+
+def colour_at_distance(bgr: tuple[int, int, int], distance: float) -> tuple[int, int, int]:
+    """A BGR colour between ``bgr`` and white at about ``distance`` (Lab, 8-bit scale)."""
+    import cv2
+
+    def lab(c: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        px = np.clip(c, 0, 255).astype(np.uint8).reshape(1, 1, 3)
+        return np.asarray(cv2.cvtColor(px, cv2.COLOR_BGR2LAB)[0, 0], np.float64)
+
+    base = np.asarray(bgr, np.float64)
+    for t in np.linspace(0.0, 1.0, 256):
+        c = base + t * (255.0 - base)
+        if np.linalg.norm(lab(c) - lab(base)) >= distance:
+            return (int(c[0]), int(c[1]), int(c[2]))
+    raise AssertionError("no such colour")
+
+
+def test_a_side_of_little_contrast_is_held_to_its_own_step() -> None:
+    """Left of the face, a wall only 14 (Lab) from the face's red, 9 above the line found
+    for the top: the strip just inside that side still stands out by over half its step
+    along the face, so the top goes up to the face's own (held to the fixed 12, it stopped
+    at the line)."""
+    img = wall_scene()
+    face = (40, 40, 170)
+    img[150:BOTTOM, :LEFT] = colour_at_distance(face, 14.0)
+    img[FACE_TOP:150, :LEFT] = colour_at_distance(face, 9.0)
+    assert abs(raise_top(img, 150) - FACE_TOP) <= 2

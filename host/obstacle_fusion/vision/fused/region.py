@@ -336,7 +336,11 @@ def _colour_walk_up(
         # sides run towards the vanishing point), so just inside the front face's sides
         # it is not there
         strip = median_u8(near, axis=1)
-        strip_on = row_norms(strip - out) >= MIN_BESIDE_STEP
+        strip_step = row_norms(strip - out)
+        # a side of little contrast (a green face on a greenish wall) is held to half its
+        # own step along the face: a top face's strip is the background, no step at all
+        level = float(median_of(strip_step[k + 2 :]))
+        strip_on = strip_step >= min(MIN_BESIDE_STEP, max(MIN_TOP_DISTANCE, 0.5 * level))
         on &= strip_on
         # a print over the middle of the face (a poster, a page, text) changes the
         # middle's colour row by row; a margin of the face's own colour along its sides
