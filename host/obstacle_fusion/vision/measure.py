@@ -177,6 +177,7 @@ class Measurer:
             rows = contact_rows(image, view, depth)
             timer.lap("floor_contact")
             near_horizon: list[int] = []
+            pitch_read = False  # the pitch is settled already (a near-horizon face)
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
                 if height >= 5.0:
@@ -213,12 +214,13 @@ class Measurer:
                     # pitch guessed, when the face is a sure one
                     confirmed = self._with_pitch(result, image, view, depth, trial)
                     timer.lap("pitch")
+                    pitch_read = True
                     if confirmed is None and (result.confidence or 0.0) >= GUESSED_PITCH_SURE:
                         confirmed = result
                     if confirmed is not None:
                         best = confirmed
                         break
-            if best is not None and accepted(best):
+            if best is not None and accepted(best) and not pitch_read:
                 levelled = self._with_pitch(best, image, view, depth, trial)
                 timer.lap("pitch")
                 if levelled is not None:
