@@ -86,6 +86,9 @@ def test_four_sonars_through_the_emulator(uno_elf: Path) -> None:
     for r in ok:
         # Sonar 1 is nearer (0.9..0.8 m) but looks aside: the box's distance is sonar 0's.
         assert r["sensor_id"] == 0 and r["distance_m"] == r["ranges"]["0"]
-        assert r["ranges"]["1"] < r["distance_m"]
+        # (a record before sonar 1's first echo of the run has no range of it yet)
+        if r["ranges"].get("1") is not None:
+            assert r["ranges"]["1"] < r["distance_m"]
         truth = scenario.sensor_distance_at(0, r["scene_t_s"])
         assert truth is not None and abs(r["height_m"] - 0.4) / 0.4 < 0.05
+    assert sum(r["ranges"].get("1") is not None for r in ok) >= 0.9 * len(ok)
