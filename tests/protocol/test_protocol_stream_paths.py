@@ -12,8 +12,10 @@ same pending bytes.
 from __future__ import annotations
 
 import binascii
+import dataclasses
 import gc
 import os
+import struct
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -49,8 +51,8 @@ any_message = st.one_of(*[_message_strategy(cls) for cls in MESSAGES.values()])
 damage = st.tuples(st.sampled_from([0, 0, 0, 0, 1, 2, 3, 4, 5, 6]), st.integers(0, 60))
 
 item = st.one_of(
-    # one frame, its seq advanced by 1 (or by more: frames lost before it)
-    st.tuples(st.just("frame"), any_message, st.sampled_from([1, 1, 1, 2, 7]), damage),
+    # one frame, its seq advanced by 1 (or by more: frames lost before it; 0: seq repeated)
+    st.tuples(st.just("frame"), any_message, st.sampled_from([1, 1, 1, 2, 7, 0, 130]), damage),
     # a run of one fixed-length message (the whole-chunk path), a few frames damaged
     st.tuples(st.just("run"), st.sampled_from(["range", "heartbeat"]), st.integers(1, 40),
               st.lists(st.tuples(st.integers(0, 39), damage), max_size=3)),
@@ -237,18 +239,21 @@ def test_the_c_accelerator_decodes_random_bytes_as_python(
 
 
 @settings(max_examples=400, deadline=None)
-@given(st.binary(max_size=255) | st.lists(st.sampled_from([b"\x01", b"\x02x", b"\xffy",
-                                                          b"\x03ab", b"\xfe", b"\xff" + b"z" * 254]),
-                                         max_size=6).map(b"".join).map(lambda b: b[:255]),
+@given(st.binary(max_size=255)
+       | st.lists(st.sampled_from([b"\x01", b"\x02x", b"\xffy", b"\x03ab", b"\xfe",
+                                   b"\xfe" + b"w" * 253, b"\xff" + b"z" * 254]),
+                  max_size=6).map(b"".join).map(lambda b: b[:255]),
        st.integers(0, 0xFFFF))
 def test_the_c_cobs_and_crc_are_the_cobs_packages_and_binascii(data: bytes, seed: int) -> None:
+    """The C COBS decoder accepts and gives what the cobs package does; it reads nothing
+    past its buffer (given a view of the first bytes of a longer one)."""
     c = _cdecode()
     try:
         want: bytes | None = bytes(cobs.decode(data))
     except cobs.DecodeError:
         want = None
     try:
-        got: bytes | None = c.cobs_decode(data)
+        got: bytes | None = c.cobs_decode(memoryview(data + b"\x07\x07")[: len(data)])
     except ValueError:
         got = None
     assert got == want
@@ -433,3 +438,93 @@ def test_no_collection_runs_while_a_long_chunk_is_decoded(accelerated: bool) -> 
         gc.callbacks.remove(seen)
     assert gc.isenabled() and decoder.stats.frames == 65
     assert paused <= 3 and unpaused >= 16, (paused, unpaused)
+
+
+@dataclasses.dataclass(slots=True)
+class _EveryCode:
+    """A message with a field of each struct code the accelerator reads (the spec's fixed
+    messages use only unsigned ones)."""
+
+    s8: int
+    s16: int
+    s32: int
+    u8: int
+    u16: int
+    u32: int
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.tuples(*[st.integers(*_INT_RANGES[code]) for code in "bhiBHI"]),
+       st.sampled_from([None, 0, 200]))
+def test_the_c_accelerator_reads_every_field_code(values: tuple[int, ...],
+                                                  last_seq: int | None) -> None:
+    c = _cdecode()
+    seed = 0x1D0F
+    slots = tuple(getattr(_EveryCode, f.name) for f in dataclasses.fields(_EveryCode))
+    body = bytes((0xEE, 9)) + struct.pack("<bhiBHI", *values)
+    frame = bytes(cobs.encode(body + binascii.crc_hqx(body, seed).to_bytes(2, "big"))) + b"\0"
+    try:
+        c.configure([(0xEE, _EveryCode, b"bhiBHI", slots, seed)], stream.LONGEST_RUN, 8)
+        got = c.scan(frame * 3 + b"\x05", last_seq)
+        with pytest.raises(ValueError):  # a code it cannot read
+            c.configure([(0xEE, _EveryCode, b"bhiBHq", slots, seed)], stream.LONGEST_RUN, 8)
+        with pytest.raises(ValueError):  # a body longer than any frame
+            c.configure([(0xEE, _EveryCode, b"bhiBHI", slots, seed)], 10, 8)
+    finally:
+        c.configure(stream._accelerated_entries(), stream.LONGEST_RUN, stream.PAUSE_GC_FRAMES)
+    gaps = (0 if last_seq is None else (9 - last_seq - 1) & 0xFF) + 2 * 255  # seq 9 repeated
+    assert got == ([_EveryCode(*values)] * 3, b"\x05", 9, 3, gaps, 0, None)
+
+
+@pytest.mark.parametrize("data", [
+    b"", b"\x01", b"\x01\x01", b"\x02", b"\x03a", b"\x02a\x01", b"\x05abcd\x02e",
+    b"\xfe" + b"w" * 253 + b"\x01",  # a 253-byte block: a 0x00 follows it
+    b"\xff" + b"z" * 254,  # a 254-byte block: no 0x00 after it (nothing may follow here)
+    b"\xff" + b"z" * 253, b"\xfe" + b"w" * 252,  # one byte short
+])
+def test_the_c_cobs_edge_cases(data: bytes) -> None:
+    try:
+        want: bytes | None = bytes(cobs.decode(data))
+    except cobs.DecodeError:
+        want = None
+    try:
+        got: bytes | None = _cdecode().cobs_decode(data)
+    except ValueError:
+        got = None
+    assert got == want
+
+
+def test_the_c_scan_pauses_the_collection_from_pause_gc_frames_on() -> None:
+    """Inside the C scan, with a collection due at every other allocation: none while a
+    chunk of PAUSE_GC_FRAMES frames is scanned, some in a chunk of one frame fewer."""
+    _cdecode()
+    n = stream.PAUSE_GC_FRAMES
+    frames = [encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0),
+                     i) for i in range(2 * n)]
+    decoder = StreamDecoder(accelerated=True)
+    runs: list[int] = []
+    inside: list[int] = []
+    real_scan = decoder._scan
+
+    def scan_spy(data: bytes, last: int | None) -> Any:
+        before = len(runs)
+        got = real_scan(data, last)  # type: ignore[misc]
+        inside.append(len(runs) - before)
+        return got
+
+    def seen(phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            runs.append(1)
+
+    decoder._scan = scan_spy
+    threshold = gc.get_threshold()
+    gc.callbacks.append(seen)
+    gc.set_threshold(1)
+    try:
+        assert len(decoder.feed(b"".join(frames[:n]))) == n
+        assert len(decoder.feed(b"".join(frames[n : 2 * n - 1]))) == n - 1
+    finally:
+        gc.set_threshold(*threshold)
+        gc.callbacks.remove(seen)
+    assert gc.isenabled()
+    assert inside[0] == 0 and inside[1] > 0, inside
