@@ -57,6 +57,9 @@ static entry_t entries[256];
 static Py_ssize_t longest_run;  /* 0 until configure() */
 static Py_ssize_t pause_frames;
 static PyObject *empty_tuple;
+/* Scans under way: a collection during one could run Python code that calls configure(),
+ * which would pull the table from under it; configure() refuses while this is not 0. */
+static int scanning;
 
 static void make_crc_table(void)
 {
@@ -352,7 +355,9 @@ static PyObject *scan(PyObject *module, PyObject *const *args, Py_ssize_t nargs)
     if (PyObject_GetBuffer(args[0], &view, PyBUF_SIMPLE) != 0) {
         return NULL;
     }
+    scanning++;
     PyObject *result = scan_chunk((const uint8_t *)view.buf, view.len, args[1]);
+    scanning--;
     PyBuffer_Release(&view);
     return result;
 }
@@ -425,6 +430,10 @@ static PyObject *configure(PyObject *module, PyObject *args)
     }
     if (longest < 1 || longest > RUN_CAP) {
         PyErr_Format(PyExc_ValueError, "longest run %zd outside 1..%d", longest, RUN_CAP);
+        return NULL;
+    }
+    if (scanning != 0) {
+        PyErr_SetString(PyExc_RuntimeError, "configure() during a scan");
         return NULL;
     }
     clear_entries();
