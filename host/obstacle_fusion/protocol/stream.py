@@ -24,14 +24,16 @@ they accept only frames it would accept, and hand everything else to it.
   collection paused: its messages live until it returns them, so a collection could free
   none of them. Every message is built in full (no field decoded later on access).
 
-The optional C accelerator (``_cdecode``, built with the package; see setup.py) does the
-per-frame work of the fast path for a whole chunk: it finds the delimiters, COBS-decodes
-each run and checks its CRC, and returns the intact fixed-length frames grouped by message
-(their bodies joined, their sequence gaps counted) with every other run in its place. The
-messages are then built as the whole-chunk path builds them (``Struct.iter_unpack`` and the
-class) and the other runs go to the same frame-by-frame step as in Python (``_one``), so
-both paths give the same messages and counters for any bytes and any chunking. Without the
-module (it did not compile, or OBSTACLE_FUSION_PURE_PYTHON=1) the pure-Python paths run.
+The optional C accelerator (``_cdecode.c``, built with the package; see setup.py) does the
+fast path's work for a whole chunk in C: it finds the delimiters, COBS-decodes each run,
+checks its CRC and length, makes the message of every intact fixed-length frame (the
+class's ``tp_new`` and its slot descriptors: what the dataclass ``__init__`` does, without a
+Python call) and counts their sequence gaps, pausing the collection as above. Every other
+run comes back as bytes in its place, and goes through the same frame-by-frame step as in
+Python (``_one``), after which the frames that follow it count their gap from its seq; a
+chunk after an overflowed run takes the Python path. Both paths give the same messages and
+counters for any bytes and any chunking. Without the module (it did not compile), or with
+OBSTACLE_FUSION_PURE_PYTHON=1, the pure-Python paths run.
 """
 
 from __future__ import annotations
