@@ -390,18 +390,14 @@ def raise_top_by_sides(
     r0 = max(0, top - reach)
     if c0 < 0 or c1 > w_view or top - r0 < 4:
         return top
-    lab = _lab8(image, view, r0, bottom, c0, c1)
     k = top - r0
-    on = np.ones(lab.shape[0], bool)
+    on = np.ones(bottom - r0, bool)
+    span = 2 * (BESIDE_COLUMNS + SIDE_SKIP)  # what is beside a side, its blur, the face
+    left_band = _lab8(image, view, r0, bottom, c0, c0 + span)
+    right_band = _lab8(image, view, r0, bottom, c1 - span, c1)
     for inside, outside in (
-        (
-            lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : 2 * BESIDE_COLUMNS + 2 * SIDE_SKIP],
-            lab[:, :BESIDE_COLUMNS],
-        ),
-        (
-            lab[:, -2 * BESIDE_COLUMNS - 2 * SIDE_SKIP : -BESIDE_COLUMNS - 2 * SIDE_SKIP],
-            lab[:, -BESIDE_COLUMNS:],
-        ),
+        (left_band[:, span - BESIDE_COLUMNS :], left_band[:, :BESIDE_COLUMNS]),
+        (right_band[:, :BESIDE_COLUMNS], right_band[:, -BESIDE_COLUMNS:]),
     ):
         strip = median_u8(inside, axis=1)
         step = row_norms(strip - median_u8(outside, axis=1))
