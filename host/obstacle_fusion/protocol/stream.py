@@ -111,7 +111,7 @@ def _accelerated_entries() -> list[tuple[int, type, bytes, tuple[Any, ...], int]
 def _load_accelerator() -> _Scan | None:
     """The C accelerator's scan, configured with this module's table; None without it."""
     try:
-        from obstacle_fusion.protocol import _cdecode
+        import obstacle_fusion.protocol._cdecode as _cdecode
     except ImportError as exc:
         log.debug("stream decoder: no C accelerator (%s); pure Python", exc)
         return None
