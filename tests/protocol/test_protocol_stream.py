@@ -50,6 +50,10 @@ def decoder_path(request: pytest.FixtureRequest) -> Iterator[str]:
         stream._DEFAULT_SCAN = saved
 
 
+def test_the_default_path_is_the_one_this_run_is_for(decoder_path: str) -> None:
+    assert StreamDecoder().accelerated == (decoder_path == "accelerated")
+
+
 def chunked(data: bytes, cuts: list[int]) -> list[bytes]:
     points = sorted({c % (len(data) + 1) for c in cuts})
     pieces, last = [], 0
