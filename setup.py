@@ -9,9 +9,10 @@ host/obstacle_fusion/bundled.py). A board whose compiler is missing is left out 
 message saying what to install; nothing built is ever written into the source tree.
 Editable installs skip all this: a clone finds the same files in its own build tree.
 
-The stream decoder's optional C accelerator, obstacle_fusion.protocol._cdecode, is built as
-an optional extension (editable installs too): if it does not compile, setuptools says so
-and the install goes on, and the decoder runs its pure-Python path.
+The stream decoder's C accelerator, obstacle_fusion.protocol._cdecode, is built as an
+optional extension, into the wheel, and by editable installs in place (the one build output
+in the source tree: host/obstacle_fusion/protocol/_cdecode*.so, ignored by git). If it does
+not compile, setuptools says so, the install goes on, and the decoder runs pure Python.
 """
 
 from __future__ import annotations
