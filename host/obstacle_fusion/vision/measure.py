@@ -158,7 +158,7 @@ class Measurer:
                 row = base.cy + base.fy * height / depth
             try:
                 grey = face_floor_grey(image, base, row, depth)
-                result = method.run(grey, range_m, timer, image)
+                result = method.run(grey, range_m, timer, image, by_texture=False)
             finally:
                 method.view = base
             result.camera_height_m = float(height)
