@@ -83,13 +83,15 @@ PITCH_RERUN_DISAGREES = "pitch_rerun_disagrees"
 #: only as sure as its share of that (see :func:`pixel_factor`).
 SMALL_FACE = "small_face"
 
-#: The factor each doubt scales the confidence by. Halving: a doubt alone takes the
-#: surest face (1.0) just under the 0.5 that means "sure".
+#: What one doubt leaves of the confidence: a doubt alone takes the surest face (1.0)
+#: under the 0.5 that means "sure" (halving would leave it at 0.5 exactly).
+DOUBT_FACTOR = 0.45
+#: The factor each doubt scales the confidence by.
 DOUBT_FACTORS: dict[str, float] = {
-    TOP_FROM_SIDES: 0.5,
-    FRAMED: 0.5,
-    PITCH_UNREAD: 0.5,
-    PITCH_RERUN_DISAGREES: 0.5,
+    TOP_FROM_SIDES: DOUBT_FACTOR,
+    FRAMED: DOUBT_FACTOR,
+    PITCH_UNREAD: DOUBT_FACTOR,
+    PITCH_RERUN_DISAGREES: DOUBT_FACTOR,
 }
 
 #: Doubts that cut the confidence only when the floor contact was found in the image.
