@@ -562,3 +562,65 @@ def test_a_side_of_little_contrast_is_held_to_its_own_step() -> None:
     img[150:BOTTOM, :LEFT] = colour_at_distance(face, 14.0)
     img[FACE_TOP:150, :LEFT] = colour_at_distance(face, 9.0)
     assert abs(raise_top(img, 150) - FACE_TOP) <= 2
+
+
+TAPE = (150, 95, 125)  # a band across the face in the wall's shade: its sides vanish
+TAPE_LOW = 112  # the band's lower edge, where the colour walks stop
+
+
+def taped_scene(
+    tape_rows: int = 12, wall_above: tuple[int, int, int] | None = None
+) -> npt.NDArray[np.uint8]:
+    """wall_scene with a band of the wall's shade across the whole face (rows
+    TAPE_LOW - tape_rows .. TAPE_LOW); ``wall_above``: the wall's colour above the band."""
+    img = wall_scene().astype(np.float64)
+    rng = np.random.default_rng(2)
+    if wall_above is not None:
+        img[: TAPE_LOW - tape_rows] = wall_above
+        img[FACE_TOP : TAPE_LOW - tape_rows, LEFT:RIGHT] = (40, 40, 170)
+        img[: TAPE_LOW - tape_rows] += rng.normal(0, 4.0, img[: TAPE_LOW - tape_rows].shape)
+    img[TAPE_LOW - tape_rows : TAPE_LOW, LEFT:RIGHT] = TAPE
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def raise_by_sides(img: npt.NDArray[np.uint8], top: int, view: View | None = None) -> int:
+    return region.raise_top_by_sides(
+        img, view or level_view(), top_strength(img), BOTTOM, top, LEFT, RIGHT, DEPTH
+    )
+
+
+def test_the_sides_carry_the_top_across_a_band_in_the_walls_shade() -> None:
+    """A 12-row band (4 cm at 1 m) stops the colour walk; the sides go on above it."""
+    img = taped_scene()
+    assert raise_top(img, TAPE_LOW) >= TAPE_LOW - 3  # why the sides' walk is needed
+    assert abs(raise_by_sides(img, TAPE_LOW) - FACE_TOP) <= 2
+
+
+def test_a_band_taller_than_the_gap_ends_the_face() -> None:
+    """SIDE_WALK_GAP_M (5 cm: 15 rows here) is the tallest band crossed."""
+    assert raise_by_sides(taped_scene(tape_rows=18), TAPE_LOW) == TAPE_LOW
+
+
+def test_a_background_pole_in_line_with_the_sides_is_not_the_face() -> None:
+    """Above the face a light pole exactly as wide: it differs from the wall beside it,
+    but it is not the face's colour."""
+    img = taped_scene()
+    img[:FACE_TOP, LEFT:RIGHT] = (200, 200, 200)
+    assert abs(raise_by_sides(img, TAPE_LOW) - FACE_TOP) <= 2
+
+
+def test_below_the_horizon_the_sides_walk_is_left_alone() -> None:
+    """Seen from above, a top face parts from the wall too: the walk does not go there."""
+    assert raise_by_sides(taped_scene(), TAPE_LOW, high_view()) == TAPE_LOW
+
+
+@pytest.mark.parametrize("share, raised", [(0.5, True), (0.9, False)])
+def test_the_side_walk_share_decides(
+    share: float, raised: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Above the band the wall is nearer the face's colour: its step is 60 % of the
+    one along the face's foot (Lab 41 against 68), a side at SIDE_WALK_SHARE 0.5."""
+    monkeypatch.setattr(region, "SIDE_WALK_SHARE", share)
+    img = taped_scene(wall_above=(110, 60, 160))
+    top = raise_by_sides(img, TAPE_LOW)
+    assert (abs(top - FACE_TOP) <= 2) if raised else top == TAPE_LOW

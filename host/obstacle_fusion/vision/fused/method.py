@@ -30,6 +30,7 @@ from obstacle_fusion.vision.fused.region import (
     face_from_colour,
     looks_like_top_face,
     raise_top_by_colour,
+    raise_top_by_sides,
     side_agreement,
     top_agreement,
     widen_by_colour,
@@ -167,6 +168,7 @@ class FusedMethod:
             rb, vt, ul, ur = framed
         # a background line crossing the face is not its top: the face's colour runs on
         vt = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
+        vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
 
         # confidence
         conf = confidence(best, rivals)

@@ -356,6 +356,73 @@ def _colour_walk_up(
     return r0, min(_walk_colour(inner, on, k, limit, gap), max(edges)), k
 
 
+#: A row's side stands when its colour step is at least this share of the side's step
+#: along the face (a side against a wall of another shade steps less, not nothing).
+SIDE_WALK_SHARE = 0.5
+#: Rows where a side shows no colour step that the walk up crosses (a tape, a label's
+#: band in the background's shade), metres at the face.
+SIDE_WALK_GAP_M = 0.05
+
+
+def raise_top_by_sides(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The face's top row, moved up while both its sides still part the face from what
+    stands beside it.
+
+    A band across the whole face (a tape, a label strip, a gloss) changes the face's
+    colour in its middle and just inside its sides alike, so the colour walks stop there;
+    but the face goes on while, at both sides, what is just inside differs from what is
+    just outside. Above the real top the background lies on both sides of each side
+    column: no step."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4 or bottom - top < 6:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    reach = bottom - top  # at most the face's height again
+    r0 = max(0, top - reach)
+    if c0 < 0 or c1 > w_view or top - r0 < 4:
+        return top
+    k = top - r0
+    on = np.ones(bottom - r0, bool)
+    span = 2 * (BESIDE_COLUMNS + SIDE_SKIP)  # what is beside a side, its blur, the face
+    left_band = _lab8(image, view, r0, bottom, c0, c0 + span)
+    right_band = _lab8(image, view, r0, bottom, c1 - span, c1)
+    for inside, outside in (
+        (left_band[:, span - BESIDE_COLUMNS :], left_band[:, :BESIDE_COLUMNS]),
+        (right_band[:, :BESIDE_COLUMNS], right_band[:, -BESIDE_COLUMNS:]),
+    ):
+        strip = median_u8(inside, axis=1)
+        step = row_norms(strip - median_u8(outside, axis=1))
+        level = float(median_of(step[k + 2 :]))
+        if level < MIN_BESIDE_STEP:
+            return top  # a side that does not part the face from its surroundings
+        on &= step >= max(MIN_BESIDE_STEP, SIDE_WALK_SHARE * level)
+        # and the face's own colour there: a background edge in line with a side (a
+        # pole, a shadow) parts two background colours, not the face from one
+        d_strip = row_norms(strip - median_of(strip[k + 2 :], axis=0))
+        limit = clamp(
+            SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
+        )
+        on &= d_strip <= limit
+    gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
+    end = walk_on(on, k, -1, gap)
+    if k - end <= SNAP_ROWS or r0 + end > view.cy:
+        # below the horizon the lens looks down on the face's top: a top face's colour
+        # stands apart from the wall beside it as well, so the walk cannot tell its end
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
 STEP_ROWS = 3
 #: A top face thinner than this (rows) is left to the gradients: its colour is blur.

@@ -52,16 +52,45 @@ def front_top(
     # to the top edge also its own blur tail, further up only noise
     thr_noise = FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
     thr_near = thr_noise + TAIL_SHARE * abs(prof[0])
-    best = vt
+    found = []
     for r in range(vt + 1, min(vt + reach, rb - 3) + 1):
         p_prev, p, p_next = prof[r - 1 - vt], prof[r - vt], prof[r + 1 - vt]
         a = abs(p)
         thr = thr_near if r - vt <= TAIL_ROWS else thr_noise
         if a >= thr and a >= abs(p_prev) and a >= abs(p_next):
-            best = r
+            found.append(r)
         elif a >= thr and p * p_prev < 0 and a > abs(p_next):
-            best = r
+            found.append(r)
+    # the lowest, unless it ends inside both sides: a print's or a label's top edge, inset
+    # in the face, while the front top edge runs from side to side
+    best = next((r for r in reversed(found) if not _inset(dy, r, ul, ur)), vt)
     return best, (1.0 if prof[best - vt] >= 0 else -1.0)
+
+
+#: An edge ending this many columns inside both of the face's sides is inset in it.
+INSET_MIN_PX = 3.0
+
+
+def _inset(dy: I16, row: int, ul: int, ur: int) -> bool:
+    """Whether the horizontal edge on ``row`` ends well inside both sides."""
+    ends = _edge_ends(np.abs(dy[max(0, row - 1) : row + 2]).astype(np.float32), 1, ul, ur)
+    return ends is not None and ends[0] - ul >= INSET_MIN_PX and ur - ends[1] >= INSET_MIN_PX
+
+
+def _edge_ends(ay: F32, row: int, ul: int, ur: int) -> tuple[float, float] | None:
+    """The first and last columns, from just outside the sides ``ul`` and ``ur``, where
+    the horizontal edge on ``row`` (or a row next to it) reaches half its median strength
+    over the face's middle half, or None."""
+    c0, c1 = max(1, ul - 4), min(ay.shape[1] - 1, ur + 5)
+    prof = ay[max(0, row - 1) : row + 2, c0:c1].max(axis=0)
+    m = max(2, (ur - ul) // 4)
+    level = median(ay[max(0, row - 1) : row + 2, ul + m : ur - m].max(axis=0))
+    if level <= 0.0:
+        return None
+    on = (prof >= 0.5 * level).nonzero()[0]
+    if on.size < 4:
+        return None
+    return float(c0 + on[0]), float(c0 + on[-1])
 
 
 def front_from_back(
@@ -81,18 +110,10 @@ def front_from_back(
     v = view
     if vt - v.cy < 3.0 or ur - ul < 12:
         return None
-    h, w = ay.shape
-    c0, c1 = max(1, ul - 4), min(w - 1, ur + 5)
-    prof = ay[max(0, vt - 1) : vt + 2, c0:c1].max(axis=0)
-    m = max(2, (ur - ul) // 4)
-    level = median(ay[max(0, vt - 1) : vt + 2, ul + m : ur - m].max(axis=0))
-    if level <= 0.0:
+    ends = _edge_ends(ay, vt, ul, ur)
+    if ends is None:
         return None
-    half = 0.5 * level
-    on = (prof >= half).nonzero()[0]
-    if on.size < 4:
-        return None
-    a, b = float(c0 + on[0]), float(c0 + on[-1])
+    a, b = ends
     # the front top edge spans the face (the edge ends within a pixel of each side)
     if a - ul < 2.0 and ur - b < 2.0:
         return None
@@ -124,6 +145,11 @@ def front_from_back(
         and mag[i - vt] >= mag[i - vt + 1]
     ]
     r = min(peaks, key=lambda i: abs(i - vf)) if peaks else int(round(vf))
+    if _inset(dy, r, ul, ur):
+        # the front top edge spans the face from side to side; an edge that ends inside
+        # both sides is a print's or a label's, inset in the face: no top face here
+        log.debug("top %d: the edge below on row %d is inset, no top face's front", vt, r)
+        return None
     log.debug(
         "top %d is a back edge (scale %.3f): front top edge at %d (pred %.1f)", vt, scale, r, vf
     )

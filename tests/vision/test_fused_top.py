@@ -1,0 +1,81 @@
+"""The fused method's top stage on drawn faces: a print inset in the face is no top face."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+import pytest
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import top
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import View
+
+H, W = 240, 320
+CY = 20.0  # the horizon: the lens looks down on the face, as on a low box
+FACE_TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the front face; cx = 160
+INSET = 12  # the print's margin inside each side
+PRINT_TOP = FACE_TOP + 4
+DEPTH = 1.0
+
+
+def high_view() -> View:
+    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, CY], [0.0, 0.0, 1.0]])
+    return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+
+
+def box(print_bottom: int = 190) -> npt.NDArray[np.uint8]:
+    """Wall above the face, floor below; a light front face with a dark print inset by
+    INSET columns from PRINT_TOP down to ``print_bottom``."""
+    rng = np.random.default_rng(3)
+    img = np.full((H, W), 90.0)
+    img[BOTTOM:] = 60.0
+    img[FACE_TOP:BOTTOM, LEFT:RIGHT] = 170.0
+    img[PRINT_TOP:print_bottom, LEFT + INSET : RIGHT - INSET] = 110.0
+    img += rng.normal(0, 1.5, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def gradients(
+    img: npt.NDArray[np.uint8],
+) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
+    """|d/dy|, d/dy and the noise level, as the method takes them."""
+    dx = np.empty(img.shape, np.int16)
+    dy = np.empty(img.shape, np.int16)
+    cv2.spatialGradient(img, dx, dy)
+    ay = np.abs(dy).astype(np.float32)
+    return ay, dy, float(np.median(ay[::4, ::4])) / 0.6745 + 1.0
+
+
+@pytest.mark.parametrize("inset_min, expected", [(3.0, FACE_TOP), (1000.0, PRINT_TOP)])
+def test_a_prints_top_edge_is_not_the_front_top_edge(
+    inset_min: float, expected: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Just under the face's top, the print's top edge is the lowest strong edge in reach;
+    it ends INSET columns inside both sides, so the face's own top edge stays."""
+    monkeypatch.setattr(top, "INSET_MIN_PX", inset_min)
+    _, dy, noise = gradients(box())
+    row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
+    assert abs(row - expected) <= 1
+
+
+def test_an_inset_print_is_not_a_receding_top_face() -> None:
+    """A print centred on the principal point's column is narrower than the face by one
+    scale about it, as a top face's back edge is; the row that scale predicts for the
+    front edge holds only the print's own bottom edge, inset like its top: no top face."""
+    scale = (RIGHT - LEFT - 2 * INSET) / (RIGHT - LEFT)
+    front = int(round(CY + (PRINT_TOP - CY) / scale))
+    ay, dy, _ = gradients(box(print_bottom=front))
+    assert top.front_from_back(high_view(), DEPTH, ay, dy, BOTTOM, LEFT, RIGHT, PRINT_TOP) is None
+
+
+def test_a_front_edge_from_side_to_side_makes_the_top_face() -> None:
+    """The same narrow edge with a full-width edge on the predicted row (a top face's
+    front): the front is taken there."""
+    scale = (RIGHT - LEFT - 2 * INSET) / (RIGHT - LEFT)
+    front = int(round(CY + (PRINT_TOP - CY) / scale))
+    img = box(print_bottom=front).astype(np.float64)
+    img[front:BOTTOM, LEFT:RIGHT] = 140.0  # below the predicted row, the front face
+    ay, dy, _ = gradients(np.clip(img, 0, 255).astype(np.uint8))
+    found = top.front_from_back(high_view(), DEPTH, ay, dy, BOTTOM, LEFT, RIGHT, PRINT_TOP)
+    assert found is not None and abs(found[0] - front) <= 1
