@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.confidence import confidence, refusal
+from obstacle_fusion.vision.fused.confidence import FRAMED, TOP_FROM_SIDES, confidence, refusal
 from obstacle_fusion.vision.fused.extent import (
     enclose_inner_frame,
     raise_top_past_inner_edges,
@@ -164,10 +164,14 @@ class FusedMethod:
 
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
-        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        doubts = [TOP_FROM_SIDES] if raised < vt else []  # what lowers the reported confidence
+        vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
         framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
+        if framed is not None:
+            doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:
             framed = None
         if framed is not None:
@@ -216,9 +220,11 @@ class FusedMethod:
             fail.reason = reason
             return fail
         timer.lap("extent")
-        return self._refine(
+        measured = self._refine(
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span
         )
+        measured.doubts = doubts
+        return measured
 
     def _colour_face(
         self,
