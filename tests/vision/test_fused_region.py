@@ -616,13 +616,29 @@ def test_below_the_horizon_the_sides_walk_is_left_alone() -> None:
     assert raise_by_sides(taped_scene(), TAPE_LOW, high_view()) == TAPE_LOW
 
 
-@pytest.mark.parametrize("share, raised", [(0.5, True), (0.9, False)])
-def test_the_side_walk_share_decides(
-    share: float, raised: bool, monkeypatch: pytest.MonkeyPatch
+@pytest.mark.parametrize(
+    "share, clear, raised", [(0.5, 24.0, True), (0.9, 24.0, True), (0.9, 100.0, False)]
+)
+def test_the_side_walk_share_and_the_clear_step_decide(
+    share: float, clear: float, raised: bool, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Above the band the wall is nearer the face's colour: its step is 60 % of the
-    one along the face's foot (Lab 41 against 68), a side at SIDE_WALK_SHARE 0.5."""
+    one along the face's foot (Lab 41 against 68): a side at SIDE_WALK_SHARE 0.5, and at
+    any share while CLEAR_SIDE_STEP (24) is under 41."""
     monkeypatch.setattr(region, "SIDE_WALK_SHARE", share)
+    monkeypatch.setattr(region, "CLEAR_SIDE_STEP", clear)
     img = taped_scene(wall_above=(110, 60, 160))
     top = raise_by_sides(img, TAPE_LOW)
     assert (abs(top - FACE_TOP) <= 2) if raised else top == TAPE_LOW
+
+
+@pytest.mark.parametrize("reach_m, reaches_top", [(1.0, True), (0.0, False)])
+def test_a_face_found_as_its_foots_strip_walks_up_to_its_top(
+    reach_m: float, reaches_top: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Found as an 8-row strip at its foot (a frame's lower margin under a print), the
+    face's top is 120 rows up: the walk may go SIDE_WALK_REACH_M (1 m, 300 rows here),
+    not just the strip's own height again."""
+    monkeypatch.setattr(region, "SIDE_WALK_REACH_M", reach_m)
+    top = raise_by_sides(wall_scene(), BOTTOM - 8)
+    assert (abs(top - FACE_TOP) <= 2) if reaches_top else top >= BOTTOM - 16
