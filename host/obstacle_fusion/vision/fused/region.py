@@ -672,20 +672,24 @@ def face_from_colour(
 def _side_step(
     image: npt.NDArray[Any], view: View, bottom: int, top: int, left: int, right: int
 ) -> float:
-    """The weaker side's colour step: the face just inside against what is just beside."""
+    """The weaker side's colour step: the face just inside against what is just beside
+    (a side with no room beside it in the view, at the image's border, is not read; with
+    neither side read, 0)."""
     w = view.out.shape[1]
     r0, r1 = top + (bottom - top) // 4, bottom - (bottom - top) // 4
+    if r1 - r0 < 2:
+        return 0.0
     steps = []
     for a, b, c, d in (
         (left + 2, left + 2 + BESIDE_COLUMNS, left - 2 - BESIDE_COLUMNS, left - 2),
         (right - 2 - BESIDE_COLUMNS, right - 2, right + 3, right + 3 + BESIDE_COLUMNS),
     ):
-        if c < 0 or d > w or r1 - r0 < 2:
-            return 0.0
+        if c < 0 or d > w:
+            continue
         inside = median_u8(_lab8(image, view, r0, r1, a, b).reshape(-1, 3), axis=0)
         beside = median_u8(_lab8(image, view, r0, r1, c, d).reshape(-1, 3), axis=0)
         steps.append(norm(inside - beside))
-    return min(steps)
+    return min(steps, default=0.0)
 
 
 #: Sides with a colour step under this (Lab, the face just inside against what is just
