@@ -166,7 +166,7 @@ class Measurer:
                 row = base.cy + base.fy * height / depth
             try:
                 grey = face_floor_grey(image, base, row, depth)
-                result = method.run(grey, range_m, timer, image, by_texture=False)
+                result = method.run(grey, range_m, timer, image, floor_known=False)
             finally:
                 method.view = base
             result.camera_height_m = float(height)

@@ -10,6 +10,7 @@ the front top edge (:mod:`.top`) and the sub-pixel refinement (:mod:`.refine`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -47,6 +48,8 @@ from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.types import Measurement, Timer, View
 
+#: A face candidate off the beam's axis keeps this share of its score.
+OFF_AXIS_SHARE = 0.6
 #: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
 #: detection: on textured rooms its height was often short of the face's).
 RESCUE_MAX_CONFIDENCE = 0.4
@@ -79,14 +82,17 @@ class FusedMethod:
         timer: Timer,
         colour: npt.NDArray[Any] | None = None,
         rescue: bool = True,
-        by_texture: bool = True,
+        floor_known: bool = True,
     ) -> Measurement:
         """``colour``: the BGR frame ``image`` was made from, when ``image`` is one channel
         of it (the face's colour along its foot sets its width). ``rescue``: where the
         edges give no clear face, seek it by its colour (off for a first try that a
-        caller repeats on another channel). ``by_texture``: where the colour gives none
-        either, seek it by its texture (off while the floor's row is guessed: a texture
-        step stands at many rows, a tile line or a wall's foot as well)."""
+        caller repeats on another channel). ``floor_known``: the floor-contact
+        row comes from a rig (a file, or one fitted over frames); False while a row is
+        only tried with no rig, and then neither the texture search (a texture step stands
+        at many rows, a tile line or a wall's foot as well) nor the preference for faces
+        on the beam's axis (it lifts a face on the axis at a wrong row over the real one)
+        is used."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
@@ -126,6 +132,7 @@ class FusedMethod:
 
         # candidate search and scoring, one floor-contact row at a time
         u_lo, u_hi = beam_columns(v, range_m, depth, w_img)
+        u_axis = v.cx + v.fx * rig.sonar_right_m / depth
         bottoms = bottom_candidates(ay, vb0, tol, r0b, r1b, u_lo, u_hi)
         best: Candidate | None = None
         cands: list[Candidate] = []
@@ -136,6 +143,10 @@ class FusedMethod:
                 continue
             sides, pairs = found
             for cand in score_pairs(v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb):
+                if floor_known and not cand.ul <= u_axis <= cand.ur:
+                    # the beam's axis hits what the sonar ranges: of two faces at its
+                    # depth (a box and a can beside it), the one on the axis
+                    cand = dataclasses.replace(cand, score=cand.score * OFF_AXIS_SHARE)
                 cands.append(cand)
                 if best is None or cand.score > best.score:
                     best = cand
@@ -151,7 +162,7 @@ class FusedMethod:
                 return None
             rows = (r0b, r1b)
             found = self._colour_face(seen, ax, ay, ax3, dy, rows, depth, noise, range_m, timer)
-            if found is None and by_texture:
+            if found is None and floor_known:
                 found = self._texture_face(seen, ax, ay, ax3, dy, rows, depth, range_m, timer)
             return found
 
