@@ -227,15 +227,16 @@ def score_pairs(
             (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
         )
     o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
-    o_at = np.array(o_cols, np.intp) - o_lo  # range ends within the block
     o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
-    # running row sums at the top rows (exact in float32: integers under 2**24)
-    run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
-    ay[tops, o_lo:o_hi].cumsum(axis=1, out=run[:, 1:])
-    ends = run[np.arange(tops.size)[:, None], o_at[pp]]  # T x 4
+    # row sums over each pair's two outside ranges at the top rows (exact in float32:
+    # integers under 2**24), both ranges of every pair in one pass (each range is at
+    # least one column wide)
+    o_ranges = [(o[k] - o_lo, o[k + 1] - o_lo) for o in o_cols for k in (0, 2)]
+    o_sums = range_sums(ay[tops, o_lo:o_hi], o_ranges)  # T x 2 pairs
+    at_top = np.arange(tops.size)
     inv_t = o_inv[pp]
-    o_l = (ends[:, 1] - ends[:, 0]) * inv_t[:, 0]
-    o_r = (ends[:, 3] - ends[:, 2]) * inv_t[:, 1]
+    o_l = o_sums[at_top, 2 * pp] * inv_t[:, 0]
+    o_r = o_sums[at_top, 2 * pp + 1] * inv_t[:, 1]
     prof_tops = prof[tops, pp]
     inside = np.maximum(prof_tops, 1e-3)
     contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
