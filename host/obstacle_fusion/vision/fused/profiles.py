@@ -88,6 +88,8 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     if a.size == 0:  # numpy's answer for empty lanes (OpenCV's sort would crash on them)
         return np.median(a.astype(np.float32), axis=axis)
     k = n // 2
+    lo: npt.NDArray[Any]
+    hi: npt.NDArray[Any]
     if axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
         lo, hi = _middle_by_network(a, axis, n)
     else:
@@ -413,3 +415,29 @@ def fit_vertical(
         c0 = int(clamp(col - 3, 0, w - 7))
         windows.append((ax[v0 : v0 + rows.size, c0 : c0 + 7].T, c0, max(1, col - 1 - c0)))
     return _fit_edges(windows, rows.astype(np.float64))
+
+
+class VerticalFits:
+    """:func:`fit_vertical` over one frame's |d/dx|, each (rows, columns) fitted once.
+
+    The face the search verifies (its sides' lean) is, more often than not, the face the
+    refinement measures with the same rows and columns: the second fit is the first's.
+    Keyed by the first row, the row count and the edge columns (the rows are consecutive).
+    """
+
+    __slots__ = ("ax", "_fits")
+
+    def __init__(self, ax: I16) -> None:
+        self.ax = ax
+        self._fits: dict[tuple[int, int, tuple[int, ...], int], list[tuple[float, float]]] = {}
+
+    def __call__(
+        self, rows: npt.NDArray[np.intp], edge_cols: list[int], w: int
+    ) -> list[tuple[float, float]]:
+        key = (int(rows[0]) if rows.size else 0, int(rows.size), tuple(edge_cols), w)
+        fits = self._fits.get(key)
+        if fits is None:
+            fits = fit_vertical(self.ax, rows, edge_cols, w)
+            self._fits[key] = fits
+        return list(fits)
+

@@ -22,8 +22,8 @@ import numpy.typing as npt
 from obstacle_fusion.vision.fused.profiles import (
     F32,
     I16,
+    VerticalFits,
     clamp,
-    fit_vertical,
     grey_range_sums,
     partitioned,
     range_sums,
@@ -110,12 +110,15 @@ class Candidate:
         return inter / max(union - inter, 1.0)
 
 
-def sides_vertical(view: View, ax: I16, cand: Candidate) -> bool:
+def sides_vertical(
+    view: View, ax: I16, cand: Candidate, fits: VerticalFits | None = None
+) -> bool:
     """False when a side leans the way a floor line through its foot would.
 
     In the levelled view every vertical world edge is an image column; a seam or
     plank edge on the floor through (u, v) runs towards the vanishing point, at
     du/dv = (u - cx) / (v - cy). Near the centre column the two look alike: then true.
+    ``fits``: the frame's side fits over ``ax``, kept for the refinement.
     """
     v = view
     below = cand.rb - v.cy
@@ -125,7 +128,8 @@ def sides_vertical(view: View, ax: I16, cand: Candidate) -> bool:
     rows = np.arange(cand.vt + mv, cand.rb - mv + 1)
     if rows.size < 5:
         return True
-    for a, b in fit_vertical(ax, rows, [cand.ul, cand.ur], ax.shape[1]):
+    fit = fits if fits is not None else VerticalFits(ax)
+    for a, b in fit(rows, [cand.ul, cand.ur], ax.shape[1]):
         radial = (a + b * cand.rb - v.cx) / below
         if abs(radial) >= RADIAL_MIN and abs(b) >= LEAN_MIN and abs(b - radial) < 0.5 * abs(radial):
             return False
@@ -424,12 +428,12 @@ def _top_score(
 
 
 def verified(
-    view: View, ax: I16, cands: list[Candidate]
+    view: View, ax: I16, cands: list[Candidate], fits: VerticalFits | None = None
 ) -> tuple[Candidate | None, list[Candidate]]:
     """The best candidate with world-vertical sides (None if none of the first
     MAX_VERIFIED has them) and its rivals: the candidates from it on, best first.
 
-    ``cands`` is sorted in place, best score first.
+    ``cands`` is sorted in place, best score first; ``fits`` keeps the side fits.
     """
     # the best candidates whose sides are not vertical in the world (the seams of a
     # floor patch run towards the vanishing point) are no face and no rival either
@@ -437,7 +441,7 @@ def verified(
     best = None
     rivals = cands
     for i, cand in enumerate(cands[:MAX_VERIFIED]):
-        if sides_vertical(view, ax, cand):
+        if sides_vertical(view, ax, cand, fits):
             best = cand
             rivals = cands[i:]
             break
