@@ -95,6 +95,11 @@ def test_the_wheel_ships_the_images_and_the_emulator_sources(installed: dict[str
     ):
         assert name in names, name
     assert any(n.endswith("licenses/LICENSE") for n in names)
+    # the stream decoder's C accelerator, compiled for this Python, and its types
+    assert any(n.startswith("obstacle_fusion/protocol/_cdecode.cpython-") and n.endswith(".so")
+               for n in names), sorted(n for n in names if "_cdecode" in n)
+    assert "obstacle_fusion/protocol/_cdecode.pyi" in names
+    assert not any(n.endswith(".c") and "protocol" in n for n in names)
     meta = next(n for n in names if n.endswith("METADATA"))
     text = zipfile.ZipFile(installed["wheel"]).read(meta).decode()
     assert "License-Expression: MIT" in text and "Project-URL: Repository" in text
@@ -110,6 +115,12 @@ def test_installed_package_runs_the_emulated_robot_outside_the_clone(
         cwd=work, env=_env(installed), capture_output=True, text=True, check=True,
     ).stdout.strip()  # fmt: skip
     assert Path(where).is_relative_to(installed["site"]), where
+    accelerated = subprocess.run(
+        [str(venv / "bin" / "python"), "-c",
+         "from obstacle_fusion.protocol import StreamDecoder; print(StreamDecoder().accelerated)"],
+        cwd=work, env=_env(installed), capture_output=True, text=True, check=True,
+    ).stdout.strip()  # fmt: skip
+    assert accelerated == "True"
     done = subprocess.run(
         [str(venv / "bin" / "obstacle-fusion"), "run", "--duration", "5", "--json"],
         cwd=work, env=_env(installed), capture_output=True, text=True, timeout=90,
@@ -155,3 +166,54 @@ def test_installed_flash_needs_no_compiler(installed: dict[str, Path], tmp_path:
     image = Path(args[args.index("-U") + 1].removeprefix("flash:w:").removesuffix(":i"))
     assert image.is_relative_to(installed["site"])
     assert image.read_text() == (ROOT / "firmware" / "build" / "uno" / "obstacle-fusion.hex").read_text()
+
+
+def test_a_c_accelerator_that_does_not_compile_leaves_the_pure_decoder(tmp_path: Path) -> None:
+    """An install on a machine where the decoder's C accelerator fails to compile (here: an
+    #error in its source) succeeds; the package then decodes in pure Python, says so in a
+    debug log line, and refuses accelerated=True."""
+    src, dist, venv = tmp_path / "src", tmp_path / "dist", tmp_path / "venv"
+    _clone_files(src)
+    c_source = src / "host" / "obstacle_fusion" / "protocol" / "_cdecode.c"
+    c_source.write_text("#error this machine cannot compile the accelerator\n"
+                        + c_source.read_text())
+    done = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
+         "--no-index", "-w", str(dist), str(src)],
+        capture_output=True, text=True, timeout=240,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+    wheels = list(dist.glob("obstacle_fusion-*.whl"))
+    assert len(wheels) == 1
+    import zipfile
+
+    assert not [n for n in zipfile.ZipFile(wheels[0]).namelist() if n.endswith(".so")]
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
+    py = venv / "bin" / "python"
+    subprocess.run(
+        [sys.executable, "-m", "pip", "--python", str(py), "install", "-q", "--no-deps",
+         "--no-index", str(wheels[0])],
+        check=True, capture_output=True, timeout=120,
+    )  # fmt: skip
+    site = subprocess.run(
+        [str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+        check=True, capture_output=True, text=True,
+    ).stdout.strip()  # fmt: skip
+    (Path(site) / "zz_main_venv.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    code = (
+        "import logging; logging.basicConfig(level=logging.DEBUG, format='%(message)s')\n"
+        "from obstacle_fusion.protocol import StreamDecoder, encode\n"
+        "from obstacle_fusion.protocol.generated import Range\n"
+        "m = Range(measurement=1, sensor_id=0, trigger_us=2, echo_ticks=3, status=0)\n"
+        "d = StreamDecoder()\n"
+        "assert d.feed(encode(m, 1) * 30) == [m] * 30 and d.stats.frames == 30\n"
+        "print('accelerated', d.accelerated)\n"
+        "try:\n    StreamDecoder(accelerated=True)\nexcept RuntimeError as exc:\n"
+        "    print('refused', exc)\n"
+    )
+    ran = subprocess.run([str(py), "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=60, env={k: v for k, v in os.environ.items()
+                                          if k != "PYTHONPATH"})  # fmt: skip
+    assert ran.returncode == 0, ran.stderr
+    assert "accelerated False" in ran.stdout and "refused" in ran.stdout
+    assert "stream decoder: no C accelerator" in ran.stderr

@@ -27,6 +27,10 @@ compgen -G "/usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-*.a" >/dev/
 [ -f /usr/share/arduino/hardware/arduino/avr/bootloaders/optiboot/optiboot.c ] \
   || need_apt+=(arduino-core-avr)
 command -v avrdude >/dev/null || need_apt+=(avrdude)
+# Python's headers: the stream decoder's optional C accelerator is compiled against them (a
+# pyenv or python.org build has them; Debian's python3 needs python3-dev).
+pyinc="$("${PYTHON:-python3}" -c "import sysconfig; print(sysconfig.get_paths()['include'])")"
+[ -f "$pyinc/Python.h" ] || need_apt+=(python3-dev)
 # Optional: QEMU boots the blue pill image for a smoke test (skipped without it).
 command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm)
 if [ ${#need_apt[@]} -gt 0 ]; then
@@ -42,7 +46,8 @@ if [ ! -x .venv/bin/python ]; then
   log "creating .venv"
   "$python" -m venv .venv
 fi
-stamp=.venv/.installed-$(sha1sum pyproject.toml | cut -c1-12)
+# pyproject.toml, setup.py and the C accelerator: a change to any of them reinstalls (rebuilds it)
+stamp=.venv/.installed-$(cat pyproject.toml setup.py host/obstacle_fusion/protocol/_cdecode.c | sha1sum | cut -c1-12)
 if [ ! -f "$stamp" ]; then
   log "installing the Python package and its test tools into .venv"
   .venv/bin/python -m pip install -q --upgrade pip >/dev/null

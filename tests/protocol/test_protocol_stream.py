@@ -1,10 +1,16 @@
-"""StreamDecoder: arbitrary chunks, garbage, corruption; never raises, never invents."""
+"""StreamDecoder: arbitrary chunks, garbage, corruption; never raises, never invents.
+
+Every test here runs twice: with the decoder's pure-Python path as the default, and with
+its C accelerator (a decoder made with ``accelerated=False`` stays pure in both)."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from obstacle_fusion.protocol import StreamDecoder, encode
+from obstacle_fusion.protocol import StreamDecoder, encode, stream
 from obstacle_fusion.protocol.generated import (
     Ack,
     Heartbeat,
@@ -26,6 +32,26 @@ messages = st.one_of(
     st.builds(Log, level=st.integers(0, 3),
               text=st.text(alphabet=st.characters(min_codepoint=32, max_codepoint=126), max_size=40)),
 )
+
+
+@pytest.fixture(autouse=True, scope="module", params=["pure", "accelerated"])
+def decoder_path(request: pytest.FixtureRequest) -> Iterator[str]:
+    """The default path of every StreamDecoder() in this module (module-scoped: hypothesis
+    allows no function-scoped fixture around @given)."""
+    saved = stream._DEFAULT_SCAN
+    if request.param == "pure":
+        stream._DEFAULT_SCAN = None
+    else:
+        assert stream.ACCELERATOR is not None, "the C accelerator is not built (make setup)"
+        stream._DEFAULT_SCAN = stream.ACCELERATOR
+    try:
+        yield request.param
+    finally:
+        stream._DEFAULT_SCAN = saved
+
+
+def test_the_default_path_is_the_one_this_run_is_for(decoder_path: str) -> None:
+    assert StreamDecoder().accelerated == (decoder_path == "accelerated")
 
 
 def chunked(data: bytes, cuts: list[int]) -> list[bytes]:
@@ -326,10 +352,8 @@ def _ranges(count: int, first_seq: int = 0) -> list[bytes]:
 
 
 def _frame_by_frame(monkeypatch: object, pieces: list[bytes]) -> StreamDecoder:
-    """A decoder fed ``pieces`` with the whole-chunk path switched off."""
-    from obstacle_fusion.protocol import stream
-
-    decoder = StreamDecoder()
+    """A pure-Python decoder fed ``pieces`` with the whole-chunk path switched off."""
+    decoder = StreamDecoder(accelerated=False)
     old = stream.RUN_MIN_FRAMES
     stream.RUN_MIN_FRAMES = 10**9
     try:
@@ -352,7 +376,6 @@ def _same_as_frame_by_frame(pieces: list[bytes]) -> list[Message]:
 def test_a_clean_run_is_decoded_whole_with_no_frame_by_frame_step(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """With the frame-by-frame decoders made to fail, a chunk of RANGE frames still comes
     out whole: the whole-chunk path decoded it, with the counters of a frame-by-frame run."""
-    from obstacle_fusion.protocol import stream
 
     frames = _ranges(40, first_seq=250)  # the seq wraps inside the run
     expected = _same_as_frame_by_frame([b"".join(frames)])
@@ -362,7 +385,7 @@ def test_a_clean_run_is_decoded_whole_with_no_frame_by_frame_step(monkeypatch) -
 
     monkeypatch.setattr(stream, "_FAST", [None] * 256)
     monkeypatch.setattr(stream, "decode_body", no)
-    decoder = StreamDecoder()
+    decoder = StreamDecoder(accelerated=False)  # the C accelerator has no whole-chunk path
     decoder.last_seq = 248  # seq 249 lost before the run
     assert decoder.feed(b"".join(frames) + frames[0][:5]) == expected
     s = decoder.stats
@@ -372,7 +395,6 @@ def test_a_clean_run_is_decoded_whole_with_no_frame_by_frame_step(monkeypatch) -
 
 def _whole_runs(monkeypatch) -> list[int | None]:  # type: ignore[no-untyped-def]
     """Record how many messages each whole-chunk attempt returned (None: it declined)."""
-    from obstacle_fusion.protocol import stream
 
     seen: list[int | None] = []
     real = stream.StreamDecoder._decode_run
@@ -392,7 +414,7 @@ def test_eight_frames_the_shortest_frames_and_a_run_after_an_overflow_go_whole(m
     from obstacle_fusion.protocol.generated import Stop
 
     seen = _whole_runs(monkeypatch)
-    decoder = StreamDecoder()
+    decoder = StreamDecoder(accelerated=False)  # the C accelerator has no whole-chunk path
     assert len(decoder.feed(b"".join(_ranges(8)))) == 8
     assert decoder.feed(b"".join(encode(Stop(), seq) for seq in range(8, 20))) == [Stop()] * 12
     decoder.feed(b"\x01" * 300)  # no frame is this long: the tail overflows

@@ -390,7 +390,8 @@ def test_a_face_the_edges_miss_or_refuse_is_found_by_colour_with_a_modest_confid
     seed: int, rel: float, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Rooms procedural/110 and /128: by colour the face is measured, but never as a
-    sure detection; without the colour search it is refused."""
+    sure detection; without the colour search (and the texture search after it) it is
+    refused."""
     from obstacle_fusion.sim.room_scene import render_room
     from obstacle_fusion.vision.fused import method
     from obstacle_fusion.vision.measure import Measurer
@@ -403,6 +404,7 @@ def test_a_face_the_edges_miss_or_refuse_is_found_by_colour_with_a_modest_confid
     assert res.height_m == pytest.approx(truth["height_m"], rel=rel)
     assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
+    monkeypatch.setattr(method, "face_from_texture", lambda *args: None)
     refused = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert not refused.detected and "confidence" in (refused.reason or "")
 

@@ -23,13 +23,28 @@ they accept only frames it would accept, and hand everything else to it.
 * A chunk of PAUSE_GC_FRAMES frames or more is decoded with the automatic garbage
   collection paused: its messages live until it returns them, so a collection could free
   none of them. Every message is built in full (no field decoded later on access).
+
+The optional C accelerator (``_cdecode.c``, built with the package; see setup.py) does the
+fast path's work for a whole chunk in C: it finds the delimiters, COBS-decodes each run,
+checks its CRC and length, makes the message of every intact fixed-length frame (the
+class's ``tp_new`` and its slot descriptors: what the dataclass ``__init__`` does, without a
+Python call) and counts their sequence gaps, pausing the collection as above. Every other
+run comes back as bytes in its place, and goes through the same frame-by-frame step as in
+Python (``_one``), after which the frames that follow it count their gap from its seq; a
+chunk after an overflowed run takes the Python path. Both paths give the same messages and
+counters for any bytes and any chunking. Without the module (it did not compile), or with
+OBSTACLE_FUSION_PURE_PYTHON=1, the pure-Python paths run.
 """
 
 from __future__ import annotations
 
 import binascii
+import dataclasses
 import gc
+import logging
+import os
 import struct
+import types
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from itertools import repeat, starmap
@@ -40,6 +55,7 @@ from cobs import cobs
 from obstacle_fusion.protocol.codec import CRC_SEEDS, FrameError, decode_body
 from obstacle_fusion.protocol.generated import MAX_FRAME, MESSAGES, Hello, Message
 
+log = logging.getLogger(__name__)
 _crc = binascii.crc_hqx
 _cobs_decode = cobs.decode
 _CobsError = cobs.DecodeError
@@ -62,6 +78,48 @@ for _msg_id, _cls in MESSAGES.items():
         _row = struct.Struct("<xx" + _cls.STRUCT.format.lstrip("<") + "xx")
         _FAST[_msg_id] = (_cls, _row.unpack, CRC_SEEDS[_msg_id])
         _RUN[_msg_id] = (_cls, _row.size, CRC_SEEDS[_msg_id], _row)
+# Setting this variable (to anything but "" or "0") makes pure Python the default path.
+PURE_PYTHON_ENV = "OBSTACLE_FUSION_PURE_PYTHON"
+_Scan = Callable[[bytes, int | None], tuple[Any, ...]]
+
+
+def _accelerated_entries() -> list[tuple[int, type, bytes, tuple[Any, ...], int]]:
+    """The C accelerator's table: (msg id, class, struct codes, slot descriptors, CRC seed)
+    for the messages of the fast path whose dataclass ``__init__`` only sets its fields (so
+    a message made by ``tp_new`` and the slots equals the one ``__init__`` makes)."""
+    entries = []
+    for msg_id, entry in enumerate(_RUN):
+        if entry is None:
+            continue
+        cls = MESSAGES[msg_id]
+        codes = cls.STRUCT.format.lstrip("<")
+        fields = dataclasses.fields(cls)
+        slots = tuple(getattr(cls, f.name) for f in fields)
+        if (
+            hasattr(cls, "__post_init__")
+            or len(fields) != len(codes)
+            or not all(f.init for f in fields)
+            or not all(isinstance(slot, types.MemberDescriptorType) for slot in slots)
+            or set(codes) - set("BHIbhi")
+        ):
+            log.debug("stream decoder: %s is left to Python by the C accelerator", cls.__name__)
+            continue
+        entries.append((msg_id, cls, codes.encode("ascii"), slots, entry[2]))
+    return entries
+
+
+def _load_accelerator() -> _Scan | None:
+    """The C accelerator's scan, configured with this module's table; None without it."""
+    try:
+        import obstacle_fusion.protocol._cdecode as _cdecode
+    except ImportError as exc:
+        log.debug("stream decoder: no C accelerator (%s); pure Python", exc)
+        return None
+    _cdecode.configure(_accelerated_entries(), LONGEST_RUN, PAUSE_GC_FRAMES)
+    scan: _Scan = _cdecode.scan
+    return scan
+
+
 # A chunk with at least this many frames tries the whole-chunk path first.
 RUN_MIN_FRAMES = 8
 # A chunk with at least this many frames is decoded with the automatic garbage collection
@@ -70,6 +128,11 @@ PAUSE_GC_FRAMES = 8
 # seq -> seq + 1 (mod 256): a run of sequence numbers has no gap when shifting all but its
 # last by one gives all but its first.
 _NEXT_SEQ = bytes((i + 1) & 0xFF for i in range(256))
+# The accelerator, whether it is the default or not (tests run both side by side).
+ACCELERATOR = _load_accelerator()
+_DEFAULT_SCAN = ACCELERATOR if os.environ.get(PURE_PYTHON_ENV, "") in ("", "0") else None
+if ACCELERATOR is not None and _DEFAULT_SCAN is None:
+    log.debug("stream decoder: %s is set; pure Python", PURE_PYTHON_ENV)
 
 
 @dataclass(slots=True)
@@ -108,12 +171,29 @@ class DecoderStats:
 class StreamDecoder:
     """Feed it bytes as they arrive; it returns the messages completed by each chunk."""
 
-    def __init__(self) -> None:
+    def __init__(self, accelerated: bool | None = None) -> None:
+        """``accelerated``: None takes the C accelerator when it is there and not turned off
+        by OBSTACLE_FUSION_PURE_PYTHON; False the pure-Python path; True the accelerator
+        (RuntimeError if it was not built)."""
         self.stats = DecoderStats()
         self.last_seq: int | None = None
         self._tail = b""
         # The pending tail lost its beginning (the run was longer than any frame).
         self._overflow = False
+        self._scan: _Scan | None
+        if accelerated is None:
+            self._scan = _DEFAULT_SCAN
+        elif not accelerated:
+            self._scan = None
+        elif ACCELERATOR is None:
+            raise RuntimeError("the stream decoder's C accelerator is not built")
+        else:
+            self._scan = ACCELERATOR
+
+    @property
+    def accelerated(self) -> bool:
+        """Whether this decoder runs the C accelerator."""
+        return self._scan is not None
 
     @property
     def pending_bytes(self) -> int:
@@ -121,6 +201,8 @@ class StreamDecoder:
         return len(self._tail)
 
     def feed(self, chunk: bytes) -> list[Message]:
+        if self._scan is not None and not self._overflow:
+            return self._feed_scan(chunk)
         stats = self.stats
         stats.bytes += len(chunk)
         data = self._tail + chunk if self._tail else bytes(chunk)
@@ -184,6 +266,41 @@ class StreamDecoder:
             stats.stray_zeros += zeros
             stats.bytes_discarded += zeros
         return out
+
+    def _feed_scan(self, chunk: bytes) -> list[Message]:
+        """``feed`` through the C accelerator (nothing overflowed before this chunk)."""
+        stats = self.stats
+        stats.bytes += len(chunk)
+        out, tail, last, good, gaps, zeros, others = self._scan(  # type: ignore[misc]
+            self._tail + chunk if self._tail else bytes(chunk), self.last_seq
+        )
+        if len(tail) > LONGEST_RUN:
+            # Only the last LONGEST_RUN bytes can still become (the end of) a frame.
+            stats.bytes_discarded += len(tail) - LONGEST_RUN
+            tail = tail[-LONGEST_RUN:]
+            self._overflow = True
+        self._tail = tail
+        stats.frames += good
+        if zeros:
+            stats.stray_zeros += zeros
+            stats.bytes_discarded += zeros
+        if others is not None:
+            # Runs that are no intact fixed-length frame, in their places in out: each goes
+            # through the frame-by-frame step, then the frames after it count from its seq.
+            for index, first, final, inner, count in others:
+                self.last_seq = last
+                out[index] = self._one(out[index])
+                last = self.last_seq
+                if count:
+                    if last is not None:
+                        gaps += (first - last - 1) & 0xFF
+                    gaps += inner
+                    last = final
+            out = [msg for msg in out if msg is not None]
+        self.last_seq = last
+        if gaps:
+            stats.seq_gaps += gaps
+        return out  # type: ignore[no-any-return]
 
     def _feed_parts(self, data: bytes, parts: list[bytes], tail: bytes) -> list[Message]:
         """The general path: ``data`` split at its delimiters into ``parts`` and ``tail``."""

@@ -23,6 +23,11 @@ from obstacle_fusion.errors import UserError
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
+from obstacle_fusion.vision.fused.confidence import (
+    PITCH_RERUN_DISAGREES,
+    PITCH_UNREAD,
+    reported_confidence,
+)
 from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
@@ -91,8 +96,10 @@ class Measurer:
         self.method = method
         self.min_confidence = min_confidence  # None: the method's default (fused only)
         self._per_size: dict[tuple[int, int], Method] = {}
-        # with no rig: the camera height and pitch the last frame gave (None: seek)
+        # with no rig: the camera height and pitch the last frame gave (None: seek), and
+        # the doubts its pitch left (a pitch not read stays unread in the frames reusing it)
         self._last_rig: tuple[float, float] | None = None
+        self._last_pitch_doubts: list[str] = []
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
 
@@ -136,7 +143,8 @@ class Measurer:
         :mod:`obstacle_fusion.vision.pitch`); when that estimate is confident, the camera
         height follows from the face's floor-contact row and that pitch, and the face is
         measured once more in the view levelled for it (kept when it finds the same face,
-        else the pitch-0 face's size scaled to that view).
+        else the pitch-0 face's size scaled to that view). A face whose sides gave no pitch
+        carries the doubt PITCH_UNREAD (:mod:`obstacle_fusion.vision.fused.confidence`).
 
         In a stream the camera height and pitch do not change between frames: the ones the
         last frame accepted are tried first, and the rows are sought only when they give no
@@ -158,7 +166,7 @@ class Measurer:
                 row = base.cy + base.fy * height / depth
             try:
                 grey = face_floor_grey(image, base, row, depth)
-                result = method.run(grey, range_m, timer, image)
+                result = method.run(grey, range_m, timer, image, by_texture=False)
             finally:
                 method.view = base
             result.camera_height_m = float(height)
@@ -168,16 +176,19 @@ class Measurer:
         def accepted(result: Measurement) -> bool:
             return result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
 
+        pitch_read = False  # the face's sides gave the pitch best is measured at
         try:
             last = self._last_rig
             if last is not None:
                 best = trial(last[0], None, last[1])
                 if accepted(best):
+                    best.doubts = [*best.doubts, *self._last_pitch_doubts]
+                    pitch_read = True  # (its doubts are the last frame's)
                     return best
             rows = contact_rows(image, view, depth)
             timer.lap("floor_contact")
             near_horizon: list[int] = []
-            pitch_read = False  # the pitch is settled already (a near-horizon face)
+            pitch_tried = False  # the pitch is settled already (a near-horizon face)
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
                 if height >= 5.0:
@@ -214,23 +225,30 @@ class Measurer:
                     # pitch guessed, when the face is a sure one
                     confirmed = self._with_pitch(result, image, view, depth, trial)
                     timer.lap("pitch")
-                    pitch_read = True
+                    pitch_tried = True
+                    pitch_read = confirmed is not None
                     if confirmed is None and (result.confidence or 0.0) >= GUESSED_PITCH_SURE:
                         confirmed = result
                     if confirmed is not None:
                         best = confirmed
                         break
-            if best is not None and accepted(best) and not pitch_read:
+            if best is not None and accepted(best) and not pitch_tried:
                 levelled = self._with_pitch(best, image, view, depth, trial)
                 timer.lap("pitch")
                 if levelled is not None:
                     best = levelled
+                    pitch_read = True
         finally:
+            if best is not None and best.detected and not pitch_read:
+                best.doubts = [*best.doubts, PITCH_UNREAD]
             self._last_rig = (
                 (best.camera_height_m or 0.0, best.camera_pitch_deg or 0.0)
                 if best is not None and accepted(best)
                 else None
             )
+            self._last_pitch_doubts = [
+                d for d in (best.doubts if best is not None else []) if d in PITCH_DOUBTS
+            ]
         if best is None:
             return Measurement(
                 False,
@@ -251,7 +269,9 @@ class Measurer:
     ) -> Measurement | None:
         """The face with the pitch its sides give, or None (no confident pitch, or a camera
         height out of range). Measured again in the view levelled for that pitch; when that
-        finds no face or another one, the pitch-0 face's size scaled to the levelled view."""
+        finds no face or another one, the pitch-0 face's size scaled to the levelled view
+        (with the doubt PITCH_RERUN_DISAGREES). A face found at pitch 0 whose sides read
+        a pitch of 0 is returned as it is (its pitch is read: it is level)."""
         if (found.confidence or 0.0) < PITCH_MIN_CONFIDENCE:
             return None
         if len(found.lines) != 4:
@@ -269,7 +289,7 @@ class Measurer:
             return None
         pitch = round(est.pitch_deg, PITCH_DECIMALS)
         if pitch == 0.0 and not found.camera_pitch_deg:
-            return None
+            return found  # read, and level: the face as found
         height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
         if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
             return None
@@ -289,6 +309,7 @@ class Measurer:
             fixed.width_px = found.width_px * w_scale
         fixed.camera_height_m = float(height)
         fixed.camera_pitch_deg = pitch
+        fixed.doubts = [*found.doubts, PITCH_RERUN_DISAGREES]
         result = trial(height, None, pitch)
         if not (result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT):
             log.debug("pitch %.1f deg: no face levelled; the pitch-0 face scaled", pitch)
@@ -331,6 +352,20 @@ class Measurer:
         if result.camera_height_m is None and self.rig_source == "estimated":
             result.camera_height_m = self.rig.camera_height_m  # a rig fitted online
             result.camera_pitch_deg = self.rig.camera_pitch_deg
+        if result.detected and result.confidence is not None and self.method == "fused":
+            floor = self.min_confidence
+            if floor is None:
+                floor = cast(FusedMethod, impl).min_confidence
+            result.confidence, result.doubts = reported_confidence(
+                result.confidence,
+                result.doubts,
+                result.height_px,
+                result.width_px,
+                floor,
+                rig_given=not self.find_floor,
+            )
+        else:
+            result.doubts = []
         result.clipped = clipped_sides(result.box_px, image.shape[1], image.shape[0])
         result.timings_ms = dict(timer.ms)
         result.timings_ms["total"] = sum(timer.ms.values())
@@ -367,6 +402,9 @@ RERUN_AGREE = 0.05
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
 PITCH_DECIMALS = 1
+
+#: The doubts about the pitch a stream's next frames inherit with it.
+PITCH_DOUBTS = frozenset({PITCH_UNREAD, PITCH_RERUN_DISAGREES})
 
 #: Levelled views kept for the pitches of recent frames (each holds its maps and buffers).
 PITCHED_VIEWS_KEPT = 4

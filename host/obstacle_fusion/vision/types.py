@@ -44,6 +44,9 @@ class Measurement:
     camera_height_m: float | None = None  # the estimated camera height (rig_source estimated)
     camera_pitch_deg: float | None = None  # the pitch used with it (positive: looking down)
     clipped: list[str] = field(default_factory=list)  # image borders cutting the face
+    # what made the confidence lower than the edges alone say (fused: names and reasons in
+    # obstacle_fusion.vision.fused.confidence)
+    doubts: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)

@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.confidence import confidence, refusal
+from obstacle_fusion.vision.fused.confidence import FRAMED, TOP_FROM_SIDES, confidence, refusal
 from obstacle_fusion.vision.fused.extent import (
     enclose_inner_frame,
     raise_top_past_inner_edges,
@@ -42,6 +42,7 @@ from obstacle_fusion.vision.fused.search import (
     min_width_px,
     side_candidates,
 )
+from obstacle_fusion.vision.fused.texture import face_from_texture
 from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.types import Measurement, Timer, View
@@ -49,6 +50,9 @@ from obstacle_fusion.vision.types import Measurement, Timer, View
 #: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
 #: detection: on textured rooms its height was often short of the face's).
 RESCUE_MAX_CONFIDENCE = 0.4
+#: The highest confidence a face found by its texture alone gets: its sides and top are
+#: where a smoothed texture changes, known to half a window.
+TEXTURE_MAX_CONFIDENCE = 0.3
 
 
 class FusedMethod:
@@ -75,11 +79,14 @@ class FusedMethod:
         timer: Timer,
         colour: npt.NDArray[Any] | None = None,
         rescue: bool = True,
+        by_texture: bool = True,
     ) -> Measurement:
         """``colour``: the BGR frame ``image`` was made from, when ``image`` is one channel
         of it (the face's colour along its foot sets its width). ``rescue``: where the
         edges give no clear face, seek it by its colour (off for a first try that a
-        caller repeats on another channel)."""
+        caller repeats on another channel). ``by_texture``: where the colour gives none
+        either, seek it by its texture (off while the floor's row is guessed: a texture
+        step stands at many rows, a tile line or a wall's foot as well)."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
@@ -144,7 +151,10 @@ class FusedMethod:
             if not rescue:
                 return None
             rows = (r0b, r1b)
-            return self._colour_face(seen, ax, ay, ax3, dy, rows, depth, noise, range_m, timer)
+            found = self._colour_face(seen, ax, ay, ax3, dy, rows, depth, noise, range_m, timer)
+            if found is None and by_texture:
+                found = self._texture_face(seen, ax, ay, ax3, dy, rows, depth, range_m, timer)
+            return found
 
         if best is None:
             rescued = rescue_by_colour()
@@ -155,10 +165,14 @@ class FusedMethod:
 
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
-        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        doubts = [TOP_FROM_SIDES] if raised < vt else []  # what lowers the reported confidence
+        vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
         framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
+        if framed is not None:
+            doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:
             framed = None
         if framed is not None:
@@ -207,9 +221,11 @@ class FusedMethod:
             fail.reason = reason
             return fail
         timer.lap("extent")
-        return self._refine(
+        measured = self._refine(
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
         )
+        measured.doubts = doubts
+        return measured
 
     def _colour_face(
         self,
@@ -238,6 +254,34 @@ class FusedMethod:
             return None
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
+        if conf < self.min_confidence:
+            return None
+        sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+        return self._refine(
+            ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
+        )
+
+    def _texture_face(
+        self,
+        seen: npt.NDArray[Any],
+        ax: npt.NDArray[np.int16],
+        ay: npt.NDArray[np.float32],
+        ax3: npt.NDArray[np.int16],
+        dy: npt.NDArray[np.int16],
+        rows: tuple[int, int],
+        depth: float,
+        range_m: float,
+        timer: Timer,
+    ) -> Measurement | None:
+        """The face from its texture alone (:func:`.texture.face_from_texture`), measured,
+        or None: grey bricks on grey paving, where neither edges nor colour part them."""
+        found = face_from_texture(seen, self.view, rows, depth)
+        if found is None:
+            return None
+        rb, vt, ul, ur, evidence = found
+        if rb >= ay.shape[0] - 3 or vt >= ay.shape[0]:
+            return None
+        conf = TEXTURE_MAX_CONFIDENCE * evidence
         if conf < self.min_confidence:
             return None
         sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0

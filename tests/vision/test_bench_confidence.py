@@ -1,0 +1,40 @@
+"""tools/bench_confidence.py: the confidence's meaning on the tuning scenes, per doubt."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "tools" / "bench_confidence.py"
+
+
+def run(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, str(SCRIPT), *args], capture_output=True, text=True, timeout=300
+    )
+
+
+def test_reliability_rows_for_rig_and_no_rig() -> None:
+    out = run("--rooms", "1", "--generated", "3", "--threshold", "0.3")
+    assert out.returncode == 0, out.stderr
+    rows = [x for x in out.stdout.splitlines() if "at >= 0.3:" in x]
+    assert len(rows) == 6  # rig / no rig x rooms / generated / all
+    assert all("within 5 %" in r for r in rows)
+
+
+def test_only_tuning_families_are_measured() -> None:
+    sys.path.insert(0, str(ROOT / "tools"))
+    try:
+        import bench_confidence
+    finally:
+        sys.path.remove(str(ROOT / "tools"))
+    assert bench_confidence.TUNING_FAMILIES == ("procedural", "photo")
+
+
+def test_bad_arguments_are_usage_errors() -> None:
+    for args in (("--rooms", "-1"), ("--rooms", "0", "--generated", "0"), ("--threshold", "2")):
+        out = run(*args)
+        assert out.returncode == 2
+        assert "error:" in out.stderr and "Traceback" not in out.stderr
