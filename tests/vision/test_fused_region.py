@@ -414,6 +414,17 @@ def test_sides_that_are_colour_boundaries_keep_the_confidence() -> None:
     assert region.side_agreement(img, level_view(), BOTTOM, TOP, LEFT, RIGHT) == 1.0
 
 
+def test_a_side_at_the_images_border_leaves_the_judgement_to_the_other() -> None:
+    """A face running to the right border has nothing beside its right side in view: its
+    left side, a clear colour boundary, decides (it used to count as no step at all and
+    refused a face found whole); with neither side in view, no side tells."""
+    img = scene()
+    img[TOP:BOTTOM, RIGHT:] = img[TOP:BOTTOM, RIGHT - 20 : RIGHT - 19]  # the face runs on
+    view = level_view()
+    assert region.side_agreement(img, view, BOTTOM, TOP, LEFT, W - 4) == 1.0
+    assert region.side_agreement(img, view, BOTTOM, TOP, 3, W - 4) == 0.0
+
+
 def test_a_side_on_a_seam_inside_the_face_cuts_the_confidence() -> None:
     """The right side taken on a seam 60 columns inside the face: the face's colour is on
     both sides of it."""
@@ -616,13 +627,47 @@ def test_below_the_horizon_the_sides_walk_is_left_alone() -> None:
     assert raise_by_sides(taped_scene(), TAPE_LOW, high_view()) == TAPE_LOW
 
 
-@pytest.mark.parametrize("share, raised", [(0.5, True), (0.9, False)])
-def test_the_side_walk_share_decides(
-    share: float, raised: bool, monkeypatch: pytest.MonkeyPatch
+@pytest.mark.parametrize(
+    "share, clear, raised", [(0.5, 24.0, True), (0.9, 24.0, True), (0.9, 100.0, False)]
+)
+def test_the_side_walk_share_and_the_clear_step_decide(
+    share: float, clear: float, raised: bool, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Above the band the wall is nearer the face's colour: its step is 60 % of the
-    one along the face's foot (Lab 41 against 68), a side at SIDE_WALK_SHARE 0.5."""
+    one along the face's foot (Lab 41 against 68): a side at SIDE_WALK_SHARE 0.5, and at
+    any share while CLEAR_SIDE_STEP (24) is under 41."""
     monkeypatch.setattr(region, "SIDE_WALK_SHARE", share)
+    monkeypatch.setattr(region, "CLEAR_SIDE_STEP", clear)
     img = taped_scene(wall_above=(110, 60, 160))
     top = raise_by_sides(img, TAPE_LOW)
     assert (abs(top - FACE_TOP) <= 2) if raised else top == TAPE_LOW
+
+
+@pytest.mark.parametrize("reach_m, reaches_top", [(1.0, True), (0.0, False)])
+def test_a_face_found_as_its_foots_strip_walks_up_to_its_top(
+    reach_m: float, reaches_top: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Found as an 8-row strip at its foot (a frame's lower margin under a print), the
+    face's top is 120 rows up: the walk may go SIDE_WALK_REACH_M (1 m, 300 rows here),
+    not just the strip's own height again."""
+    monkeypatch.setattr(region, "SIDE_WALK_REACH_M", reach_m)
+    top = raise_by_sides(wall_scene(), BOTTOM - 8)
+    assert (abs(top - FACE_TOP) <= 2) if reaches_top else top >= BOTTOM - 16
+
+
+@pytest.mark.parametrize("seed", [331, 341])
+def test_a_wide_face_reaching_the_images_border_is_measured_whole(seed: int) -> None:
+    """Rooms photo/331 (seams) and /341 (a gloss), ordinary: the face's colour runs to the
+    border's last columns, so its right side has nothing beside it in view; it was refused
+    there and found again narrower (by its texture, 40-60 % short)."""
+    from obstacle_fusion.sim.room_scene import TextureMissing, render_room
+    from obstacle_fusion.vision.measure import Measurer
+
+    try:
+        image, truth, spec = render_room("photo", seed, False)
+    except TextureMissing as exc:
+        pytest.skip(str(exc))
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)

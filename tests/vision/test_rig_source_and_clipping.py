@@ -20,8 +20,17 @@ CAM = CameraModel.paper(500, 375)
 
 def clean_room(seed: int, **changes: object) -> RoomSpec:
     spec = RoomSpec.random("procedural", seed, False)
-    base = dict(face_kind="plain", clutter=0, shadow=False, yaw_deg=0.0, roll_deg=0.0,
-                jpeg=None, blur=0.3, noise=1.5, face_x_m=0.0)
+    base = dict(
+        face_kind="plain",
+        clutter=0,
+        shadow=False,
+        yaw_deg=0.0,
+        roll_deg=0.0,
+        jpeg=None,
+        blur=0.3,
+        noise=1.5,
+        face_x_m=0.0,
+    )
     base.update(changes)
     return dataclasses.replace(spec, **base)  # type: ignore[arg-type]
 
@@ -33,7 +42,9 @@ def test_rig_source_says_file_estimated_or_default() -> None:
     assert Measurer(CAM, None).measure(image, truth["range_m"]).rig_source == "estimated"
     paper = Measurer(CAM, None, method="paper").measure(image, truth["range_m"])
     assert paper.rig_source == "default"
-    assert Measurer(CAM, None).measure(image, truth["range_m"]).to_dict()["rig_source"] == "estimated"
+    assert (
+        Measurer(CAM, None).measure(image, truth["range_m"]).to_dict()["rig_source"] == "estimated"
+    )
 
 
 def test_with_no_rig_the_floor_contact_and_camera_height_are_found() -> None:
@@ -71,7 +82,6 @@ def test_contact_rows_take_the_step_not_a_seam_line_below_it() -> None:
     assert rows and abs(rows[0] - 300) <= 2
 
 
-
 def test_contact_rows_reach_past_a_striped_floor_to_the_face() -> None:
     """Three wide boards of another shade on the floor give five steps below the face's
     foot (rows 312 to 360): the face's own contact, row 300, is still among the candidates
@@ -87,6 +97,7 @@ def test_contact_rows_reach_past_a_striped_floor_to_the_face() -> None:
     flat = View(CameraModel(view.k.copy(), np.zeros(5), w, h), Rig(), "level")
     rows = contact_rows(img, flat, depth_m=1.5)
     assert any(abs(r - 300) <= 2 for r in rows), rows
+
 
 def test_the_channel_adds_the_face_floor_colour_step_luminance_misses() -> None:
     view_cam = CameraModel(CAM.camera_matrix.copy(), np.zeros(5), 500, 375)
@@ -232,3 +243,50 @@ def test_with_no_rig_a_far_face_seen_by_a_camera_pitched_down_is_measured(
     monkeypatch.setattr(measure, "GUESSED_PITCH_SURE", 0.5)
     monkeypatch.setattr(measure, "MAX_ESTIMATED_PITCH_DEG", 0.0)
     assert not Measurer(CAM, None).measure(image, truth["range_m"]).detected
+
+
+@pytest.mark.parametrize(
+    "lower, upper, expected",
+    [
+        ((True, 0.10), (True, 0.15), 0.30),  # none accepted: the lowest face, not the surest
+        ((False, 0.15), (True, 0.10), 0.20),  # the lower row stands no face
+        ((True, 0.10), (True, 0.60), 0.20),  # the upper one accepted
+    ],
+)
+def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
+    lower: tuple[bool, float],
+    upper: tuple[bool, float],
+    expected: float,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Below the face there is only floor: with no row's face confident enough to accept
+    (measure.ESTIMATE_ACCEPT), the lowest row that stands one is the contact, even when a
+    face on a row above it (a line on the floor behind, a print's edge) scores higher."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4001)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    outcome = {0.30: lower, 0.20: upper}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        detected, conf = outcome[height]
+        return Measurement(
+            detected=detected,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3,
+            width_m=0.3,
+            confidence=conf,
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)

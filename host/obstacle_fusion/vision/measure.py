@@ -197,7 +197,9 @@ class Measurer:
                     near_horizon.append(row)
                     continue
                 result = trial(height, row)
-                if best is None or (result.confidence or 0.0) > (best.confidence or 0.0):
+                if best is None or (result.detected and not best.detected):
+                    # with no row accepted, the lowest that stands a face: below the face
+                    # there is only floor (a surer face higher up stands on a line on it)
                     best = result
                 if accepted(result):
                     best = result

@@ -359,9 +359,14 @@ def _colour_walk_up(
 #: A row's side stands when its colour step is at least this share of the side's step
 #: along the face (a side against a wall of another shade steps less, not nothing).
 SIDE_WALK_SHARE = 0.5
+#: ... but a step this large (Lab) is a side whatever the step along the face (a face
+#: found on its foot's strip, against a floor far from its colour).
+CLEAR_SIDE_STEP = 24.0
 #: Rows where a side shows no colour step that the walk up crosses (a tape, a label's
 #: band in the background's shade), metres at the face.
 SIDE_WALK_GAP_M = 0.05
+#: How far up the sides' walk may go at least, metres at the face.
+SIDE_WALK_REACH_M = 1.0
 
 
 def raise_top_by_sides(
@@ -386,7 +391,9 @@ def raise_top_by_sides(
         return top
     w_view = view.out.shape[1]
     c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
-    reach = bottom - top  # at most the face's height again
+    # at most the face's height again, or SIDE_WALK_REACH_M (a face found as its foot's
+    # strip only: a frame's lower margin under a print)
+    reach = max(bottom - top, int(round(view.fy * SIDE_WALK_REACH_M / depth_m)))
     r0 = max(0, top - reach)
     if c0 < 0 or c1 > w_view or top - r0 < 4:
         return top
@@ -404,7 +411,7 @@ def raise_top_by_sides(
         level = float(median_of(step[k + 2 :]))
         if level < MIN_BESIDE_STEP:
             return top  # a side that does not part the face from its surroundings
-        on &= step >= max(MIN_BESIDE_STEP, SIDE_WALK_SHARE * level)
+        on &= step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
         # and the face's own colour there: a background edge in line with a side (a
         # pole, a shadow) parts two background colours, not the face from one
         d_strip = row_norms(strip - median_of(strip[k + 2 :], axis=0))
@@ -665,20 +672,24 @@ def face_from_colour(
 def _side_step(
     image: npt.NDArray[Any], view: View, bottom: int, top: int, left: int, right: int
 ) -> float:
-    """The weaker side's colour step: the face just inside against what is just beside."""
+    """The weaker side's colour step: the face just inside against what is just beside
+    (a side with no room beside it in the view, at the image's border, is not read; with
+    neither side read, 0)."""
     w = view.out.shape[1]
     r0, r1 = top + (bottom - top) // 4, bottom - (bottom - top) // 4
+    if r1 - r0 < 2:
+        return 0.0
     steps = []
     for a, b, c, d in (
         (left + 2, left + 2 + BESIDE_COLUMNS, left - 2 - BESIDE_COLUMNS, left - 2),
         (right - 2 - BESIDE_COLUMNS, right - 2, right + 3, right + 3 + BESIDE_COLUMNS),
     ):
-        if c < 0 or d > w or r1 - r0 < 2:
-            return 0.0
+        if c < 0 or d > w:
+            continue
         inside = median_u8(_lab8(image, view, r0, r1, a, b).reshape(-1, 3), axis=0)
         beside = median_u8(_lab8(image, view, r0, r1, c, d).reshape(-1, 3), axis=0)
         steps.append(norm(inside - beside))
-    return min(steps)
+    return min(steps, default=0.0)
 
 
 #: Sides with a colour step under this (Lab, the face just inside against what is just
