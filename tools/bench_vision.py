@@ -9,6 +9,7 @@ one core (cv2.setNumThreads(1)).
 
     .venv/bin/python tools/bench_vision.py [--ordinary 50] [--hard 100] [--seed 2026]
     .venv/bin/python tools/bench_vision.py --seeds 2026,7,123,11,99   # one row per seed
+    .venv/bin/python tools/bench_vision.py --speed --ordinary 100     # the speed line only
 
 Each scene is timed --repeat times (default 3) and its median kept, so one hiccup of a
 shared machine does not stand for the frame; the table shows the median over scenes.
@@ -115,6 +116,16 @@ def evaluate(
     }
 
 
+def speed_line(ms: dict[str, float]) -> str:
+    """The speed comparison of one run: median ms per ordinary frame of each method."""
+    ratio = ms["paper"] / ms["fused"] if ms["fused"] > 0 else 0.0
+    return (
+        "speed, ordinary scenes at 500x375, one core, this run: "
+        f"fused {ms['fused']:.2f} ms, the paper's pipeline in OpenCV "
+        f"{ms['paper']:.2f} ms: fused is {ratio:.1f}x as fast"
+    )
+
+
 def seed_list(text: str) -> list[int]:
     try:
         seeds = [int(part) for part in text.split(",") if part.strip()]
@@ -176,6 +187,11 @@ def main() -> int:
         "--seeds", type=seed_list, help="comma-separated seeds: one summary row per seed"
     )
     ap.add_argument("--repeat", type=int, default=3, help="timed runs per scene (median kept)")
+    ap.add_argument(
+        "--speed",
+        action="store_true",
+        help="only time both methods on the ordinary scenes and print the speed line",
+    )
     args = ap.parse_args()
     if args.repeat < 1:
         ap.error("--repeat must be at least 1")
@@ -184,6 +200,12 @@ def main() -> int:
         return per_seed(args.seeds, args.ordinary, args.hard, args.repeat)
     rng = np.random.default_rng(args.seed)
     cam = CameraModel.paper(500, 375)
+    if args.speed:
+        # the same ordinary scenes as the full run (they are drawn first from the seed)
+        scenes = make_set(rng, args.ordinary, False, cam)
+        times = {m: evaluate(cam, scenes, m, repeat=args.repeat)["ms"] for m in ("paper", "fused")}
+        print(speed_line(times))
+        return 0
     t0 = time.perf_counter()
     render_ms: list[float] = []
     ordinary = make_set(rng, args.ordinary, False, cam, render_ms)
@@ -214,12 +236,7 @@ def main() -> int:
                 f"| {r['missed']}/{r['n']} ({r['gross']}) | {r['ms']:.2f} / {hd_ms:.2f} |"
             )
     print(PAPER_ROW)
-    ratio = ordinary_ms["paper"] / ordinary_ms["fused"] if ordinary_ms["fused"] > 0 else 0.0
-    print(
-        "\nspeed, ordinary scenes at 500x375, one core, this run: "
-        f"fused {ordinary_ms['fused']:.2f} ms, the paper's pipeline in OpenCV "
-        f"{ordinary_ms['paper']:.2f} ms: fused is {ratio:.1f}x as fast"
-    )
+    print("\n" + speed_line(ordinary_ms))
     r_med, r_90 = statistics.median(render_ms), float(np.percentile(render_ms, 90))
     print(
         f"\nscene renderer at 500x375 (supersample 4): median {r_med:.1f} ms, "

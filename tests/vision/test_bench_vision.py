@@ -43,3 +43,15 @@ def test_single_seed_table_prints_the_speed_ratio() -> None:
     paper_ms = float(line.split("OpenCV ")[1].split(" ms")[0])
     ratio = float(line.split("fused is ")[1].split("x")[0])
     assert ratio == pytest.approx(paper_ms / fused_ms, abs=0.06)
+
+
+def test_speed_mode_prints_only_the_speed_line() -> None:
+    out = run("--speed", "--ordinary", "2", "--repeat", "1")
+    assert out.returncode == 0, out.stderr
+    lines = [x for x in out.stdout.splitlines() if x.strip()]
+    assert len(lines) == 1 and lines[0].startswith("speed, ordinary scenes at 500x375")
+    fused_ms = float(lines[0].split("fused ")[1].split(" ms")[0])
+    paper_ms = float(lines[0].split("OpenCV ")[1].split(" ms")[0])
+    ratio = float(lines[0].split("fused is ")[1].split("x")[0])
+    assert fused_ms > 0 and paper_ms > 0
+    assert ratio == pytest.approx(paper_ms / fused_ms, abs=0.06)

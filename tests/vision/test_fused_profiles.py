@@ -5,7 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from obstacle_fusion.vision.fused.profiles import (
+    NETWORK_LANES,
+    NETWORK_MIN_VALUES,
+    VerticalFits,
     column_means,
+    fit_vertical,
     grey_range_sums,
     median_of,
     median_u8,
@@ -103,3 +107,37 @@ def test_empty_blocks_give_numpy_s_answers_not_a_crash() -> None:
     assert column_means(np.zeros((3, 0), np.int16)).shape == (0,)
     empty = np.zeros((3, 0, 3), np.uint8)
     assert median_u8(empty, axis=0).shape == (0, 3)
+
+
+@pytest.mark.parametrize("n", range(2, NETWORK_LANES + 1))
+def test_median_u8_by_network_is_the_float_median(n: int) -> None:
+    """Many short lanes take the selection network: every lane's middle exactly, odd and
+    even counts, along the first axis and along a middle one (strided lanes), ties too."""
+    rng = np.random.default_rng(n)
+    lanes = NETWORK_MIN_VALUES + 7
+    a = rng.integers(0, 256, (n, lanes, 3), np.uint8)
+    a[:, :40] = rng.integers(100, 103, (n, 40, 3))  # many ties
+    b = np.ascontiguousarray(a.transpose(1, 0, 2))  # lanes along axis 1
+    for arr, axis in ((a, 0), (b, 1), (a[:, ::2], 0)):
+        want = np.median(arr.astype(np.float32), axis=axis)
+        got = median_u8(arr, axis)
+        assert got.dtype == np.float32
+        assert np.array_equal(got, want)
+
+
+def test_vertical_fits_are_fit_vertical_once_per_rows_and_columns() -> None:
+    rng = np.random.default_rng(9)
+    ax = rng.integers(0, 60, (120, 200)).astype(np.int16)
+    ax[:, 50] += 400  # two vertical edges, one leaning
+    ax[np.arange(120), 140 + np.arange(120) // 40] += 400
+    fits = VerticalFits(ax)
+    rows = np.arange(10, 110)
+    first = fits(rows, [50, 140], 200)
+    assert first == fit_vertical(ax, rows, [50, 140], 200)
+    ax[:, 140:150] = 0  # a second call with the same rows and columns is the first fit
+    assert fits(rows, [50, 140], 200) == first
+    # other rows, columns or width are fitted anew (on the changed image)
+    for args in ((np.arange(10, 109), [50, 140], 200), (np.arange(11, 110), [50, 140], 200),
+                 (rows, [50, 141], 200), (rows, [50], 200), (rows, [50, 140], 199)):
+        assert fits(*args) == fit_vertical(ax, *args)
+        assert fits(*args) != first

@@ -24,7 +24,7 @@ from obstacle_fusion.vision.fused.extent import (
     raise_top_past_inner_edges,
     widen_across_seams,
 )
-from obstacle_fusion.vision.fused.profiles import clamp, median
+from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     enclose_by_margin,
@@ -152,7 +152,8 @@ class FusedMethod:
                     best = cand
             if best is not None and best.evidence > 0.8:
                 break  # a clear face at the most likely floor-contact row
-        best, rivals = verified(v, ax, cands)
+        fits = VerticalFits(ax)  # the sides' fits, shared with the refinement
+        best, rivals = verified(v, ax, cands, fits)
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
 
@@ -232,7 +233,7 @@ class FusedMethod:
             return fail
         timer.lap("extent")
         measured = self._refine(
-            ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span
+            ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
         )
         measured.doubts = doubts
         return measured
@@ -316,6 +317,7 @@ class FusedMethod:
         range_m: float,
         timer: Timer,
         span: tuple[int, int] | None,
+        fits: VerticalFits | None = None,
     ) -> Measurement:
         """The chosen face measured: the top edge's gradient window, then :func:`refine`."""
         n = ay.shape[0]
@@ -343,6 +345,7 @@ class FusedMethod:
             range_m,
             timer,
             span,
+            fits,
         )
         small = min(result.height_m or 0.0, result.width_m or 0.0)
         if small < MIN_SIZE_M:

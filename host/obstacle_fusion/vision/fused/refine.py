@@ -22,6 +22,7 @@ import numpy.typing as npt
 from obstacle_fusion.vision.fused.profiles import (
     F32,
     I16,
+    VerticalFits,
     clamp,
     fit_horizontal,
     fit_vertical,
@@ -75,6 +76,7 @@ def refine(
     range_m: float,
     timer: Timer,
     span: tuple[int, int] | None = None,
+    fits: VerticalFits | None = None,
 ) -> Measurement:
     """The measurement of the chosen face (floor-contact row rb, sides ul..ur, top vt).
 
@@ -83,7 +85,9 @@ def refine(
 
     ``top_edge`` holds the front top edge's signed gradient around vt; ``top_row`` is a
     sub-pixel top row predicted by :func:`~obstacle_fusion.vision.fused.top.front_from_back`
-    (used as is), else None. Height and width at the face depth ``depth``.
+    (used as is), else None. Height and width at the face depth ``depth``. ``fits``: the
+    frame's side fits over ``ax`` (the verification's, reused when the face kept its rows
+    and sides).
     """
     v = view
     h_roi, w_img = ay.shape
@@ -99,7 +103,8 @@ def refine(
     # vertical edges: per-row sub-pixel peaks near ul and ur
     mv = max(1, (rb - vt) // 10)
     rows = np.arange(vt + mv, rb - mv + 1)
-    (left_a, left_b), (right_a, right_b) = fit_vertical(ax, rows, [ul, ur], w_img)
+    fit = fits if fits is not None else VerticalFits(ax)
+    (left_a, left_b), (right_a, right_b) = fit(rows, [ul, ur], w_img)
 
     # A side face (yaw, or a box off the axis) shows beside the front face: the front
     # face's bottom edge is straight, the side face's rises towards the horizon.

@@ -22,8 +22,8 @@ import numpy.typing as npt
 from obstacle_fusion.vision.fused.profiles import (
     F32,
     I16,
+    VerticalFits,
     clamp,
-    fit_vertical,
     grey_range_sums,
     partitioned,
     range_sums,
@@ -110,12 +110,15 @@ class Candidate:
         return inter / max(union - inter, 1.0)
 
 
-def sides_vertical(view: View, ax: I16, cand: Candidate) -> bool:
+def sides_vertical(
+    view: View, ax: I16, cand: Candidate, fits: VerticalFits | None = None
+) -> bool:
     """False when a side leans the way a floor line through its foot would.
 
     In the levelled view every vertical world edge is an image column; a seam or
     plank edge on the floor through (u, v) runs towards the vanishing point, at
     du/dv = (u - cx) / (v - cy). Near the centre column the two look alike: then true.
+    ``fits``: the frame's side fits over ``ax``, kept for the refinement.
     """
     v = view
     below = cand.rb - v.cy
@@ -125,7 +128,8 @@ def sides_vertical(view: View, ax: I16, cand: Candidate) -> bool:
     rows = np.arange(cand.vt + mv, cand.rb - mv + 1)
     if rows.size < 5:
         return True
-    for a, b in fit_vertical(ax, rows, [cand.ul, cand.ur], ax.shape[1]):
+    fit = fits if fits is not None else VerticalFits(ax)
+    for a, b in fit(rows, [cand.ul, cand.ur], ax.shape[1]):
         radial = (a + b * cand.rb - v.cx) / below
         if abs(radial) >= RADIAL_MIN and abs(b) >= LEAN_MIN and abs(b - radial) < 0.5 * abs(radial):
             return False
@@ -227,15 +231,16 @@ def score_pairs(
             (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
         )
     o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
-    o_at = np.array(o_cols, np.intp) - o_lo  # range ends within the block
     o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
-    # running row sums at the top rows (exact in float32: integers under 2**24)
-    run = np.zeros((tops.size, o_hi - o_lo + 1), np.float32)
-    ay[tops, o_lo:o_hi].cumsum(axis=1, out=run[:, 1:])
-    ends = run[np.arange(tops.size)[:, None], o_at[pp]]  # T x 4
+    # row sums over each pair's two outside ranges at the top rows (exact in float32:
+    # integers under 2**24), both ranges of every pair in one pass (each range is at
+    # least one column wide)
+    o_ranges = [(o[k] - o_lo, o[k + 1] - o_lo) for o in o_cols for k in (0, 2)]
+    o_sums = range_sums(ay[tops, o_lo:o_hi], o_ranges)  # T x 2 pairs
+    at_top = np.arange(tops.size)
     inv_t = o_inv[pp]
-    o_l = (ends[:, 1] - ends[:, 0]) * inv_t[:, 0]
-    o_r = (ends[:, 3] - ends[:, 2]) * inv_t[:, 1]
+    o_l = o_sums[at_top, 2 * pp] * inv_t[:, 0]
+    o_r = o_sums[at_top, 2 * pp + 1] * inv_t[:, 1]
     prof_tops = prof[tops, pp]
     inside = np.maximum(prof_tops, 1e-3)
     contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
@@ -423,12 +428,12 @@ def _top_score(
 
 
 def verified(
-    view: View, ax: I16, cands: list[Candidate]
+    view: View, ax: I16, cands: list[Candidate], fits: VerticalFits | None = None
 ) -> tuple[Candidate | None, list[Candidate]]:
     """The best candidate with world-vertical sides (None if none of the first
     MAX_VERIFIED has them) and its rivals: the candidates from it on, best first.
 
-    ``cands`` is sorted in place, best score first.
+    ``cands`` is sorted in place, best score first; ``fits`` keeps the side fits.
     """
     # the best candidates whose sides are not vertical in the world (the seams of a
     # floor patch run towards the vanishing point) are no face and no rival either
@@ -436,7 +441,7 @@ def verified(
     best = None
     rivals = cands
     for i, cand in enumerate(cands[:MAX_VERIFIED]):
-        if sides_vertical(view, ax, cand):
+        if sides_vertical(view, ax, cand, fits):
             best = cand
             rivals = cands[i:]
             break
