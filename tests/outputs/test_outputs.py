@@ -158,7 +158,8 @@ def test_a_recording_across_a_reconnect_holds_both_sides(tmp_path: Path) -> None
             pump(0.4)
             board.unplug()
             pump(0.3)
-            rec.write_event("disconnected", {"port": board.path})
+            lost_port = board.path  # plugging in again may open another pty
+            rec.write_event("disconnected", {"port": lost_port})
             board.plug()
             pump(0.8)
         finally:
@@ -168,7 +169,7 @@ def test_a_recording_across_a_reconnect_holds_both_sides(tmp_path: Path) -> None
     sessions = {m.data["session"] for m in back.messages if m.topic == TOPIC_RANGE}
     assert sessions == {1, 2}
     events = [event_of_log(m.data) for m in back.messages if m.topic == TOPIC_EVENT]
-    assert ("disconnected", {"port": board.path}) in events
+    assert ("disconnected", {"port": lost_port}) in events
 
 
 def test_json_lines_one_object_per_line_and_no_nan() -> None:
