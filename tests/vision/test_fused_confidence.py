@@ -4,7 +4,6 @@ vision/measure.py); the measured size never moves."""
 
 from __future__ import annotations
 
-import dataclasses
 from typing import Any
 
 import pytest
@@ -28,6 +27,8 @@ from obstacle_fusion.vision.fused.confidence import (
 )
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.pitch import PitchEstimate
+
+from tests.vision.rooms import pitched_plain_room
 
 CAM = CameraModel.paper(500, 375)
 
@@ -95,25 +96,7 @@ def test_doubts_never_take_a_detection_under_the_min_confidence() -> None:
 
 def room(pitch: float) -> tuple[Any, dict[str, Any], RoomSpec]:
     """A plain face 0.35 x 0.5 m at 1 m, camera 0.3 m high (a tuning family's room)."""
-    spec = RoomSpec.random("procedural", 4002, False)
-    spec = dataclasses.replace(
-        spec,
-        face_kind="plain",
-        clutter=0,
-        shadow=False,
-        yaw_deg=0.0,
-        roll_deg=0.0,
-        jpeg=None,
-        blur=0.3,
-        noise=1.5,
-        face_x_m=0.0,
-        range_m=1.0,
-        height_m=0.35,
-        width_m=0.5,
-    )
-    spec = dataclasses.replace(
-        spec, rig=dataclasses.replace(spec.rig, camera_pitch_deg=pitch, camera_height_m=0.3)
-    )
+    spec = pitched_plain_room(4002, pitch)
     image, truth = RoomRenderer(CAM).render(spec)
     return image, truth, spec
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -24,6 +23,8 @@ from obstacle_fusion.vision.pitch import (
     refit_side,
 )
 from obstacle_fusion.vision.rig import Rig
+
+from tests.vision.rooms import pitched_plain_room
 
 CAM = CameraModel.paper(500, 375)
 
@@ -137,25 +138,7 @@ def test_level_scales_restore_the_levelled_size(pitch: float) -> None:
 
 
 def pitched_room(seed: int, pitch: float) -> RoomSpec:
-    spec = RoomSpec.random("procedural", seed, False)
-    changes = dict(
-        face_kind="plain",
-        clutter=0,
-        shadow=False,
-        yaw_deg=0.0,
-        roll_deg=0.0,
-        jpeg=None,
-        blur=0.3,
-        noise=1.5,
-        face_x_m=0.0,
-        range_m=1.0,
-        height_m=0.35,
-        width_m=0.5,
-    )
-    spec = dataclasses.replace(spec, **changes)  # type: ignore[arg-type]
-    return dataclasses.replace(
-        spec, rig=dataclasses.replace(spec.rig, camera_pitch_deg=pitch, camera_height_m=0.3)
-    )
+    return pitched_plain_room(seed, pitch)
 
 
 @pytest.mark.parametrize("pitch", [-4.0, 4.0])

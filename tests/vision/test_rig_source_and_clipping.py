@@ -15,24 +15,13 @@ from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sid
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
 
+from tests.vision.rooms import plain_room
+
 CAM = CameraModel.paper(500, 375)
 
 
 def clean_room(seed: int, **changes: object) -> RoomSpec:
-    spec = RoomSpec.random("procedural", seed, False)
-    base = dict(
-        face_kind="plain",
-        clutter=0,
-        shadow=False,
-        yaw_deg=0.0,
-        roll_deg=0.0,
-        jpeg=None,
-        blur=0.3,
-        noise=1.5,
-        face_x_m=0.0,
-    )
-    base.update(changes)
-    return dataclasses.replace(spec, **base)  # type: ignore[arg-type]
+    return plain_room(seed, **changes)
 
 
 def test_rig_source_says_file_estimated_or_default() -> None:
