@@ -48,6 +48,22 @@ from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.types import Measurement, Timer, View
 
+#: A face's top edge must reach this share of its columns, else a rival whose top does
+#: (and scores at least RIVAL_SHARE of it) is taken.
+TOP_COVER_MIN = 0.6
+RIVAL_SHARE = 0.5
+
+
+def _top_cover(ay: npt.NDArray[np.float32], c: Candidate) -> float:
+    """Share of the face's columns where its top edge (its row or one next to it) has at
+    least a third of the edge's upper-quartile strength."""
+    if c.ur - c.ul < 8 or c.vt < 1:
+        return 1.0
+    prof = ay[c.vt - 1 : c.vt + 2, c.ul + 2 : c.ur - 1].max(axis=0)
+    ref = float(np.percentile(prof, 75))
+    return float(np.mean(prof >= 0.3 * ref)) if ref > 0.0 else 0.0
+
+
 #: A face candidate off the beam's axis keeps this share of its score.
 OFF_AXIS_SHARE = 0.6
 #: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
@@ -90,9 +106,10 @@ class FusedMethod:
         caller repeats on another channel). ``floor_known``: the floor-contact
         row comes from a rig (a file, or one fitted over frames); False while a row is
         only tried with no rig, and then neither the texture search (a texture step stands
-        at many rows, a tile line or a wall's foot as well) nor the preference for faces
-        on the beam's axis (it lifts a face on the axis at a wrong row over the real one)
-        is used."""
+        at many rows, a tile line or a wall's foot as well), nor the preference for faces
+        on the beam's axis (it lifts a face on the axis at a wrong row over the real one),
+        nor the rival taken for a top edge across part of the face is used: the row
+        search was tuned without them, and on the tuning rooms they moved it both ways."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
@@ -154,6 +171,16 @@ class FusedMethod:
                 break  # a clear face at the most likely floor-contact row
         fits = VerticalFits(ax)  # the sides' fits, shared with the refinement
         best, rivals = verified(v, ax, cands, fits)
+        if floor_known and best is not None and _top_cover(ay, best) < TOP_COVER_MIN:
+            # a top edge across part of the face only (a skirting's top between two
+            # chair legs, over a face that runs on up): a rival whose top spans it
+            spanning = [
+                c
+                for c in rivals[1:]
+                if c.score >= RIVAL_SHARE * best.score and _top_cover(ay, c) >= TOP_COVER_MIN
+            ]
+            if spanning:
+                best = spanning[0]
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
 
