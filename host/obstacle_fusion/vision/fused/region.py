@@ -397,6 +397,39 @@ def raise_top_by_sides(
     r0 = max(0, top - reach)
     if c0 < 0 or c1 > w_view or top - r0 < 4:
         return top
+    gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
+    # first only the rows a first step up reads: most tops do not move, and the whole
+    # reach (up to 1 m of rows) would cost most of the stage's time
+    short = max(r0, top - gap - SNAP_ROWS - 2)
+    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap)
+    if end is not None and short > r0 and end <= gap + 1:  # it may run on above
+        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap)
+        short = r0
+    if end is None:
+        return top  # a side that does not part the face from its surroundings
+    r0, k = short, top - short
+    if k - end <= SNAP_ROWS or r0 + end > view.cy:
+        # below the horizon the lens looks down on the face's top: a top face's colour
+        # stands apart from the wall beside it as well, so the walk cannot tell its end
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
+def _sides_walk(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    bottom: int,
+    top: int,
+    c0: int,
+    c1: int,
+    gap: int,
+) -> int | None:
+    """The walk of :func:`raise_top_by_sides` over the view's rows r0..bottom-1: the band
+    row it reached (``top - r0`` if none above), or None when a side does not part the
+    face from its surroundings along the face."""
     k = top - r0
     on = np.ones(bottom - r0, bool)
     span = 2 * (BESIDE_COLUMNS + SIDE_SKIP)  # what is beside a side, its blur, the face
@@ -410,7 +443,7 @@ def raise_top_by_sides(
         step = row_norms(strip - median_u8(outside, axis=1))
         level = float(median_of(step[k + 2 :]))
         if level < MIN_BESIDE_STEP:
-            return top  # a side that does not part the face from its surroundings
+            return None
         on &= step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
         # and the face's own colour there: a background edge in line with a side (a
         # pole, a shadow) parts two background colours, not the face from one
@@ -419,15 +452,7 @@ def raise_top_by_sides(
             SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
         )
         on &= d_strip <= limit
-    gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
-    end = walk_on(on, k, -1, gap)
-    if k - end <= SNAP_ROWS or r0 + end > view.cy:
-        # below the horizon the lens looks down on the face's top: a top face's colour
-        # stands apart from the wall beside it as well, so the walk cannot tell its end
-        return top
-    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
-    return int(r0 + lo + np.argmax(rows))
+    return walk_on(on.tolist(), k, -1, gap)
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
