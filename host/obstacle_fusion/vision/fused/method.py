@@ -191,14 +191,21 @@ class FusedMethod:
         seen = colour if colour is not None else image  # the colours the extent reads
 
         def rescue_by_colour() -> Measurement | None:
-            """Where the edges give no face, or none clear, the face by its colour."""
+            """Where the edges give no face, or none clear, the face by its colour (else,
+            with the floor row known, by its texture)."""
             if not rescue:
                 return None
             rows = (r0b, r1b)
-            found = self._colour_face(seen, ax, ay, ax3, dy, rows, depth, noise, range_m, timer)
+            found = self._by_colour(seen, ay, ax3, rows, depth, noise)
             if found is None and floor_known:
-                found = self._texture_face(seen, ax, ay, ax3, dy, rows, depth, range_m, timer)
-            return found
+                found = self._by_texture(seen, ay, rows, depth)
+            if found is None:
+                return None
+            rb, vt, ul, ur, conf = found
+            sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+            return self._refine(
+                ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
+            )
 
         if best is None:
             rescued = rescue_by_colour()
@@ -271,22 +278,18 @@ class FusedMethod:
         measured.doubts = doubts
         return measured
 
-    def _colour_face(
+    def _by_colour(
         self,
         seen: npt.NDArray[Any],
-        ax: npt.NDArray[np.int16],
         ay: npt.NDArray[np.float32],
         ax3: npt.NDArray[np.int16],
-        dy: npt.NDArray[np.int16],
         rows: tuple[int, int],
         depth: float,
         noise: float,
-        range_m: float,
-        timer: Timer,
-    ) -> Measurement | None:
-        """The face from its colour alone (:func:`.region.face_from_colour`), measured, or
-        None: where the edges gave no face or no clear one (a brick pattern's joints, a
-        face the floor's shade in grey)."""
+    ) -> tuple[int, int, int, int, float] | None:
+        """The face from its colour alone (:func:`.region.face_from_colour`): (contact row,
+        top, left, right, confidence), or None: where the edges gave no face or no clear
+        one (a brick pattern's joints, a face the floor's shade in grey)."""
         found = face_from_colour(seen, self.view, ax3, ay, rows, depth)
         if found is None:
             return None
@@ -298,27 +301,18 @@ class FusedMethod:
             return None
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
-        if conf < self.min_confidence:
-            return None
-        sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
-        return self._refine(
-            ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
-        )
+        return (rb, vt, ul, ur, conf) if conf >= self.min_confidence else None
 
-    def _texture_face(
+    def _by_texture(
         self,
         seen: npt.NDArray[Any],
-        ax: npt.NDArray[np.int16],
         ay: npt.NDArray[np.float32],
-        ax3: npt.NDArray[np.int16],
-        dy: npt.NDArray[np.int16],
         rows: tuple[int, int],
         depth: float,
-        range_m: float,
-        timer: Timer,
-    ) -> Measurement | None:
-        """The face from its texture alone (:func:`.texture.face_from_texture`), measured,
-        or None: grey bricks on grey paving, where neither edges nor colour part them."""
+    ) -> tuple[int, int, int, int, float] | None:
+        """The face from its texture alone (:func:`.texture.face_from_texture`), as
+        :meth:`_by_colour`: grey bricks on grey paving, where neither edges nor colour
+        part them."""
         found = face_from_texture(seen, self.view, rows, depth)
         if found is None:
             return None
@@ -326,12 +320,7 @@ class FusedMethod:
         if rb >= ay.shape[0] - 3 or vt >= ay.shape[0]:
             return None
         conf = TEXTURE_MAX_CONFIDENCE * evidence
-        if conf < self.min_confidence:
-            return None
-        sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
-        return self._refine(
-            ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
-        )
+        return (rb, vt, ul, ur, conf) if conf >= self.min_confidence else None
 
     def _refine(
         self,
