@@ -154,7 +154,7 @@ def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(
     monkeypatch.setattr(FusedMethod, "run", counting_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.05], row_at[0.30]])
     Measurer(CAM, None).measure(image, truth["range_m"])
-    assert len(tried) == 1 and abs(tried[0] - 0.30) < 0.01
+    assert tried and all(abs(h - 0.30) < 0.01 for h in tried)  # (tried again, known floor)
     tried.clear()
     monkeypatch.setattr(measure, "MIN_ESTIMATED_CAMERA_HEIGHT_M", 0.0)
     Measurer(CAM, None).measure(image, truth["range_m"])
@@ -279,3 +279,42 @@ def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert res.detected
     assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+def test_with_no_rig_a_face_only_the_known_floor_cues_find_is_taken_at_the_lowest_row(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """When no row stands a face while the rows are only tried (no texture search, no beam
+    axis), each row is tried again with those cues, lowest first: a face whose edges are
+    lost in its print is measured, not missed."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4002)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    calls: list[tuple[float, bool]] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        known = bool(kwargs.get("floor_known", True))
+        calls.append((height, known))
+        return Measurement(
+            detected=known,  # only the known-floor cues find it, on any row
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3,
+            width_m=0.3,
+            confidence=0.1,
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "MAX_ESTIMATED_PITCH_DEG", 0.0)  # no near-horizon rows
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(0.30, abs=0.01)
+    assert calls[:3] == [(0.30, False), (0.20, False), (0.30, True)]

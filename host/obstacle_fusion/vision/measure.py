@@ -137,6 +137,8 @@ class Measurer:
         try; the first that gives a face wins (below the face there is only floor, so the
         lowest step that stands a face on it is the contact: ranking the rows by confidence
         instead picked steps inside the face or the box's top on independently made rooms).
+        When no row stands a face so, the rows are tried again, lowest first, with the cues
+        a known floor row allows (:meth:`FusedMethod.run`'s ``floor_known``).
 
         Those trials take the pitch as 0. The face found then gives the pitch (its two
         vertical sides converge towards the vertical vanishing point,
@@ -155,7 +157,9 @@ class Measurer:
         best: Measurement | None = None
         h_img, w_img = image.shape[:2]
 
-        def trial(height: float, row: float | None = None, pitch: float = 0.0) -> Measurement:
+        def trial(
+            height: float, row: float | None = None, pitch: float = 0.0, floor_known: bool = False
+        ) -> Measurement:
             method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
             base = method.view
             method.view = copy.copy(base)
@@ -166,7 +170,7 @@ class Measurer:
                 row = base.cy + base.fy * height / depth
             try:
                 grey = face_floor_grey(image, base, row, depth)
-                result = method.run(grey, range_m, timer, image, floor_known=False)
+                result = method.run(grey, range_m, timer, image, floor_known=floor_known)
             finally:
                 method.view = base
             result.camera_height_m = float(height)
@@ -233,6 +237,18 @@ class Measurer:
                         confirmed = result
                     if confirmed is not None:
                         best = confirmed
+                        break
+            if best is None or not best.detected:
+                # no row stands a face by its edges or colour: each row again, lowest
+                # first, with every cue a known floor row allows (the face's texture, the
+                # beam's axis); the first that stands a face is taken
+                for row in rows:
+                    height = (row - view.cy) * depth / view.fy
+                    if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                        continue
+                    result = trial(height, row, floor_known=True)
+                    if result.detected:
+                        best = result
                         break
             if best is not None and accepted(best) and not pitch_tried:
                 levelled = self._with_pitch(best, image, view, depth, trial)
