@@ -318,3 +318,45 @@ def test_with_no_rig_a_face_only_the_known_floor_cues_find_is_taken_at_the_lowes
     assert res.detected
     assert res.camera_height_m == pytest.approx(0.30, abs=0.01)
     assert calls[:3] == [(0.30, False), (0.20, False), (0.30, True)]
+
+
+def test_with_no_rig_a_row_whose_face_does_not_stand_on_it_is_passed_over(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A floor line below the face stands the face found on it only if the face's sides
+    reach it (floor_contact.sides_reach_foot); else the next row up is tried."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4003)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        foot = float(row_at[height])
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3,
+            width_m=0.3,
+            confidence=0.6,
+            lines=[(0, foot, 1, foot), (0, 0, 1, 0), (0, foot, 0, 0), (1, foot, 1, 0)],
+        )
+
+    def standing(image: object, lines: list[tuple[float, float, float, float]]) -> bool:
+        return lines[0][1] != row_at[0.30]  # the lower row's face ends above it
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "sides_reach_foot", standing)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(0.20, abs=0.01)
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.camera_height_m == pytest.approx(0.30, abs=0.01)

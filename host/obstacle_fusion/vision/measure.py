@@ -28,7 +28,7 @@ from obstacle_fusion.vision.fused.confidence import (
     PITCH_UNREAD,
     reported_confidence,
 )
-from obstacle_fusion.vision.fused.floor_contact import contact_rows
+from obstacle_fusion.vision.fused.floor_contact import contact_rows, sides_reach_foot
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
@@ -201,6 +201,8 @@ class Measurer:
                     near_horizon.append(row)
                     continue
                 result = trial(height, row)
+                if result.detected and not sides_reach_foot(image, result.lines):
+                    continue  # a line on the floor below the face: its sides end above it
                 if best is None or (result.detected and not best.detected):
                     # with no row accepted, the lowest that stands a face: below the face
                     # there is only floor (a surer face higher up stands on a line on it)
@@ -247,7 +249,7 @@ class Measurer:
                     if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
                         continue
                     result = trial(height, row, floor_known=True)
-                    if result.detected:
+                    if result.detected and sides_reach_foot(image, result.lines):
                         best = result
                         break
             if best is not None and accepted(best) and not pitch_tried:

@@ -75,3 +75,50 @@ def contact_rows(
         if len(out) >= MAX_CANDIDATES:
             break
     return out
+
+
+#: The share of a side's height, from its foot up, whose colour step the foot check reads.
+FOOT_SHARE = 0.2
+#: A side stands on its foot when the colour step across it near the foot is at least
+#: this (8-bit BGR distance; the floor beside the foot differs from the face less than the
+#: wall beside its middle does, so the middle's step is no measure).
+MIN_FOOT_STEP = 12.0
+#: Columns either side of a side line whose colours are compared (from, to; pixels).
+ACROSS_PX = (2, 5)
+
+
+def _step_across(
+    image: npt.NDArray[np.uint8], line: tuple[float, float, float, float], t0: float, t1: float
+) -> float:
+    """Median colour step across a side line (x0, y0 at its foot, x1, y1 at its top) over
+    the part of it between shares t0 and t1 of its length."""
+    x0, y0, x1, y1 = line
+    h, w = image.shape[:2]
+    n = max(3, int(abs(y1 - y0) * (t1 - t0)))
+    t = np.linspace(t0, t1, n)
+    ys = np.clip(np.round(y0 + (y1 - y0) * t).astype(np.int64), 0, h - 1)
+    xs = np.round(x0 + (x1 - x0) * t).astype(np.int64)
+    a, b = ACROSS_PX
+    if xs.min() - b < 0 or xs.max() + b >= w:
+        return float("nan")  # a side at the border: the other side decides
+    pix = image.reshape(h, w, -1).astype(np.float32)
+    left = np.mean([pix[ys, xs - d] for d in range(a, b + 1)], axis=0)
+    right = np.mean([pix[ys, xs + d] for d in range(a, b + 1)], axis=0)
+    return float(np.median(np.linalg.norm(left - right, axis=1)))
+
+
+def sides_reach_foot(
+    image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]]
+) -> bool:
+    """Whether a face found on a tried floor-contact row stands on it: at least one of its
+    sides still steps in colour near that row. A row below the face (a floor line, a
+    plank's seam) stands a face whose sides end above it, over floor that is one colour
+    across them.
+
+    ``lines``: the face's outline as :class:`Measurement` gives it (bottom, top, left side,
+    right side; input pixels)."""
+    if len(lines) < 4:
+        return True
+    steps = [_step_across(image, side, 0.0, FOOT_SHARE) for side in lines[2:4]]
+    read = [step >= MIN_FOOT_STEP for step in steps if step == step]  # nan: at the border
+    return not read or any(read)
