@@ -337,6 +337,8 @@ def test_with_no_rig_a_row_whose_face_does_not_stand_on_it_is_passed_over(
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         height = round(self.view.rig.camera_height_m, 2)
+        if height not in row_at:  # a neighbour row (ROW_JITTER_PX): no face there
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         foot = float(row_at[height])
         return Measurement(
             detected=True,
@@ -360,3 +362,41 @@ def test_with_no_rig_a_row_whose_face_does_not_stand_on_it_is_passed_over(
     monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert res.camera_height_m == pytest.approx(0.30, abs=0.01)
+
+
+@pytest.mark.parametrize("surest_offset", [-2, 0, 2])
+def test_with_no_rig_the_surest_face_of_the_row_and_its_neighbours_is_kept(
+    surest_offset: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The floor-contact row is found to a pixel or two and a level view's face can change
+    with it: the rows ROW_JITTER_PX (2) above and below the chosen one are tried too, and
+    the surest face of the three is kept (rows 3 px off are not tried)."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4004)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    found = int(round(view.cy + view.fy * 0.25 / depth))
+    tried: list[int] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        row = int(round(view.cy + view.fy * self.view.rig.camera_height_m / depth))
+        tried.append(row - found)
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3 + 0.01 * (row - found),
+            width_m=0.3,
+            confidence=0.9 if row - found == surest_offset else 0.3,
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert tried[:3] == [0, -2, 2]
+    assert res.height_m == pytest.approx(0.3 + 0.01 * surest_offset)

@@ -193,6 +193,7 @@ class Measurer:
             timer.lap("floor_contact")
             near_horizon: list[int] = []
             pitch_tried = False  # the pitch is settled already (a near-horizon face)
+            best_row = 0
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
                 if height >= 5.0:
@@ -206,10 +207,21 @@ class Measurer:
                 if best is None or (result.detected and not best.detected):
                     # with no row accepted, the lowest that stands a face: below the face
                     # there is only floor (a surer face higher up stands on a line on it)
-                    best = result
+                    best, best_row = result, row
                 if accepted(result):
-                    best = result
+                    best, best_row = result, row
                     break
+            if best is not None and best.detected:
+                # the row is found to a pixel or two, and the face a level view finds can
+                # change with it: the surest of the row and its neighbours
+                for row in (best_row - ROW_JITTER_PX, best_row + ROW_JITTER_PX):
+                    result = trial((row - view.cy) * depth / view.fy, row)
+                    if (
+                        result.detected
+                        and (result.confidence or 0.0) > (best.confidence or 0.0)
+                        and sides_reach_foot(image, result.lines)
+                    ):
+                        best = result
             if best is None or not best.detected:
                 # no face stands on any row a level camera allows: a contact this near the
                 # horizon would put a level lens on the floor, but a camera pitched down
@@ -422,6 +434,9 @@ RERUN_AGREE = 0.05
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
 PITCH_DECIMALS = 1
+#: With no rig, the rows this far above and below the chosen floor-contact row are tried
+#: too (pixels); the surest face of the three is kept.
+ROW_JITTER_PX = 2
 
 #: The doubts about the pitch a stream's next frames inherit with it.
 PITCH_DOUBTS = frozenset({PITCH_UNREAD, PITCH_RERUN_DISAGREES})
