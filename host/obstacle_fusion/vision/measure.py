@@ -28,7 +28,11 @@ from obstacle_fusion.vision.fused.confidence import (
     PITCH_UNREAD,
     reported_confidence,
 )
-from obstacle_fusion.vision.fused.floor_contact import contact_rows, sides_reach_foot
+from obstacle_fusion.vision.fused.floor_contact import (
+    contact_rows,
+    face_runs_below,
+    sides_reach_foot,
+)
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
@@ -194,6 +198,7 @@ class Measurer:
             near_horizon: list[int] = []
             pitch_tried = False  # the pitch is settled already (a near-horizon face)
             best_row = 0
+            lower_faces: list[tuple[int, Measurement]] = []  # rows' faces not accepted
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
                 if height >= 5.0:
@@ -210,7 +215,17 @@ class Measurer:
                     best, best_row = result, row
                 if accepted(result):
                     best, best_row = result, row
+                    # a print on the face stands on its own lower edge, surer than the
+                    # face found on the row below it: that face, when the print's margin
+                    # runs down to its foot
+                    for low_row, low in lower_faces:
+                        if result.box_px and low.box_px:
+                            if face_runs_below(image, result.box_px, low.box_px):
+                                best, best_row = low, low_row
+                                break
                     break
+                if result.detected:
+                    lower_faces.append((row, result))
             if best is not None and best.detected:
                 # the row is found to a pixel or two, and the face a level view finds can
                 # change with it: the surest of the row and its neighbours

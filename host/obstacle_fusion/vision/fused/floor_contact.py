@@ -122,3 +122,71 @@ def sides_reach_foot(
     steps = [_step_across(image, side, 0.0, FOOT_SHARE) for side in lines[2:4]]
     read = [step >= MIN_FOOT_STEP for step in steps if step == step]  # nan: at the border
     return not read or any(read)
+
+
+#: A face found on a lower row covers one found higher when its sides lie within this
+#: share of the higher face's width outside it (or further out).
+COVER_SHARE = 0.1
+#: ... and its foot lies at least this many pixels lower (a strip of a row between them).
+MIN_DROP_PX = 4
+#: The strip between the two feet shows the margin beside the higher face when their
+#: colours (median Lab) are at most this far apart ...
+MARGIN_MATCH = 15.0
+#: ... and is not floor when both it and that margin stand this far from the floor's
+#: colour below the lower foot.
+FLOOR_APART = 25.0
+MARGIN_FLOOR_APART = 20.0
+#: Pixels beside the higher face read as its margin (from, to).
+MARGIN_COLUMNS = (2, 6)
+
+
+def _lab_pixels(
+    image: npt.NDArray[np.uint8], y0: float, y1: float, x0: float, x1: float
+) -> npt.NDArray[np.float32]:
+    """The Lab pixels (N x 3) of a box of the image, clipped to it (maybe none)."""
+    h, w = image.shape[:2]
+    r0, r1 = max(0, int(y0)), min(h, int(y1))
+    c0, c1 = max(0, int(x0)), min(w, int(x1))
+    if r1 <= r0 or c1 <= c0:
+        return np.zeros((0, 3), np.float32)
+    lab = cv2.cvtColor(np.ascontiguousarray(image[r0:r1, c0:c1]), cv2.COLOR_BGR2Lab)
+    return lab.reshape(-1, 3).astype(np.float32)
+
+
+def face_runs_below(
+    image: npt.NDArray[np.uint8],
+    upper: tuple[float, float, float, float],
+    lower: tuple[float, float, float, float],
+) -> bool:
+    """Whether a face found on a higher tried row is the print of one found on a lower
+    row (input pixel boxes x0, y0, x1, y1): the lower face covers it, and the strip between
+    their feet has the colour of the margin beside the higher face, a colour the floor
+    below the lower foot does not have. A print on a box with a margin of the box's own
+    colour is a face of its own, surer than the box, standing on the print's lower edge."""
+    if image.ndim != 3:
+        return False
+    left, top, right, foot = upper
+    low_left, _, low_right, low_foot = lower
+    w = right - left
+    if w <= 0 or not (low_left <= left + COVER_SHARE * w and low_right >= right - COVER_SHARE * w):
+        return False
+    if low_foot < foot + MIN_DROP_PX:
+        return False
+    a, z = MARGIN_COLUMNS
+    mid = 0.5 * (top + foot)
+    strip = _lab_pixels(image, foot + 2, low_foot - 1, left + 0.2 * w, right - 0.2 * w)
+    margin = np.vstack(
+        [
+            _lab_pixels(image, mid, foot, x0, x1)
+            for x0, x1 in ((left - z, left - a), (right + a, right + z))
+        ]
+    )
+    floor = _lab_pixels(image, low_foot + 3, low_foot + 9, left, right)
+    if not (len(strip) and len(margin) and len(floor)):
+        return False
+    s_m, m_m, f_m = (np.median(px, axis=0) for px in (strip, margin, floor))
+    return bool(
+        np.linalg.norm(s_m - m_m) <= MARGIN_MATCH
+        and np.linalg.norm(s_m - f_m) >= FLOOR_APART
+        and np.linalg.norm(m_m - f_m) >= MARGIN_FLOOR_APART
+    )
