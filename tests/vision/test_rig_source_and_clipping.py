@@ -441,3 +441,45 @@ def test_with_no_rig_a_print_accepted_above_a_lower_face_gives_way_to_it(
     monkeypatch.setattr(measure, "face_runs_below", lambda *a: runs_below)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert res.camera_height_m == pytest.approx(0.30 if runs_below else 0.20, abs=0.01)
+
+
+def test_with_no_rig_a_stream_whose_last_height_stands_an_unsure_face_does_not_fail(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The second frame of a stream tries the last frame's camera height first; when that
+    stands a face not sure enough to accept and no row stands another, the face is kept,
+    and no neighbour row of a row never tried (a camera height under the floor) is tried."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4006)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    found = int(round(view.cy + view.fy * 0.25 / depth))
+    frame = [0]
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        assert self.view.rig.camera_height_m > 0.0
+        sure = 0.6 if frame[0] == 0 else 0.1
+        return Measurement(
+            detected=frame[0] == 0
+            or self.view.rig.camera_height_m == pytest.approx(0.25, abs=0.01),
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3,
+            width_m=0.3,
+            confidence=sure,
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    measurer = Measurer(CAM, None)
+    first = measurer.measure(image, truth["range_m"])
+    assert first.detected
+    frame[0] = 1
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [])
+    second = measurer.measure(image, truth["range_m"])
+    assert second.detected

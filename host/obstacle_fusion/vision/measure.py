@@ -197,7 +197,7 @@ class Measurer:
             timer.lap("floor_contact")
             near_horizon: list[int] = []
             pitch_tried = False  # the pitch is settled already (a near-horizon face)
-            best_row = 0
+            best_row: int | None = None  # the floor-contact row best was found on
             lower_faces: list[tuple[int, Measurement]] = []  # rows' faces not accepted
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
@@ -226,11 +226,14 @@ class Measurer:
                     break
                 if result.detected:
                     lower_faces.append((row, result))
-            if best is not None and best.detected:
+            if best is not None and best.detected and best_row is not None:
                 # the row is found to a pixel or two, and the face a level view finds can
                 # change with it: the surest of the row and its neighbours
                 for row in (best_row - ROW_JITTER_PX, best_row + ROW_JITTER_PX):
-                    result = trial((row - view.cy) * depth / view.fy, row)
+                    height = (row - view.cy) * depth / view.fy
+                    if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                        continue
+                    result = trial(height, row)
                     if (
                         result.detected
                         and (result.confidence or 0.0) > (best.confidence or 0.0)
