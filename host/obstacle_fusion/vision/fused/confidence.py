@@ -120,6 +120,15 @@ SKEWED_EDGES = "skewed_edges"
 #: face's score, overlapping it or not: the face's extent is one of several comparable
 #: readings (the ambiguity in :func:`confidence` counts only rivals with little overlap).
 NEAR_RIVALS = "near_rivals"
+#: What lies just under the face's bottom edge differs more from the floor beside the face
+#: (same rows) than from the face itself: the face does not stand on the floor at that row;
+#: the edge taken for its floor contact is a band or a print's edge on the face, or a
+#: plinth's (:func:`foot_doubts`).
+FOOT_OFF_FLOOR = "foot_off_floor"
+#: The face's lowest band looks more like what lies under its bottom edge than like the
+#: face (FLOOR_IN_FACE_SHARE): floor taken into the face, the floor contact taken too low
+#: (a seam or a plank's edge on the floor) (:func:`foot_doubts`).
+FLOOR_IN_FACE = "floor_in_face"
 
 #: What one doubt leaves of the confidence: a doubt alone takes the surest face (1.0)
 #: under the 0.5 that means "sure" (halving would leave it at 0.5 exactly).
@@ -135,6 +144,8 @@ DOUBT_FACTORS: dict[str, float] = {
     UNEVEN_SIDES: DOUBT_FACTOR,
     SKEWED_EDGES: DOUBT_FACTOR,
     NEAR_RIVALS: DOUBT_FACTOR,
+    FOOT_OFF_FLOOR: DOUBT_FACTOR,
+    FLOOR_IN_FACE: DOUBT_FACTOR,
 }
 
 #: Doubts that cut the confidence only when the floor contact was found in the image.
@@ -167,6 +178,19 @@ SKEWED_SLOPE = 0.03
 #: NEAR_RIVALS: a rival's score against the face's, and how many such rivals pass.
 NEAR_RIVAL_SHARE = 0.5
 NEAR_RIVALS_MAX = 2
+#: FLOOR_IN_FACE: the face's lowest band's colour distance to what lies under the bottom
+#: edge, against its distance to the face's middle, under which the doubt holds.
+FLOOR_IN_FACE_SHARE = 0.5
+#: The bands :func:`foot_doubts` compares (input-image rows and columns): a band is
+#: FOOT_BAND_SHARE of the face's height high (at least FOOT_BAND_MIN_ROWS), FOOT_BAND_GAP
+#: rows clear of the bottom edge's blur; the face's middle is its rows 30-70 % and the
+#: inner 60 % of its columns; the floor beside spans half the face's width on each side.
+FOOT_BAND_SHARE = 0.08
+FOOT_BAND_MIN_ROWS = 3.0
+FOOT_BAND_GAP = 3.0
+#: Samples per band and axis at most (a band's colour is a median of a strided sample).
+FOOT_SAMPLES_ROWS = 16
+FOOT_SAMPLES_COLUMNS = 32
 
 
 def top_edge_doubts(ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: int) -> list[str]:
@@ -221,6 +245,65 @@ def outline_doubts(
     return doubts
 
 
+def _band_colour(
+    image: npt.NDArray[np.uint8], r0: float, r1: float, c0: float, c1: float
+) -> npt.NDArray[np.float32] | None:
+    """Median colour (or grey) of image rows r0..r1, columns c0..c1 (a strided sample);
+    None when the band is under 2 rows or 3 columns inside the image."""
+    h, w = image.shape[:2]
+    a, b = max(0, int(r0)), min(h, int(r1))
+    c, d = max(0, int(c0)), min(w, int(c1))
+    if b - a < 2 or d - c < 3:
+        return None
+    sy, sx = max(1, (b - a) // FOOT_SAMPLES_ROWS), max(1, (d - c) // FOOT_SAMPLES_COLUMNS)
+    channels = image.shape[2] if image.ndim == 3 else 1
+    sample = image[a:b:sy, c:d:sx].reshape(-1, channels)
+    mid = sample.shape[0] // 2  # the upper median (np.median's own overhead is most of it)
+    return np.partition(sample, mid, axis=0)[mid].astype(np.float32)
+
+
+def foot_doubts(
+    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
+) -> list[str]:
+    """FOOT_OFF_FLOOR and FLOOR_IN_FACE from the colours round the face's bottom edge in
+    the input image (``lines`` as in :func:`outline_doubts`; BGR or grey)."""
+    if len(lines) != 4:
+        return []
+    bottom, top = lines[0], lines[1]
+    x0, x1 = max(bottom[0], top[0]), min(bottom[2], top[2])
+    rb, vt = 0.5 * (bottom[1] + bottom[3]), 0.5 * (top[1] + top[3])
+    height, width = rb - vt, x1 - x0
+    if height < 10.0 or width < 10.0:
+        return []
+    c0, c1 = x0 + 0.2 * width, x1 - 0.2 * width + 1.0
+    k = max(FOOT_BAND_MIN_ROWS, FOOT_BAND_SHARE * height)
+    g = FOOT_BAND_GAP
+    middle = _band_colour(image, vt + 0.3 * height, vt + 0.7 * height, c0, c1)
+    lowest = _band_colour(image, rb - k - g + 1.0, rb - g + 1.0, c0, c1)
+    under = _band_colour(image, rb + g, rb + g + k, c0, c1)
+    if middle is None or under is None:
+        return []
+
+    def dist(a: npt.NDArray[np.float32], b: npt.NDArray[np.float32]) -> float:
+        return float(np.linalg.norm(a - b))
+
+    doubts = []
+    beside = [
+        dist(under, floor)
+        for floor in (
+            _band_colour(image, rb + g, rb + g + k, x0 - 0.5 * width, x0 - g),
+            _band_colour(image, rb + g, rb + g + k, x1 + g, x1 + 0.5 * width),
+        )
+        if floor is not None
+    ]
+    if beside and min(beside) > max(1.0, dist(under, middle)):
+        doubts.append(FOOT_OFF_FLOOR)
+    if lowest is not None:
+        if dist(lowest, under) < FLOOR_IN_FACE_SHARE * max(1.0, dist(lowest, middle)):
+            doubts.append(FLOOR_IN_FACE)
+    return doubts
+
+
 def rival_doubts(best: Candidate, rivals: list[Candidate]) -> list[str]:
     """NEAR_RIVALS: the other candidates (any overlap) scoring NEAR_RIVAL_SHARE of ``best``."""
     near = sum(1 for c in rivals if c is not best and c.score >= NEAR_RIVAL_SHARE * best.score)
@@ -229,6 +312,7 @@ def rival_doubts(best: Candidate, rivals: list[Candidate]) -> list[str]:
 
 def face_doubts(
     camera: CameraModel,
+    image: npt.NDArray[np.uint8],
     ay: npt.NDArray[np.float32],
     rb: int,
     ul: int,
@@ -238,13 +322,15 @@ def face_doubts(
     rivals: list[Candidate],
     lines: Sequence[tuple[float, float, float, float]],
 ) -> list[str]:
-    """The doubts read off the face the fused method reports (its working-view rows and
-    columns before the refinement, the candidate it came from and its rivals, and its
-    refined outline): :func:`top_edge_doubts`, :func:`outline_doubts`,
+    """The doubts read off the face the fused method reports (``image``: the input frame,
+    BGR or grey; the face's working-view rows and columns before the refinement, the
+    candidate it came from and its rivals, and its refined outline):
+    :func:`top_edge_doubts`, :func:`outline_doubts`, :func:`foot_doubts`,
     :func:`rival_doubts`. They move the reported confidence only, never the face."""
     return [
         *top_edge_doubts(ay, rb, ul, ur, int(round(vt))),
         *outline_doubts(camera, lines),
+        *foot_doubts(image, lines),
         *rival_doubts(best, rivals),
     ]
 

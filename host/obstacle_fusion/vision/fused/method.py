@@ -282,7 +282,7 @@ class FusedMethod:
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
         )
         # what the face as measured leaves in doubt (the reported confidence only)
-        faced = face_doubts(v.camera, ay, rb, ul, ur, vt, best, rivals, measured.lines)
+        faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
         measured.doubts = [*doubts, *faced]
         return measured
 
