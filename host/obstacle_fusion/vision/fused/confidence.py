@@ -183,11 +183,16 @@ NEAR_RIVALS_MAX = 2
 FLOOR_IN_FACE_SHARE = 0.5
 #: The bands :func:`foot_doubts` compares (input-image rows and columns): a band is
 #: FOOT_BAND_SHARE of the face's height high (at least FOOT_BAND_MIN_ROWS), FOOT_BAND_GAP
-#: rows clear of the bottom edge's blur; the face's middle is its rows 30-70 % and the
-#: inner 60 % of its columns; the floor beside spans half the face's width on each side.
+#: rows clear of the bottom edge's blur, over the face's columns but FOOT_INNER_SHARE of
+#: its width off each side; the face's middle is its rows FOOT_MIDDLE_ROWS (shares of its
+#: height from the top); the floor beside spans FOOT_BESIDE_SHARE of the face's width on
+#: each side.
 FOOT_BAND_SHARE = 0.08
 FOOT_BAND_MIN_ROWS = 3.0
 FOOT_BAND_GAP = 3.0
+FOOT_INNER_SHARE = 0.2
+FOOT_MIDDLE_ROWS = (0.3, 0.7)
+FOOT_BESIDE_SHARE = 0.5
 #: Samples per band and axis at most (a band's colour is a median of a strided sample).
 FOOT_SAMPLES_ROWS = 16
 FOOT_SAMPLES_COLUMNS = 32
@@ -275,10 +280,11 @@ def foot_doubts(
     height, width = rb - vt, x1 - x0
     if height < 10.0 or width < 10.0:
         return []
-    c0, c1 = x0 + 0.2 * width, x1 - 0.2 * width + 1.0
+    c0, c1 = x0 + FOOT_INNER_SHARE * width, x1 - FOOT_INNER_SHARE * width + 1.0
     k = max(FOOT_BAND_MIN_ROWS, FOOT_BAND_SHARE * height)
     g = FOOT_BAND_GAP
-    middle = _band_colour(image, vt + 0.3 * height, vt + 0.7 * height, c0, c1)
+    m0, m1 = FOOT_MIDDLE_ROWS
+    middle = _band_colour(image, vt + m0 * height, vt + m1 * height, c0, c1)
     lowest = _band_colour(image, rb - k - g + 1.0, rb - g + 1.0, c0, c1)
     under = _band_colour(image, rb + g, rb + g + k, c0, c1)
     if middle is None or under is None:
@@ -291,8 +297,8 @@ def foot_doubts(
     beside = [
         dist(under, floor)
         for floor in (
-            _band_colour(image, rb + g, rb + g + k, x0 - 0.5 * width, x0 - g),
-            _band_colour(image, rb + g, rb + g + k, x1 + g, x1 + 0.5 * width),
+            _band_colour(image, rb + g, rb + g + k, x0 - FOOT_BESIDE_SHARE * width, x0 - g),
+            _band_colour(image, rb + g, rb + g + k, x1 + g, x1 + FOOT_BESIDE_SHARE * width),
         )
         if floor is not None
     ]
