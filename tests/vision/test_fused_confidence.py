@@ -269,7 +269,8 @@ def test_the_method_records_the_face_s_doubts_and_keeps_its_size(
     before = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     seen: list[tuple] = []
 
-    def doubting(camera, img, ay, rb, ul, ur, vt, best, rivals, lines):  # type: ignore[no-untyped-def]
+    def doubting(*args: Any) -> list[str]:
+        _camera, img, _ay, _rb, _ul, _ur, _vt, best, rivals, lines = args
         seen.append((img is image, lines == before.lines, best in rivals))
         return [SECOND_TOP, NEAR_RIVALS]
 
