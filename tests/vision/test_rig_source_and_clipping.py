@@ -318,3 +318,126 @@ def test_with_no_rig_a_face_only_the_known_floor_cues_find_is_taken_at_the_lowes
     assert res.detected
     assert res.camera_height_m == pytest.approx(0.30, abs=0.01)
     assert calls[:3] == [(0.30, False), (0.20, False), (0.30, True)]
+
+
+def test_with_no_rig_a_row_whose_face_does_not_stand_on_it_is_passed_over(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A floor line below the face stands the face found on it only if the face's sides
+    reach it (floor_contact.sides_reach_foot); else the next row up is tried."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4003)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if height not in row_at:  # a neighbour row (ROW_JITTER_PX): no face there
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        foot = float(row_at[height])
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3,
+            width_m=0.3,
+            confidence=0.6,
+            lines=[(0, foot, 1, foot), (0, 0, 1, 0), (0, foot, 0, 0), (1, foot, 1, 0)],
+        )
+
+    def standing(image: object, lines: list[tuple[float, float, float, float]]) -> bool:
+        return lines[0][1] != row_at[0.30]  # the lower row's face ends above it
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "sides_reach_foot", standing)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(0.20, abs=0.01)
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.camera_height_m == pytest.approx(0.30, abs=0.01)
+
+
+@pytest.mark.parametrize("surest_offset", [-2, 0, 2])
+def test_with_no_rig_the_surest_face_of_the_row_and_its_neighbours_is_kept(
+    surest_offset: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The floor-contact row is found to a pixel or two and a level view's face can change
+    with it: the rows ROW_JITTER_PX (2) above and below the chosen one are tried too, and
+    the surest face of the three is kept (rows 3 px off are not tried)."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4004)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    found = int(round(view.cy + view.fy * 0.25 / depth))
+    tried: list[int] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        row = int(round(view.cy + view.fy * self.view.rig.camera_height_m / depth))
+        tried.append(row - found)
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3 + 0.01 * (row - found),
+            width_m=0.3,
+            confidence=0.9 if row - found == surest_offset else 0.3,
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert tried[:3] == [0, -2, 2]
+    assert res.height_m == pytest.approx(0.3 + 0.01 * surest_offset)
+
+
+@pytest.mark.parametrize("runs_below", [True, False])
+def test_with_no_rig_a_print_accepted_above_a_lower_face_gives_way_to_it(
+    runs_below: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A print on the face is found, sure, on its own lower edge; the face itself was found
+    less surely on the row below: when the print's margin runs down to that row
+    (floor_contact.face_runs_below), the lower face is kept."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4005)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    sure = {0.30: 0.1, 0.20: 0.9}  # the lower row's face is not accepted, the print is
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if height not in row_at:  # a neighbour row: no face there
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        foot = float(row_at[height])
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=height,
+            width_m=0.3,
+            confidence=sure[height],
+            box_px=(100.0, 50.0, 200.0, foot),
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    monkeypatch.setattr(measure, "face_runs_below", lambda *a: runs_below)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.camera_height_m == pytest.approx(0.30 if runs_below else 0.20, abs=0.01)

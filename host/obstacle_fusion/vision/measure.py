@@ -28,7 +28,11 @@ from obstacle_fusion.vision.fused.confidence import (
     PITCH_UNREAD,
     reported_confidence,
 )
-from obstacle_fusion.vision.fused.floor_contact import contact_rows
+from obstacle_fusion.vision.fused.floor_contact import (
+    contact_rows,
+    face_runs_below,
+    sides_reach_foot,
+)
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
@@ -193,6 +197,8 @@ class Measurer:
             timer.lap("floor_contact")
             near_horizon: list[int] = []
             pitch_tried = False  # the pitch is settled already (a near-horizon face)
+            best_row = 0
+            lower_faces: list[tuple[int, Measurement]] = []  # rows' faces not accepted
             for row in rows:
                 height = (row - view.cy) * depth / view.fy
                 if height >= 5.0:
@@ -201,13 +207,36 @@ class Measurer:
                     near_horizon.append(row)
                     continue
                 result = trial(height, row)
+                if result.detected and not sides_reach_foot(image, result.lines):
+                    continue  # a line on the floor below the face: its sides end above it
                 if best is None or (result.detected and not best.detected):
                     # with no row accepted, the lowest that stands a face: below the face
                     # there is only floor (a surer face higher up stands on a line on it)
-                    best = result
+                    best, best_row = result, row
                 if accepted(result):
-                    best = result
+                    best, best_row = result, row
+                    # a print on the face stands on its own lower edge, surer than the
+                    # face found on the row below it: that face, when the print's margin
+                    # runs down to its foot
+                    for low_row, low in lower_faces:
+                        if result.box_px and low.box_px:
+                            if face_runs_below(image, result.box_px, low.box_px):
+                                best, best_row = low, low_row
+                                break
                     break
+                if result.detected:
+                    lower_faces.append((row, result))
+            if best is not None and best.detected:
+                # the row is found to a pixel or two, and the face a level view finds can
+                # change with it: the surest of the row and its neighbours
+                for row in (best_row - ROW_JITTER_PX, best_row + ROW_JITTER_PX):
+                    result = trial((row - view.cy) * depth / view.fy, row)
+                    if (
+                        result.detected
+                        and (result.confidence or 0.0) > (best.confidence or 0.0)
+                        and sides_reach_foot(image, result.lines)
+                    ):
+                        best = result
             if best is None or not best.detected:
                 # no face stands on any row a level camera allows: a contact this near the
                 # horizon would put a level lens on the floor, but a camera pitched down
@@ -247,7 +276,7 @@ class Measurer:
                     if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
                         continue
                     result = trial(height, row, floor_known=True)
-                    if result.detected:
+                    if result.detected and sides_reach_foot(image, result.lines):
                         best = result
                         break
             if best is not None and accepted(best) and not pitch_tried:
@@ -420,6 +449,9 @@ RERUN_AGREE = 0.05
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
 PITCH_DECIMALS = 1
+#: With no rig, the rows this far above and below the chosen floor-contact row are tried
+#: too (pixels); the surest face of the three is kept.
+ROW_JITTER_PX = 2
 
 #: The doubts about the pitch a stream's next frames inherit with it.
 PITCH_DOUBTS = frozenset({PITCH_UNREAD, PITCH_RERUN_DISAGREES})

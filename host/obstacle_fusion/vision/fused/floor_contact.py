@@ -75,3 +75,118 @@ def contact_rows(
         if len(out) >= MAX_CANDIDATES:
             break
     return out
+
+
+#: The share of a side's height, from its foot up, whose colour step the foot check reads.
+FOOT_SHARE = 0.2
+#: A side stands on its foot when the colour step across it near the foot is at least
+#: this (8-bit BGR distance; the floor beside the foot differs from the face less than the
+#: wall beside its middle does, so the middle's step is no measure).
+MIN_FOOT_STEP = 12.0
+#: Columns either side of a side line whose colours are compared (from, to; pixels).
+ACROSS_PX = (2, 5)
+
+
+def _step_across(
+    image: npt.NDArray[np.uint8], line: tuple[float, float, float, float], t0: float, t1: float
+) -> float:
+    """Median colour step across a side line (x0, y0 at its foot, x1, y1 at its top) over
+    the part of it between shares t0 and t1 of its length."""
+    x0, y0, x1, y1 = line
+    h, w = image.shape[:2]
+    n = max(3, int(abs(y1 - y0) * (t1 - t0)))
+    t = np.linspace(t0, t1, n)
+    ys = np.clip(np.round(y0 + (y1 - y0) * t).astype(np.int64), 0, h - 1)
+    xs = np.round(x0 + (x1 - x0) * t).astype(np.int64)
+    a, b = ACROSS_PX
+    if xs.min() - b < 0 or xs.max() + b >= w:
+        return float("nan")  # a side at the border: the other side decides
+    pix = image.reshape(h, w, -1).astype(np.float32)
+    left = np.mean([pix[ys, xs - d] for d in range(a, b + 1)], axis=0)
+    right = np.mean([pix[ys, xs + d] for d in range(a, b + 1)], axis=0)
+    return float(np.median(np.linalg.norm(left - right, axis=1)))
+
+
+def sides_reach_foot(
+    image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]]
+) -> bool:
+    """Whether a face found on a tried floor-contact row stands on it: at least one of its
+    sides still steps in colour near that row. A row below the face (a floor line, a
+    plank's seam) stands a face whose sides end above it, over floor that is one colour
+    across them.
+
+    ``lines``: the face's outline as :class:`Measurement` gives it (bottom, top, left side,
+    right side; input pixels)."""
+    if len(lines) < 4:
+        return True
+    steps = [_step_across(image, side, 0.0, FOOT_SHARE) for side in lines[2:4]]
+    read = [step >= MIN_FOOT_STEP for step in steps if step == step]  # nan: at the border
+    return not read or any(read)
+
+
+#: A face found on a lower row covers one found higher when its sides lie within this
+#: share of the higher face's width outside it (or further out).
+COVER_SHARE = 0.1
+#: ... and its foot lies at least this many pixels lower (a strip of a row between them).
+MIN_DROP_PX = 4
+#: The strip between the two feet shows the margin beside the higher face when their
+#: colours (median Lab) are at most this far apart ...
+MARGIN_MATCH = 15.0
+#: ... and is not floor when both it and that margin stand this far from the floor's
+#: colour below the lower foot.
+FLOOR_APART = 25.0
+MARGIN_FLOOR_APART = 20.0
+#: Pixels beside the higher face read as its margin (from, to).
+MARGIN_COLUMNS = (2, 6)
+
+
+def _lab_pixels(
+    image: npt.NDArray[np.uint8], y0: float, y1: float, x0: float, x1: float
+) -> npt.NDArray[np.float32]:
+    """The Lab pixels (N x 3) of a box of the image, clipped to it (maybe none)."""
+    h, w = image.shape[:2]
+    r0, r1 = max(0, int(y0)), min(h, int(y1))
+    c0, c1 = max(0, int(x0)), min(w, int(x1))
+    if r1 <= r0 or c1 <= c0:
+        return np.zeros((0, 3), np.float32)
+    lab = cv2.cvtColor(np.ascontiguousarray(image[r0:r1, c0:c1]), cv2.COLOR_BGR2Lab)
+    return lab.reshape(-1, 3).astype(np.float32)
+
+
+def face_runs_below(
+    image: npt.NDArray[np.uint8],
+    upper: tuple[float, float, float, float],
+    lower: tuple[float, float, float, float],
+) -> bool:
+    """Whether a face found on a higher tried row is the print of one found on a lower
+    row (input pixel boxes x0, y0, x1, y1): the lower face covers it, and the strip between
+    their feet has the colour of the margin beside the higher face, a colour the floor
+    below the lower foot does not have. A print on a box with a margin of the box's own
+    colour is a face of its own, surer than the box, standing on the print's lower edge."""
+    if image.ndim != 3:
+        return False
+    left, top, right, foot = upper
+    low_left, _, low_right, low_foot = lower
+    w = right - left
+    if w <= 0 or not (low_left <= left + COVER_SHARE * w and low_right >= right - COVER_SHARE * w):
+        return False
+    if low_foot < foot + MIN_DROP_PX:
+        return False
+    a, z = MARGIN_COLUMNS
+    mid = 0.5 * (top + foot)
+    strip = _lab_pixels(image, foot + 2, low_foot - 1, left + 0.2 * w, right - 0.2 * w)
+    margin = np.vstack(
+        [
+            _lab_pixels(image, mid, foot, x0, x1)
+            for x0, x1 in ((left - z, left - a), (right + a, right + z))
+        ]
+    )
+    floor = _lab_pixels(image, low_foot + 3, low_foot + 9, left, right)
+    if not (len(strip) and len(margin) and len(floor)):
+        return False
+    s_m, m_m, f_m = (np.median(px, axis=0) for px in (strip, margin, floor))
+    return bool(
+        np.linalg.norm(s_m - m_m) <= MARGIN_MATCH
+        and np.linalg.norm(s_m - f_m) >= FLOOR_APART
+        and np.linalg.norm(m_m - f_m) >= MARGIN_FLOOR_APART
+    )

@@ -1,0 +1,158 @@
+"""The checks of a face found on a tried floor-contact row (no rig), vision/fused/floor_contact.py:
+its sides must still step in colour just above that row; a print found on a higher row
+gives way to the face found lower when the print's margin runs down to that face's foot."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+from obstacle_fusion.vision.fused.floor_contact import face_runs_below, sides_reach_foot
+
+FLOOR = 100  # grey level of the floor
+FOOT_ROW = 200  # where the face meets the floor
+
+
+def scene(face: tuple[int, int, int]) -> np.ndarray:
+    """A wall, a floor from row 150 down, and a face (columns 100-199, rows 60-199)."""
+    img = np.full((300, 300, 3), 180, np.uint8)  # wall
+    img[150:] = FLOOR
+    img[60:FOOT_ROW, 100:200] = face
+    return img
+
+
+DARK = (40, 40, 40)
+
+
+def outline(bottom: float) -> list[tuple[float, float, float, float]]:
+    """Bottom, top, left and right sides of a face from row 60 down to ``bottom``."""
+    return [
+        (100, bottom, 199, bottom),
+        (100, 60, 199, 60),
+        (100, bottom, 100, 60),
+        (199, bottom, 199, 60),
+    ]
+
+
+def test_a_face_stands_on_its_own_foot_row() -> None:
+    assert sides_reach_foot(scene(DARK), outline(FOOT_ROW))
+
+
+def test_a_row_below_the_face_on_plain_floor_does_not_stand_it() -> None:
+    # the face's sides end at row 200; a line at 290 leaves their lowest fifth on floor
+    assert not sides_reach_foot(scene(DARK), outline(290))
+
+
+def test_the_step_at_the_foot_is_held_to_the_limit() -> None:
+    """The limit is 12 (8-bit BGR distance): a face (7, 7, 7) levels off the floor steps by
+    12.1 across each side and stands; (7, 7, 6) levels (11.6) do not."""
+    assert sides_reach_foot(scene((FLOOR + 7,) * 3), outline(FOOT_ROW))
+    assert not sides_reach_foot(scene((FLOOR + 7, FLOOR + 7, FLOOR + 6)), outline(FOOT_ROW))
+
+
+@pytest.mark.parametrize("at_left", [True, False])
+def test_a_side_at_the_image_border_is_not_read(at_left: bool) -> None:
+    img = scene(DARK)
+    lines = outline(290)
+    x = 1.0 if at_left else 298.0
+    side = 2 if at_left else 3
+    lines[side] = (x, 290, x, 60)
+    assert not sides_reach_foot(img, lines)  # the other side decides: floor at its foot
+    lines[5 - side] = (x, 290, x, 60)
+    assert sides_reach_foot(img, lines)  # no side read: nothing tells against the row
+
+
+def test_one_side_stepping_at_the_foot_is_enough() -> None:
+    """A face's one side may fade into a floor of its colour at the foot (a shadow, a
+    matching mat): the other side standing there keeps the row."""
+    lines = outline(FOOT_ROW)
+    lines[3] = (250, FOOT_ROW, 250, 60)  # a "side" over plain floor and wall
+    assert sides_reach_foot(scene(DARK), lines)
+
+
+# --- a print on the face, found on a higher row than the face (floor_contact.face_runs_below)
+
+PRINT_BOX = (120.0, 80.0, 179.0, 179.0)  # x0, y0, x1, y1: the print, over the face's margin
+FACE_BOX = (100.0, 60.0, 199.0, 199.0)  # the whole face, its foot on row 199
+
+
+def lab(grey: int) -> np.ndarray:
+    pixel = np.full((1, 1, 3), grey, np.uint8)
+    return cv2.cvtColor(pixel, cv2.COLOR_BGR2Lab)[0, 0].astype(np.float64)
+
+
+def grey_at(ref: int, distance: float, step: int, reach: bool = False) -> int:
+    """The first grey from ``ref`` going by ``step`` whose Lab distance from it exceeds
+    ``distance`` (or ``reach``es it), so that a limit can be straddled with two neighbouring
+    greys (8-bit Lab distances of greys are whole numbers)."""
+    g = ref
+    while True:
+        d = float(np.linalg.norm(lab(g) - lab(ref)))
+        if d > distance or (reach and d >= distance):
+            return g
+        g += step
+
+
+def framed(margin: int, floor: int, strip: int | None = None) -> np.ndarray:
+    """A wall (grey 230), a face of grey ``margin`` with a print (grey 20) on it, a floor of
+    grey ``floor`` from row 200 down; ``strip``: the grey of the face below the print."""
+    img = np.full((300, 300, 3), 230, np.uint8)
+    img[200:] = floor
+    img[60:200, 100:200] = margin
+    img[80:180, 120:180] = 20
+    if strip is not None:
+        img[180:200, 120:180] = strip
+    return img
+
+
+def test_a_print_whose_margin_runs_down_to_the_lower_foot_gives_way() -> None:
+    assert face_runs_below(framed(120, 60), PRINT_BOX, FACE_BOX)
+
+
+def test_a_face_on_the_floor_does_not_give_way_to_the_floor_below_it() -> None:
+    # the "strip" under a face standing on row 179 is floor, as under the lower foot
+    assert not face_runs_below(framed(120, 120), PRINT_BOX, FACE_BOX)
+
+
+def test_the_lower_face_must_cover_the_higher_one_and_stand_lower() -> None:
+    """Covering: its sides at most 10 % of the print's width inside the print's."""
+    img = framed(120, 60)
+    x0, y0, x1, y1 = FACE_BOX
+    width = PRINT_BOX[2] - PRINT_BOX[0]  # 59 px: covering allows 5.9 px inside it
+    assert face_runs_below(img, PRINT_BOX, (PRINT_BOX[0] + 5, y0, x1, y1))
+    assert not face_runs_below(img, PRINT_BOX, (PRINT_BOX[0] + 0.11 * width, y0, x1, y1))
+    assert not face_runs_below(img, PRINT_BOX, (x0, y0, PRINT_BOX[2] - 0.11 * width, y1))
+    # the lower foot 4 px below the print's at least: a strip of a row between them
+    foot = int(PRINT_BOX[3])
+    img[foot + 4 :] = 60
+    assert face_runs_below(img, PRINT_BOX, (x0, y0, x1, foot + 4))
+    assert not face_runs_below(img, PRINT_BOX, (x0, y0, x1, foot + 3))
+
+
+@pytest.mark.parametrize("over", [False, True])
+def test_the_strip_must_match_the_margin_within_15(over: bool) -> None:
+    strip = grey_at(120, 15.0, -1) + (0 if over else 1)  # just over / under 15 from it
+    assert face_runs_below(framed(120, 200, strip), PRINT_BOX, FACE_BOX) is not over
+
+
+@pytest.mark.parametrize("over", [False, True])
+def test_the_strip_must_stand_25_from_the_floor(over: bool) -> None:
+    floor = grey_at(120, 25.0, 1, reach=True) - (
+        0 if over else 1
+    )  # strip (= margin) to floor: 25+ / 25-
+    assert face_runs_below(framed(120, floor), PRINT_BOX, FACE_BOX) is over
+
+
+@pytest.mark.parametrize("over", [False, True])
+def test_the_margin_must_stand_20_from_the_floor(over: bool) -> None:
+    floor = grey_at(120, 20.0, 1, reach=True) - (0 if over else 1)  # margin to floor: 20+ / 20-
+    strip = grey_at(120, 12.0, -1)  # 12+ below the margin, so 25+ from the floor
+    assert np.linalg.norm(lab(strip) - lab(floor)) >= 25.0
+    assert face_runs_below(framed(120, floor, strip), PRINT_BOX, FACE_BOX) is over
+
+
+@pytest.mark.parametrize("below, stands", [(14, True), (17, False)])
+def test_the_foot_is_read_over_the_lowest_fifth_of_the_sides(below: int, stands: bool) -> None:
+    """A row ``below`` px under the face's foot: the lowest fifth of the sides (~28-30 px
+    here) still shows the face's step over most of its rows at 14 px, not at 17 px."""
+    assert sides_reach_foot(scene(DARK), outline(FOOT_ROW + below)) is stands
