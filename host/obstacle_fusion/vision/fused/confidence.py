@@ -99,8 +99,8 @@ SMALL_FACE = "small_face"
 # generated scenes) about half (near_rivals, top_runs_on) to all (foot_off_floor,
 # floor_in_face) of the detections carrying one were off by more than 5 %, at any
 # confidence; a sure face must be within 5 % 95 times in 100. With them the detections at
-# 0.5 or above within 5 % went from 95.3 to 96.9 % with the rig and from 95.9 to 98.6 %
-# with none; 16 of 264 and 2 of 141 right ones fell under 0.5 (tools/bench_confidence.py).
+# 0.5 or above within 5 % went from 95.3 to 96.9 % with the rig and from 96.7 to 98.6 %
+# with none; 16 of 264 and 2 of 146 right ones fell under 0.5 (tools/bench_confidence.py).
 
 #: A horizontal edge inside the face, just under its top (within SECOND_TOP_REACH of the
 #: face's height), at least SECOND_TOP_SHARE as strong as the top: a lid's edge, a label's
