@@ -347,6 +347,27 @@ def test_the_margin_must_differ_from_the_print(monkeypatch: pytest.MonkeyPatch) 
     assert enclose(framed_scene()) is None
 
 
+def test_a_strip_at_a_faces_foot_is_no_print_in_a_frame() -> None:
+    """The lowest rows of a plain face, found as a face of their own, have the floor
+    beside and below them, ended within a margin's reach by the floor's stripes: a
+    "margin" all round but over the "print", where the face itself stands. No frame (it
+    would take the floor's stripes for the face's sides and foot)."""
+    left, right = 120, 200
+    img = np.full((H, W, 3), FLOOR, np.uint8)
+    stripe = (90, 90, 150)  # the floor's other shade, a few pixels beyond the face
+    img[BOTTOM - 20 :, : left - 8] = stripe
+    img[BOTTOM - 20 :, right + 8 :] = stripe
+    img[BOTTOM + 6 :] = stripe
+    img[TOP:BOTTOM, left:right] = FACE
+    strip_top = BOTTOM - 10
+    found = region.enclose_by_margin(img, level_view(), BOTTOM, strip_top, left, right, DEPTH)
+    assert found is None
+    # the same strip with a margin over it (a print's top) is a print in a frame
+    img[TOP : strip_top - 1, left:right] = FLOOR
+    found = region.enclose_by_margin(img, level_view(), BOTTOM, strip_top, left, right, DEPTH)
+    assert found is not None
+
+
 # -- a face by its colour alone --------------------------------------------------------
 
 

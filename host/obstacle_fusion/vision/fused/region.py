@@ -624,9 +624,17 @@ def enclose_by_margin(
         out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
     ):
         return None
+    above = median_u8(below_rows[max(0, top - 2 - m - r0) : top - 2 - r0 + 1], axis=0)
+    if norm(above - print_colour) < MARGIN_VS_PRINT:
+        # what stands over the print differs from it (the margin, or the room): a strip at
+        # a face's foot (its lowest rows, a shadow) has the face itself over it, and the
+        # floor beside and below it, which a stripe or a tile line ends within a margin's
+        # reach
+        return None
     out_above = _run_length(below_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
     new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
-    return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
+    new_bottom = bottom + 2 + out_below
+    return new_bottom, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
 
 
 #: Half the beam's core sampled for the face's colour at its foot, metres at the face.
