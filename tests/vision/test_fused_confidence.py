@@ -4,8 +4,10 @@ vision/measure.py); the measured size never moves."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
+import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
 from obstacle_fusion.vision import measure as measure_mod
@@ -15,16 +17,28 @@ from obstacle_fusion.vision.fused import method as method_mod
 from obstacle_fusion.vision.fused.confidence import (
     DOUBT_FACTOR,
     DOUBT_FACTORS,
+    FLOOR_IN_FACE,
+    FOOT_OFF_FLOOR,
     FRAMED,
+    NEAR_RIVALS,
     NO_RIG_ONLY,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
+    SECOND_TOP,
+    SKEWED_EDGES,
     SMALL_FACE,
     SMALL_FACE_PX,
     TOP_FROM_SIDES,
+    TOP_RUNS_ON,
+    UNEVEN_SIDES,
+    foot_doubts,
+    outline_doubts,
     pixel_factor,
     reported_confidence,
+    rival_doubts,
+    top_edge_doubts,
 )
+from obstacle_fusion.vision.fused.scoring import Candidate
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.pitch import PitchEstimate
 
@@ -38,7 +52,19 @@ CAM = CameraModel.paper(500, 375)
 
 def test_one_doubt_takes_the_surest_face_under_half() -> None:
     assert DOUBT_FACTOR == 0.45
-    assert set(DOUBT_FACTORS) == {TOP_FROM_SIDES, FRAMED, PITCH_UNREAD, PITCH_RERUN_DISAGREES}
+    assert set(DOUBT_FACTORS) == {
+        TOP_FROM_SIDES,
+        FRAMED,
+        PITCH_UNREAD,
+        PITCH_RERUN_DISAGREES,
+        SECOND_TOP,
+        TOP_RUNS_ON,
+        UNEVEN_SIDES,
+        SKEWED_EDGES,
+        NEAR_RIVALS,
+        FOOT_OFF_FLOOR,
+        FLOOR_IN_FACE,
+    }
     for doubt in DOUBT_FACTORS:
         assert reported_confidence(1.0, [doubt], 200.0, 200.0, 0.05, rig_given=False) == (
             0.45,
@@ -89,6 +115,175 @@ def test_doubts_never_take_a_detection_under_the_min_confidence() -> None:
     assert reported_confidence(0.08, [TOP_FROM_SIDES], 200.0, 200.0, 0.0, False)[0] == 0.036
     # a face under the minimum given (min confidence lowered since) is not raised to it
     assert reported_confidence(0.04, [TOP_FROM_SIDES], 200.0, 200.0, 0.05, False)[0] == 0.04
+
+
+# --- the doubts read off the face as measured (face_doubts) --------------------------------
+
+
+def _ay(top: float = 100.0, second: float = 0.0, second_row: int = 105, beside: float = 0.0):
+    """|d/dy| of a face with contact row 200, sides 100..300, top row 100 (strength
+    ``top``), a row ``second_row`` inside it of strength ``second`` and the top's row
+    beside the face at ``beside``."""
+    ay = np.zeros((210, 420), np.float32)
+    ay[100, 100:301] = top
+    ay[second_row, 100:301] = second
+    ay[100, :98] = beside
+    ay[100, 303:] = beside
+    return ay
+
+
+def test_a_second_top_edge_just_under_the_top_is_a_doubt() -> None:
+    assert (conf_mod.SECOND_TOP_SHARE, conf_mod.SECOND_TOP_REACH) == (0.8, 0.15)
+    assert (conf_mod.SECOND_TOP_GAP, conf_mod.SECOND_TOP_MIN_ROWS) == (3, 4)
+    assert top_edge_doubts(_ay(second=81.0), 200, 100, 300, 100) == [SECOND_TOP]
+    assert top_edge_doubts(_ay(second=79.0), 200, 100, 300, 100) == []
+    assert top_edge_doubts(_ay(second=80.0), 200, 100, 300, 100) == []  # more than 0.8
+    # the top's strength is read a row either side of the top row given
+    assert top_edge_doubts(_ay(second=81.0)[1:], 199, 100, 300, 100) == [SECOND_TOP]
+    assert top_edge_doubts(_ay(second=79.0)[1:], 199, 100, 300, 100) == []
+    # within 15 % of the face's 100 rows under the top, and clear of the top's own blur
+    assert top_edge_doubts(_ay(second=150.0, second_row=115), 200, 100, 300, 100) == [SECOND_TOP]
+    assert top_edge_doubts(_ay(second=150.0, second_row=116), 200, 100, 300, 100) == []
+    assert top_edge_doubts(_ay(second=150.0, second_row=103), 200, 100, 300, 100) == [SECOND_TOP]
+    assert top_edge_doubts(_ay(second=150.0, second_row=102), 200, 100, 300, 100) == []
+
+
+def test_a_top_line_running_on_beside_the_face_is_a_doubt() -> None:
+    assert (conf_mod.TOP_RUNS_ON_SHARE, conf_mod.TOP_RUNS_ON_REACH) == (0.75, 0.5)
+    assert conf_mod.TOP_RUNS_ON_MIN_COLUMNS == 8
+    assert top_edge_doubts(_ay(beside=76.0), 200, 100, 300, 100) == [TOP_RUNS_ON]
+    assert top_edge_doubts(_ay(beside=74.0), 200, 100, 300, 100) == []
+    assert top_edge_doubts(_ay(beside=75.0), 200, 100, 300, 100) == []  # more than 0.75
+    # read over half the face's width beside each side: a line on the outer part only
+    outer = _ay()
+    outer[100, :40] = outer[100, 361:] = 200.0  # 40 of the 98 columns read: 81.6
+    assert top_edge_doubts(outer, 200, 100, 300, 100) == [TOP_RUNS_ON]
+    one_side = _ay(beside=100.0)
+    one_side[100, 303:] = 0.0  # a line ending at the face's right side is the face's own
+    assert top_edge_doubts(one_side, 200, 100, 300, 100) == []
+    # both doubts at once, and none for a face too small to read
+    both = top_edge_doubts(_ay(second=90.0, beside=90.0), 200, 100, 300, 100)
+    assert both == [SECOND_TOP, TOP_RUNS_ON]
+    assert top_edge_doubts(_ay(second=90.0, beside=90.0), 105, 100, 300, 100) == []
+
+
+PINHOLE = dataclasses.replace(CAM, dist_coeffs=np.zeros(4))
+
+
+def _lines(h_left: float, h_right: float, width: float = 200.0):
+    """bottom, top, left, right of a face with straight vertical sides of these heights,
+    its bottom edge from (100, 450) to (100 + width, 450)."""
+    bl, br = (100.0, 450.0), (100.0 + width, 450.0)
+    tl, tr = (100.0, 450.0 - h_left), (100.0 + width, 450.0 - h_right)
+    return [(*bl, *br), (*tl, *tr), (*bl, *tl), (*br, *tr)]
+
+
+def test_uneven_sides_are_a_doubt() -> None:
+    assert conf_mod.UNEVEN_SIDES_SHARE == 0.04
+    # (the top's slope, 4.2 px over 200 columns, is under SKEWED_SLOPE)
+    assert outline_doubts(PINHOLE, _lines(100.0, 104.2)) == [UNEVEN_SIDES]
+    assert outline_doubts(PINHOLE, _lines(100.0, 103.8)) == []
+    assert outline_doubts(PINHOLE, _lines(100.0, 100.0)) == []
+
+
+def test_top_and_bottom_edges_not_parallel_are_a_doubt() -> None:
+    assert conf_mod.SKEWED_SLOPE == 0.03
+    # 12.4 px over 400 columns: 0.031, the sides 3.1 % apart
+    assert outline_doubts(PINHOLE, _lines(400.0, 387.6, 400.0)) == [SKEWED_EDGES]
+    assert outline_doubts(PINHOLE, _lines(400.0, 388.4, 400.0)) == []
+    # both at once
+    assert outline_doubts(PINHOLE, _lines(100.0, 93.0)) == [UNEVEN_SIDES, SKEWED_EDGES]
+    # a face square to the beam, tall and near the image's side, seen through the lens:
+    # undistorted before it is judged (its edges bow apart in the image)
+    square = [(20.0, 350.0, 140.0, 350.0), (20.0, 50.0, 140.0, 50.0)] + [
+        (20.0, 350.0, 20.0, 50.0),
+        (140.0, 350.0, 140.0, 50.0),
+    ]
+    pts = PINHOLE.unproject(np.array(square).reshape(-1, 2))
+    distorted = [tuple(r) for r in CAM.project(pts).reshape(4, 4)]
+    assert outline_doubts(CAM, distorted) == []
+    assert outline_doubts(PINHOLE, distorted) != []
+
+
+def test_several_near_rivals_are_a_doubt() -> None:
+    assert (conf_mod.NEAR_RIVAL_SHARE, conf_mod.NEAR_RIVALS_MAX) == (0.5, 2)
+    best = Candidate(1.0, 200, 100, 300, 100, 0.9)
+    near = [dataclasses.replace(best, score=0.5, ul=100 + i) for i in range(3)]
+    assert rival_doubts(best, [best, *near]) == [NEAR_RIVALS]
+    assert rival_doubts(best, [best, *near[:2]]) == []  # two are allowed
+    weak = dataclasses.replace(near[2], score=0.49)
+    assert rival_doubts(best, [best, *near[:2], weak]) == []
+
+
+FACE = np.array([40.0, 60.0, 200.0])
+FLOOR = np.array([120.0, 160.0, 60.0])
+
+
+def _foot_image(under: np.ndarray, lowest: np.ndarray | None = None) -> np.ndarray:
+    """A face (rows 100-200, columns 150-350) on a floor; ``under``: the colour of the
+    rows just under its bottom edge (columns of the face), ``lowest``: of its lowest rows."""
+    img = np.zeros((375, 500, 3), np.uint8)
+    img[200:] = FLOOR
+    img[100:200, 150:350] = FACE
+    img[200:215, 150:350] = np.round(under)
+    if lowest is not None:
+        img[185:200, 150:350] = np.round(lowest)
+    return img
+
+
+LINES = [(150.0, 200.0, 350.0, 200.0), (150.0, 100.0, 350.0, 100.0)] + [
+    (150.0, 200.0, 150.0, 100.0),
+    (350.0, 200.0, 350.0, 100.0),
+]
+
+
+def test_a_foot_on_something_other_than_the_floor_is_a_doubt() -> None:
+    assert (conf_mod.FOOT_BAND_SHARE, conf_mod.FOOT_BAND_GAP) == (0.08, 3.0)
+    assert conf_mod.FOOT_BAND_MIN_ROWS == 3.0
+    assert (conf_mod.FOOT_INNER_SHARE, conf_mod.FOOT_BESIDE_SHARE) == (0.2, 0.5)
+    assert conf_mod.FOOT_MIDDLE_ROWS == (0.3, 0.7)
+    assert (conf_mod.FOOT_SAMPLES_ROWS, conf_mod.FOOT_SAMPLES_COLUMNS) == (16, 32)
+    assert foot_doubts(_foot_image(FLOOR), LINES) == []
+    # under the edge, a colour nearer the face's than the floor beside: the face goes on
+    near_face = FACE + 0.48 * (FLOOR - FACE)
+    assert foot_doubts(_foot_image(near_face), LINES) == [FOOT_OFF_FLOOR]
+    near_floor = FACE + 0.52 * (FLOOR - FACE)
+    assert foot_doubts(_foot_image(near_floor), LINES) == []
+
+
+def test_floor_taken_into_the_face_is_a_doubt() -> None:
+    assert conf_mod.FLOOR_IN_FACE_SHARE == 0.5
+    # the lowest band two thirds of the way from the face's colour to the floor's
+    floorish = FACE + 0.7 * (FLOOR - FACE)
+    assert foot_doubts(_foot_image(FLOOR, floorish), LINES) == [FLOOR_IN_FACE]
+    faceish = FACE + 0.63 * (FLOOR - FACE)
+    assert foot_doubts(_foot_image(FLOOR, faceish), LINES) == []
+    grey = _foot_image(FLOOR, floorish)[:, :, 1].copy()  # one channel works alike
+    assert foot_doubts(grey, LINES) == [FLOOR_IN_FACE]
+
+
+def test_the_method_records_the_face_s_doubts_and_keeps_its_size(
+    pitched: tuple, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    image, truth, spec = pitched
+    before = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    seen: list[tuple] = []
+
+    def doubting(*args: Any) -> list[str]:
+        _camera, img, _ay, _rb, _ul, _ur, _vt, best, rivals, lines = args
+        seen.append((img is image, lines == before.lines, best in rivals))
+        return [SECOND_TOP, NEAR_RIVALS]
+
+    monkeypatch.setattr(method_mod, "face_doubts", doubting)
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert seen == [(True, True, True)]
+    assert (res.height_m, res.width_m, res.box_px) == (
+        before.height_m,
+        before.width_m,
+        before.box_px,
+    )
+    assert res.doubts == [SECOND_TOP, NEAR_RIVALS]
+    assert res.confidence == round((before.confidence or 0.0) * 0.45 * 0.45, 3)
 
 
 # --- the stages that record them ------------------------------------------------------------

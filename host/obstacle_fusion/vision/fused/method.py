@@ -18,7 +18,13 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.confidence import FRAMED, TOP_FROM_SIDES, confidence, refusal
+from obstacle_fusion.vision.fused.confidence import (
+    FRAMED,
+    TOP_FROM_SIDES,
+    confidence,
+    face_doubts,
+    refusal,
+)
 from obstacle_fusion.vision.fused.extent import (
     enclose_inner_frame,
     raise_top_past_inner_edges,
@@ -275,7 +281,9 @@ class FusedMethod:
         measured = self._refine(
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
         )
-        measured.doubts = doubts
+        # what the face as measured leaves in doubt (the reported confidence only)
+        faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
+        measured.doubts = [*doubts, *faced]
         return measured
 
     def _by_colour(
