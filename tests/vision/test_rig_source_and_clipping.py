@@ -264,6 +264,8 @@ def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in outcome:  # other pitches, rows
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         detected, conf = outcome[height]
         return Measurement(
             detected=detected,
@@ -422,7 +424,7 @@ def test_with_no_rig_a_print_accepted_above_a_lower_face_gives_way_to_it(
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         height = round(self.view.rig.camera_height_m, 2)
-        if height not in row_at:  # a neighbour row: no face there
+        if self.view.rig.camera_pitch_deg or height not in row_at:  # other pitches, rows
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         foot = float(row_at[height])
         return Measurement(
@@ -483,3 +485,45 @@ def test_with_no_rig_a_stream_whose_last_height_stands_an_unsure_face_does_not_f
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [])
     second = measurer.measure(image, truth["range_m"])
     assert second.detected
+
+
+@pytest.mark.parametrize(("gain", "taken"), [(0.16, True), (0.14, False)])
+def test_with_no_rig_the_row_is_tried_at_usual_pitches_and_a_clearly_surer_face_kept(
+    gain: float, taken: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The pitch is unknown until the face's sides read it: the chosen row is tried at
+    -4, -2, +2 and +4 degrees too, and a face at least 0.15 surer than the level view's is
+    kept (with the camera height that row gives at that pitch)."""
+    from obstacle_fusion.vision import measure
+    from obstacle_fusion.vision.fused import FusedMethod
+    from obstacle_fusion.vision.types import Measurement
+
+    spec = clean_room(4007)
+    image, truth = RoomRenderer(CAM).render(spec)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    found = int(round(view.cy + view.fy * 0.30 / depth))
+    pitches: list[float] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        pitch = self.view.rig.camera_pitch_deg
+        pitches.append(pitch)
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=truth["range_m"],
+            height_m=0.3 + 0.01 * pitch,
+            width_m=0.3,
+            confidence=(0.1 + gain) if pitch == 2.0 else 0.1,
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert sorted(set(pitches)) == [-4.0, -2.0, 0.0, 2.0, 4.0]
+    assert res.height_m == pytest.approx(0.32 if taken else 0.30)
+    if taken:
+        assert res.camera_pitch_deg == 2.0
+        expected = measure.camera_height_for_row(found, depth, 2.0, view.fy, view.cy)
+        assert res.camera_height_m == pytest.approx(expected)

@@ -142,7 +142,10 @@ class Measurer:
         lowest step that stands a face on it is the contact: ranking the rows by confidence
         instead picked steps inside the face or the box's top on independently made rooms).
         When no row stands a face so, the rows are tried again, lowest first, with the cues
-        a known floor row allows (:meth:`FusedMethod.run`'s ``floor_known``).
+        a known floor row allows (:meth:`FusedMethod.run`'s ``floor_known``). The row
+        taken is tried 2 px up and down and at a few usual pitches too, and the surest
+        face kept (the level view's face can change with a pixel of row or a guessed
+        camera height off by D tan(pitch)).
 
         Those trials take the pitch as 0. The face found then gives the pitch (its two
         vertical sides converge towards the vertical vanishing point,
@@ -237,6 +240,22 @@ class Measurer:
                     if (
                         result.detected
                         and (result.confidence or 0.0) > (best.confidence or 0.0)
+                        and sides_reach_foot(image, result.lines)
+                    ):
+                        best, best_row = result, row
+                # the pitch is not known yet, and a level view's guess of the camera's
+                # height from the row is off by D tan(pitch): a box's top face seen or not
+                # changes with it. The row at a few usual pitches: a face clearly surer at
+                # one of them is taken (its sides may still read the pitch below)
+                for pitch in SWEPT_PITCHES_DEG:
+                    height = camera_height_for_row(best_row, depth, pitch, view.fy, view.cy)
+                    if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                        continue
+                    result = trial(height, None, pitch)
+                    if (
+                        result.detected
+                        and (result.confidence or 0.0)
+                        > (best.confidence or 0.0) + SWEPT_PITCH_MARGIN
                         and sides_reach_foot(image, result.lines)
                     ):
                         best = result
@@ -452,6 +471,10 @@ RERUN_AGREE = 0.05
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
 PITCH_DECIMALS = 1
+#: With no rig, the pitches (degrees) the chosen floor-contact row is tried at besides 0 ...
+SWEPT_PITCHES_DEG = (-4.0, -2.0, 2.0, 4.0)
+#: ... and how much surer a face found at one of them must be to be taken.
+SWEPT_PITCH_MARGIN = 0.15
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
