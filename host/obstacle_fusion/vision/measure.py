@@ -102,7 +102,8 @@ class Measurer:
         self._per_size: dict[tuple[int, int], Method] = {}
         # with no rig: the camera height and pitch the last frame gave (None: seek), and
         # the doubts its pitch left (a pitch not read stays unread in the frames reusing it)
-        self._last_rig: tuple[float, float] | None = None
+        # camera height, pitch and whether the known-floor cues found the face
+        self._last_rig: tuple[float, float, bool] | None = None
         self._last_pitch_doubts: list[str] = []
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
@@ -157,7 +158,9 @@ class Measurer:
 
         In a stream the camera height and pitch do not change between frames: the ones the
         last frame accepted are tried first, and the rows are sought only when they give no
-        face (one trial a frame instead of up to eight, until the run's online rig exists)."""
+        sure face (one trial a frame instead of up to eighteen, until the run's online rig
+        exists); a pitch only guessed by the sweep, not read from the face's sides, is not
+        carried on."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
@@ -187,15 +190,28 @@ class Measurer:
         def accepted(result: Measurement) -> bool:
             return result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
 
+        def level_height(row: float) -> float:
+            return camera_height_for_row(row, depth, 0.0, view.fy, view.cy)
+
+        def plausible(height: float) -> bool:
+            return MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M
+
         pitch_read = False  # the face's sides gave the pitch best is measured at
+        pitch_swept = False  # best's pitch is the sweep's guess
+        floor_known = False  # best was found with the known-floor cues
+        fallback: Measurement | None = None  # the last frame's rig's face, not sure
+        unstood = 0  # faces found on rows they did not stand on
         try:
             last = self._last_rig
             if last is not None:
-                best = trial(last[0], None, last[1])
-                if accepted(best):
+                first = trial(last[0], None, last[1], last[2])
+                if accepted(first):
+                    best, floor_known = first, last[2]
                     best.doubts = [*best.doubts, *self._last_pitch_doubts]
                     pitch_read = True  # (its doubts are the last frame's)
                     return best
+                if first.detected:
+                    fallback = first  # taken only if the rows give no face
             rows = contact_rows(image, view, depth)
             timer.lap("floor_contact")
             near_horizon: list[int] = []
@@ -203,14 +219,15 @@ class Measurer:
             best_row: int | None = None  # the floor-contact row best was found on
             lower_faces: list[tuple[int, Measurement]] = []  # rows' faces not accepted
             for row in rows:
-                height = (row - view.cy) * depth / view.fy
-                if height >= 5.0:
+                height = level_height(row)
+                if height >= MAX_ESTIMATED_CAMERA_HEIGHT_M:
                     continue
                 if height < MIN_ESTIMATED_CAMERA_HEIGHT_M:
                     near_horizon.append(row)
                     continue
                 result = trial(height, row)
                 if result.detected and not sides_reach_foot(image, result.lines):
+                    unstood += 1
                     continue  # a line on the floor below the face: its sides end above it
                 if best is None or (result.detected and not best.detected):
                     # with no row accepted, the lowest that stands a face: below the face
@@ -221,11 +238,15 @@ class Measurer:
                     # a print on the face stands on its own lower edge, surer than the
                     # face found on the row below it: that face, when the print's margin
                     # runs down to its foot
+                    # (not accepted itself: the next frame seeks the rows again)
                     for low_row, low in lower_faces:
-                        if result.box_px and low.box_px:
-                            if face_runs_below(image, result.box_px, low.box_px):
-                                best, best_row = low, low_row
-                                break
+                        if (
+                            result.box_px is not None
+                            and low.box_px is not None
+                            and face_runs_below(image, result.box_px, low.box_px)
+                        ):
+                            best, best_row = low, low_row
+                            break
                     break
                 if result.detected:
                     lower_faces.append((row, result))
@@ -233,8 +254,8 @@ class Measurer:
                 # the row is found to a pixel or two, and the face a level view finds can
                 # change with it: the surest of the row and its neighbours
                 for row in (best_row - ROW_JITTER_PX, best_row + ROW_JITTER_PX):
-                    height = (row - view.cy) * depth / view.fy
-                    if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                    height = level_height(row)
+                    if not plausible(height):
                         continue
                     result = trial(height, row)
                     if (
@@ -245,20 +266,23 @@ class Measurer:
                         best, best_row = result, row
                 # the pitch is not known yet, and a level view's guess of the camera's
                 # height from the row is off by D tan(pitch): a box's top face seen or not
-                # changes with it. The row at a few usual pitches: a face clearly surer at
-                # one of them is taken (its sides may still read the pitch below)
-                for pitch in SWEPT_PITCHES_DEG:
+                # changes with it. The row at a few usual pitches: of the faces clearly
+                # surer than the level view's, the surest is taken (its sides may still
+                # read the pitch below). A level face that sure already is kept.
+                level_conf = best.confidence or 0.0
+                for pitch in SWEPT_PITCHES_DEG if level_conf + SWEPT_PITCH_MARGIN < 1.0 else ():
                     height = camera_height_for_row(best_row, depth, pitch, view.fy, view.cy)
-                    if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                    if not plausible(height):
                         continue
                     result = trial(height, None, pitch)
+                    conf = result.confidence or 0.0
                     if (
                         result.detected
-                        and (result.confidence or 0.0)
-                        > (best.confidence or 0.0) + SWEPT_PITCH_MARGIN
+                        and conf > level_conf + SWEPT_PITCH_MARGIN
+                        and conf > (best.confidence or 0.0)
                         and sides_reach_foot(image, result.lines)
                     ):
-                        best = result
+                        best, pitch_swept = result, True
             if best is None or not best.detected:
                 # no face stands on any row a level camera allows: a contact this near the
                 # horizon would put a level lens on the floor, but a camera pitched down
@@ -294,15 +318,22 @@ class Measurer:
                 # first, with every cue a known floor row allows (the face's texture, the
                 # beam's axis); the first that stands a face is taken
                 for row in rows:
-                    height = (row - view.cy) * depth / view.fy
-                    if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+                    height = level_height(row)
+                    if not plausible(height):
                         continue
                     result = trial(height, row, floor_known=True)
                     if result.detected and sides_reach_foot(image, result.lines):
-                        best = result
+                        best, floor_known = result, True
                         break
+            if (best is None or not best.detected) and fallback is not None:
+                best = fallback  # the last frame's camera height and pitch, not sure here
             if best is not None and accepted(best) and not pitch_tried:
-                levelled = self._with_pitch(best, image, view, depth, trial)
+                known = floor_known  # the levelled face is sought with best's cues
+
+                def levelled_trial(height: float, row: float | None, pitch: float) -> Measurement:
+                    return trial(height, row, pitch, known)
+
+                levelled = self._with_pitch(best, image, view, depth, levelled_trial)
                 timer.lap("pitch")
                 if levelled is not None:
                     best = levelled
@@ -311,19 +342,28 @@ class Measurer:
             if best is not None and best.detected and not pitch_read:
                 best.doubts = [*best.doubts, PITCH_UNREAD]
             self._last_rig = (
-                (best.camera_height_m or 0.0, best.camera_pitch_deg or 0.0)
-                if best is not None and accepted(best)
+                (
+                    best.camera_height_m or 0.0,
+                    best.camera_pitch_deg or 0.0,
+                    floor_known,
+                )
+                if best is not None and accepted(best) and (pitch_read or not pitch_swept)
                 else None
             )
             self._last_pitch_doubts = [
                 d for d in (best.doubts if best is not None else []) if d in PITCH_DOUBTS
             ]
         if best is None:
+            found = (
+                f"the faces found on the floor-contact rows ({unstood}) did not stand on them"
+                if unstood
+                else "no floor contact found below the beam"
+            )
             return Measurement(
                 False,
                 self.method,
                 range_m,
-                reason="no rig given and no floor contact found below the beam; "
+                reason=f"no rig given and {found}; "
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         return best
@@ -360,7 +400,7 @@ class Measurer:
         if pitch == 0.0 and not found.camera_pitch_deg:
             return found  # read, and level: the face as found
         height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
-        if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < 5.0:
+        if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
             return None
         if found.camera_pitch_deg:
             # found in a view levelled for a guessed pitch: measured again at this one and
@@ -445,6 +485,8 @@ class Measurer:
 #: is not tried: it is a line on the wall or a print's edge far above the floor, not the
 #: obstacle's foot (on textured rooms such rows gave most of the gross errors with no rig).
 MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
+#: ... and at most this (metres): a row giving more is no floor contact of this range.
+MAX_ESTIMATED_CAMERA_HEIGHT_M = 5.0
 #: With no rig, a contact row nearer the horizon than that height allows is tried as seen
 #: by a camera this high, pitched down to put the contact there ...
 NOMINAL_CAMERA_HEIGHT_M = 0.3
@@ -482,8 +524,9 @@ ROW_JITTER_PX = 2
 #: The doubts about the pitch a stream's next frames inherit with it.
 PITCH_DOUBTS = frozenset({PITCH_UNREAD, PITCH_RERUN_DISAGREES})
 
-#: Levelled views kept for the pitches of recent frames (each holds its maps and buffers).
-PITCHED_VIEWS_KEPT = 4
+#: Levelled views kept for the pitches of recent frames and of the swept pitches (each
+#: holds its maps and buffers; fewer than the sweep needs rebuilt them every frame).
+PITCHED_VIEWS_KEPT = 8
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5

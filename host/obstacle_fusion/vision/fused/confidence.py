@@ -221,7 +221,7 @@ def top_edge_doubts(ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: 
     below = cols[vt + SECOND_TOP_GAP : min(n, vt + reach + 1)]
     if below.size and float(below.mean(axis=1).max()) > SECOND_TOP_SHARE * top:
         doubts.append(SECOND_TOP)
-    k = max(TOP_RUNS_ON_MIN_COLUMNS, width // 2)
+    k = max(TOP_RUNS_ON_MIN_COLUMNS, int(TOP_RUNS_ON_REACH * width))
     beside = []
     for c0, c1 in ((ul - k, ul - 2), (ur + 3, ur + k + 1)):
         c0, c1 = max(0, c0), min(w, c1)

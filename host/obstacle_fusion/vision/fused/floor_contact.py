@@ -10,6 +10,8 @@ tries; the JSON says ``rig_source: estimated``.
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 import numpy.typing as npt
@@ -120,7 +122,7 @@ def sides_reach_foot(
     if len(lines) < 4:
         return True
     steps = [_step_across(image, side, 0.0, FOOT_SHARE) for side in lines[2:4]]
-    read = [step >= MIN_FOOT_STEP for step in steps if step == step]  # nan: at the border
+    read = [step >= MIN_FOOT_STEP for step in steps if not math.isnan(step)]  # nan: at the border
     return not read or any(read)
 
 
@@ -132,9 +134,10 @@ MIN_DROP_PX = 4
 #: The strip between the two feet shows the margin beside the higher face when their
 #: colours (median Lab) are at most this far apart ...
 MARGIN_MATCH = 15.0
-#: ... and is not floor when both it and that margin stand this far from the floor's
-#: colour below the lower foot.
+#: ... and is not floor when it stands this far from the floor's colour below the lower
+#: foot ...
 FLOOR_APART = 25.0
+#: ... and the margin beside the higher face stands this far from that floor colour too.
 MARGIN_FLOOR_APART = 20.0
 #: Pixels beside the higher face read as its margin (from, to).
 MARGIN_COLUMNS = (2, 6)
@@ -162,7 +165,8 @@ def face_runs_below(
     row (input pixel boxes x0, y0, x1, y1): the lower face covers it, and the strip between
     their feet has the colour of the margin beside the higher face, a colour the floor
     below the lower foot does not have. A print on a box with a margin of the box's own
-    colour is a face of its own, surer than the box, standing on the print's lower edge."""
+    colour is a face of its own, surer than the box, standing on the print's lower edge.
+    A grey image tells no colours apart: False."""
     if image.ndim != 3:
         return False
     left, top, right, foot = upper

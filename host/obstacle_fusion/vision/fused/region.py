@@ -633,8 +633,7 @@ def enclose_by_margin(
         return None
     out_above = _run_length(below_rows[top - 2 - r0 :: -1][:reach_v], margin, MARGIN_AGREE)
     new_top = top - 2 - out_above if 2 <= out_above < reach_v else top
-    new_bottom = bottom + 2 + out_below
-    return new_bottom, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
+    return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
 
 
 #: Half the beam's core sampled for the face's colour at its foot, metres at the face.
