@@ -8,12 +8,14 @@ import dataclasses
 import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
+from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
 from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import View
+from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision.rooms import plain_room
 
@@ -22,6 +24,32 @@ CAM = CameraModel.paper(500, 375)
 
 def clean_room(seed: int, **changes: object) -> RoomSpec:
     return plain_room(seed, **changes)
+
+
+def no_rig_room(seed: int) -> tuple[np.ndarray, dict[str, float], View, float]:
+    """A clean room's image and truth, the level view and the face depth a Measurer with
+    no rig file works with (its default rig)."""
+    image, truth = RoomRenderer(CAM).render(clean_room(seed))
+    return image, truth, View(CAM, Rig(), "level"), Rig().face_depth(truth["range_m"])
+
+
+def fake_face(
+    truth: dict[str, float],
+    detected: bool,
+    confidence: float,
+    height_m: float = 0.3,
+    **fields: object,
+) -> Measurement:
+    """What a faked FusedMethod.run returns: a face 0.3 m wide (or none)."""
+    return Measurement(
+        detected=detected,
+        method="fused",
+        range_m=truth["range_m"],
+        height_m=height_m,
+        width_m=0.3,
+        confidence=confidence,
+        **fields,  # type: ignore[arg-type]
+    )
 
 
 def test_rig_source_says_file_estimated_or_default() -> None:
@@ -136,13 +164,8 @@ def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(
 ) -> None:
     """A row that would put the lens 5 cm above the floor (a line on the wall, a print's
     edge) is not taken for the obstacle's foot; one at 30 cm is."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
 
-    spec = clean_room(4001)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4001)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.05, 0.30)}
     tried: list[int] = []  # the level view's rows tried
     run = FusedMethod.run
@@ -170,7 +193,6 @@ def test_with_no_rig_a_stream_tries_the_last_frames_camera_height_first(
     """The rows are sought on the first frame; the next frame of the same scene takes the
     height the first one accepted, with no search; a frame where that height gives no face
     seeks again (and forgets it)."""
-    from obstacle_fusion.vision import measure
 
     spec = clean_room(4001)
     spec = dataclasses.replace(spec, rig=dataclasses.replace(spec.rig, camera_pitch_deg=0.0))
@@ -221,7 +243,6 @@ def test_with_no_rig_a_far_face_seen_by_a_camera_pitched_down_is_measured(
     above the floor. Tried as a pitched camera's (30 cm up, pitched to put the foot there),
     it is measured within 3 %."""
     from obstacle_fusion.sim.room_scene import render_room
-    from obstacle_fusion.vision import measure
 
     image, truth, spec = render_room("procedural", 131, True)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
@@ -254,14 +275,8 @@ def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
     """Below the face there is only floor: with no row's face confident enough to accept
     (measure.ESTIMATE_ACCEPT), the lowest row that stands one is the contact, even when a
     face on a row above it (a line on the floor behind, a print's edge) scores higher."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4001)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4001)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
     outcome = {0.30: lower, 0.20: upper}
 
@@ -270,14 +285,7 @@ def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
         if self.view.rig.camera_pitch_deg or height not in outcome:  # other pitches, rows
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         detected, conf = outcome[height]
-        return Measurement(
-            detected=detected,
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=0.3,
-            width_m=0.3,
-            confidence=conf,
-        )
+        return fake_face(truth, detected, conf, height_m=0.3)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
@@ -292,14 +300,8 @@ def test_with_no_rig_a_face_only_the_known_floor_cues_find_is_taken_at_the_lowes
     """When no row stands a face while the rows are only tried (no texture search, no beam
     axis), each row is tried again with those cues, lowest first: a face whose edges are
     lost in its print is measured, not missed."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4002)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4002)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
     calls: list[tuple[float, bool]] = []
 
@@ -307,14 +309,9 @@ def test_with_no_rig_a_face_only_the_known_floor_cues_find_is_taken_at_the_lowes
         height = round(self.view.rig.camera_height_m, 2)
         known = bool(kwargs.get("floor_known", True))
         calls.append((height, known))
-        return Measurement(
-            detected=known,  # only the known-floor cues find it, on any row
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=0.3,
-            width_m=0.3,
-            confidence=0.1,
-        )
+        return fake_face(
+            truth, known, 0.1, height_m=0.3
+        )  # only the known-floor cues find it, on any row
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
@@ -330,14 +327,8 @@ def test_with_no_rig_a_row_whose_face_does_not_stand_on_it_is_passed_over(
 ) -> None:
     """A floor line below the face stands the face found on it only if the face's sides
     reach it (floor_contact.sides_reach_foot); else the next row up is tried."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4003)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4003)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
@@ -345,13 +336,11 @@ def test_with_no_rig_a_row_whose_face_does_not_stand_on_it_is_passed_over(
         if height not in row_at:  # a neighbour row (ROW_JITTER_PX): no face there
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         foot = float(row_at[height])
-        return Measurement(
-            detected=True,
-            method="fused",
-            range_m=truth["range_m"],
+        return fake_face(
+            truth,
+            True,
+            0.6,
             height_m=0.3,
-            width_m=0.3,
-            confidence=0.6,
             lines=[(0, foot, 1, foot), (0, 0, 1, 0), (0, foot, 0, 0), (1, foot, 1, 0)],
         )
 
@@ -376,27 +365,19 @@ def test_with_no_rig_the_surest_face_of_the_row_and_its_neighbours_is_kept(
     """The floor-contact row is found to a pixel or two and a level view's face can change
     with it: the rows ROW_JITTER_PX (2) above and below the chosen one are tried too, and
     the surest face of the three is kept (rows 3 px off are not tried)."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4004)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4004)
     found = int(round(view.cy + view.fy * 0.25 / depth))
     tried: list[int] = []
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         row = int(round(view.cy + view.fy * self.view.rig.camera_height_m / depth))
         tried.append(row - found)
-        return Measurement(
-            detected=True,
-            method="fused",
-            range_m=truth["range_m"],
+        return fake_face(
+            truth,
+            True,
+            0.9 if row - found == surest_offset else 0.3,
             height_m=0.3 + 0.01 * (row - found),
-            width_m=0.3,
-            confidence=0.9 if row - found == surest_offset else 0.3,
         )
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
@@ -414,14 +395,8 @@ def test_with_no_rig_a_print_accepted_above_a_lower_face_gives_way_to_it(
     """A print on the face is found, sure, on its own lower edge; the face itself was found
     less surely on the row below: when the print's margin runs down to that row
     (floor_contact.face_runs_below), the lower face is kept."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4005)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4005)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
     sure = {0.30: 0.1, 0.20: 0.9}  # the lower row's face is not accepted, the print is
 
@@ -430,14 +405,8 @@ def test_with_no_rig_a_print_accepted_above_a_lower_face_gives_way_to_it(
         if self.view.rig.camera_pitch_deg or height not in row_at:  # other pitches, rows
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         foot = float(row_at[height])
-        return Measurement(
-            detected=True,
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=height,
-            width_m=0.3,
-            confidence=sure[height],
-            box_px=(100.0, 50.0, 200.0, foot),
+        return fake_face(
+            truth, True, sure[height], height_m=height, box_px=(100.0, 50.0, 200.0, foot)
         )
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
@@ -454,14 +423,8 @@ def test_with_no_rig_a_stream_whose_last_height_stands_an_unsure_face_does_not_f
     """The second frame of a stream tries the last frame's camera height first; when that
     stands a face not sure enough to accept and no row stands another, the face is kept,
     and no neighbour row of a row never tried (a camera height under the floor) is tried."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4006)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4006)
     found = int(round(view.cy + view.fy * 0.25 / depth))
     frame = [0]
 
@@ -497,27 +460,16 @@ def test_with_no_rig_the_row_is_tried_at_usual_pitches_and_a_clearly_surer_face_
     """The pitch is unknown until the face's sides read it: the chosen row is tried at
     -4, -2, +2 and +4 degrees too, and a face at least 0.15 surer than the level view's is
     kept (with the camera height that row gives at that pitch)."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4007)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4007)
     found = int(round(view.cy + view.fy * 0.30 / depth))
     pitches: list[float] = []
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         pitch = self.view.rig.camera_pitch_deg
         pitches.append(pitch)
-        return Measurement(
-            detected=True,
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=0.3 + 0.01 * pitch,
-            width_m=0.3,
-            confidence=(0.1 + gain) if pitch == 2.0 else 0.1,
+        return fake_face(
+            truth, True, (0.1 + gain) if pitch == 2.0 else 0.1, height_m=0.3 + 0.01 * pitch
         )
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
@@ -537,19 +489,12 @@ def _fake_faces(
 ) -> object:
     """A FusedMethod.run that finds a face of confidence ``conf_at[pitch]`` (none at other
     pitches) and records (camera height, pitch, floor_known) of each call."""
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         pitch = self.view.rig.camera_pitch_deg
         calls.append((self.view.rig.camera_height_m, pitch, bool(kwargs.get("floor_known", True))))
-        return Measurement(
-            detected=pitch in conf_at,
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=0.3 + 0.01 * pitch,
-            width_m=0.3,
-            confidence=conf_at.get(pitch, 0.0),
+        return fake_face(
+            truth, pitch in conf_at, conf_at.get(pitch, 0.0), height_m=0.3 + 0.01 * pitch
         )
 
     return fake_run
@@ -560,13 +505,8 @@ def test_with_no_rig_the_surest_of_the_swept_pitches_wins_in_any_order(
 ) -> None:
     """-4 degrees passes the margin first, +2 is surer still: +2 is kept (each swept face
     is held to the level view's confidence, not to the one before it)."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
 
-    spec = clean_room(4008)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4008)
     found = int(round(view.cy + view.fy * 0.30 / depth))
     calls: list[tuple[float, float, bool]] = []
     fake = _fake_faces(truth, {0.0: 0.1, -4.0: 0.3, 2.0: 0.4}, calls)
@@ -582,13 +522,8 @@ def test_with_no_rig_a_stream_does_not_carry_on_a_pitch_only_guessed(
 ) -> None:
     """A face surest at a swept pitch whose sides read no pitch: the next frame seeks the
     rows again (level first), it does not start from the guessed pitch."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
 
-    spec = clean_room(4009)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4009)
     found = int(round(view.cy + view.fy * 0.30 / depth))
     calls: list[tuple[float, float, bool]] = []
     monkeypatch.setattr(FusedMethod, "run", _fake_faces(truth, {0.0: 0.3, 2.0: 0.6}, calls))
@@ -607,28 +542,15 @@ def test_with_no_rig_a_stream_carries_on_a_face_found_with_the_known_floor_cues(
 ) -> None:
     """A face only the known-floor cues find (texture, the beam's axis) is sure enough to
     carry on: the next frame tries its camera height with those cues, one trial."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4010)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4010)
     found = int(round(view.cy + view.fy * 0.30 / depth))
     calls: list[bool] = []
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         known = bool(kwargs.get("floor_known", True))
         calls.append(known)
-        return Measurement(
-            detected=known,
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=0.3,
-            width_m=0.3,
-            confidence=0.6,
-        )
+        return fake_face(truth, known, 0.6, height_m=0.3)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
@@ -648,14 +570,8 @@ def test_with_no_rig_a_streams_unsure_face_is_kept_only_when_the_rows_stand_none
     """The last frame's camera height gives a face too unsure to accept: the rows are
     sought as in a first frame (their faces win), and that face is kept only when they
     stand none."""
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
-    from obstacle_fusion.vision.types import Measurement
 
-    spec = clean_room(4011)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4011)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
     frame = [0]
 
@@ -668,14 +584,7 @@ def test_with_no_rig_a_streams_unsure_face_is_kept_only_when_the_rows_stand_none
             hit, conf = level, 0.1
         else:
             hit, conf = level and height == 0.20 and rows_stand_a_face, 0.1
-        return Measurement(
-            detected=hit,
-            method="fused",
-            range_m=truth["range_m"],
-            height_m=height,
-            width_m=0.3,
-            confidence=conf,
-        )
+        return fake_face(truth, hit, conf, height_m=height)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30]])
@@ -693,13 +602,8 @@ def test_with_no_rig_a_streams_unsure_face_is_kept_only_when_the_rows_stand_none
 def test_with_no_rig_faces_that_stand_on_no_row_are_named_in_the_reason(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    from obstacle_fusion.vision import measure
-    from obstacle_fusion.vision.fused import FusedMethod
 
-    spec = clean_room(4012)
-    image, truth = RoomRenderer(CAM).render(spec)
-    view = View(CAM, Rig(), "level")
-    depth = Rig().face_depth(truth["range_m"])
+    image, truth, view, depth = no_rig_room(4012)
     found = int(round(view.cy + view.fy * 0.30 / depth))
     calls: list[tuple[float, float, bool]] = []
     monkeypatch.setattr(FusedMethod, "run", _fake_faces(truth, {0.0: 0.6}, calls))
