@@ -8,19 +8,13 @@ from obstacle_fusion.api import LazyMeasurer
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
 from obstacle_fusion.vision.camera import CameraModel
 
+from tests.vision.rooms import plain_room
+
 CAM = CameraModel.paper(500, 375)
 
 
 def scene() -> tuple[object, dict[str, object], RoomSpec]:
-    spec = dataclasses.replace(
-        RoomSpec.random("procedural", 4001, False),
-        face_kind="plain",
-        clutter=0,
-        shadow=False,
-        yaw_deg=0.0,
-        roll_deg=0.0,
-        jpeg=None,
-    )
+    spec = plain_room(4001)
     image, truth = RoomRenderer(CAM).render(spec)
     return image, truth, spec
 

@@ -9,12 +9,12 @@ are its weak point, and their bars say so rather than hide it.
 
 from __future__ import annotations
 
-import dataclasses
-
 import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import Measurer
+
+from tests.vision.rooms import plain_room
 
 CAM = CameraModel.paper(500, 375)
 SEEDS = range(4000, 4008)
@@ -37,17 +37,9 @@ def within_5_percent(kind: str) -> list[bool]:
     renderer = RoomRenderer(CAM)
     outcome = []
     for seed in SEEDS:
-        spec = dataclasses.replace(
-            RoomSpec.random("procedural", seed, False),
-            face_kind=kind,
-            clutter=0,
-            shadow=False,
-            yaw_deg=0.0,
-            roll_deg=0.0,
-            jpeg=None,
-            blur=0.3,
-            noise=1.5,
-        )
+        # the room made plain but for its face's kind, the face where the room put it
+        placed = RoomSpec.random("procedural", seed, False).face_x_m
+        spec = plain_room(seed, face_kind=kind, face_x_m=placed)
         image, truth = renderer.render(spec)
         assert not truth["clipped"], "the face must lie whole in the image for this test"
         res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
