@@ -270,6 +270,19 @@ def test_a_top_face_shows_only_below_the_horizon() -> None:
     )
 
 
+def test_a_top_face_may_show_within_the_horizon_slack() -> None:
+    """The same band just above a guessed horizon: with no slack no top face can show; a
+    view whose pitch is a guess (horizon_slack_px rows) judges it by its colour, up to
+    the slack and not beyond."""
+    img = wall_scene(top_face_rows=12)
+    view = high_view(FACE_TOP + 10.0)  # the band's lower row 10 rows above the horizon
+    assert not region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT, RIGHT)
+    view.horizon_slack_px = 10.5
+    assert region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT, RIGHT)
+    view.horizon_slack_px = 9.5
+    assert not region.looks_like_top_face(img, view, FACE_TOP - 12, FACE_TOP, LEFT, RIGHT)
+
+
 def test_a_top_that_is_a_colour_boundary_keeps_the_confidence() -> None:
     img = wall_scene()
     assert region.top_agreement(img, level_view(), FACE_TOP, LEFT, RIGHT) == 1.0

@@ -79,3 +79,23 @@ def test_a_front_edge_from_side_to_side_makes_the_top_face() -> None:
     ay, dy, _ = gradients(np.clip(img, 0, 255).astype(np.uint8))
     found = top.front_from_back(high_view(), DEPTH, ay, dy, BOTTOM, LEFT, RIGHT, PRINT_TOP)
     assert found is not None and abs(found[0] - front) <= 1
+
+
+def lidded_box(lid_rows: int = 6) -> npt.NDArray[np.uint8]:
+    """The face without print, under a lighter top face ``lid_rows`` rows thick."""
+    img = box(print_bottom=PRINT_TOP).astype(np.float64)
+    img[FACE_TOP - lid_rows : FACE_TOP, LEFT:RIGHT] = 220.0
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("slack, expected", [(0.0, FACE_TOP - 6), (30.0, FACE_TOP)])
+def test_a_guessed_horizon_leaves_reach_for_the_front_top_edge(slack: float, expected: int) -> None:
+    """A top face's back edge (the top found) at the guessed horizon: a level view leaves
+    no reach below it; with the horizon possibly 30 rows higher (a pitch not read), the
+    front top edge 6 rows down is found."""
+    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, FACE_TOP - 6.0], [0.0, 0.0, 1.0]])
+    view = View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+    view.horizon_slack_px = slack
+    _, dy, noise = gradients(lidded_box())
+    row, _ = top.front_top(view, DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP - 6, noise)
+    assert abs(row - expected) <= 1

@@ -613,3 +613,80 @@ def test_with_no_rig_faces_that_stand_on_no_row_are_named_in_the_reason(
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert not res.detected
     assert "did not stand on them" in (res.reason or "")
+
+
+@pytest.mark.parametrize("drop, taken", [(0.04, True), (0.06, False)])
+def test_with_no_rig_an_unread_pitchs_face_is_measured_again_allowing_a_top_face(
+    drop: float, taken: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The pitch stays unread: the face is measured once more in a view whose horizon may
+    lie fy tan(5 deg) rows higher, and that face kept unless its confidence is lower by
+    more than 0.05."""
+
+    image, truth, view, depth = no_rig_room(4013)
+    found = int(round(view.cy + view.fy * 0.30 / depth))
+    slacks: list[float] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        slack = self.view.horizon_slack_px
+        slacks.append(slack)
+        if slack:
+            return fake_face(truth, True, 0.6 - drop, height_m=0.25)
+        return fake_face(truth, self.view.rig.camera_pitch_deg == 0.0, 0.6, height_m=0.3)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    monkeypatch.setattr(measure.Measurer, "_with_pitch", lambda *a: None)  # sides read none
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.height_m == pytest.approx(0.25 if taken else 0.30)
+    assert slacks[-1] == pytest.approx(view.fy * np.tan(np.radians(5.0)))
+    assert slacks.count(0.0) == len(slacks) - 1  # the rows and pitches tried level as before
+
+
+@pytest.mark.parametrize("read", [True, False])
+def test_with_no_rig_a_stream_allows_the_top_face_while_the_pitch_stays_unread(
+    read: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The next frame starts from the last one's camera height and pitch, allowing for a
+    top face above the guessed horizon as the last frame did when its pitch was unread,
+    and not when the face's sides read it."""
+
+    image, truth, view, depth = no_rig_room(4014)
+    found = int(round(view.cy + view.fy * 0.30 / depth))
+    slacks: list[float] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        slacks.append(self.view.horizon_slack_px)
+        return fake_face(truth, True, 0.6, height_m=0.3)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    monkeypatch.setattr(
+        measure.Measurer, "_with_pitch", lambda self, found, *a: found if read else None
+    )
+    measurer = Measurer(CAM, None)
+    assert measurer.measure(image, truth["range_m"]).detected
+    slacks.clear()
+    assert measurer.measure(image, truth["range_m"]).detected
+    assert len(slacks) == 1 and (slacks[0] == 0.0) == read
+
+
+@pytest.mark.parametrize("down_deg, good", [(5.0, True), (0.0, False)])
+def test_with_no_rig_a_low_box_seen_from_above_is_not_measured_to_its_top_faces_back(
+    down_deg: float, good: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A 0.2 m box 2.5 m ahead, the lens 0.45 m high looking 4.5 degrees down: its sides
+    are too short to read the pitch, and the level guess puts its top face above the
+    horizon. Allowing for the unread pitch, the front top edge is found (within 3 %);
+    with no allowance, the top face's back edge (13 % too tall)."""
+    monkeypatch.setattr(measure, "UNREAD_PITCH_DOWN_DEG", down_deg)
+    spec = clean_room(3, range_m=2.5, height_m=0.2, width_m=0.6)
+    spec = dataclasses.replace(
+        spec, rig=dataclasses.replace(spec.rig, camera_pitch_deg=4.5, camera_height_m=0.45)
+    )
+    image, truth = RoomRenderer(CAM).render(spec)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert (abs(res.height_m / truth["height_m"] - 1.0) <= 0.03) == good

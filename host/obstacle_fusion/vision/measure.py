@@ -160,7 +160,12 @@ class Measurer:
         last frame accepted are tried first, and the rows are sought only when they give no
         sure face (one trial a frame instead of up to eighteen, until the run's online rig
         exists); a pitch only guessed by the sweep, not read from the face's sides, is not
-        carried on."""
+        carried on.
+
+        A face whose pitch stays unread is measured once more allowing for a lens that
+        looks down up to UNREAD_PITCH_DOWN_DEG more than guessed (the box's top face may
+        then show above the guessed horizon, and its back edge would be taken for the top),
+        and that face kept unless clearly less sure."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
@@ -168,7 +173,11 @@ class Measurer:
         h_img, w_img = image.shape[:2]
 
         def trial(
-            height: float, row: float | None = None, pitch: float = 0.0, floor_known: bool = False
+            height: float,
+            row: float | None = None,
+            pitch: float = 0.0,
+            floor_known: bool = False,
+            slack: float = 0.0,
         ) -> Measurement:
             method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
             base = method.view
@@ -176,6 +185,7 @@ class Measurer:
             method.view.rig = dataclasses.replace(
                 self.rig, camera_height_m=height, camera_pitch_deg=pitch
             )
+            method.view.horizon_slack_px = slack
             if row is None:
                 row = base.cy + base.fy * height / depth
             try:
@@ -196,6 +206,8 @@ class Measurer:
         def plausible(height: float) -> bool:
             return MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M
 
+        # rows the true horizon may lie above a guessed pitch's (its top face allowed for)
+        unread_slack = view.fy * math.tan(math.radians(UNREAD_PITCH_DOWN_DEG))
         pitch_read = False  # the face's sides gave the pitch best is measured at
         pitch_swept = False  # best's pitch is the sweep's guess
         floor_known = False  # best was found with the known-floor cues
@@ -204,7 +216,9 @@ class Measurer:
         try:
             last = self._last_rig
             if last is not None:
-                first = trial(last[0], None, last[1], last[2])
+                # a pitch the last frame did not read: its top face allowed for as there
+                unread = PITCH_UNREAD in self._last_pitch_doubts
+                first = trial(last[0], None, last[1], last[2], unread_slack if unread else 0.0)
                 if accepted(first):
                     best, floor_known = first, last[2]
                     best.doubts = [*best.doubts, *self._last_pitch_doubts]
@@ -338,6 +352,21 @@ class Measurer:
                 if levelled is not None:
                     best = levelled
                     pitch_read = True
+            if best is not None and best.detected and not pitch_read:
+                # the pitch is a guess: a lens looking down more than guessed sees the box's
+                # top face above the guessed horizon, where the level view allows none.
+                # Measured again allowing it; kept unless clearly less sure.
+                again = trial(
+                    best.camera_height_m or 0.0,
+                    None,
+                    best.camera_pitch_deg or 0.0,
+                    floor_known,
+                    unread_slack,
+                )
+                if again.detected and (
+                    _doubted(again) >= _doubted(best) - UNREAD_PITCH_CONFIDENCE_MARGIN
+                ):
+                    best = again
         finally:
             if best is not None and best.detected and not pitch_read:
                 best.doubts = [*best.doubts, PITCH_UNREAD]
@@ -520,6 +549,13 @@ SWEPT_PITCH_MARGIN = 0.15
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
+#: With no rig and the pitch not read from the face's sides, the lens may look down by up
+#: to this much more than the guess (degrees): a box's top face may show that far above
+#: the guessed horizon ...
+UNREAD_PITCH_DOWN_DEG = 5.0
+#: ... and the face measured allowing for it is kept unless its confidence (doubts
+#: applied) is lower by more than this.
+UNREAD_PITCH_CONFIDENCE_MARGIN = 0.05
 
 #: The doubts about the pitch a stream's next frames inherit with it.
 PITCH_DOUBTS = frozenset({PITCH_UNREAD, PITCH_RERUN_DISAGREES})
@@ -530,6 +566,13 @@ PITCHED_VIEWS_KEPT = 8
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5
+
+
+def _doubted(found: Measurement) -> float:
+    """A face's confidence with its doubts applied, unfloored, to compare two trials."""
+    return reported_confidence(
+        found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
+    )[0]
 
 
 def clipped_sides(

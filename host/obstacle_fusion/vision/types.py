@@ -80,6 +80,11 @@ class View:
     robot images as an exact scaled copy. "plain": undistorted only (the paper's view).
     """
 
+    #: Rows the true horizon may lie above ``cy``: a view levelled for a guessed pitch
+    #: (no rig, the pitch not read yet) may have a lens looking down more than it assumes,
+    #: and then sees a box's top face above its own horizon.
+    horizon_slack_px: float = 0.0
+
     def __init__(self, camera: CameraModel, rig: Rig, kind: str) -> None:
         self.camera = camera
         self.rig = rig

@@ -476,7 +476,7 @@ def looks_like_top_face(
     n = lower - upper
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
-    if lower <= view.cy:
+    if lower <= view.cy - view.horizon_slack_px:
         return False  # a top face shows only below the horizon: the lens above the box
     r1 = min(view.out.shape[0], lower + n + 2)
     lab = _lab8(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)

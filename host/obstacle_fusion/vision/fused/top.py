@@ -41,6 +41,8 @@ def front_top(
     v = view
     m = max(1, (ur - ul) // 8)
     below_horizon = vt - v.cy
+    if v.horizon_slack_px > 0.0:
+        below_horizon = max(below_horizon, min(below_horizon, 0.0) + v.horizon_slack_px)
     reach = int(min(below_horizon * 2.0 / (depth + 2.0), 0.3 * (rb - vt)))
     if below_horizon <= 1.0 or reach < 1:
         return vt, (1.0 if int(dy[vt, ul + m : ur - m].sum()) >= 0 else -1.0)
