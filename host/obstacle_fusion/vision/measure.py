@@ -165,7 +165,9 @@ class Measurer:
         A face whose pitch stays unread is measured once more allowing for a lens that
         looks down up to UNREAD_PITCH_DOWN_DEG more than guessed (the box's top face may
         then show above the guessed horizon, and its back edge would be taken for the top),
-        and that face kept unless clearly less sure."""
+        and that face kept unless clearly less sure. When nothing stands a sure face, the
+        surest face a pitched view found near the horizon is reported with its low
+        confidence rather than missed."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
@@ -195,6 +197,17 @@ class Measurer:
                 method.view = base
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
+            log.debug(
+                "no rig: camera %.3f m, pitch %.1f deg, row %s%s: %s",
+                height,
+                pitch,
+                "from the height" if row is None else f"{row:.0f}",
+                ", known floor" if floor_known else "",
+                f"face {result.height_m:.3f} x {result.width_m:.3f} m, confidence "
+                f"{result.confidence or 0.0:.2f}"
+                if result.detected
+                else "none",
+            )
             return result
 
         def accepted(result: Measurement) -> bool:
@@ -213,6 +226,7 @@ class Measurer:
         floor_known = False  # best was found with the known-floor cues
         fallback: Measurement | None = None  # the last frame's rig's face, not sure
         unstood = 0  # faces found on rows they did not stand on
+        unsure: Measurement | None = None  # the surest near-horizon face, not accepted
         try:
             last = self._last_rig
             if last is not None:
@@ -314,6 +328,13 @@ class Measurer:
                         continue
                     result = trial(NOMINAL_CAMERA_HEIGHT_M, None, round(pitch, PITCH_DECIMALS))
                     if not accepted(result):
+                        if (
+                            result.detected
+                            and (result.confidence or 0.0)
+                            > (unsure.confidence or 0.0 if unsure else 0.0)
+                            and sides_reach_foot(image, result.lines)
+                        ):
+                            unsure = result  # kept if nothing else stands a face
                         continue
                     # kept when the face's own sides confirm a pitch that stands the lens
                     # at least MIN_ESTIMATED_CAMERA_HEIGHT_M above the floor, or, with the
@@ -341,6 +362,10 @@ class Measurer:
                         break
             if (best is None or not best.detected) and fallback is not None:
                 best = fallback  # the last frame's camera height and pitch, not sure here
+            if (best is None or not best.detected) and unsure is not None:
+                # nothing surer anywhere: the surest face a pitched view found near the
+                # horizon, reported with its low confidence rather than missed
+                best = unsure
             if best is not None and accepted(best) and not pitch_tried:
                 known = floor_known  # the levelled face is sought with best's cues
 
