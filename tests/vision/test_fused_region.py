@@ -692,3 +692,78 @@ def test_a_wide_face_reaching_the_images_border_is_measured_whole(seed: int) -> 
     assert res.detected, res.reason
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
+
+
+# -- where the face's colour ends: a top the sides ran on past stays (ends_in_colour,
+# stops_at_colour_top)
+
+COLOUR_TOP = 120  # the drawn face's top row in colour_top_scene (face 80 rows high)
+GREY_FACE = (100, 100, 100)
+
+
+def colour_top_scene(
+    behind: tuple[int, int, int] = (170, 60, 60),
+    label: tuple[int, int] | None = None,
+    face: tuple[int, int, int] = GREY_FACE,
+) -> npt.NDArray[np.uint8]:
+    """A plain face from COLOUR_TOP to BOTTOM, and behind it, in line with its sides, a
+    band of ``behind`` 30 rows tall (a pole of the face's width, a wall band); ``label``:
+    rows of red across the face."""
+    img = np.empty((H, W, 3), np.uint8)
+    img[:BOTTOM] = (200, 200, 200)
+    img[BOTTOM:] = FLOOR
+    img[COLOUR_TOP - 30 : COLOUR_TOP, LEFT:RIGHT] = behind
+    img[COLOUR_TOP:BOTTOM, LEFT:RIGHT] = face
+    if label is not None:
+        img[label[0] : label[1], LEFT:RIGHT] = (40, 40, 200)
+    return img
+
+
+def ends(img: npt.NDArray[np.uint8], top: int) -> bool:
+    return region.ends_in_colour(img, level_view(), BOTTOM, top, LEFT, RIGHT)
+
+
+def test_the_colour_ends_at_the_top_under_a_band_behind() -> None:
+    assert ends(colour_top_scene(), COLOUR_TOP)
+
+
+def test_the_colour_runs_on_inside_the_face() -> None:
+    assert not ends(colour_top_scene(), COLOUR_TOP + 30)
+
+
+def test_a_labels_upper_edge_is_no_end_of_the_colour() -> None:
+    """Above a label's upper edge the face's own colour shows again (the foot's)."""
+    img = colour_top_scene(label=(COLOUR_TOP + 20, COLOUR_TOP + 40))
+    assert not ends(img, COLOUR_TOP + 20)
+
+
+def test_the_colour_step_bar() -> None:
+    """A grey band 20 Lab units off the grey face ends it, one 19 off does not (the 8-bit
+    Lab distances of these greys: 81 and 82 against 100)."""
+    assert ends(colour_top_scene(behind=(81, 81, 81)), COLOUR_TOP)
+    assert not ends(colour_top_scene(behind=(82, 82, 82)), COLOUR_TOP)
+
+
+def test_a_grey_image_has_no_colour_to_end() -> None:
+    img = colour_top_scene()[:, :, 0].copy()
+    assert not ends(img, COLOUR_TOP)
+
+
+def test_a_short_raise_past_a_colour_top_is_undone() -> None:
+    """The sides ran on 48 % of the face's height up (along what stands behind): the top
+    where the colour ends stays; 52 % up they may be the face's own, past a print."""
+    img, h = colour_top_scene(), BOTTOM - COLOUR_TOP
+    view = level_view()
+    short, far = COLOUR_TOP - int(0.48 * h), COLOUR_TOP - int(0.52 * h)
+    assert region.stops_at_colour_top(img, view, BOTTOM, COLOUR_TOP, short, LEFT, RIGHT)
+    assert not region.stops_at_colour_top(img, view, BOTTOM, COLOUR_TOP, far, LEFT, RIGHT)
+    # no raise, nothing to undo
+    assert not region.stops_at_colour_top(img, view, BOTTOM, COLOUR_TOP, COLOUR_TOP, LEFT, RIGHT)
+
+
+def test_a_short_raise_inside_the_face_stands() -> None:
+    """From an edge inside the face (its colour on both sides) the raise is kept."""
+    img = colour_top_scene()
+    assert not region.stops_at_colour_top(
+        img, level_view(), BOTTOM, COLOUR_TOP + 20, COLOUR_TOP, LEFT, RIGHT
+    )

@@ -485,6 +485,70 @@ def looks_like_top_face(
     return norm(strip - front) >= MIN_TOP_DISTANCE
 
 
+#: A top row whose rows just above differ by at least this (Lab, 8-bit scale) from both
+#: the rows just below it and the face's colour over the floor ends the face in colour.
+TOP_COLOUR_STEP = 20.0
+#: Rows sampled just above and just below the top row (past its blur).
+STEP_BAND_ROWS = (1, 5)
+#: Rows of the face's own colour sampled above the floor-contact row (past its blur).
+FOOT_BAND_ROWS = (3, 12)
+
+
+#: Sides running on above a top where the face's colour ends move it up only by at least
+#: this share of the face's height (a print's lower edge low on the face, the face's own
+#: colour far above it); a shorter way up is a top face or a band behind the face.
+SHORT_RAISE = 0.5
+
+
+def stops_at_colour_top(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    raised: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether a top the sides ran on past (up to ``raised``) stays: the way up is short
+    (under SHORT_RAISE of the face) and the face's colour ends at ``top``
+    (:func:`ends_in_colour`). The sides' edges there belong to what stands behind the
+    face in line with it (a pole, a wall band, the top face's receding edges)."""
+    return (
+        raised < top
+        and top - raised < SHORT_RAISE * (bottom - top)
+        and ends_in_colour(image, view, bottom, top, left, right)
+    )
+
+
+def ends_in_colour(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether the face's colour ends at ``top``: the rows just above it differ from the
+    rows just below it and from the face's colour over the floor by TOP_COLOUR_STEP.
+
+    Over a label's or a print's lower edge the colour differs from the face's just below
+    but, across a short band, the sides run on; over a face's real top it is something
+    else altogether (a top face, the wall band or the object behind it), and sides that
+    run on there are the background's edges in line with the face's."""
+    near, far = STEP_BAND_ROWS
+    f0, f1 = FOOT_BAND_ROWS
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
+        return False
+    if top - far < 0 or bottom - f1 < top + far + 1:
+        return False
+    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
+    lab = _lab8(image, view, top - far, bottom - f0, c0, c1)
+    above = median_u8(lab[: far - near].reshape(-1, 3), axis=0)
+    below = median_u8(lab[far + near + 1 : 2 * far + 1].reshape(-1, 3), axis=0)
+    foot = median_u8(lab[bottom - f1 - (top - far) :].reshape(-1, 3), axis=0)
+    return min(norm(above - below), norm(above - foot)) >= TOP_COLOUR_STEP
+
+
 def _walk_colour(
     colour: npt.NDArray[np.float32],
     on: npt.NDArray[np.bool_],
