@@ -37,6 +37,7 @@ from obstacle_fusion.vision.fused.region import (
     ends_in_colour,
     face_from_colour,
     looks_like_top_face,
+    lower_top_to_background,
     raise_top_by_colour,
     raise_top_by_sides,
     side_agreement,
@@ -279,6 +280,12 @@ class FusedMethod:
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
+        # an object behind the face in line with its sides: the face's top is where the
+        # background beside it shows past it
+        lowered = lower_top_to_background(seen, v, rb, int(round(vt)), ul, ur)
+        if lowered > vt:
+            vt, top_row = lowered, None
+            sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
         # a top that is no colour boundary may be a line on the face or behind it
         conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
         conf *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)

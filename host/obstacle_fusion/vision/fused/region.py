@@ -520,6 +520,86 @@ def stops_at_colour_top(
     )
 
 
+#: Above the face's top the strip just inside each side is within this (Lab, 8-bit) of
+#: the strip just outside it: the background seen past the face on both sides of its side.
+BACKGROUND_MATCH = 10.0
+#: Below it the two strips differ by at least this at both sides (the face's sides).
+SIDE_STEP = 20.0
+#: The face under a lower top keeps at least this share of the height found.
+LOWER_MIN_SHARE = 0.2
+#: A top moves down by at least this share of the height found (and STEP_BAND_ROWS' far
+#: rows): nearer, it is the same top's blur, not what stands behind the face.
+LOWER_MIN_MOVE = 0.05
+
+
+def _window_mean(rows: npt.NDArray[np.float32], lo: int, hi: int) -> npt.NDArray[np.float32]:
+    """Per row r, the mean of ``rows[r + lo : r + hi]`` (NaN where it runs off the ends)."""
+    n = rows.shape[0]
+    c = np.concatenate([np.zeros((1, rows.shape[1]), np.float64), np.cumsum(rows, axis=0)])
+    out = np.full(rows.shape, np.nan, np.float32)
+    r = np.arange(n)
+    ok = (r + lo >= 0) & (r + hi <= n)
+    out[ok] = (c[r[ok] + hi] - c[r[ok] + lo]) / (hi - lo)
+    return out
+
+
+def lower_top_to_background(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> int:
+    """The top moved down to the highest row under it where the face's colour ends and
+    both its sides end: above that row what shows just inside each side is what shows
+    just outside it, below it the two differ.
+
+    An object behind the face in line with its sides (a cup, a pole, a shelf) carries the
+    sides' edges on up, and the top found is that object's; at the face's own top the
+    background is seen past it, the same colour on both sides of each side (occlusion),
+    while a label or a print on the face keeps the face's sides."""
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+        return top
+    w_view = view.out.shape[1]
+    s = SIDE_SKIP + BESIDE_COLUMNS
+    c0, c1 = left - s, right + s + 1
+    near, far = STEP_BAND_ROWS
+    if c0 < 0 or c1 > w_view or top < far:
+        return top
+    f0, f1 = FOOT_BAND_ROWS
+    low = bottom - max(f1 + far + 1, int(LOWER_MIN_SHARE * (bottom - top)))
+    if low <= top + far:
+        return top
+    r0 = top - far
+    lab = _lab8(image, view, r0, bottom, c0, c1)
+    mid = np.asarray(median_u8(lab[:, 2 * s : -2 * s : SUBSAMPLE], axis=1), np.float32)
+    foot = median_of(mid[bottom - f1 - r0 : bottom - f0 - r0], axis=0)
+    strips = [
+        (lab[:, s : s + BESIDE_COLUMNS], lab[:, :BESIDE_COLUMNS]),
+        (lab[:, -s - BESIDE_COLUMNS : -s], lab[:, -BESIDE_COLUMNS:]),
+    ]
+    above_m, below_m = _window_mean(mid, -far, -near), _window_mean(mid, near + 1, far + 1)
+    ok = (row_norms(above_m - below_m) >= TOP_COLOUR_STEP) & (
+        row_norms(above_m - foot) >= TOP_COLOUR_STEP
+    )
+    for inside, outside in strips:
+        diff = np.asarray(median_u8(inside, axis=1), np.float32) - np.asarray(
+            median_u8(outside, axis=1), np.float32
+        )
+        ok &= row_norms(_window_mean(diff, -far, -near)) <= BACKGROUND_MATCH
+        ok &= row_norms(_window_mean(diff, near + 1, far + 1)) >= SIDE_STEP
+    first = far + max(far, int(LOWER_MIN_MOVE * (bottom - top)))
+    rows = np.flatnonzero(ok[first : low - r0]) + first
+    if rows.size == 0:
+        return top
+    # the run of rows that pass nearest the top, at the row whose colour steps most from
+    # the row above it (the first row of the face)
+    run = rows[: int(np.argmax(np.diff(np.append(rows, rows[-1] + 2)) > 1)) + 1]
+    step = row_norms(mid[run] - mid[run - 1])
+    return int(r0 + run[int(np.argmax(step))])
+
+
 def ends_in_colour(
     image: npt.NDArray[Any] | None,
     view: View,
