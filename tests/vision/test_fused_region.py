@@ -852,3 +852,24 @@ def test_the_face_keeps_a_fifth_of_its_height() -> None:
         img[end - 10 : end, LEFT:RIGHT] = WALL
         assert (abs(lowered(img, top) - end) <= 1) == moved
         assert moved or lowered(img, top) == top
+
+
+def framed_print(reach_right: bool = False) -> npt.NDArray[np.uint8]:
+    """A grey face with a blue print from 20 rows under its top down to its foot, inside
+    a 12-column frame of the face's grey (``reach_right``: the print runs out to the
+    right side)."""
+    img = colour_top_scene(behind=(200, 200, 200))
+    right = RIGHT if reach_right else RIGHT - 12
+    img[COLOUR_TOP + 20 : BOTTOM, LEFT + 12 : right] = (170, 60, 60)
+    return img
+
+
+def test_a_prints_top_inside_its_frame_is_no_end_of_the_colour() -> None:
+    """Across the middle the colour steps at the print's top, but the frame keeps its
+    colour along both sides past it."""
+    assert not ends(framed_print(), COLOUR_TOP + 20)
+
+
+def test_a_colour_end_at_one_side_is_enough() -> None:
+    """The print reaching one side: the strip inside that side steps with the middle."""
+    assert ends(framed_print(reach_right=True), COLOUR_TOP + 20)

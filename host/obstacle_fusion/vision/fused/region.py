@@ -14,6 +14,10 @@ to one plank, took a wall line crossing the face for its top and a print for the
   with no foot at all);
 * :func:`enclose_by_margin`: a print inside a margin of one colour is enclosed by its frame;
 * :func:`raise_top_by_colour`: the top, up past a background line crossing the face;
+* :func:`stops_at_colour_top`, :func:`ends_in_colour`: a short raise past a top where the
+  face's colour ends is undone (the sides ran on up what stands behind the face);
+* :func:`lower_top_to_background`: a top on what stands behind comes down to where the
+  background shows past the face;
 * :func:`looks_like_top_face`: whether rows under the top are a box's top face;
 * :func:`top_agreement`, :func:`side_agreement`: confidence factors, how clearly the
   colour ends at the top and at the weaker side;
@@ -608,25 +612,34 @@ def ends_in_colour(
     left: int,
     right: int,
 ) -> bool:
-    """Whether the face's colour ends at ``top``: the rows just above it differ from the
-    rows just below it and from the face's colour over the floor by TOP_COLOUR_STEP.
+    """Whether the face's colour ends at ``top`` from side to side: the rows just above it
+    differ from the rows just below it and from the face's colour over the floor by
+    TOP_COLOUR_STEP, and so do those rows in the strips just inside each side.
 
     Over a label's or a print's lower edge the colour differs from the face's just below
     but, across a short band, the sides run on; over a face's real top it is something
     else altogether (a top face, the wall band or the object behind it), and sides that
-    run on there are the background's edges in line with the face's."""
+    run on there are the background's edges in line with the face's. A print's frame
+    keeps its colour along the sides past the print's top: that is no end."""
     near, far = STEP_BAND_ROWS
     f0, f1 = FOOT_BAND_ROWS
-    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
         return False
     if top - far < 0 or bottom - f1 < top + far + 1:
         return False
     c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
     lab = _lab8(image, view, top - far, bottom - f0, c0, c1)
-    above = median_u8(lab[: far - near].reshape(-1, 3), axis=0)
-    below = median_u8(lab[far + near + 1 : 2 * far + 1].reshape(-1, 3), axis=0)
+    above, below = lab[: far - near], lab[far + near + 1 : 2 * far + 1]
     foot = median_u8(lab[bottom - f1 - (top - far) :].reshape(-1, 3), axis=0)
-    return min(norm(above - below), norm(above - foot)) >= TOP_COLOUR_STEP
+    a = median_u8(above.reshape(-1, 3), axis=0)
+    if min(norm(a - median_u8(below.reshape(-1, 3), axis=0)), norm(a - foot)) < TOP_COLOUR_STEP:
+        return False
+    steps = []
+    for strip in (slice(0, BESIDE_COLUMNS), slice(-BESIDE_COLUMNS, None)):
+        up = median_u8(above[:, strip].reshape(-1, 3), axis=0)
+        down = median_u8(below[:, strip].reshape(-1, 3), axis=0)
+        steps.append(norm(up - down))
+    return max(steps) >= TOP_COLOUR_STEP
 
 
 def _walk_colour(
