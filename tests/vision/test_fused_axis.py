@@ -22,7 +22,9 @@ def test_of_two_faces_at_the_sonars_depth_the_one_on_the_axis_is_measured(
     family: str, seed: int, hard: bool, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Tuning-family rooms (fresh seeds): with the off-axis face's score kept whole
-    (OFF_AXIS_SHARE 1) the method measures the wrong one, over 25 % off."""
+    (OFF_AXIS_SHARE 1) the method measures the wrong one, over 10 % off (photo/320: a
+    candidate reaching past the face, 14 %; 78 % before its top stopped where the face's
+    colour ends, ``region.stops_at_colour_top``)."""
     try:
         image, truth, spec = render_room(family, seed, hard)
     except TextureMissing as exc:
@@ -38,7 +40,7 @@ def test_of_two_faces_at_the_sonars_depth_the_one_on_the_axis_is_measured(
 
     assert errors() <= 0.07
     monkeypatch.setattr(method, "OFF_AXIS_SHARE", 1.0)
-    assert errors() > 0.25
+    assert errors() > 0.10
 
 
 def test_with_no_rig_the_axis_is_not_preferred(monkeypatch: pytest.MonkeyPatch) -> None:

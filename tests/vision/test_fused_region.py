@@ -705,3 +705,184 @@ def test_a_wide_face_reaching_the_images_border_is_measured_whole(seed: int) -> 
     assert res.detected, res.reason
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
+
+
+# -- where the face's colour ends: a top the sides ran on past stays (ends_in_colour,
+# stops_at_colour_top)
+
+COLOUR_TOP = 120  # the drawn face's top row in colour_top_scene (face 80 rows high)
+GREY_FACE = (100, 100, 100)
+
+
+def colour_top_scene(
+    behind: tuple[int, int, int] = (170, 60, 60),
+    label: tuple[int, int] | None = None,
+    face: tuple[int, int, int] = GREY_FACE,
+) -> npt.NDArray[np.uint8]:
+    """A plain face from COLOUR_TOP to BOTTOM, and behind it, in line with its sides, a
+    band of ``behind`` 30 rows tall (a pole of the face's width, a wall band); ``label``:
+    rows of red across the face."""
+    img = np.empty((H, W, 3), np.uint8)
+    img[:BOTTOM] = (200, 200, 200)
+    img[BOTTOM:] = FLOOR
+    img[COLOUR_TOP - 30 : COLOUR_TOP, LEFT:RIGHT] = behind
+    img[COLOUR_TOP:BOTTOM, LEFT:RIGHT] = face
+    if label is not None:
+        img[label[0] : label[1], LEFT:RIGHT] = (40, 40, 200)
+    return img
+
+
+def ends(img: npt.NDArray[np.uint8], top: int) -> bool:
+    return region.ends_in_colour(img, level_view(), BOTTOM, top, LEFT, RIGHT)
+
+
+def test_the_colour_ends_at_the_top_under_a_band_behind() -> None:
+    assert ends(colour_top_scene(), COLOUR_TOP)
+
+
+def test_the_colour_runs_on_inside_the_face() -> None:
+    assert not ends(colour_top_scene(), COLOUR_TOP + 30)
+
+
+def test_a_labels_upper_edge_is_no_end_of_the_colour() -> None:
+    """Above a label's upper edge the face's own colour shows again (the foot's)."""
+    img = colour_top_scene(label=(COLOUR_TOP + 20, COLOUR_TOP + 40))
+    assert not ends(img, COLOUR_TOP + 20)
+
+
+def test_the_colour_step_bar() -> None:
+    """A grey band 20 Lab units off the grey face ends it, one 19 off does not (the 8-bit
+    Lab distances of these greys: 81 and 82 against 100)."""
+    assert ends(colour_top_scene(behind=(81, 81, 81)), COLOUR_TOP)
+    assert not ends(colour_top_scene(behind=(82, 82, 82)), COLOUR_TOP)
+
+
+def test_a_grey_image_has_no_colour_to_end() -> None:
+    img = colour_top_scene()[:, :, 0].copy()
+    assert not ends(img, COLOUR_TOP)
+
+
+def test_a_short_raise_past_a_colour_top_is_undone() -> None:
+    """The sides ran on 48 % of the face's height up (along what stands behind): the top
+    where the colour ends stays; 52 % up they may be the face's own, past a print."""
+    img, h = colour_top_scene(), BOTTOM - COLOUR_TOP
+    view = level_view()
+    short, far = COLOUR_TOP - int(0.48 * h), COLOUR_TOP - int(0.52 * h)
+    assert region.stops_at_colour_top(img, view, BOTTOM, COLOUR_TOP, short, LEFT, RIGHT)
+    assert not region.stops_at_colour_top(img, view, BOTTOM, COLOUR_TOP, far, LEFT, RIGHT)
+    # no raise, nothing to undo
+    assert not region.stops_at_colour_top(img, view, BOTTOM, COLOUR_TOP, COLOUR_TOP, LEFT, RIGHT)
+
+
+def test_a_short_raise_inside_the_face_stands() -> None:
+    """From an edge inside the face (its colour on both sides) the raise is kept."""
+    img = colour_top_scene()
+    assert not region.stops_at_colour_top(
+        img, level_view(), BOTTOM, COLOUR_TOP + 20, COLOUR_TOP, LEFT, RIGHT
+    )
+
+
+# -- the top lowered to where the background shows past the face (lower_top_to_background)
+
+WALL = (200, 200, 200)
+TALL_TOP = 30  # the face's top row in behind_scene: 170 rows high, so 5 % of it is 8 rows
+SIDE_STRIP = region.SIDE_SKIP + region.BESIDE_COLUMNS
+
+
+def behind_scene(
+    behind: tuple[int, int, int] | None = None,
+    margin: tuple[int, int, int] | None = None,
+    label: tuple[int, int] | None = None,
+) -> npt.NDArray[np.uint8]:
+    """A green face from TALL_TOP to BOTTOM against a grey wall; ``behind``: the wall's
+    colour seen between the sides above the face (an object behind it, no wider than it);
+    ``margin``: the colour of the face's strips along its sides; ``label``: red rows
+    across the face."""
+    img = np.empty((H, W, 3), np.uint8)
+    img[:BOTTOM] = WALL
+    img[BOTTOM:] = FLOOR
+    if behind is not None:
+        img[:TALL_TOP, LEFT:RIGHT] = behind
+    img[TALL_TOP:BOTTOM, LEFT:RIGHT] = FACE
+    if margin is not None:
+        img[TALL_TOP:BOTTOM, LEFT : LEFT + SIDE_STRIP + 2] = margin
+        img[TALL_TOP:BOTTOM, RIGHT - SIDE_STRIP - 2 : RIGHT] = margin
+    if label is not None:
+        img[label[0] : label[1], LEFT:RIGHT] = (40, 40, 200)
+    return img
+
+
+def lowered(img: npt.NDArray[np.uint8], top: int) -> int:
+    return region.lower_top_to_background(img, level_view(), BOTTOM, top, LEFT, RIGHT)
+
+
+def test_a_top_above_the_face_comes_down_to_it() -> None:
+    """The sides ran on up what stands behind (the top found 20 rows too high): the wall
+    shows just inside and just outside each side above the face's top."""
+    assert abs(lowered(behind_scene(), TALL_TOP - 20) - TALL_TOP) <= 1
+
+
+def test_the_faces_own_top_stays() -> None:
+    assert lowered(behind_scene(), TALL_TOP) == TALL_TOP
+
+
+def test_a_label_keeps_the_faces_sides() -> None:
+    """Above a label's lower edge the label shows inside the sides, the wall outside."""
+    img = behind_scene(label=(TALL_TOP + 40, TALL_TOP + 60))
+    assert lowered(img, TALL_TOP) == TALL_TOP
+
+
+def test_the_background_match_bar() -> None:
+    """Between the sides above the face, a grey 10 Lab units off the wall is the wall seen
+    past the face; 11 off it is something else (8-bit Lab: greys 189 and 188 vs 200)."""
+    assert abs(lowered(behind_scene(behind=(189, 189, 189)), TALL_TOP - 20) - TALL_TOP) <= 1
+    assert lowered(behind_scene(behind=(188, 188, 188)), TALL_TOP - 20) == TALL_TOP - 20
+
+
+def test_the_side_step_bar() -> None:
+    """Strips along the sides 20 Lab units off the wall are the face's sides; 19 off, no
+    side ends there (greys 179 and 180 vs 200)."""
+    assert abs(lowered(behind_scene(margin=(179, 179, 179)), TALL_TOP - 20) - TALL_TOP) <= 1
+    assert lowered(behind_scene(margin=(180, 180, 180)), TALL_TOP - 20) == TALL_TOP - 20
+
+
+def test_a_top_a_few_rows_high_is_the_tops_blur() -> None:
+    """A top 6 rows over the face's stays (the rows it may come down to start 5 % of its
+    176 rows, 8, under it; the colour's end reads on the face's top row and the next);
+    7 rows over, it comes down."""
+    assert lowered(behind_scene(), TALL_TOP - 6) == TALL_TOP - 6
+    assert abs(lowered(behind_scene(), TALL_TOP - 7) - TALL_TOP) <= 1
+    assert abs(lowered(behind_scene(), TALL_TOP - 12) - TALL_TOP) <= 1
+
+
+def test_the_face_keeps_a_fifth_of_its_height() -> None:
+    """A colour end in the face's lowest fifth is no top (a step at its foot, a shadow):
+    a band of the wall's grey across a face 150 rows high, ending 25 rows over its foot,
+    is passed over; ending 32 rows over it, it is taken."""
+    top = BOTTOM - 150
+    for end, moved in ((BOTTOM - 25, False), (BOTTOM - 32, True)):
+        img = behind_scene()
+        img[end - 10 : end, LEFT:RIGHT] = WALL
+        assert (abs(lowered(img, top) - end) <= 1) == moved
+        assert moved or lowered(img, top) == top
+
+
+def framed_print(reach_right: bool = False) -> npt.NDArray[np.uint8]:
+    """A grey face with a blue print from 20 rows under its top down to its foot, inside
+    a 12-column frame of the face's grey (``reach_right``: the print runs out to the
+    right side)."""
+    img = colour_top_scene(behind=(200, 200, 200))
+    right = RIGHT if reach_right else RIGHT - 12
+    img[COLOUR_TOP + 20 : BOTTOM, LEFT + 12 : right] = (170, 60, 60)
+    return img
+
+
+def test_a_prints_top_inside_its_frame_is_no_end_of_the_colour() -> None:
+    """Across the middle the colour steps at the print's top, but the frame keeps its
+    colour along both sides past it."""
+    assert not ends(framed_print(), COLOUR_TOP + 20)
+
+
+def test_a_colour_end_at_one_side_is_enough() -> None:
+    """The print reaching one side: the strip inside that side steps with the middle."""
+    assert ends(framed_print(reach_right=True), COLOUR_TOP + 20)

@@ -34,11 +34,14 @@ from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     enclose_by_margin,
+    ends_in_colour,
     face_from_colour,
     looks_like_top_face,
+    lower_top_to_background,
     raise_top_by_colour,
     raise_top_by_sides,
     side_agreement,
+    stops_at_colour_top,
     top_agreement,
     widen_by_colour,
 )
@@ -223,6 +226,12 @@ class FusedMethod:
         # the face's sides run on past a label's edge up to its real top
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        # a short way up past a top where the face's colour ends: a top face or a
+        # background band of the face's width, its sides the edges of what is behind;
+        # that top is the front top edge already (no top face's front below it)
+        colour_top = stops_at_colour_top(seen, v, rb, vt, raised, ul, ur)
+        if colour_top:
+            raised = vt
         doubts = [TOP_FROM_SIDES] if raised < vt else []  # what lowers the reported confidence
         vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
@@ -254,18 +263,29 @@ class FusedMethod:
         # a frame's top is its margin's (the print below it is no top face)
         if framed is None:
             vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+            if colour_top and vt != found_top and not ends_in_colour(seen, v, rb, vt, ul, ur):
+                # under a top where the face's colour ends, a front top edge ends it too
+                vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         else:
             sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
         if not looks_like_top_face(seen, v, found_top, vt, ul, ur):
             vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         top_row: float | None = None  # a sub-pixel front top row that needs no refining
         front = None if framed is not None else front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
+        if colour_top and front is not None and not ends_in_colour(seen, v, rb, front[0], ul, ur):
+            front = None
         if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
+        # an object behind the face in line with its sides: the face's top is where the
+        # background beside it shows past it
+        lowered = lower_top_to_background(seen, v, rb, int(round(vt)), ul, ur)
+        if lowered > vt:
+            vt, top_row = lowered, None
+            sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
         # a top that is no colour boundary may be a line on the face or behind it
         conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
         conf *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)

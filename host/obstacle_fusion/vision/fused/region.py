@@ -14,6 +14,10 @@ to one plank, took a wall line crossing the face for its top and a print for the
   with no foot at all);
 * :func:`enclose_by_margin`: a print inside a margin of one colour is enclosed by its frame;
 * :func:`raise_top_by_colour`: the top, up past a background line crossing the face;
+* :func:`stops_at_colour_top`, :func:`ends_in_colour`: a short raise past a top where the
+  face's colour ends is undone (the sides ran on up what stands behind the face);
+* :func:`lower_top_to_background`: a top on what stands behind comes down to where the
+  background shows past the face;
 * :func:`looks_like_top_face`: whether rows under the top are a box's top face;
 * :func:`top_agreement`, :func:`side_agreement`: confidence factors, how clearly the
   colour ends at the top and at the weaker side;
@@ -483,6 +487,159 @@ def looks_like_top_face(
     strip = median_u8(lab[1 : n - 1].reshape(-1, 3), axis=0)
     front = median_u8(lab[n + 2 :].reshape(-1, 3), axis=0)
     return norm(strip - front) >= MIN_TOP_DISTANCE
+
+
+#: A top row whose rows just above differ by at least this (Lab, 8-bit scale) from both
+#: the rows just below it and the face's colour over the floor ends the face in colour.
+TOP_COLOUR_STEP = 20.0
+#: Rows sampled just above and just below the top row (past its blur).
+STEP_BAND_ROWS = (1, 5)
+#: Rows of the face's own colour sampled above the floor-contact row (past its blur).
+FOOT_BAND_ROWS = (3, 12)
+
+
+#: Sides running on above a top where the face's colour ends move it up only by at least
+#: this share of the face's height (a print's lower edge low on the face, the face's own
+#: colour far above it); a shorter way up is a top face or a band behind the face.
+SHORT_RAISE = 0.5
+
+
+def stops_at_colour_top(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    raised: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether a top the sides ran on past (up to ``raised``) stays: the way up is short
+    (under SHORT_RAISE of the face) and the face's colour ends at ``top``
+    (:func:`ends_in_colour`). The sides' edges there belong to what stands behind the
+    face in line with it (a pole, a wall band, the top face's receding edges)."""
+    return (
+        raised < top
+        and top - raised < SHORT_RAISE * (bottom - top)
+        and ends_in_colour(image, view, bottom, top, left, right)
+    )
+
+
+#: Above the face's top the strip just inside each side is within this (Lab, 8-bit) of
+#: the strip just outside it: the background seen past the face on both sides of its side.
+BACKGROUND_MATCH = 10.0
+#: Below it the two strips differ by at least this at both sides (the face's sides).
+SIDE_STEP = 20.0
+#: The face under a lower top keeps at least this share of the height found.
+LOWER_MIN_SHARE = 0.2
+#: A top moves down by at least this share of the height found (and STEP_BAND_ROWS' far
+#: rows): nearer, it is the same top's blur, not what stands behind the face.
+LOWER_MIN_MOVE = 0.05
+
+
+def _window_mean(rows: npt.NDArray[np.float32], lo: int, hi: int) -> npt.NDArray[np.float32]:
+    """Per row r, the mean of ``rows[r + lo : r + hi]`` (NaN where it runs off the ends)."""
+    n = rows.shape[0]
+    c = np.concatenate([np.zeros((1, rows.shape[1]), np.float64), np.cumsum(rows, axis=0)])
+    out = np.full(rows.shape, np.nan, np.float32)
+    r = np.arange(n)
+    ok = (r + lo >= 0) & (r + hi <= n)
+    out[ok] = (c[r[ok] + hi] - c[r[ok] + lo]) / (hi - lo)
+    return out
+
+
+def lower_top_to_background(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> int:
+    """The top moved down to the highest row under it where the face's colour ends and
+    both its sides end: above that row what shows just inside each side is what shows
+    just outside it, below it the two differ.
+
+    An object behind the face in line with its sides (a cup, a pole, a shelf) carries the
+    sides' edges on up, and the top found is that object's; at the face's own top the
+    background is seen past it, the same colour on both sides of each side (occlusion),
+    while a label or a print on the face keeps the face's sides."""
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+        return top
+    w_view = view.out.shape[1]
+    s = SIDE_SKIP + BESIDE_COLUMNS
+    c0, c1 = left - s, right + s + 1
+    near, far = STEP_BAND_ROWS
+    if c0 < 0 or c1 > w_view or top < far:
+        return top
+    f0, f1 = FOOT_BAND_ROWS
+    low = bottom - max(f1 + far + 1, int(LOWER_MIN_SHARE * (bottom - top)))
+    if low <= top + far:
+        return top
+    r0 = top - far
+    lab = _lab8(image, view, r0, bottom, c0, c1)
+    mid = np.asarray(median_u8(lab[:, 2 * s : -2 * s : SUBSAMPLE], axis=1), np.float32)
+    foot = median_of(mid[bottom - f1 - r0 : bottom - f0 - r0], axis=0)
+    strips = [
+        (lab[:, s : s + BESIDE_COLUMNS], lab[:, :BESIDE_COLUMNS]),
+        (lab[:, -s - BESIDE_COLUMNS : -s], lab[:, -BESIDE_COLUMNS:]),
+    ]
+    above_m, below_m = _window_mean(mid, -far, -near), _window_mean(mid, near + 1, far + 1)
+    ok = (row_norms(above_m - below_m) >= TOP_COLOUR_STEP) & (
+        row_norms(above_m - foot) >= TOP_COLOUR_STEP
+    )
+    for inside, outside in strips:
+        diff = np.asarray(median_u8(inside, axis=1), np.float32) - np.asarray(
+            median_u8(outside, axis=1), np.float32
+        )
+        ok &= row_norms(_window_mean(diff, -far, -near)) <= BACKGROUND_MATCH
+        ok &= row_norms(_window_mean(diff, near + 1, far + 1)) >= SIDE_STEP
+    first = far + max(far, int(LOWER_MIN_MOVE * (bottom - top)))
+    rows = np.flatnonzero(ok[first : low - r0]) + first
+    if rows.size == 0:
+        return top
+    # the run of rows that pass nearest the top, at the row whose colour steps most from
+    # the row above it (the first row of the face)
+    run = rows[: int(np.argmax(np.diff(np.append(rows, rows[-1] + 2)) > 1)) + 1]
+    step = row_norms(mid[run] - mid[run - 1])
+    return int(r0 + run[int(np.argmax(step))])
+
+
+def ends_in_colour(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether the face's colour ends at ``top`` from side to side: the rows just above it
+    differ from the rows just below it and from the face's colour over the floor by
+    TOP_COLOUR_STEP, and so do those rows in the strips just inside each side.
+
+    Over a label's or a print's lower edge the colour differs from the face's just below
+    but, across a short band, the sides run on; over a face's real top it is something
+    else altogether (a top face, the wall band or the object behind it), and sides that
+    run on there are the background's edges in line with the face's. A print's frame
+    keeps its colour along the sides past the print's top: that is no end."""
+    near, far = STEP_BAND_ROWS
+    f0, f1 = FOOT_BAND_ROWS
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+        return False
+    if top - far < 0 or bottom - f1 < top + far + 1:
+        return False
+    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
+    lab = _lab8(image, view, top - far, bottom - f0, c0, c1)
+    above, below = lab[: far - near], lab[far + near + 1 : 2 * far + 1]
+    foot = median_u8(lab[bottom - f1 - (top - far) :].reshape(-1, 3), axis=0)
+    a = median_u8(above.reshape(-1, 3), axis=0)
+    if min(norm(a - median_u8(below.reshape(-1, 3), axis=0)), norm(a - foot)) < TOP_COLOUR_STEP:
+        return False
+    steps = []
+    for strip in (slice(0, BESIDE_COLUMNS), slice(-BESIDE_COLUMNS, None)):
+        up = median_u8(above[:, strip].reshape(-1, 3), axis=0)
+        down = median_u8(below[:, strip].reshape(-1, 3), axis=0)
+        steps.append(norm(up - down))
+    return max(steps) >= TOP_COLOUR_STEP
 
 
 def _walk_colour(

@@ -1,0 +1,72 @@
+"""The fused method's stages in order (``fused/method.py``): a top where the face's colour
+ends is not given up for what stands behind the face, nor for an edge inside it; a top
+found on what stands behind comes down to where the background shows past the face."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import method as method_mod
+from obstacle_fusion.vision.fused import region
+from obstacle_fusion.vision.measure import Measurer
+
+
+def height_error(family: str, seed: int, hard: bool = False) -> float:
+    """Relative height error of the fused method, with the room's rig, on a tuning room."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room(family, seed, hard, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    return abs(res.height_m / truth["height_m"] - 1.0)
+
+
+def test_the_top_stays_under_a_top_face_and_a_pole_in_line() -> None:
+    """A low brick-faced box seen from above (its top face a light band) with a pole
+    behind it in line with its left side: its sides' edges run on up the top face and
+    the pole, yet the face's colour ends at its front top edge."""
+    assert height_error("procedural", 316) < 0.05
+
+
+def test_without_the_colour_top_the_sides_run_on(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same room, with no short raise undone: the top runs up into the top face (and
+    stays there when it is not lowered again, by :func:`region.lower_top_to_background`,
+    where the floor beside the face shows past it)."""
+    monkeypatch.setattr(region, "SHORT_RAISE", 0.0)
+    monkeypatch.setattr(method_mod, "lower_top_to_background", lambda *a: int(a[3]))
+    assert height_error("procedural", 316) > 0.15
+
+
+def test_under_a_colour_top_an_edge_inside_the_face_is_no_front_top() -> None:
+    """A glossy box (a highlight's edge inside its front) with its top face showing: the
+    front top edge found under a top where the colour ends must end the colour too."""
+    assert height_error("photo", 313) < 0.05
+
+
+def test_an_edge_inside_the_face_cuts_it_without_that_check(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def always(*_: Any) -> bool:
+        return True
+
+    monkeypatch.setattr(method_mod, "ends_in_colour", always)
+    assert height_error("photo", 313) > 0.15
+
+
+def test_a_top_on_a_cylinder_behind_comes_down_to_the_face() -> None:
+    """A narrow box with seams, a cylinder standing behind its right half and the wall
+    behind its left: the search's top is the cylinder's; past the box's top the wall and
+    the cylinder show on both sides of each of its sides."""
+    assert height_error("procedural", 102, hard=True) < 0.05
+
+
+def test_without_the_lowering_the_cylinders_top_is_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def unchanged(*a: Any) -> int:
+        return int(a[3])
+
+    monkeypatch.setattr(method_mod, "lower_top_to_background", unchanged)
+    assert height_error("procedural", 102, hard=True) > 0.10
