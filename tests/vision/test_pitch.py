@@ -9,6 +9,7 @@ import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
 from obstacle_fusion.vision import measure as measure_mod
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused.confidence import PITCH_RERUN_DISAGREES
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.pitch import (
     MAX_PITCH_DEG,
@@ -16,6 +17,7 @@ from obstacle_fusion.vision.pitch import (
     MIN_SEPARATION_PX,
     MIN_SIDE_PX,
     REFIT_MAX_SHIFT_PX,
+    PitchEstimate,
     camera_height_for_row,
     level_scales,
     pitch_from_lines,
@@ -23,6 +25,7 @@ from obstacle_fusion.vision.pitch import (
     refit_side,
 )
 from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision.rooms import pitched_plain_room
 
@@ -273,3 +276,39 @@ def test_a_levelled_rerun_that_disagrees_gives_the_pitch_0_face_scaled(
     assert abs(scaled.height_m / truth["height_m"] - 1.0) < abs(
         flat.height_m / truth["height_m"] - 1.0
     )
+
+
+@pytest.mark.parametrize("rerun_conf, taken", [(0.31, True), (0.30, False)])
+def test_a_levelled_rerun_that_disagrees_and_is_surer_is_taken_with_the_doubt(
+    rerun_conf: float, taken: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The levelled view is the lens's geometry as its sides read it: when the search
+    there settles on another face that is surer than the pitch-0 face (0.30), that face is
+    taken, doubted (PITCH_RERUN_DISAGREES); no surer, the pitch-0 face scaled stands."""
+    view = View(CAM, Rig(), "level")
+    image = np.zeros((CAM.height, CAM.width, 3), np.uint8)
+    lines = [(100.0, 250.0, 300.0, 250.0), (100.0, 150.0, 300.0, 150.0)]
+    lines += [(100.0, 150.0, 100.0, 250.0), (300.0, 150.0, 300.0, 250.0)]
+    found = Measurement(
+        detected=True, method="fused", range_m=1.0, height_m=0.3, width_m=0.4,
+        confidence=0.3, lines=lines, camera_height_m=0.3, camera_pitch_deg=0.0,
+    )  # fmt: skip
+    monkeypatch.setattr(measure_mod, "refit_side", lambda seen, side: side)
+    monkeypatch.setattr(
+        measure_mod, "pitch_from_undistorted", lambda *a: PitchEstimate(3.0, 0.1, 100.0, 200.0)
+    )
+
+    def trial(height: float, row: float | None, pitch: float) -> Measurement:
+        return Measurement(
+            detected=True, method="fused", range_m=1.0, height_m=0.5, width_m=0.4,
+            confidence=rerun_conf, lines=lines, camera_height_m=height, camera_pitch_deg=pitch,
+        )  # fmt: skip
+
+    got = Measurer(CAM, None)._with_pitch(found, image, view, 1.0, trial)
+    assert got is not None and got.camera_pitch_deg == 3.0
+    assert got.doubts == [PITCH_RERUN_DISAGREES]
+    if taken:
+        assert got.height_m == 0.5
+    else:
+        assert got.height_m != pytest.approx(0.5, rel=0.05)
+        assert got.height_m == pytest.approx(0.3, rel=0.1)  # the pitch-0 face, scaled

@@ -432,8 +432,10 @@ class Measurer:
     ) -> Measurement | None:
         """The face with the pitch its sides give, or None (no confident pitch, or a camera
         height out of range). Measured again in the view levelled for that pitch; when that
-        finds no face or another one, the pitch-0 face's size scaled to the levelled view
-        (with the doubt PITCH_RERUN_DISAGREES). A face found at pitch 0 whose sides read
+        finds no face, or another one no surer than the pitch-0 face, the pitch-0 face's size
+        scaled to the levelled view; another, surer face is taken (the levelled view is the
+        lens's geometry as the sides read it). Either way with the doubt
+        PITCH_RERUN_DISAGREES. A face found at pitch 0 whose sides read
         a pitch of 0 is returned as it is (its pitch is read: it is level)."""
         if (found.confidence or 0.0) < PITCH_MIN_CONFIDENCE:
             return None
@@ -481,7 +483,14 @@ class Measurer:
             abs((result.height_m or 0.0) / fixed.height_m - 1.0) <= RERUN_AGREE
             and abs((result.width_m or 0.0) / fixed.width_m - 1.0) <= RERUN_AGREE
         )
-        return result if agree else fixed
+        if agree:
+            return result
+        if (result.confidence or 0.0) > (found.confidence or 0.0):
+            # the levelled view (the lens's true geometry, near enough) finds a surer face
+            # than the level guess did: that face, doubted as the two disagree
+            result.doubts = [*result.doubts, PITCH_RERUN_DISAGREES]
+            return result
+        return fixed
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
