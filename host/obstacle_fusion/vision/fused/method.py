@@ -253,7 +253,7 @@ class FusedMethod:
         vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
 
         # confidence
-        conf = confidence(best, rivals)
+        conf = confidence(best, rivals, parts_agree=floor_known)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
             rescued = rescue_by_colour()
