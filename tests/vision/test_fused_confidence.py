@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
+from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec, render_room
 from obstacle_fusion.vision import measure as measure_mod
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import confidence as conf_mod
@@ -407,3 +407,55 @@ def test_measure_cuts_by_the_result_s_own_pixel_size(
     monkeypatch.setattr(conf_mod, "SMALL_FACE_PX", 1e6)
     tiny = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     assert tiny.detected and tiny.confidence == 0.05  # the method's minimum, still a detection
+
+
+# --- ambiguity: parts of the same face are no rivals ---------------------------------------
+
+
+def _part(vt: int = 40, rb: int = 200, ul: int = 100, ur: int = 180, score: float = 1.0) -> Any:
+    return Candidate(score, rb, ul, ur, vt, 0.8)
+
+
+@pytest.mark.parametrize(
+    "part, same",
+    [
+        # top and bottom rows within SAME_FACE_ROWS (2) of the face's
+        (_part(vt=42, rb=198), True),
+        (_part(vt=43), False),
+        (_part(rb=203), False),
+        # columns meeting the face's within SAME_FACE_GAP (3): the next panel, or more
+        (_part(ul=183, ur=260), True),
+        (_part(ul=184, ur=260), False),
+        (_part(ul=20, ur=97), True),
+        (_part(ul=20, ur=96), False),
+        (_part(ul=20, ur=180), True),  # the face and the panels left of it
+    ],
+)
+def test_a_part_of_the_face_is_one_on_its_rows_over_meeting_columns(part: Any, same: bool) -> None:
+    assert conf_mod.same_face(part, _part()) is same
+
+
+def test_parts_of_the_face_are_no_rivals_with_the_floor_known() -> None:
+    """A face of panels: the run of panels (overlap under a half) scores nearly as well."""
+    face = _part(ul=231, ur=318, score=3.4)
+    run = _part(ul=140, ur=318, score=3.2)  # the face with the panel left of it
+    other = _part(vt=120, ul=400, ur=480, score=1.7)  # another face beside it
+    assert face.overlap(run) < 0.5
+    rivals = [face, run, other]
+    assert conf_mod.confidence(face, rivals) == pytest.approx(0.8 * (1 - 3.2 / 3.4))
+    assert conf_mod.confidence(face, rivals, parts_agree=True) == pytest.approx(0.8 * 0.5)
+
+
+@pytest.mark.parametrize("rows, within", [(conf_mod.SAME_FACE_ROWS, True), (-1, False)])
+def test_a_face_of_panels_is_not_refused_for_its_panels(
+    rows: int, within: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room procedural/345, ordinary, with the rig (a tuning room): six panels in two rows;
+    the face found whole in height was refused for the run of panels beside it (ambiguity
+    0.95), and the luminance run took the joint between the rows for the top (-52 %)."""
+    monkeypatch.setattr(conf_mod, "SAME_FACE_ROWS", rows)
+    image, truth, spec = render_room("procedural", 345, False)
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    error = abs(res.height_m / truth["height_m"] - 1)
+    assert error <= 0.05 if within else error > 0.3

@@ -24,10 +24,44 @@ from obstacle_fusion.vision.fused.scoring import Candidate
 log = logging.getLogger(__name__)
 
 
-def confidence(best: Candidate, rivals: list[Candidate]) -> float:
-    """0..1: the face's evidence, cut by how nearly a different face scores as well."""
+#: A rival whose top and bottom rows are within this many rows of the face's ...
+SAME_FACE_ROWS = 2
+#: ... and whose columns reach within this many of the face's is a part of the same face.
+SAME_FACE_GAP = 3
+
+
+def same_face(c: Candidate, best: Candidate) -> bool:
+    """Whether ``c`` is a part of the face ``best`` (or the face with more of it): the same
+    top and bottom edges over columns that meet or overlap.
+
+    A face of panels or planks gives a candidate per panel and per run of panels, all on
+    the same top and floor-contact rows; they are one face with another choice of sides
+    (the seams are crossed later, :func:`.extent.widen_across_seams`), not another face,
+    and counting them as rivals refused faces whose top and bottom were found right."""
+    return (
+        abs(c.vt - best.vt) <= SAME_FACE_ROWS
+        and abs(c.rb - best.rb) <= SAME_FACE_ROWS
+        and c.ul <= best.ur + SAME_FACE_GAP
+        and c.ur >= best.ul - SAME_FACE_GAP
+    )
+
+
+def confidence(best: Candidate, rivals: list[Candidate], parts_agree: bool = False) -> float:
+    """0..1: the face's evidence, cut by how nearly a different face scores as well.
+
+    ``parts_agree``: parts of the same face (:func:`same_face`) are no rivals; only with
+    the floor-contact row known (a rig): while rows are only tried, with no rig, a strip
+    along the floor (a print's lower margin, a shadow beside it) gives such parts too,
+    and their agreement lifted wrong rows over the face's."""
     # a different face (little overlap) scoring nearly as well makes the choice a guess
-    rival = max((c.score for c in rivals if c.overlap(best) < 0.5), default=0.0)
+    rival = max(
+        (
+            c.score
+            for c in rivals
+            if c.overlap(best) < 0.5 and not (parts_agree and same_face(c, best))
+        ),
+        default=0.0,
+    )
     ambiguity = min(1.0, rival / best.score) if best.score > 0.0 else 1.0
     conf = best.evidence * (1.0 - ambiguity)
     log.debug(

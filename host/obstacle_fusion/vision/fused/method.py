@@ -223,8 +223,12 @@ class FusedMethod:
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
-        # the face's sides run on past a label's edge up to its real top
+        # the face's sides run on past a label's edge up to its real top: a higher top
+        # candidate where they stop (scoring.closing_top), else where they end
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
+        closed = best.closing is not None
+        if best.closing is not None:
+            vt = best.closing
         raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
         # a short way up past a top where the face's colour ends: a top face or a
         # background band of the face's width, its sides the edges of what is behind;
@@ -232,7 +236,8 @@ class FusedMethod:
         colour_top = stops_at_colour_top(seen, v, rb, vt, raised, ul, ur)
         if colour_top:
             raised = vt
-        doubts = [TOP_FROM_SIDES] if raised < vt else []  # what lowers the reported confidence
+        # what lowers the reported confidence: no top edge's score chose that row
+        doubts = [TOP_FROM_SIDES] if raised < vt or closed else []
         vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
@@ -248,7 +253,7 @@ class FusedMethod:
         vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
 
         # confidence
-        conf = confidence(best, rivals)
+        conf = confidence(best, rivals, parts_agree=floor_known)
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
             rescued = rescue_by_colour()

@@ -96,6 +96,8 @@ class Candidate:
     ur: int
     vt: int
     evidence: float  # 0..1: shape fit and edge strength, before ambiguity
+    #: a higher top where the sides end (see :func:`closing_top`), or None
+    closing: int | None = None
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -345,8 +347,77 @@ def score_pairs(
             * (1.0 - math.exp(-min(side, horiz) / 4.0))
             * (0.5 + 0.5 * prior_b)
         )
-        cands.append(Candidate(score, rb, ul, ur, vt, clamp(evidence, 0.0, 1.0)))
+        closing = closing_top(feats, tops, s0, s1, i, view.cy)
+        if debug and closing is not None:
+            log.debug("  pair %d-%d rb %d top %d: closing top %d", ul, ur, rb, vt, closing)
+        cands.append(Candidate(score, rb, ul, ur, vt, clamp(evidence, 0.0, 1.0), closing))
     return cands
+
+
+#: A higher top candidate closes the face (:func:`closing_top`) where the sides stop:
+#: its stop (1 - the share of the rows above it where the sides run on) is at least this ...
+CLOSED_STOP = 0.9
+#: ... and the chosen top's stop this much lower (the sides run on above the chosen top) ...
+STOP_MARGIN = 0.1
+#: ... both sides present over at least this share of its rows down to the floor ...
+CLOSING_COVERAGE = 0.75
+#: ... its edge at least this many noise levels strong ...
+CLOSING_SNR = 3.0
+#: ... and at least this share of the chosen top edge's strength ...
+CLOSING_SNR_SHARE = 0.4
+#: ... ending at the sides at most this much less clearly than the chosen top edge ...
+CONTAINED_MARGIN = 0.1
+#: ... with the sides present under it (a hole's fit at least this) ...
+CLOSING_HOLE_FIT = 0.5
+#: ... its rows at most this much more textured than the chosen face's ...
+TEXTURE_MARGIN = 0.3
+#: ... and the face's shade coming back above it over at most this share of the rows.
+CLOSING_FACE_ABOVE = 0.2
+
+
+def closing_top(
+    f: dict[str, npt.NDArray[Any]],
+    tops: npt.NDArray[np.intp],
+    s0: int,
+    s1: int,
+    i: int,
+    horizon: float,
+) -> int | None:
+    """A higher top row where the pair's sides end, when the chosen top ``tops[i]`` has
+    them running on above it; None when there is none.
+
+    A print, a gloss band, a label or a panel joint across a face is a horizontal edge
+    between its sides; a print's colour, not the face's margin at its foot, fills the
+    rows above it, so the face-shade factor scores the face's real top down. The sides
+    still run on above such an edge, up to the face's top, an edge that stops there and
+    ends at the sides at least as clearly. Only above the horizon: below it a box's top
+    face shows, its edges nearly columns near the image's centre, and its back edge is
+    such a line too. (``f``: the top candidates' features, ``s0:s1`` the pair's.)"""
+    best, best_fit = None, 0.0
+    for k in range(s0, s1):
+        if tops[k] >= tops[i] or tops[k] > horizon:
+            continue
+        if (
+            f["stop"][k] >= CLOSED_STOP
+            and f["stop"][i] <= f["stop"][k] - STOP_MARGIN
+            and f["cov"][k] >= CLOSING_COVERAGE
+            and f["snr"][k] >= max(CLOSING_SNR, CLOSING_SNR_SHARE * f["snr"][i])
+            and f["contained"][k] >= f["contained"][i] - CONTAINED_MARGIN
+            and f["hole_fit"][k] >= CLOSING_HOLE_FIT
+            and f["textured"][k] <= f["textured"][i] + TEXTURE_MARGIN
+            and f["face_above"][k] <= CLOSING_FACE_ABOVE
+        ):
+            # the top's own score without the face-shade terms (a print fails those)
+            fit = (
+                min(max(float(f["snr"][k]), 0.5), 20.0) ** 0.25
+                * float(f["cov"][k]) ** 2
+                * float(f["stop"][k]) ** 2
+                * (0.3 + 0.7 * float(f["contained"][k]))
+                * float(f["hole_fit"][k])
+            )
+            if fit > best_fit:
+                best, best_fit = int(tops[k]), fit
+    return best
 
 
 def band_ranges(ps: list[tuple[int, int, int, int]]) -> npt.NDArray[np.intp]:

@@ -1,0 +1,116 @@
+"""The fused method's scoring: a top taken at an edge across the face gives way to a higher
+top where the face's sides stop (:func:`~obstacle_fusion.vision.fused.scoring.closing_top`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import scoring
+from obstacle_fusion.vision.fused.confidence import TOP_FROM_SIDES
+from obstacle_fusion.vision.fused.scoring import closing_top
+from obstacle_fusion.vision.measure import Measurer
+
+#: The chosen top (row 100: a print's edge, the sides running on above it) and a higher
+#: candidate (row 50: where they stop), as score_pairs lists them (rows ascending).
+CHOSEN = dict(
+    stop=0.5, cov=0.9, snr=10.0, contained=0.8, hole_fit=1.0, textured=0.1, face_above=0.0
+)
+HIGHER = dict(
+    stop=0.95, cov=0.8, snr=6.0, contained=0.8, hole_fit=0.9, textured=0.2, face_above=0.1
+)
+
+
+def _closing(
+    higher: dict[str, float] | None = None,
+    chosen: dict[str, float] | None = None,
+    horizon: float = 200.0,
+) -> int | None:
+    hi = {**HIGHER, **(higher or {})}
+    ch = {**CHOSEN, **(chosen or {})}
+    feats: dict[str, Any] = {key: np.array([hi[key], ch[key]], np.float64) for key in CHOSEN}
+    tops = np.array([50, 100], np.intp)
+    return closing_top(feats, tops, 0, 2, 1, horizon)
+
+
+def test_the_sides_stopping_higher_up_give_the_top() -> None:
+    assert _closing() == 50
+
+
+def test_no_higher_top_is_no_closing_and_a_lower_one_is_never_taken() -> None:
+    feats: dict[str, Any] = {
+        key: np.array([CHOSEN[key], HIGHER[key]], np.float64) for key in CHOSEN
+    }
+    # the candidate where the sides stop lies below the chosen top: never a closing top
+    assert closing_top(feats, np.array([100, 150], np.intp), 0, 2, 0, 200.0) is None
+
+
+def test_of_two_higher_tops_the_better_edge_is_taken() -> None:
+    rows = [HIGHER, {**HIGHER, "snr": 20.0, "cov": 0.95}, CHOSEN]
+    feats: dict[str, Any] = {key: np.array([r[key] for r in rows], np.float64) for key in CHOSEN}
+    assert closing_top(feats, np.array([40, 60, 100], np.intp), 0, 3, 2, 200.0) == 60
+
+
+@pytest.mark.parametrize(
+    "higher, chosen, closes",
+    [
+        # the sides stop at the higher top (CLOSED_STOP 0.9)
+        ({"stop": 0.9}, {}, True),
+        ({"stop": 0.89}, {}, False),
+        # ... and run on above the chosen one (STOP_MARGIN 0.1)
+        ({"stop": 0.95}, {"stop": 0.84}, True),
+        ({"stop": 0.95}, {"stop": 0.86}, False),
+        # both sides present down to the floor (CLOSING_COVERAGE 0.75)
+        ({"cov": 0.75}, {}, True),
+        ({"cov": 0.74}, {}, False),
+        # an edge at least 3 noise levels (CLOSING_SNR) ...
+        ({"snr": 3.0}, {"snr": 5.0}, True),
+        ({"snr": 2.9}, {"snr": 5.0}, False),
+        # ... and 0.4 of the chosen edge's strength (CLOSING_SNR_SHARE)
+        ({"snr": 8.1}, {"snr": 20.0}, True),
+        ({"snr": 7.9}, {"snr": 20.0}, False),
+        # ending at the sides nearly as clearly (CONTAINED_MARGIN 0.1): a box's top face's
+        # back edge, over a front top edge that ends there sharply, does not
+        ({"contained": 0.71}, {"contained": 0.8}, True),
+        ({"contained": 0.69}, {"contained": 0.8}, False),
+        # no long gap in the sides under it (CLOSING_HOLE_FIT 0.5)
+        ({"hole_fit": 0.5}, {}, True),
+        ({"hole_fit": 0.49}, {}, False),
+        # not much more textured than the face (TEXTURE_MARGIN 0.3): books behind a box
+        ({"textured": 0.39}, {"textured": 0.1}, True),
+        ({"textured": 0.41}, {"textured": 0.1}, False),
+        # the face's shade not back above it (CLOSING_FACE_ABOVE 0.2): a frame behind it
+        ({"face_above": 0.2}, {}, True),
+        ({"face_above": 0.21}, {}, False),
+    ],
+)
+def test_each_condition_at_its_limit(
+    higher: dict[str, float], chosen: dict[str, float], closes: bool
+) -> None:
+    assert (_closing(higher, chosen) == 50) is closes
+
+
+def test_only_above_the_horizon() -> None:
+    """Below it a box's top face shows, its back edge a line where the sides stop too."""
+    assert _closing(horizon=50.0) == 50
+    assert _closing(horizon=49.0) is None
+
+
+@pytest.mark.parametrize("closed_stop, within", [(scoring.CLOSED_STOP, True), (1.01, False)])
+def test_a_gloss_band_across_a_tall_face_is_not_its_top(
+    closed_stop: float, within: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room procedural/353, ordinary, with the rig (a tuning room): a tall gloss face whose
+    lighter upper half differs from its foot's shade; the search took the gloss band's
+    edge for the top (-44 %). The sides run on to the real top, a strong edge that ends
+    at them: that is the face's top (the doubt says no score chose it)."""
+    monkeypatch.setattr(scoring, "CLOSED_STOP", closed_stop)
+    image, truth, spec = render_room("procedural", 353, False)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    error = abs(res.height_m / truth["height_m"] - 1)
+    assert error <= 0.05 if within else error > 0.3
+    assert (TOP_FROM_SIDES in res.doubts) is within
