@@ -145,6 +145,59 @@ def test_a_box_of_the_face_colour_standing_farther_back_beside_it_is_not_widened
     assert right <= RIGHT + 3
 
 
+# a dim brown face (Lab chroma about 15 from the grey floor's) and its shadow on the floor
+# beside it: the floor's grey darkened, its Lab colour within the face's colour limit
+# (rooms photo/105, photo/723, procedural/721)
+BROWN, SHADOW = (60, 72, 100), (72, 72, 72)
+
+
+def shadowed_scene(grey_foot_share: float = 0.0) -> npt.NDArray[np.uint8]:
+    """The brown face over the grey floor that runs on behind it; the face's shadow on that
+    floor, just above the contact row, 40 columns right of the face; with
+    ``grey_foot_share``, that share of the face's own foot (from its left side) in the
+    shadow's grey (a contact row found below the face's foot shows it so). A fine grain:
+    the chroma of a few rows' median is that of the colours drawn."""
+    rng = np.random.default_rng(3)
+    img = np.empty((H, W, 3), np.float64)
+    img[:] = FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = BROWN
+    img[BOTTOM - 12 : BOTTOM, RIGHT : RIGHT + 40] = SHADOW
+    grey_end = LEFT + int(grey_foot_share * (RIGHT - LEFT))
+    img[BOTTOM - 6 : BOTTOM, LEFT:grey_end] = SHADOW
+    img += rng.normal(0, 4.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_shadow_on_the_floor_beside_the_face_is_not_widened_into() -> None:
+    """The shadow's colour is near the face's and steps from the floor below, as a foot
+    does, but it has the floor's chroma where the face has not: floor, not the face."""
+    left, right = widen(shadowed_scene(), LEFT, RIGHT)
+    assert left == LEFT and right <= RIGHT + 3
+
+
+@pytest.mark.parametrize(("name", "value"), [("FLOOR_CHROMA", 0.5), ("FACE_CHROMA_STEP", 17.0)])
+def test_the_chroma_limits_decide(name: str, value: float, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The shadow's chroma is within FLOOR_CHROMA (6) of the floor's (the grain's few
+    units), the face's about 15 from it, over FACE_CHROMA_STEP (12): either limit moved
+    past the scene's figures lets the side out onto the shadow."""
+    monkeypatch.setattr(region, name, value)
+    assert widen(shadowed_scene(), LEFT, RIGHT)[1] >= RIGHT + 30
+
+
+def test_a_foot_showing_the_floors_chroma_itself_leaves_the_chroma_no_say(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With 60 % of the face's own foot in the floor's chroma (the contact row taken
+    below the foot), a foot's chroma tells nothing: the colour run alone decides, as before
+    the chroma rule. At 40 % the rule holds; MAX_FLOORLIKE_FOOT (0.5) sits between."""
+    assert widen(shadowed_scene(0.6), LEFT, RIGHT)[1] >= RIGHT + 30
+    assert widen(shadowed_scene(0.4), LEFT, RIGHT)[1] <= RIGHT + 3
+    monkeypatch.setattr(region, "MAX_FLOORLIKE_FOOT", 0.35)
+    assert widen(shadowed_scene(0.4), LEFT, RIGHT)[1] >= RIGHT + 30
+    monkeypatch.setattr(region, "MAX_FLOORLIKE_FOOT", 0.65)
+    assert widen(shadowed_scene(0.6), LEFT, RIGHT)[1] <= RIGHT + 3
+
+
 # -- the top from the colour ---------------------------------------------------------------
 
 WALL, WALL_FOOT = (150, 90, 120), (120, 120, 40)  # a purple wall, a teal strip at its foot

@@ -70,6 +70,14 @@ MIN_WIDEN_SHARE = 0.1
 MIN_TRIM_FLOORLESS = 0.7
 #: Columns either side of the colour's end searched for the strongest vertical edge.
 SNAP_COLUMNS = 3
+#: A foot whose chroma (CIE Lab a, b, 8-bit scale) is within this of the floor's just
+#: below is floor: farther floor, or its shadow, lit otherwise than the floor below ...
+FLOOR_CHROMA = 6.0
+#: ... where the face's own chroma differs from that floor's by at least this (a grey face
+#: on a grey floor leaves the chroma no say).
+FACE_CHROMA_STEP = 12.0
+#: ... and while at most this share of the face's own foot looks like floor.
+MAX_FLOORLIKE_FOOT = 0.5
 
 
 def _band(
@@ -150,7 +158,13 @@ def widen_by_colour(
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
     d_foot_floor = row_norms(foot - floor)
     on_foot = (row_norms(foot - ref) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
-    on_both = (on & on_foot).tolist()  # Python lists for the walks
+    # beyond a side the floor runs on above the contact row, farther back or in the
+    # face's shadow: another lightness, the floor's own chroma. No side moves out over it
+    # (unless the face's own foot shows it too: a contact row below the foot)
+    floorlike = floor_chroma(foot, floor, ref)
+    if share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
+        floorlike[:] = False
+    on_both = (on & on_foot & ~floorlike).tolist()  # Python lists for the walks
     on_foot_flags = on_foot.tolist()
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
@@ -167,7 +181,9 @@ def widen_by_colour(
             # against what is behind, where beside the face there is neither
             if outline is None:
                 top_step = _top_step_columns(image, view, top)
-                outline = (np.asarray(top_step) & (d_foot_floor >= MIN_FLOOR_STEP)).tolist()
+                outline = (
+                    np.asarray(top_step) & (d_foot_floor >= MIN_FLOOR_STEP) & ~floorlike
+                ).tolist()
             end_outline = walk_on(outline, side - step * 2, step, outline_gap)
             # the face's top edge ends at its side: a top edge running on past the outline's
             # end is a background line at the top's row (the wall's foot), no evidence
@@ -196,6 +212,17 @@ def widen_by_colour(
                 continue
         new.append(_snap_side(ax, top, bottom, end)[0])
     return new[0], new[1]
+
+
+def floor_chroma(
+    foot: npt.NDArray[Any], floor: npt.NDArray[Any], ref: npt.NDArray[Any]
+) -> npt.NDArray[np.bool_]:
+    """Per column (W x 3 Lab): the foot shows the floor's chroma where the face's colour
+    ``ref`` does not: floor above the contact row (farther back, or shadowed), not the face."""
+    foot_step = row_norms(foot[:, 1:] - floor[:, 1:])
+    face_step = row_norms(ref[None, 1:] - floor[:, 1:])
+    out: npt.NDArray[np.bool_] = (foot_step < FLOOR_CHROMA) & (face_step >= FACE_CHROMA_STEP)
+    return out
 
 
 def _snap_side(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> tuple[int, float]:
