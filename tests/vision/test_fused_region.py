@@ -7,7 +7,7 @@ import numpy.typing as npt
 import pytest
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import region
-from obstacle_fusion.vision.fused.region import widen_by_colour
+from obstacle_fusion.vision.fused.region import trim_to_foot, widen_by_colour
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
 
@@ -572,6 +572,121 @@ def test_the_outline_must_hold_over_its_share(monkeypatch: pytest.MonkeyPatch) -
     assert abs(widen(img, *first)[0] - first[0]) <= 3
     monkeypatch.setattr(region, "OUTLINE_MIN_SHARE", 0.3)
     assert abs(widen(img, *first)[0] - LEFT) <= 2
+
+
+WALL_GREEN = (100, 125, 100)  # a wall little darker in grey than the green face
+
+
+def test_a_plank_edge_much_stronger_than_the_faces_sides_still_lets_the_outline_out(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A dark plank between light ones (room photo/716): its edges are several times the
+    face's own sides against the wall, yet the outline (foot and top) runs on to those
+    sides. The outer sides here are 0.17-0.2 of the plank's edges: over OUTLINE_SIDE_SHARE
+    (0.15), under the 0.25 it was."""
+    img = scene(beyond=WALL_GREEN)
+    third = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
+    img[TOP:BOTTOM, third[0] : third[1]] = (img[TOP:BOTTOM, third[0] : third[1]] * 0.25).astype(
+        np.uint8
+    )
+    ax = side_strength(img)
+    rows = slice(TOP, BOTTOM)
+    plank = float(ax[rows, third[1] - 1 : third[1] + 2].mean(axis=0).max())
+    outer = float(ax[rows, RIGHT - 1 : RIGHT + 2].mean(axis=0).max())
+    assert 0.15 < outer / plank < 0.25
+    left, right = widen(img, *third)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+    monkeypatch.setattr(region, "OUTLINE_SIDE_SHARE", 0.25)
+    left, right = widen(img, *third)
+    assert abs(right - third[1]) <= 3
+
+
+def trim(
+    img: npt.NDArray[np.uint8], left: int, right: int, found: tuple[int, int] | None = None
+) -> tuple[int, int]:
+    return trim_to_foot(
+        img, level_view(), side_strength(img), BOTTOM, TOP, left, right, DEPTH, found
+    )
+
+
+def test_no_foot_anywhere_leaves_the_sides() -> None:
+    """A face of the floor's own colour shows no foot: nothing to trim by."""
+    rng = np.random.default_rng(5)
+    img = scene(beyond=FLOOR)
+    face = np.asarray(FLOOR, np.float64) + rng.normal(0, 12.0, (BOTTOM - TOP, RIGHT - LEFT, 3))
+    img[TOP:BOTTOM, LEFT:RIGHT] = np.clip(face, 0, 255).astype(np.uint8)
+    assert trim(img, LEFT, RIGHT + 50) == (LEFT, RIGHT + 50)
+
+
+POLE = (30, 30, 30)
+
+
+def pole_scene(foot_contrast: float) -> npt.NDArray[np.uint8]:
+    """The planks' face and, 40 columns right of it, a dark pole standing farther back: it
+    ends 15 rows above the face's contact row, where it shows ``foot_contrast`` of its
+    contrast (1: it stands on the contact row itself)."""
+    img = planks_of_colours()
+    img[TOP - 20 : BOTTOM - 15, RIGHT + 40 : RIGHT + 46] = POLE
+    low = np.asarray(FLOOR) * (1.0 - foot_contrast) + np.asarray(POLE) * foot_contrast
+    img[BOTTOM - 15 : BOTTOM, RIGHT + 40 : RIGHT + 46] = low.astype(np.uint8)
+    return img
+
+
+def test_a_side_standing_on_the_contact_row_is_kept_without_a_foot_step(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A side whose edge runs down to the contact row stands on the floor there, whatever
+    lies between it and the face's foot (room procedural/132: a margin of the face's colour
+    under a print whose lower edge was taken for the contact row). The pole at half its
+    contrast over the foot's rows keeps 0.57 of its edge there and does not stand
+    (SIDE_FOOT_SHARE 0.6), at 0.6 of its contrast it keeps 0.67 and does."""
+    assert trim(pole_scene(0.5), LEFT, RIGHT + 40) == (LEFT, RIGHT)
+    assert trim(pole_scene(0.6), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "SIDE_FOOT_SHARE", 0.55)
+    assert trim(pole_scene(0.5), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "SIDE_FOOT_SHARE", 0.7)
+    assert trim(pole_scene(0.6), LEFT, RIGHT + 40) == (LEFT, RIGHT)
+
+
+def test_a_side_moved_out_across_seams_comes_back_to_the_search_side() -> None:
+    """A side the seam walk moved out (room photo/311: onto a neighbour's edge over a
+    textured floor that keeps it present down to the contact row) is brought back to
+    where the face's foot ends, but no farther in than the search's side."""
+    img = pole_scene(1.0)
+    assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT)) == (LEFT, RIGHT)
+    assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT + 40)) == (LEFT, RIGHT + 40)
+    assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT - 30)) == (LEFT, RIGHT)
+
+
+def test_a_side_taken_out_past_a_face_of_many_colours_comes_back_to_its_foot() -> None:
+    """The search took the right side 40 columns out, onto a pole standing farther back,
+    over the floor that runs on behind a face of four plank colours (rooms
+    procedural/339, photo/718, photo/737): no colour run along the foot brings it in, the
+    foot's step from the floor does."""
+    img = pole_scene(0.0)
+    assert widen(img, LEFT, RIGHT + 40)[1] >= RIGHT + 35  # the colour run says nothing
+    assert trim(img, LEFT, RIGHT + 40) == (LEFT, RIGHT)
+    assert trim(img, LEFT, RIGHT) == (LEFT, RIGHT)
+
+
+def striped_foot(width: int) -> npt.NDArray[np.uint8]:
+    """The pole's scene with the face's foot showing the floor in ``width`` columns of
+    every 20."""
+    img = pole_scene(0.0)
+    for a in range(LEFT, RIGHT, 20):
+        img[BOTTOM - 10 : BOTTOM, a : a + width] = img[BOTTOM + 5 : BOTTOM + 15, a : a + width]
+    return img
+
+
+def test_the_kept_face_must_stand_on_its_foot(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A foot broken in 10 columns of 20 still stands over 0.67 of the face's columns, one
+    broken in 12 of 20 over 0.56: MIN_KEPT_FOOT (0.6) trims the first pair, not the second."""
+    assert trim(striped_foot(10), LEFT, RIGHT + 40) == (LEFT, RIGHT)
+    assert trim(striped_foot(12), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "MIN_KEPT_FOOT", 0.7)
+    assert trim(striped_foot(10), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "MIN_KEPT_FOOT", 0.5)
+    assert trim(striped_foot(12), LEFT, RIGHT + 40) == (LEFT, RIGHT)
 
 
 def test_a_face_widened_far_past_the_search_columns_is_fitted_over_its_width(

@@ -40,6 +40,7 @@ from obstacle_fusion.vision.fused.region import (
     raise_top_by_sides,
     side_agreement,
     top_agreement,
+    trim_to_foot,
     widen_by_colour,
 )
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
@@ -265,6 +266,8 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        # ... and stand on the floor-contact row: no side beyond where the face's foot ends
+        ul, ur = trim_to_foot(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, span)
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
         # a top that is no colour boundary may be a line on the face or behind it
         conf *= top_agreement(seen, v, int(round(vt)), ul, ur)

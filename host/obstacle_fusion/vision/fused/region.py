@@ -12,6 +12,7 @@ to one plank, took a wall line crossing the face for its top and a print for the
 
 * :func:`widen_by_colour`: the sides, out along the foot's colour run (or in, over columns
   with no foot at all);
+* :func:`trim_to_foot`: the sides, in to where the face's foot ends (a face of any colours);
 * :func:`enclose_by_margin`: a print inside a margin of one colour is enclosed by its frame;
 * :func:`raise_top_by_colour`: the top, up past a background line crossing the face;
 * :func:`looks_like_top_face`: whether rows under the top are a box's top face;
@@ -214,6 +215,115 @@ def widen_by_colour(
     return new[0], new[1]
 
 
+#: A pair is trimmed to its foot only when the face kept stands on a foot over this share
+#: of its columns.
+MIN_KEPT_FOOT = 0.6
+
+
+def trim_to_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+    found: tuple[int, int] | None = None,
+) -> tuple[int, int]:
+    """The sides moved in to where the face's foot ends, whatever the face's colours.
+
+    A face stands on the contact row along its whole width: just above that row it steps
+    from the floor below, and not to a shade of the floor itself. A side the search took
+    out on a neighbour or a background edge has columns between it and the face where the
+    floor runs on above the contact row (no step, or only the floor's own chroma).
+    :func:`widen_by_colour` brings such a side in only for a face of one colour along its
+    foot; a print, planks or a label at the foot leave that to this walk over the foot's
+    step alone (at most the gaps of a seam).
+
+    A side that stands down to the contact row as strongly as along the face is kept: it
+    stands on the floor there (a margin of the face's colour under a print whose lower edge
+    was taken for the contact row shows no step either). ``found``: the search's sides; one
+    moved out past them across seams (its new column the floor's texture may make stand) is
+    brought back no farther in than the search's side, unless that does not stand."""
+    if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
+        return left, right
+    found = found or (left, right)
+    bands = _foot_bands(image, view, bottom, top, left, right)
+    if bands is None:
+        return left, right
+    foot, floor, ref = bands
+    seed = slice(left + 2, right - 1)
+    floorlike = floor_chroma(foot, floor, ref)
+    if share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
+        floorlike[:] = False
+    stands = (row_norms(foot - floor) >= MIN_FLOOR_STEP) & ~floorlike
+    inside = np.nonzero(stands[left : right + 1])[0] + left
+    if inside.size == 0:
+        return left, right  # no foot anywhere: a face of the floor's colour, say nothing
+    centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
+    max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
+    min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
+    flags = stands.tolist()
+    new = []
+    for side, step, first in ((left, -1, found[0]), (right, 1, found[1])):
+        end = walk_on(flags, centre, step, max_gap)
+        if (first - side) * step < 0:  # moved out across seams
+            if _stands_on_foot(ax, top, bottom, first):
+                end = first if (end - first) * step < 0 else end
+        elif _stands_on_foot(ax, top, bottom, side):
+            new.append(side)
+            continue
+        cut = slice(min(end, side) + 1, max(end, side))
+        if (side - end) * step <= min_move or share(~stands[cut]) < MIN_TRIM_FLOORLESS:
+            new.append(side)
+        else:
+            new.append(_snap_side(ax, top, bottom, end)[0])
+    if new == [left, right] or new[1] - new[0] < 6:
+        return left, right
+    if share(stands[new[0] : new[1] + 1]) < MIN_KEPT_FOOT:
+        return left, right  # what is left does not stand on a foot either
+    return new[0], new[1]
+
+
+#: A side stands on the contact row when its edge just above that row is at least this share
+#: of its strength along the face; an edge standing farther back ends higher up.
+SIDE_FOOT_SHARE = 0.6
+
+
+def _stands_on_foot(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> bool:
+    """The side's |d/dx| (strongest of 3 columns) over the foot's rows against its median
+    along the face."""
+    c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
+    col = ax[max(top, 0) : bottom, c0:c1].max(axis=1)
+    if col.size <= FOOT_ROWS + EDGE_SKIP:
+        return True
+    along = float(median_of(col.astype(np.float32)))
+    foot = float(col[-(FOOT_ROWS + EDGE_SKIP) : -1].mean())
+    return foot >= SIDE_FOOT_SHARE * along
+
+
+def _foot_bands(
+    image: npt.NDArray[Any], view: View, bottom: int, top: int, left: int, right: int
+) -> tuple[npt.NDArray[Any], npt.NDArray[Any], npt.NDArray[Any]] | None:
+    """Per column (W x 3 Lab, smoothed over SMOOTH_COLUMNS): the foot just above the
+    contact row, the floor just below it; and the face's colour (the median of the face
+    band over the columns between the sides). None at the image's edge."""
+    rows = int(clamp(FACE_BAND_SHARE * (bottom - top), *FACE_BAND_ROWS))
+    r0 = bottom - EDGE_SKIP - rows
+    r1 = min(bottom + EDGE_SKIP + FLOOR_BAND_ROWS + 1, view.out.shape[0])
+    floor_rows = r1 - (bottom + EDGE_SKIP + 1)
+    if r0 < 0 or floor_rows < 1:
+        return None
+    lab = _lab8(image, view, r0, r1)
+    face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    foot = cv2.blur(
+        median_u8(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+    )[0]
+    return foot, floor, median_of(face[left + 2 : right - 1], axis=0)
+
+
 def floor_chroma(
     foot: npt.NDArray[Any], floor: npt.NDArray[Any], ref: npt.NDArray[Any]
 ) -> npt.NDArray[np.bool_]:
@@ -242,7 +352,7 @@ OUTLINE_GAP_M = 0.02
 OUTLINE_MIN_SHARE = 0.8
 #: A side moved out along the outline must be an edge at least this share as strong as
 #: the side it moved from.
-OUTLINE_SIDE_SHARE = 0.25
+OUTLINE_SIDE_SHARE = 0.15
 
 
 def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[bool]:
