@@ -440,6 +440,36 @@ def test_a_face_is_found_by_its_colour_at_the_predicted_foot() -> None:
     assert 0.5 < evidence <= 1.0
 
 
+def test_a_face_grown_from_a_tape_in_the_core_runs_on_over_the_floors_chroma(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A grey face (the floor's chroma, darker) with a brown tape down the beam's core
+    (room procedural/337, hard, no rig): grown from the core, the face's colour is the
+    tape's, and the grey beside it is the face, not floor. The chroma rule is off there."""
+    rng = np.random.default_rng(4)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = WALL
+    img[BOTTOM:] = FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = SHADOW
+    img[TOP:BOTTOM, W // 2 - 15 : W // 2 + 16] = BROWN
+    img = np.clip(img + rng.normal(0, 4.0, img.shape), 0, 255).astype(np.uint8)
+
+    def find() -> tuple[int, int, int, int, float] | None:
+        return region.face_from_colour(
+            img, level_view(), side_strength(img), ay_of(img), (BOTTOM - 5, BOTTOM + 5), DEPTH
+        )
+
+    found = find()
+    assert found is not None
+    assert abs(found[2] - LEFT) <= 3 and abs(found[3] - RIGHT) <= 3
+    plain = region.widen_by_colour
+    monkeypatch.setattr(
+        region, "widen_by_colour", lambda *a, **k: plain(*a, **{**k, "chroma": True})
+    )
+    found = find()
+    assert found is None or found[3] - found[2] < 60
+
+
 def test_no_face_where_floor_and_wall_are_one_colour() -> None:
     img = scene(beyond=FLOOR)
     img[TOP:BOTTOM, LEFT:RIGHT] = img[BOTTOM : BOTTOM + 1, LEFT:RIGHT]  # no face at all
@@ -559,6 +589,7 @@ def test_the_outline_side_share_decides(monkeypatch: pytest.MonkeyPatch) -> None
     first = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
     # the face's outer sides against the grey wall are no stronger than a plank's edge
     monkeypatch.setattr(region, "OUTLINE_SIDE_SHARE", 3.0)
+    monkeypatch.setattr(region, "OUTLINE_WEAK_SIDE_SHARE", 3.0)
     left, right = widen(img, *first)
     assert abs(left - first[0]) <= 3 and abs(right - first[1]) <= 3
 
@@ -577,18 +608,23 @@ def test_the_outline_must_hold_over_its_share(monkeypatch: pytest.MonkeyPatch) -
 WALL_GREEN = (100, 125, 100)  # a wall little darker in grey than the green face
 
 
+def dark_plank_scene() -> tuple[npt.NDArray[np.uint8], tuple[int, int]]:
+    """A dark plank between light ones (room photo/716), and its columns: its edges are
+    about five times the face's own sides against the wall."""
+    img = scene(beyond=WALL_GREEN)
+    third = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
+    plank = img[TOP:BOTTOM, third[0] : third[1]]
+    img[TOP:BOTTOM, third[0] : third[1]] = (plank * 0.25).astype(np.uint8)
+    return img, third
+
+
 def test_a_plank_edge_much_stronger_than_the_faces_sides_still_lets_the_outline_out(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """A dark plank between light ones (room photo/716): its edges are several times the
-    face's own sides against the wall, yet the outline (foot and top) runs on to those
-    sides. The outer sides here are 0.17-0.2 of the plank's edges: over OUTLINE_SIDE_SHARE
-    (0.15), under the 0.25 it was."""
-    img = scene(beyond=WALL_GREEN)
-    third = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
-    img[TOP:BOTTOM, third[0] : third[1]] = (img[TOP:BOTTOM, third[0] : third[1]] * 0.25).astype(
-        np.uint8
-    )
+    """The outline (foot and top) runs on to the face's sides, 0.17-0.2 as strong as the
+    plank's edges: under OUTLINE_SIDE_SHARE (0.25), over OUTLINE_WEAK_SIDE_SHARE (0.15),
+    and standing up the face's upper half as in its lower half."""
+    img, third = dark_plank_scene()
     ax = side_strength(img)
     rows = slice(TOP, BOTTOM)
     plank = float(ax[rows, third[1] - 1 : third[1] + 2].mean(axis=0).max())
@@ -596,9 +632,19 @@ def test_a_plank_edge_much_stronger_than_the_faces_sides_still_lets_the_outline_
     assert 0.15 < outer / plank < 0.25
     left, right = widen(img, *third)
     assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
-    monkeypatch.setattr(region, "OUTLINE_SIDE_SHARE", 0.25)
-    left, right = widen(img, *third)
-    assert abs(right - third[1]) <= 3
+    monkeypatch.setattr(region, "OUTLINE_WEAK_SIDE_SHARE", 0.25)
+    assert abs(widen(img, *third)[1] - third[1]) <= 3
+
+
+@pytest.mark.parametrize(("upper", "stands"), [(0.0, False), (0.35, False), (0.45, True)])
+def test_a_weak_outline_side_must_stand_up_the_face(upper: float, stands: bool) -> None:
+    """A side's edge as strong in the face's upper half as OUTLINE_UPPER_SHARE (0.4) of its
+    lower half stands up the face; the edge of a shadow on the floor beside the face
+    (room photo/117, no rig: a contact row under the foot) stands in the lower rows only."""
+    ax = np.zeros((H, W), np.int16)
+    ax[TOP : (TOP + BOTTOM) // 2, 100] = int(40 * upper)
+    ax[(TOP + BOTTOM) // 2 : BOTTOM + 1, 100] = 40
+    assert region._stands_up(ax, TOP, BOTTOM, 100) is stands
 
 
 def trim(

@@ -125,8 +125,13 @@ def widen_by_colour(
     left: int,
     right: int,
     depth_m: float,
+    chroma: bool = True,
 ) -> tuple[int, int]:
-    """The face's sides, moved out to where its colour along its foot ends."""
+    """The face's sides, moved out to where its colour along its foot ends.
+
+    ``chroma``: no side moves out over a foot showing the floor's own chroma (see
+    :func:`floor_chroma`); off where the sides are a core a few centimetres wide in the
+    beam, whose colour may be a tape's or a label's on a face of the floor's chroma."""
     if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
         return left, right
     h_view = view.out.shape[0]
@@ -163,7 +168,7 @@ def widen_by_colour(
     # face's shadow: another lightness, the floor's own chroma. No side moves out over it
     # (unless the face's own foot shows it too: a contact row below the foot)
     floorlike = floor_chroma(foot, floor, ref)
-    if share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
+    if not chroma or share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
         floorlike[:] = False
     on_both = (on & on_foot & ~floorlike).tolist()  # Python lists for the walks
     on_foot_flags = on_foot.tolist()
@@ -197,7 +202,11 @@ def widen_by_colour(
             ):
                 moved = _snap_side(ax, top, bottom, end_outline)
                 # ... and there the face has a side as clear as the one it ran on from
-                if moved[1] >= OUTLINE_SIDE_SHARE * _snap_side(ax, top, bottom, side)[1]:
+                need = _snap_side(ax, top, bottom, side)[1]
+                if moved[1] >= OUTLINE_SIDE_SHARE * need or (
+                    moved[1] >= OUTLINE_WEAK_SIDE_SHARE * need
+                    and _stands_up(ax, top, bottom, moved[0])
+                ):
                     end = end_outline
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
@@ -249,16 +258,19 @@ def trim_to_foot(
     if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
         return left, right
     found = found or (left, right)
-    bands = _foot_bands(image, view, bottom, top, left, right)
+    # only the pair's columns (and the smoothing's reach beyond): a walk past a side ends
+    # there as it would farther out, with the side kept
+    c0 = max(0, left - SMOOTH_COLUMNS)
+    c1 = min(view.out.shape[1], right + SMOOTH_COLUMNS + 1)
+    bands = _foot_bands(image, view, bottom, top, c0, c1, (left + 2 - c0, right - 1 - c0))
     if bands is None:
         return left, right
     foot, floor, ref = bands
-    seed = slice(left + 2, right - 1)
     floorlike = floor_chroma(foot, floor, ref)
-    if share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
+    if share(floorlike[left + 2 - c0 : right - 1 - c0]) > MAX_FLOORLIKE_FOOT:
         floorlike[:] = False
     stands = (row_norms(foot - floor) >= MIN_FLOOR_STEP) & ~floorlike
-    inside = np.nonzero(stands[left : right + 1])[0] + left
+    inside = np.nonzero(stands[left - c0 : right - c0 + 1])[0] + left
     if inside.size == 0:
         return left, right  # no foot anywhere: a face of the floor's colour, say nothing
     centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
@@ -267,21 +279,21 @@ def trim_to_foot(
     flags = stands.tolist()
     new = []
     for side, step, first in ((left, -1, found[0]), (right, 1, found[1])):
-        end = walk_on(flags, centre, step, max_gap)
+        end = walk_on(flags, centre - c0, step, max_gap) + c0
         if (first - side) * step < 0:  # moved out across seams
             if _stands_on_foot(ax, top, bottom, first):
                 end = first if (end - first) * step < 0 else end
         elif _stands_on_foot(ax, top, bottom, side):
             new.append(side)
             continue
-        cut = slice(min(end, side) + 1, max(end, side))
+        cut = slice(min(end, side) + 1 - c0, max(end, side) - c0)
         if (side - end) * step <= min_move or share(~stands[cut]) < MIN_TRIM_FLOORLESS:
             new.append(side)
         else:
             new.append(_snap_side(ax, top, bottom, end)[0])
     if new == [left, right] or new[1] - new[0] < 6:
         return left, right
-    if share(stands[new[0] : new[1] + 1]) < MIN_KEPT_FOOT:
+    if share(stands[new[0] - c0 : new[1] - c0 + 1]) < MIN_KEPT_FOOT:
         return left, right  # what is left does not stand on a foot either
     return new[0], new[1]
 
@@ -304,24 +316,30 @@ def _stands_on_foot(ax: npt.NDArray[np.int16], top: int, bottom: int, column: in
 
 
 def _foot_bands(
-    image: npt.NDArray[Any], view: View, bottom: int, top: int, left: int, right: int
+    image: npt.NDArray[Any],
+    view: View,
+    bottom: int,
+    top: int,
+    c0: int,
+    c1: int,
+    face_cols: tuple[int, int],
 ) -> tuple[npt.NDArray[Any], npt.NDArray[Any], npt.NDArray[Any]] | None:
-    """Per column (W x 3 Lab, smoothed over SMOOTH_COLUMNS): the foot just above the
-    contact row, the floor just below it; and the face's colour (the median of the face
-    band over the columns between the sides). None at the image's edge."""
+    """Per column c0..c1-1 (W x 3 Lab, smoothed over SMOOTH_COLUMNS): the foot just above
+    the contact row, the floor just below it; and the face's colour (the median of the face
+    band over ``face_cols``, counted from c0). None at the image's edge."""
     rows = int(clamp(FACE_BAND_SHARE * (bottom - top), *FACE_BAND_ROWS))
     r0 = bottom - EDGE_SKIP - rows
     r1 = min(bottom + EDGE_SKIP + FLOOR_BAND_ROWS + 1, view.out.shape[0])
     floor_rows = r1 - (bottom + EDGE_SKIP + 1)
     if r0 < 0 or floor_rows < 1:
         return None
-    lab = _lab8(image, view, r0, r1)
+    lab = _lab8(image, view, r0, r1, c0, c1)
     face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     foot = cv2.blur(
         median_u8(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
     )[0]
-    return foot, floor, median_of(face[left + 2 : right - 1], axis=0)
+    return foot, floor, median_of(face[face_cols[0] : face_cols[1]], axis=0)
 
 
 def floor_chroma(
@@ -346,13 +364,29 @@ def _snap_side(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) ->
     return lo + best, float(strength[best])
 
 
+def _stands_up(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> bool:
+    """The column's |d/dx| (strongest of 3) over the face's upper half is at least
+    OUTLINE_UPPER_SHARE of that over its lower half."""
+    c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
+    col = ax[max(top, 0) : bottom + 1, c0:c1].max(axis=1).astype(np.float32)
+    half = col.size // 2
+    if half < 2:
+        return False
+    return float(col[:half].mean()) >= OUTLINE_UPPER_SHARE * float(col[half:].mean())
+
+
 #: Columns off the outline crossed (metres at the face): a seam's, a joint's width.
 OUTLINE_GAP_M = 0.02
 #: ... and the outline must hold over this share of the columns it crossed.
 OUTLINE_MIN_SHARE = 0.8
 #: A side moved out along the outline must be an edge at least this share as strong as
-#: the side it moved from.
-OUTLINE_SIDE_SHARE = 0.15
+#: the side it moved from ...
+OUTLINE_SIDE_SHARE = 0.25
+#: ... or this share, when it stands up the face's upper half at least OUTLINE_UPPER_SHARE
+#: as strongly as in its lower half (a dark plank's edges may be several times the face's
+#: own sides; a shadow's edge on the floor beside the face stands in the lower rows only).
+OUTLINE_WEAK_SIDE_SHARE = 0.15
+OUTLINE_UPPER_SHARE = 0.4
 
 
 def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[bool]:
@@ -825,7 +859,7 @@ def face_from_colour(
         return None  # no step, or no room above it for a face (a tiny or tilted frame)
     # sides: the foot's colour run from the core, as wide as the face's colour goes
     left, right = widen_by_colour(
-        image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m
+        image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m, chroma=False
     )
     if right - left < 2 * SIDE_SKIP + 6:
         return None
