@@ -715,6 +715,46 @@ def test_a_side_taken_out_past_a_face_of_many_colours_comes_back_to_its_foot() -
     assert trim(img, LEFT, RIGHT) == (LEFT, RIGHT)
 
 
+def floor_coloured_face() -> npt.NDArray[np.uint8]:
+    """A green face on a floor whose tiles right of column 160 are the face's own green,
+    running on behind the face above the contact row too (a generated scene of
+    tools/bench_vision.py, seed 2026, hard 72): its foot steps from the floor on its left
+    only, and its right side does not stand out at the foot. Above, a purple wall."""
+    rng = np.random.default_rng(6)
+    img = np.empty((H, W, 3), np.float64)
+    img[:] = WALL
+    img[BOTTOM:] = FLOOR
+    img[BOTTOM:, 160:] = FACE
+    img[BOTTOM - 15 : BOTTOM, RIGHT:] = FACE
+    img[TOP:BOTTOM, LEFT:RIGHT] = FACE
+    img = img + rng.normal(0, 4.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_face_in_the_floors_colour_keeps_the_side_its_upper_rows_reach(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Where the foot shows no step, the face's upper rows still show its colour out to the
+    side (beyond a real side the wall stands there): no trim. MIN_FACE_SHARE_CUT over 1
+    lets it cut."""
+    img = floor_coloured_face()
+    assert trim(img, LEFT, RIGHT) == (LEFT, RIGHT)
+    monkeypatch.setattr(region, "MIN_FACE_SHARE_CUT", 1.01)
+    assert abs(trim(img, LEFT, RIGHT)[1] - 160) <= 6
+
+
+def test_a_low_face_leaves_its_upper_rows_no_say(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A face 39 rows high (under MIN_UPPER_FACE_ROWS, 40): its upper rows are its foot's
+    strip, so they do not hold the side."""
+    img = floor_coloured_face()
+    low_top = BOTTOM - 39
+    ax = side_strength(img)
+    args = (img, level_view(), ax, BOTTOM, low_top, LEFT, RIGHT, DEPTH)
+    assert abs(trim_to_foot(*args)[1] - 160) <= 6
+    monkeypatch.setattr(region, "MIN_UPPER_FACE_ROWS", 39)
+    assert trim_to_foot(*args) == (LEFT, RIGHT)
+
+
 def striped_foot(width: int) -> npt.NDArray[np.uint8]:
     """The pole's scene with the face's foot showing the floor in ``width`` columns of
     every 20."""

@@ -287,7 +287,11 @@ def trim_to_foot(
             new.append(side)
             continue
         cut = slice(min(end, side) + 1 - c0, max(end, side) - c0)
-        if (side - end) * step <= min_move or share(~stands[cut]) < MIN_TRIM_FLOORLESS:
+        if (
+            (side - end) * step <= min_move
+            or share(~stands[cut]) < MIN_TRIM_FLOORLESS
+            or _face_runs_on(image, view, top, bottom, centre, end, side)
+        ):
             new.append(side)
         else:
             new.append(_snap_side(ax, top, bottom, end)[0])
@@ -296,6 +300,37 @@ def trim_to_foot(
     if share(stands[new[0] - c0 : new[1] - c0 + 1]) < MIN_KEPT_FOOT:
         return left, right  # what is left does not stand on a foot either
     return new[0], new[1]
+
+
+#: The face's upper rows (shares of its height from the top) compared beside the cut ...
+UPPER_ROWS = (0.05, 0.3)
+#: ... on a face at least this many rows high (on a lower one they are its foot's strip).
+MIN_UPPER_FACE_ROWS = 40
+#: The columns to be cut are the face's own when this share of them shows, over the face's
+#: upper rows, the colour of the face kept (within MIN_FACE_DISTANCE).
+MIN_FACE_SHARE_CUT = 0.6
+
+
+def _face_runs_on(
+    image: npt.NDArray[Any], view: View, top: int, bottom: int, centre: int, end: int, side: int
+) -> bool:
+    """Whether the columns between ``end`` (where the foot's step ended) and ``side`` show
+    the face's colour over its upper rows: a face in the floor's own colour steps from it
+    only where the floor's tiles differ, yet the face runs on above, while beyond a real
+    side the wall stands at the face's upper rows."""
+    h = bottom - top
+    r0, r1 = top + int(UPPER_ROWS[0] * h), top + int(UPPER_ROWS[1] * h)
+    lo, hi = sorted((centre, side))
+    if h < MIN_UPPER_FACE_ROWS or hi - lo < 2:
+        return False
+    lab = _lab8(image, view, r0, r1, lo, hi + 1, 1)[::SUBSAMPLE]
+    upper = median_u8(lab, axis=0)  # per column
+    kept = slice(0, end - lo + 1) if side > centre else slice(end - lo, None)
+    cut = slice(end - lo + 1, None) if side > centre else slice(0, end - lo)
+    if upper[kept].shape[0] == 0 or upper[cut].shape[0] == 0:
+        return False
+    ref = median_of(upper[kept], axis=0)
+    return share(row_norms(upper[cut] - ref) <= MIN_FACE_DISTANCE) >= MIN_FACE_SHARE_CUT
 
 
 #: A side stands on the contact row when its edge just above that row is at least this share
