@@ -7,7 +7,7 @@ import numpy.typing as npt
 import pytest
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import region
-from obstacle_fusion.vision.fused.region import widen_by_colour
+from obstacle_fusion.vision.fused.region import trim_to_foot, widen_by_colour
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
 
@@ -143,6 +143,59 @@ def test_a_box_of_the_face_colour_standing_farther_back_beside_it_is_not_widened
     img[TOP : BOTTOM - 7, RIGHT : RIGHT + 40] = FACE
     left, right = widen(img, LEFT, RIGHT)
     assert right <= RIGHT + 3
+
+
+# a dim brown face (Lab chroma about 15 from the grey floor's) and its shadow on the floor
+# beside it: the floor's grey darkened, its Lab colour within the face's colour limit
+# (rooms photo/105, photo/723, procedural/721)
+BROWN, SHADOW = (60, 72, 100), (72, 72, 72)
+
+
+def shadowed_scene(grey_foot_share: float = 0.0) -> npt.NDArray[np.uint8]:
+    """The brown face over the grey floor that runs on behind it; the face's shadow on that
+    floor, just above the contact row, 40 columns right of the face; with
+    ``grey_foot_share``, that share of the face's own foot (from its left side) in the
+    shadow's grey (a contact row found below the face's foot shows it so). A fine grain:
+    the chroma of a few rows' median is that of the colours drawn."""
+    rng = np.random.default_rng(3)
+    img = np.empty((H, W, 3), np.float64)
+    img[:] = FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = BROWN
+    img[BOTTOM - 12 : BOTTOM, RIGHT : RIGHT + 40] = SHADOW
+    grey_end = LEFT + int(grey_foot_share * (RIGHT - LEFT))
+    img[BOTTOM - 6 : BOTTOM, LEFT:grey_end] = SHADOW
+    img += rng.normal(0, 4.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_shadow_on_the_floor_beside_the_face_is_not_widened_into() -> None:
+    """The shadow's colour is near the face's and steps from the floor below, as a foot
+    does, but it has the floor's chroma where the face has not: floor, not the face."""
+    left, right = widen(shadowed_scene(), LEFT, RIGHT)
+    assert left == LEFT and right <= RIGHT + 3
+
+
+@pytest.mark.parametrize(("name", "value"), [("FLOOR_CHROMA", 0.5), ("FACE_CHROMA_STEP", 17.0)])
+def test_the_chroma_limits_decide(name: str, value: float, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The shadow's chroma is within FLOOR_CHROMA (6) of the floor's (the grain's few
+    units), the face's about 15 from it, over FACE_CHROMA_STEP (12): either limit moved
+    past the scene's figures lets the side out onto the shadow."""
+    monkeypatch.setattr(region, name, value)
+    assert widen(shadowed_scene(), LEFT, RIGHT)[1] >= RIGHT + 30
+
+
+def test_a_foot_showing_the_floors_chroma_itself_leaves_the_chroma_no_say(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With 60 % of the face's own foot in the floor's chroma (the contact row taken
+    below the foot), a foot's chroma tells nothing: the colour run alone decides, as before
+    the chroma rule. At 40 % the rule holds; MAX_FLOORLIKE_FOOT (0.5) sits between."""
+    assert widen(shadowed_scene(0.6), LEFT, RIGHT)[1] >= RIGHT + 30
+    assert widen(shadowed_scene(0.4), LEFT, RIGHT)[1] <= RIGHT + 3
+    monkeypatch.setattr(region, "MAX_FLOORLIKE_FOOT", 0.35)
+    assert widen(shadowed_scene(0.4), LEFT, RIGHT)[1] >= RIGHT + 30
+    monkeypatch.setattr(region, "MAX_FLOORLIKE_FOOT", 0.65)
+    assert widen(shadowed_scene(0.6), LEFT, RIGHT)[1] <= RIGHT + 3
 
 
 # -- the top from the colour ---------------------------------------------------------------
@@ -400,6 +453,36 @@ def test_a_face_is_found_by_its_colour_at_the_predicted_foot() -> None:
     assert 0.5 < evidence <= 1.0
 
 
+def test_a_face_grown_from_a_tape_in_the_core_runs_on_over_the_floors_chroma(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A grey face (the floor's chroma, darker) with a brown tape down the beam's core
+    (room procedural/337, hard, no rig): grown from the core, the face's colour is the
+    tape's, and the grey beside it is the face, not floor. The chroma rule is off there."""
+    rng = np.random.default_rng(4)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = WALL
+    img[BOTTOM:] = FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = SHADOW
+    img[TOP:BOTTOM, W // 2 - 15 : W // 2 + 16] = BROWN
+    img = np.clip(img + rng.normal(0, 4.0, img.shape), 0, 255).astype(np.uint8)
+
+    def find() -> tuple[int, int, int, int, float] | None:
+        return region.face_from_colour(
+            img, level_view(), side_strength(img), ay_of(img), (BOTTOM - 5, BOTTOM + 5), DEPTH
+        )
+
+    found = find()
+    assert found is not None
+    assert abs(found[2] - LEFT) <= 3 and abs(found[3] - RIGHT) <= 3
+    plain = region.widen_by_colour
+    monkeypatch.setattr(
+        region, "widen_by_colour", lambda *a, **k: plain(*a, **{**k, "chroma": True})
+    )
+    found = find()
+    assert found is None or found[3] - found[2] < 60
+
+
 def test_no_face_where_floor_and_wall_are_one_colour() -> None:
     img = scene(beyond=FLOOR)
     img[TOP:BOTTOM, LEFT:RIGHT] = img[BOTTOM : BOTTOM + 1, LEFT:RIGHT]  # no face at all
@@ -519,6 +602,7 @@ def test_the_outline_side_share_decides(monkeypatch: pytest.MonkeyPatch) -> None
     first = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
     # the face's outer sides against the grey wall are no stronger than a plank's edge
     monkeypatch.setattr(region, "OUTLINE_SIDE_SHARE", 3.0)
+    monkeypatch.setattr(region, "OUTLINE_WEAK_SIDE_SHARE", 3.0)
     left, right = widen(img, *first)
     assert abs(left - first[0]) <= 3 and abs(right - first[1]) <= 3
 
@@ -532,6 +616,176 @@ def test_the_outline_must_hold_over_its_share(monkeypatch: pytest.MonkeyPatch) -
     assert abs(widen(img, *first)[0] - first[0]) <= 3
     monkeypatch.setattr(region, "OUTLINE_MIN_SHARE", 0.3)
     assert abs(widen(img, *first)[0] - LEFT) <= 2
+
+
+WALL_GREEN = (100, 125, 100)  # a wall little darker in grey than the green face
+
+
+def dark_plank_scene() -> tuple[npt.NDArray[np.uint8], tuple[int, int]]:
+    """A dark plank between light ones (room photo/716), and its columns: its edges are
+    about five times the face's own sides against the wall."""
+    img = scene(beyond=WALL_GREEN)
+    third = (LEFT + RIGHT) // 2 + 2, (LEFT + RIGHT) // 2 + 48
+    plank = img[TOP:BOTTOM, third[0] : third[1]]
+    img[TOP:BOTTOM, third[0] : third[1]] = (plank * 0.25).astype(np.uint8)
+    return img, third
+
+
+def test_a_plank_edge_much_stronger_than_the_faces_sides_still_lets_the_outline_out(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The outline (foot and top) runs on to the face's sides, 0.17-0.2 as strong as the
+    plank's edges: under OUTLINE_SIDE_SHARE (0.25), over OUTLINE_WEAK_SIDE_SHARE (0.15),
+    and standing up the face's upper half as in its lower half."""
+    img, third = dark_plank_scene()
+    ax = side_strength(img)
+    rows = slice(TOP, BOTTOM)
+    plank = float(ax[rows, third[1] - 1 : third[1] + 2].mean(axis=0).max())
+    outer = float(ax[rows, RIGHT - 1 : RIGHT + 2].mean(axis=0).max())
+    assert 0.15 < outer / plank < 0.25
+    left, right = widen(img, *third)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+    monkeypatch.setattr(region, "OUTLINE_WEAK_SIDE_SHARE", 0.25)
+    assert abs(widen(img, *third)[1] - third[1]) <= 3
+
+
+@pytest.mark.parametrize(("upper", "stands"), [(0.0, False), (0.35, False), (0.45, True)])
+def test_a_weak_outline_side_must_stand_up_the_face(upper: float, stands: bool) -> None:
+    """A side's edge as strong in the face's upper half as OUTLINE_UPPER_SHARE (0.4) of its
+    lower half stands up the face; the edge of a shadow on the floor beside the face
+    (room photo/117, no rig: a contact row under the foot) stands in the lower rows only."""
+    ax = np.zeros((H, W), np.int16)
+    ax[TOP : (TOP + BOTTOM) // 2, 100] = int(40 * upper)
+    ax[(TOP + BOTTOM) // 2 : BOTTOM + 1, 100] = 40
+    assert region._stands_up(ax, TOP, BOTTOM, 100) is stands
+
+
+def trim(
+    img: npt.NDArray[np.uint8], left: int, right: int, found: tuple[int, int] | None = None
+) -> tuple[int, int]:
+    return trim_to_foot(
+        img, level_view(), side_strength(img), BOTTOM, TOP, left, right, DEPTH, found
+    )
+
+
+def test_no_foot_anywhere_leaves_the_sides() -> None:
+    """A face of the floor's own colour shows no foot: nothing to trim by."""
+    rng = np.random.default_rng(5)
+    img = scene(beyond=FLOOR)
+    face = np.asarray(FLOOR, np.float64) + rng.normal(0, 12.0, (BOTTOM - TOP, RIGHT - LEFT, 3))
+    img[TOP:BOTTOM, LEFT:RIGHT] = np.clip(face, 0, 255).astype(np.uint8)
+    assert trim(img, LEFT, RIGHT + 50) == (LEFT, RIGHT + 50)
+
+
+POLE = (30, 30, 30)
+
+
+def pole_scene(foot_contrast: float) -> npt.NDArray[np.uint8]:
+    """The planks' face and, 40 columns right of it, a dark pole standing farther back: it
+    ends 15 rows above the face's contact row, where it shows ``foot_contrast`` of its
+    contrast (1: it stands on the contact row itself)."""
+    img = planks_of_colours()
+    img[TOP - 20 : BOTTOM - 15, RIGHT + 40 : RIGHT + 46] = POLE
+    low = np.asarray(FLOOR) * (1.0 - foot_contrast) + np.asarray(POLE) * foot_contrast
+    img[BOTTOM - 15 : BOTTOM, RIGHT + 40 : RIGHT + 46] = low.astype(np.uint8)
+    return img
+
+
+def test_a_side_standing_on_the_contact_row_is_kept_without_a_foot_step(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A side whose edge runs down to the contact row stands on the floor there, whatever
+    lies between it and the face's foot (room procedural/132: a margin of the face's colour
+    under a print whose lower edge was taken for the contact row). The pole at half its
+    contrast over the foot's rows keeps 0.57 of its edge there and does not stand
+    (SIDE_FOOT_SHARE 0.6), at 0.6 of its contrast it keeps 0.67 and does."""
+    assert trim(pole_scene(0.5), LEFT, RIGHT + 40) == (LEFT, RIGHT)
+    assert trim(pole_scene(0.6), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "SIDE_FOOT_SHARE", 0.55)
+    assert trim(pole_scene(0.5), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "SIDE_FOOT_SHARE", 0.7)
+    assert trim(pole_scene(0.6), LEFT, RIGHT + 40) == (LEFT, RIGHT)
+
+
+def test_a_side_moved_out_across_seams_comes_back_to_the_search_side() -> None:
+    """A side the seam walk moved out (room photo/311: onto a neighbour's edge over a
+    textured floor that keeps it present down to the contact row) is brought back to
+    where the face's foot ends, but no farther in than the search's side."""
+    img = pole_scene(1.0)
+    assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT)) == (LEFT, RIGHT)
+    assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT + 40)) == (LEFT, RIGHT + 40)
+    assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT - 30)) == (LEFT, RIGHT)
+
+
+def test_a_side_taken_out_past_a_face_of_many_colours_comes_back_to_its_foot() -> None:
+    """The search took the right side 40 columns out, onto a pole standing farther back,
+    over the floor that runs on behind a face of four plank colours (rooms
+    procedural/339, photo/718, photo/737): no colour run along the foot brings it in, the
+    foot's step from the floor does."""
+    img = pole_scene(0.0)
+    assert widen(img, LEFT, RIGHT + 40)[1] >= RIGHT + 35  # the colour run says nothing
+    assert trim(img, LEFT, RIGHT + 40) == (LEFT, RIGHT)
+    assert trim(img, LEFT, RIGHT) == (LEFT, RIGHT)
+
+
+def floor_coloured_face() -> npt.NDArray[np.uint8]:
+    """A green face on a floor whose tiles right of column 160 are the face's own green,
+    running on behind the face above the contact row too (a generated scene of
+    tools/bench_vision.py, seed 2026, hard 72): its foot steps from the floor on its left
+    only, and its right side does not stand out at the foot. Above, a purple wall."""
+    rng = np.random.default_rng(6)
+    img = np.empty((H, W, 3), np.float64)
+    img[:] = WALL
+    img[BOTTOM:] = FLOOR
+    img[BOTTOM:, 160:] = FACE
+    img[BOTTOM - 15 : BOTTOM, RIGHT:] = FACE
+    img[TOP:BOTTOM, LEFT:RIGHT] = FACE
+    img = img + rng.normal(0, 4.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_face_in_the_floors_colour_keeps_the_side_its_upper_rows_reach(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Where the foot shows no step, the face's upper rows still show its colour out to the
+    side (beyond a real side the wall stands there): no trim. MIN_FACE_SHARE_CUT over 1
+    lets it cut."""
+    img = floor_coloured_face()
+    assert trim(img, LEFT, RIGHT) == (LEFT, RIGHT)
+    monkeypatch.setattr(region, "MIN_FACE_SHARE_CUT", 1.01)
+    assert abs(trim(img, LEFT, RIGHT)[1] - 160) <= 6
+
+
+def test_a_low_face_leaves_its_upper_rows_no_say(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A face 39 rows high (under MIN_UPPER_FACE_ROWS, 40): its upper rows are its foot's
+    strip, so they do not hold the side."""
+    img = floor_coloured_face()
+    low_top = BOTTOM - 39
+    ax = side_strength(img)
+    args = (img, level_view(), ax, BOTTOM, low_top, LEFT, RIGHT, DEPTH)
+    assert abs(trim_to_foot(*args)[1] - 160) <= 6
+    monkeypatch.setattr(region, "MIN_UPPER_FACE_ROWS", 39)
+    assert trim_to_foot(*args) == (LEFT, RIGHT)
+
+
+def striped_foot(width: int) -> npt.NDArray[np.uint8]:
+    """The pole's scene with the face's foot showing the floor in ``width`` columns of
+    every 20."""
+    img = pole_scene(0.0)
+    for a in range(LEFT, RIGHT, 20):
+        img[BOTTOM - 10 : BOTTOM, a : a + width] = img[BOTTOM + 5 : BOTTOM + 15, a : a + width]
+    return img
+
+
+def test_the_kept_face_must_stand_on_its_foot(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A foot broken in 10 columns of 20 still stands over 0.67 of the face's columns, one
+    broken in 12 of 20 over 0.56: MIN_KEPT_FOOT (0.6) trims the first pair, not the second."""
+    assert trim(striped_foot(10), LEFT, RIGHT + 40) == (LEFT, RIGHT)
+    assert trim(striped_foot(12), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "MIN_KEPT_FOOT", 0.7)
+    assert trim(striped_foot(10), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "MIN_KEPT_FOOT", 0.5)
+    assert trim(striped_foot(12), LEFT, RIGHT + 40) == (LEFT, RIGHT)
 
 
 def test_a_face_widened_far_past_the_search_columns_is_fitted_over_its_width(

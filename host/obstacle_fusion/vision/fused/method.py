@@ -43,6 +43,7 @@ from obstacle_fusion.vision.fused.region import (
     side_agreement,
     stops_at_colour_top,
     top_agreement,
+    trim_to_foot,
     widen_by_colour,
 )
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
@@ -284,6 +285,10 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        # ... and stand on the floor-contact row: no side beyond where the face's foot ends
+        # (a print's frame is a margin's colour run already: its sides are that margin's)
+        if framed is None:
+            ul, ur = trim_to_foot(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, span)
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
         # an object behind the face in line with its sides: the face's top is where the
         # background beside it shows past it

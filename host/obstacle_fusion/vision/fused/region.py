@@ -12,6 +12,7 @@ to one plank, took a wall line crossing the face for its top and a print for the
 
 * :func:`widen_by_colour`: the sides, out along the foot's colour run (or in, over columns
   with no foot at all);
+* :func:`trim_to_foot`: the sides, in to where the face's foot ends (a face of any colours);
 * :func:`enclose_by_margin`: a print inside a margin of one colour is enclosed by its frame;
 * :func:`raise_top_by_colour`: the top, up past a background line crossing the face;
 * :func:`stops_at_colour_top`, :func:`ends_in_colour`: a short raise past a top where the
@@ -74,6 +75,14 @@ MIN_WIDEN_SHARE = 0.1
 MIN_TRIM_FLOORLESS = 0.7
 #: Columns either side of the colour's end searched for the strongest vertical edge.
 SNAP_COLUMNS = 3
+#: A foot whose chroma (CIE Lab a, b, 8-bit scale) is within this of the floor's just
+#: below is floor: farther floor, or its shadow, lit otherwise than the floor below ...
+FLOOR_CHROMA = 6.0
+#: ... where the face's own chroma differs from that floor's by at least this (a grey face
+#: on a grey floor leaves the chroma no say).
+FACE_CHROMA_STEP = 12.0
+#: ... and while at most this share of the face's own foot looks like floor.
+MAX_FLOORLIKE_FOOT = 0.5
 
 
 def _band(
@@ -120,8 +129,13 @@ def widen_by_colour(
     left: int,
     right: int,
     depth_m: float,
+    chroma: bool = True,
 ) -> tuple[int, int]:
-    """The face's sides, moved out to where its colour along its foot ends."""
+    """The face's sides, moved out to where its colour along its foot ends.
+
+    ``chroma``: no side moves out over a foot showing the floor's own chroma (see
+    :func:`floor_chroma`); off where the sides are a core a few centimetres wide in the
+    beam, whose colour may be a tape's or a label's on a face of the floor's chroma."""
     if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
         return left, right
     h_view = view.out.shape[0]
@@ -154,7 +168,13 @@ def widen_by_colour(
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
     d_foot_floor = row_norms(foot - floor)
     on_foot = (row_norms(foot - ref) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
-    on_both = (on & on_foot).tolist()  # Python lists for the walks
+    # beyond a side the floor runs on above the contact row, farther back or in the
+    # face's shadow: another lightness, the floor's own chroma. No side moves out over it
+    # (unless the face's own foot shows it too: a contact row below the foot)
+    floorlike = floor_chroma(foot, floor, ref)
+    if not chroma or share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
+        floorlike[:] = False
+    on_both = (on & on_foot & ~floorlike).tolist()  # Python lists for the walks
     on_foot_flags = on_foot.tolist()
     # the face's run starts from its foot's middle: the on-column nearest the centre
     inside = np.nonzero(on[left : right + 1])[0] + left
@@ -171,7 +191,9 @@ def widen_by_colour(
             # against what is behind, where beside the face there is neither
             if outline is None:
                 top_step = _top_step_columns(image, view, top)
-                outline = (np.asarray(top_step) & (d_foot_floor >= MIN_FLOOR_STEP)).tolist()
+                outline = (
+                    np.asarray(top_step) & (d_foot_floor >= MIN_FLOOR_STEP) & ~floorlike
+                ).tolist()
             end_outline = walk_on(outline, side - step * 2, step, outline_gap)
             # the face's top edge ends at its side: a top edge running on past the outline's
             # end is a background line at the top's row (the wall's foot), no evidence
@@ -184,7 +206,11 @@ def widen_by_colour(
             ):
                 moved = _snap_side(ax, top, bottom, end_outline)
                 # ... and there the face has a side as clear as the one it ran on from
-                if moved[1] >= OUTLINE_SIDE_SHARE * _snap_side(ax, top, bottom, side)[1]:
+                need = _snap_side(ax, top, bottom, side)[1]
+                if moved[1] >= OUTLINE_SIDE_SHARE * need or (
+                    moved[1] >= OUTLINE_WEAK_SIDE_SHARE * need
+                    and _stands_up(ax, top, bottom, moved[0])
+                ):
                     end = end_outline
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
@@ -202,6 +228,170 @@ def widen_by_colour(
     return new[0], new[1]
 
 
+#: A pair is trimmed to its foot only when the face kept stands on a foot over this share
+#: of its columns.
+MIN_KEPT_FOOT = 0.6
+
+
+def trim_to_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+    found: tuple[int, int] | None = None,
+) -> tuple[int, int]:
+    """The sides moved in to where the face's foot ends, whatever the face's colours.
+
+    A face stands on the contact row along its whole width: just above that row it steps
+    from the floor below, and not to a shade of the floor itself. A side the search took
+    out on a neighbour or a background edge has columns between it and the face where the
+    floor runs on above the contact row (no step, or only the floor's own chroma).
+    :func:`widen_by_colour` brings such a side in only for a face of one colour along its
+    foot; a print, planks or a label at the foot leave that to this walk over the foot's
+    step alone (at most the gaps of a seam).
+
+    A side that stands down to the contact row as strongly as along the face is kept: it
+    stands on the floor there (a margin of the face's colour under a print whose lower edge
+    was taken for the contact row shows no step either). ``found``: the search's sides; one
+    moved out past them across seams (its new column the floor's texture may make stand) is
+    brought back no farther in than the search's side, unless that does not stand."""
+    if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
+        return left, right
+    found = found or (left, right)
+    # only the pair's columns (and the smoothing's reach beyond): a walk past a side ends
+    # there as it would farther out, with the side kept
+    c0 = max(0, left - SMOOTH_COLUMNS)
+    c1 = min(view.out.shape[1], right + SMOOTH_COLUMNS + 1)
+    bands = _foot_bands(image, view, bottom, top, c0, c1, (left + 2 - c0, right - 1 - c0))
+    if bands is None:
+        return left, right
+    foot, floor, ref = bands
+    floorlike = floor_chroma(foot, floor, ref)
+    if share(floorlike[left + 2 - c0 : right - 1 - c0]) > MAX_FLOORLIKE_FOOT:
+        floorlike[:] = False
+    stands = (row_norms(foot - floor) >= MIN_FLOOR_STEP) & ~floorlike
+    inside = np.nonzero(stands[left - c0 : right - c0 + 1])[0] + left
+    if inside.size == 0:
+        return left, right  # no foot anywhere: a face of the floor's colour, say nothing
+    centre = int(inside[np.argmin(np.abs(inside - 0.5 * (left + right)))])
+    max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
+    min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
+    flags = stands.tolist()
+    new = []
+    for side, step, first in ((left, -1, found[0]), (right, 1, found[1])):
+        end = walk_on(flags, centre - c0, step, max_gap) + c0
+        if (first - side) * step < 0:  # moved out across seams
+            if _stands_on_foot(ax, top, bottom, first):
+                end = first if (end - first) * step < 0 else end
+        elif _stands_on_foot(ax, top, bottom, side):
+            new.append(side)
+            continue
+        cut = slice(min(end, side) + 1 - c0, max(end, side) - c0)
+        if (
+            (side - end) * step <= min_move
+            or share(~stands[cut]) < MIN_TRIM_FLOORLESS
+            or _face_runs_on(image, view, top, bottom, centre, end, side)
+        ):
+            new.append(side)
+        else:
+            new.append(_snap_side(ax, top, bottom, end)[0])
+    if new == [left, right] or new[1] - new[0] < 6:
+        return left, right
+    if share(stands[new[0] - c0 : new[1] - c0 + 1]) < MIN_KEPT_FOOT:
+        return left, right  # what is left does not stand on a foot either
+    return new[0], new[1]
+
+
+#: The face's upper rows (shares of its height from the top) compared beside the cut ...
+UPPER_ROWS = (0.05, 0.3)
+#: ... on a face at least this many rows high (on a lower one they are its foot's strip).
+MIN_UPPER_FACE_ROWS = 40
+#: The columns to be cut are the face's own when this share of them shows, over the face's
+#: upper rows, the colour of the face kept (within MIN_FACE_DISTANCE).
+MIN_FACE_SHARE_CUT = 0.6
+
+
+def _face_runs_on(
+    image: npt.NDArray[Any], view: View, top: int, bottom: int, centre: int, end: int, side: int
+) -> bool:
+    """Whether the columns between ``end`` (where the foot's step ended) and ``side`` show
+    the face's colour over its upper rows: a face in the floor's own colour steps from it
+    only where the floor's tiles differ, yet the face runs on above, while beyond a real
+    side the wall stands at the face's upper rows."""
+    h = bottom - top
+    r0, r1 = top + int(UPPER_ROWS[0] * h), top + int(UPPER_ROWS[1] * h)
+    lo, hi = sorted((centre, side))
+    if h < MIN_UPPER_FACE_ROWS or hi - lo < 2:
+        return False
+    lab = _lab8(image, view, r0, r1, lo, hi + 1, 1)[::SUBSAMPLE]
+    upper = median_u8(lab, axis=0)  # per column
+    kept = slice(0, end - lo + 1) if side > centre else slice(end - lo, None)
+    cut = slice(end - lo + 1, None) if side > centre else slice(0, end - lo)
+    if upper[kept].shape[0] == 0 or upper[cut].shape[0] == 0:
+        return False
+    ref = median_of(upper[kept], axis=0)
+    return share(row_norms(upper[cut] - ref) <= MIN_FACE_DISTANCE) >= MIN_FACE_SHARE_CUT
+
+
+#: A side stands on the contact row when its edge just above that row is at least this share
+#: of its strength along the face; an edge standing farther back ends higher up.
+SIDE_FOOT_SHARE = 0.6
+
+
+def _stands_on_foot(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> bool:
+    """The side's |d/dx| (strongest of 3 columns) over the foot's rows against its median
+    along the face."""
+    c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
+    col = ax[max(top, 0) : bottom, c0:c1].max(axis=1)
+    if col.size <= FOOT_ROWS + EDGE_SKIP:
+        return True
+    along = float(median_of(col.astype(np.float32)))
+    foot = float(col[-(FOOT_ROWS + EDGE_SKIP) : -1].mean())
+    return foot >= SIDE_FOOT_SHARE * along
+
+
+def _foot_bands(
+    image: npt.NDArray[Any],
+    view: View,
+    bottom: int,
+    top: int,
+    c0: int,
+    c1: int,
+    face_cols: tuple[int, int],
+) -> tuple[npt.NDArray[Any], npt.NDArray[Any], npt.NDArray[Any]] | None:
+    """Per column c0..c1-1 (W x 3 Lab, smoothed over SMOOTH_COLUMNS): the foot just above
+    the contact row, the floor just below it; and the face's colour (the median of the face
+    band over ``face_cols``, counted from c0). None at the image's edge."""
+    rows = int(clamp(FACE_BAND_SHARE * (bottom - top), *FACE_BAND_ROWS))
+    r0 = bottom - EDGE_SKIP - rows
+    r1 = min(bottom + EDGE_SKIP + FLOOR_BAND_ROWS + 1, view.out.shape[0])
+    floor_rows = r1 - (bottom + EDGE_SKIP + 1)
+    if r0 < 0 or floor_rows < 1:
+        return None
+    lab = _lab8(image, view, r0, r1, c0, c1)
+    face = cv2.blur(median_u8(lab[:rows], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    floor = cv2.blur(median_u8(lab[-floor_rows:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    foot = cv2.blur(
+        median_u8(lab[max(0, rows - FOOT_ROWS) : rows], axis=0)[None], (SMOOTH_COLUMNS, 1)
+    )[0]
+    return foot, floor, median_of(face[face_cols[0] : face_cols[1]], axis=0)
+
+
+def floor_chroma(
+    foot: npt.NDArray[Any], floor: npt.NDArray[Any], ref: npt.NDArray[Any]
+) -> npt.NDArray[np.bool_]:
+    """Per column (W x 3 Lab): the foot shows the floor's chroma where the face's colour
+    ``ref`` does not: floor above the contact row (farther back, or shadowed), not the face."""
+    foot_step = row_norms(foot[:, 1:] - floor[:, 1:])
+    face_step = row_norms(ref[None, 1:] - floor[:, 1:])
+    out: npt.NDArray[np.bool_] = (foot_step < FLOOR_CHROMA) & (face_step >= FACE_CHROMA_STEP)
+    return out
+
+
 def _snap_side(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> tuple[int, float]:
     """The strongest vertical edge within SNAP_COLUMNS of ``column``: (column, its mean
     |d/dx| over the face's rows)."""
@@ -213,13 +403,29 @@ def _snap_side(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) ->
     return lo + best, float(strength[best])
 
 
+def _stands_up(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> bool:
+    """The column's |d/dx| (strongest of 3) over the face's upper half is at least
+    OUTLINE_UPPER_SHARE of that over its lower half."""
+    c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
+    col = ax[max(top, 0) : bottom + 1, c0:c1].max(axis=1).astype(np.float32)
+    half = col.size // 2
+    if half < 2:
+        return False
+    return float(col[:half].mean()) >= OUTLINE_UPPER_SHARE * float(col[half:].mean())
+
+
 #: Columns off the outline crossed (metres at the face): a seam's, a joint's width.
 OUTLINE_GAP_M = 0.02
 #: ... and the outline must hold over this share of the columns it crossed.
 OUTLINE_MIN_SHARE = 0.8
 #: A side moved out along the outline must be an edge at least this share as strong as
-#: the side it moved from.
+#: the side it moved from ...
 OUTLINE_SIDE_SHARE = 0.25
+#: ... or this share, when it stands up the face's upper half at least OUTLINE_UPPER_SHARE
+#: as strongly as in its lower half (a dark plank's edges may be several times the face's
+#: own sides; a shadow's edge on the floor beside the face stands in the lower rows only).
+OUTLINE_WEAK_SIDE_SHARE = 0.15
+OUTLINE_UPPER_SHARE = 0.4
 
 
 def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[bool]:
@@ -845,7 +1051,7 @@ def face_from_colour(
         return None  # no step, or no room above it for a face (a tiny or tilted frame)
     # sides: the foot's colour run from the core, as wide as the face's colour goes
     left, right = widen_by_colour(
-        image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m
+        image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m, chroma=False
     )
     if right - left < 2 * SIDE_SKIP + 6:
         return None
