@@ -141,3 +141,69 @@ def test_vertical_fits_are_fit_vertical_once_per_rows_and_columns() -> None:
                  (rows, [50, 141], 200), (rows, [50], 200), (rows, [50, 140], 199)):
         assert fits(*args) == fit_vertical(ax, *args)
         assert fits(*args) != first
+
+
+def test_the_median_accelerator_is_built() -> None:
+    """make setup builds the C accelerator; the tests fail (never skip) without it."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_middle_u8 is not None, "the C accelerator is not built (make setup)"
+
+
+@pytest.mark.parametrize("n", range(2, NETWORK_LANES + 1))
+@pytest.mark.parametrize("lanes", [1, 5, NETWORK_MIN_VALUES + 7])
+def test_median_u8_in_c_is_numpy_s_median(
+    n: int, lanes: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The accelerator's network gives the middles numpy's paths give (its selection
+    network and its sort, both exact): few lanes and many, odd and even counts, ties,
+    lanes along the first, a middle and the last axis, strided and reversed views."""
+    from obstacle_fusion.vision.fused import profiles
+
+    rng = np.random.default_rng(100 * n + lanes)
+    a = rng.integers(0, 256, (n, lanes, 3), np.uint8)
+    a[:, : lanes // 2] = rng.integers(100, 103, (n, lanes // 2, 3))  # many ties
+    cases = [(a, 0), (a.transpose(1, 0, 2), 1), (np.ascontiguousarray(a.T), 2), (a[:, ::-2], 0)]
+    cases += [(a[:, 0, 0], 0), (a[::-1, :, 1], 0)]
+    for arr, axis in cases:
+        got = median_u8(arr, axis)
+        with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_middle_u8", None)
+            want = median_u8(arr, axis)
+        assert type(got) is type(want)
+        assert np.asarray(got).dtype == np.float32
+        assert np.array_equal(got, want)
+        assert np.array_equal(got, np.median(arr.astype(np.float32), axis=axis))
+
+
+def test_median_u8_of_float_colours_takes_numpy_s_paths(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Callers pass medians on (float32 colours, enclose_by_margin): those take numpy's
+    paths as without the accelerator (the sort's 16-bit lanes, the network's floats), not
+    its 8-bit one."""
+    from obstacle_fusion.vision.fused import profiles
+
+    rng = np.random.default_rng(3)
+    for lanes in (40, NETWORK_MIN_VALUES + 7):
+        a = (rng.random((7, lanes, 3)) * 255).astype(np.float32)
+        got = median_u8(a, 0)
+        with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_middle_u8", None)
+            want = median_u8(a, 0)
+        assert np.array_equal(got, want)
+
+
+def test_the_median_accelerator_refuses_what_it_cannot_read() -> None:
+    from obstacle_fusion.vision.fused import _cmiddle
+    from obstacle_fusion.vision.fused.profiles import _NETWORK_BYTES
+
+    a = np.zeros((4, 3), np.uint8)
+    lo, hi = np.empty(4, np.uint8), np.empty(4, np.uint8)
+    _cmiddle.middle_u8(a, _NETWORK_BYTES[3], lo, hi)  # lanes of 3 along the last axis
+    with pytest.raises(TypeError):
+        _cmiddle.middle_u8(a.astype(np.int16), _NETWORK_BYTES[3], lo, hi)
+    with pytest.raises(ValueError):
+        _cmiddle.middle_u8(a, _NETWORK_BYTES[4], lo, hi)  # a comparator past the lane
+    with pytest.raises(ValueError):
+        _cmiddle.middle_u8(a, _NETWORK_BYTES[3], lo[:3], hi)  # an entry short
+    with pytest.raises(ValueError):
+        _cmiddle.middle_u8(a[:, :1], b"", lo, hi)  # lanes of one value

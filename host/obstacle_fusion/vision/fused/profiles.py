@@ -9,12 +9,20 @@ sums of integer-valued images are exact in float32 below 2**24.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import cv2
 import numpy as np
 import numpy.typing as npt
+
+_c_middle_u8: Callable[[Any, bytes, Any, Any], None] | None
+try:  # the optional C accelerator (setup.py); without it numpy selects the middles
+    from obstacle_fusion.vision.fused import _cmiddle
+
+    _c_middle_u8 = _cmiddle.middle_u8
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_middle_u8 = None
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 I16 = npt.NDArray[np.int16]  # int16 gradient images
@@ -81,7 +89,8 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
 
 def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     """``median_of(a.astype(np.float32), axis)`` of an 8-bit array, without the float copy:
-    the middle values of each lane (by a selection network, or by sorting the lanes), taken
+    the middle values of each lane (by a selection network, in C when the optional
+    accelerator is built, or by sorting the lanes), taken
     to float32, the two middle ones averaged there (8-bit values are exact in float32: the
     same result)."""
     n = a.size if axis is None else a.shape[axis]
@@ -90,7 +99,18 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     k = n // 2
     lo: npt.NDArray[Any]
     hi: npt.NDArray[Any]
-    if axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
+    if (
+        axis is not None
+        and 2 <= n <= NETWORK_LANES
+        and _c_middle_u8 is not None
+        and a.dtype == np.uint8  # (some callers pass a median's float32 colours on)
+    ):
+        # the selection network over all lanes in one C call (:mod:`._cmiddle`)
+        lanes = lanes_last(a, axis)
+        lo = np.empty(lanes.shape[:-1], np.uint8)
+        hi = np.empty(lanes.shape[:-1], np.uint8)
+        _c_middle_u8(lanes, _NETWORK_BYTES[n], lo, hi)
+    elif axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
         lo, hi = _middle_by_network(a, axis, n)
     else:
         if axis is None:
@@ -145,6 +165,12 @@ def _middle_network(n: int) -> list[tuple[int, int, bool, bool]]:
 
 
 _MIDDLE_NETWORKS = {n: _middle_network(n) for n in range(2, NETWORK_LANES + 1)}
+#: The same networks for the C accelerator: (i, j, 1 if the minimum is needed + 2 if the
+#: maximum is) per comparator.
+_NETWORK_BYTES = {
+    n: bytes(x for i, j, lo, hi in ops for x in (i, j, int(lo) + 2 * int(hi)))
+    for n, ops in _MIDDLE_NETWORKS.items()
+}
 
 
 def _middle_by_network(
