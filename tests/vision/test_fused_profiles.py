@@ -9,14 +9,17 @@ from obstacle_fusion.vision.fused.profiles import (
     NETWORK_MIN_VALUES,
     VerticalFits,
     column_means,
+    first_gap,
     fit_vertical,
     grey_range_sums,
     median_of,
     median_u8,
+    next_true,
     norm,
     range_sums,
     row_norms,
     share,
+    walk_on,
 )
 from obstacle_fusion.vision.fused.scoring import band_ranges
 
@@ -207,3 +210,79 @@ def test_the_median_accelerator_refuses_what_it_cannot_read() -> None:
         _cmiddle.middle_u8(a, _NETWORK_BYTES[3], lo[:3], hi)  # an entry short
     with pytest.raises(ValueError):
         _cmiddle.middle_u8(a[:, :1], b"", lo, hi)  # lanes of one value
+
+
+def test_walk_on_in_c_is_the_python_walk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's walk ends where profiles' Python loop does: lists of bools or
+    ints, bool arrays (reversed views too), uint8 and float arrays, starts outside the
+    flags, steps both ways and longer than one, every gap limit."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_walk_on is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(7)
+    for _ in range(400):
+        n = int(rng.integers(0, 50))
+        flags = rng.random(n) < rng.random()
+        start, step = int(rng.integers(-2, n + 2)), int(rng.choice([-2, -1, 1, 3]))
+        gap = int(rng.integers(0, 5))
+        kinds = (flags.tolist(), [int(f) for f in flags], flags, flags[::-1], flags.astype(np.uint8))
+        for on in (*kinds, flags.astype(float)):
+            got = profiles.walk_on(on, start, step, gap)
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_walk_on", None)
+                want = profiles.walk_on(on, start, step, gap)
+            assert got == want and type(got) is int
+
+
+def test_walk_on_in_c_leaves_a_standing_walk_to_python() -> None:
+    """A step of 0 is walked in Python (here: stopped by the gap limit on a false flag)."""
+    from obstacle_fusion.vision.fused import _cmiddle
+
+    assert _cmiddle.walk_on([True, False, True], 1, 0, 2) is None
+    assert walk_on([True, False, True], 1, 0, 2) == 1
+    with pytest.raises(TypeError):
+        walk_on(5, 0, 1, 2)  # type: ignore[arg-type]
+
+
+def test_first_gap_in_c_is_numpy_s(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's search down the columns gives numpy's rows: 1 to 2 rows (the
+    first miss) and more (the first of 3 misses), none (the row count), reversed and
+    strided views; no rows at all stay numpy's error."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_first_gap is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        rows, cols = int(rng.integers(1, 25)), int(rng.integers(0, 9))
+        on = rng.random((rows, cols)) < rng.random()
+        for view in (on, on[::-1], on[:, ::-1], on[::2]):
+            got = first_gap(view)
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_first_gap", None)
+                want = first_gap(view)
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+    with pytest.raises(ValueError):
+        first_gap(np.zeros((0, 3), bool))
+
+
+def test_next_true_in_c_is_numpy_s(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's running minimum up the columns gives numpy's rows (rb where no
+    flag holds at or below), on reversed and strided views; a row count other than the
+    flags' stays numpy's error."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_next_true is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(12)
+    for _ in range(300):
+        rows, cols = int(rng.integers(1, 25)), int(rng.integers(0, 9))
+        flags = rng.random((rows, cols)) < rng.random()
+        for view in (flags, flags[::-1], flags[:, ::-1], flags[::2]):
+            got = next_true(view, view.shape[0])
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_next_true", None)
+                want = next_true(view, view.shape[0])
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+            idx = np.where(view, np.arange(view.shape[0])[:, None], view.shape[0])
+            assert np.array_equal(got, np.minimum.accumulate(idx[::-1], axis=0)[::-1])
+    with pytest.raises(ValueError):
+        next_true(np.zeros((4, 3), bool), 5)

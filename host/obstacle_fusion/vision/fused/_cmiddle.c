@@ -7,9 +7,13 @@
  * comparator. Here the same network runs over all lanes at once, in one call. Minima and
  * maxima of integers: exactly the values numpy's sort gives. Built by setup.py (optional:
  * without it, profiles.py does the same in numpy). Reads any strided buffer (numpy views).
+ * Also profiles.walk_on's walk along a row of flags (a Python loop of a few hundred steps,
+ * a dozen walks a frame), profiles.first_gap's search down each column of flags and
+ * profiles.next_true's running minimum up them.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <limits.h>
 #include <string.h>
 
 /* Dimensions a source may have (numpy's own limit is 64). */
@@ -140,14 +144,188 @@ done:
     return result;
 }
 
+/* walk_on(on, start, step, max_gap): profiles.walk_on's walk, for a list (or any
+ * sequence) of flags, or a 1-D bool or uint8 array read in place: from ``start`` towards
+ * ``step``, the last true index reached over runs of at most ``max_gap`` false ones.
+ * Returns None for a step of 0 or indices near the integer limits (the caller walks in
+ * Python then). */
+static int flag_at(PyObject **items, const Py_buffer *view, Py_ssize_t i)
+{
+    if (items != NULL)
+        return PyObject_IsTrue(items[i]);
+    return ((const unsigned char *)view->buf)[i * view->strides[0]] != 0;
+}
+
+static PyObject *walk_on(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *on;
+    Py_ssize_t start, step, max_gap;
+    if (!PyArg_ParseTuple(args, "Onnn:walk_on", &on, &start, &step, &max_gap))
+        return NULL;
+    const Py_ssize_t limit = PY_SSIZE_T_MAX / 4;
+    if (step == 0 || step > limit || step < -limit || start > limit || start < -limit)
+        Py_RETURN_NONE;
+    Py_buffer view;
+    PyObject *seq = NULL, **items = NULL;
+    int buffered = 0;
+    Py_ssize_t n;
+    if (PyObject_CheckBuffer(on) && !PyBytes_Check(on) && !PyByteArray_Check(on) &&
+        PyObject_GetBuffer(on, &view, PyBUF_STRIDES | PyBUF_FORMAT) == 0) {
+        if (view.ndim == 1 && view.itemsize == 1 && view.format != NULL &&
+            (strcmp(view.format, "?") == 0 || strcmp(view.format, "B") == 0)) {
+            buffered = 1;
+            n = view.shape[0];
+        } else {
+            PyBuffer_Release(&view);
+        }
+    } else {
+        PyErr_Clear();
+    }
+    if (!buffered) {
+        seq = PySequence_Fast(on, "walk_on: flags must be a sequence");
+        if (seq == NULL)
+            return NULL;
+        items = PySequence_Fast_ITEMS(seq);
+        n = PySequence_Fast_GET_SIZE(seq);
+    }
+    Py_ssize_t u = start, v = start, gap = 0;
+    int failed = 0;
+    while (0 <= v + step && v + step < n && gap <= max_gap) {
+        v += step;
+        int flag = flag_at(items, buffered ? &view : NULL, v);
+        if (flag < 0) {
+            failed = 1;
+            break;
+        }
+        if (flag) {
+            u = v;
+            gap = 0;
+        } else {
+            gap++;
+        }
+    }
+    if (buffered)
+        PyBuffer_Release(&view);
+    Py_XDECREF(seq);
+    return failed ? NULL : PyLong_FromSsize_t(u);
+}
+
+/* first_gap(on, out): profiles.first_gap for a 2-D bool array (any strides): per column,
+ * the first row starting 3 consecutive false ones (with fewer than 3 rows, the first
+ * false one), the row count if none, into out (C-contiguous, one 8-byte integer per
+ * column). */
+static PyObject *first_gap(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *on_obj, *out_obj;
+    if (!PyArg_ParseTuple(args, "OO:first_gap", &on_obj, &out_obj))
+        return NULL;
+    Py_buffer on, out;
+    if (PyObject_GetBuffer(on_obj, &on, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&on);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    if (on.ndim != 2 || on.itemsize != 1 || on.format == NULL || strcmp(on.format, "?") != 0 ||
+        out.itemsize != (Py_ssize_t)sizeof(long long) || out.len != on.shape[1] * out.itemsize) {
+        PyErr_SetString(PyExc_TypeError, "first_gap: a 2-D bool array and one int64 per column");
+        goto done;
+    }
+    Py_ssize_t rows = on.shape[0], cols = on.shape[1];
+    Py_ssize_t rs = on.strides[0], cs = on.strides[1];
+    const char *base = (const char *)on.buf;
+    long long *found = (long long *)out.buf;
+    for (Py_ssize_t c = 0; c < cols; c++) {
+        const char *col = base + c * cs;
+        Py_ssize_t at = rows;
+        if (rows > 2) {
+            for (Py_ssize_t r = 0; r + 2 < rows; r++) {
+                if (!col[r * rs] && !col[(r + 1) * rs] && !col[(r + 2) * rs]) {
+                    at = r;
+                    break;
+                }
+            }
+        } else {
+            for (Py_ssize_t r = 0; r < rows; r++) {
+                if (!col[r * rs]) {
+                    at = r;
+                    break;
+                }
+            }
+        }
+        found[c] = (long long)at;
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&on);
+    return result;
+}
+
+/* next_true(flags, fill, out): profiles.next_true for a 2-D bool array (any strides):
+ * out[r, c] = the minimum over rows r' >= r of (r' where flags[r', c], else fill), into
+ * out (C-contiguous, one 8-byte integer per entry). */
+static PyObject *next_true(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *flags_obj, *out_obj;
+    long long fill;
+    if (!PyArg_ParseTuple(args, "OLO:next_true", &flags_obj, &fill, &out_obj))
+        return NULL;
+    Py_buffer flags, out;
+    if (PyObject_GetBuffer(flags_obj, &flags, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&flags);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    if (flags.ndim != 2 || flags.itemsize != 1 || flags.format == NULL ||
+        strcmp(flags.format, "?") != 0 || out.itemsize != (Py_ssize_t)sizeof(long long) ||
+        out.len != flags.shape[0] * flags.shape[1] * out.itemsize) {
+        PyErr_SetString(PyExc_TypeError, "next_true: a 2-D bool array and one int64 per entry");
+        goto done;
+    }
+    Py_ssize_t rows = flags.shape[0], cols = flags.shape[1];
+    Py_ssize_t rs = flags.strides[0], cs = flags.strides[1];
+    const char *base = (const char *)flags.buf;
+    long long *to = (long long *)out.buf;
+    for (Py_ssize_t c = 0; c < cols; c++) {
+        long long low = LLONG_MAX;
+        for (Py_ssize_t r = rows - 1; r >= 0; r--) {
+            long long here = base[r * rs + c * cs] ? (long long)r : fill;
+            if (here < low)
+                low = here;
+            to[r * cols + c] = low;
+        }
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&flags);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"next_true", next_true, METH_VARARGS,
+     "next_true(flags, fill, out): per entry, the first true row at or below (profiles)."},
+    {"first_gap", first_gap, METH_VARARGS,
+     "first_gap(on, out): per column, the first row of 3 misses (profiles.first_gap)."},
+    {"walk_on", walk_on, METH_VARARGS,
+     "walk_on(on, start, step, max_gap): profiles.walk_on's walk (None: walk in Python)."},
     {"middle_u8", middle_u8, METH_VARARGS,
      "middle_u8(src, network, lo, hi): the two middle values of every last-axis lane."},
     {NULL, NULL, 0, NULL},
 };
 
 static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, "_cmiddle", "Middle order statistics of 8-bit lanes.", -1, methods,
+    PyModuleDef_HEAD_INIT, "_cmiddle", "Middle order statistics of 8-bit lanes; flag walks.", -1,
+    methods,
     NULL, NULL, NULL, NULL,
 };
 

@@ -17,12 +17,16 @@ import numpy as np
 import numpy.typing as npt
 
 _c_middle_u8: Callable[[Any, bytes, Any, Any], None] | None
+_c_walk_on: Callable[[Any, int, int, int], int | None] | None
+_c_first_gap: Callable[[Any, Any], None] | None
+_c_next_true: Callable[[Any, int, Any], None] | None
 try:  # the optional C accelerator (setup.py); without it numpy selects the middles
     from obstacle_fusion.vision.fused import _cmiddle
 
-    _c_middle_u8 = _cmiddle.middle_u8
+    _c_middle_u8, _c_walk_on = _cmiddle.middle_u8, _cmiddle.walk_on
+    _c_first_gap, _c_next_true = _cmiddle.first_gap, _cmiddle.next_true
 except ImportError:  # pragma: no cover - only where the extension did not build
-    _c_middle_u8 = None
+    _c_middle_u8 = _c_walk_on = _c_first_gap = _c_next_true = None
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 I16 = npt.NDArray[np.int16]  # int16 gradient images
@@ -238,7 +242,12 @@ def walk_on(on: Sequence[bool] | npt.NDArray[np.bool_], start: int, step: int, m
     """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap.
 
     ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
-    indexing makes several times dearer over a walk of hundreds of columns."""
+    indexing makes several times dearer over a walk of hundreds of columns. With the C
+    accelerator the walk is its (lists, and 1-D bool arrays read in place)."""
+    if _c_walk_on is not None:
+        end = _c_walk_on(on, start, step, max_gap)
+        if end is not None:
+            return end
     u, v, gap, n = start, start, 0, len(on)
     while 0 <= v + step < n and gap <= max_gap:
         v += step
@@ -324,11 +333,35 @@ def first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
     """Per column, the first row starting 3 consecutive misses (the row count if none).
 
     Worked on a transposed copy: numpy's any/argmax down the rows of a narrow array
-    cost several times as much as along contiguous rows.
+    cost several times as much as along contiguous rows. With the C accelerator, its
+    search down each column of ``on`` in place (2-D bool arrays with rows; numpy's error
+    for none).
     """
+    if _c_first_gap is not None and on.dtype == np.bool_ and on.ndim == 2 and on.shape[0]:
+        found = np.empty(on.shape[1], np.intp)
+        _c_first_gap(on, found)
+        return found
     miss = ~np.ascontiguousarray(on.T)
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
     return np.where(gap.any(axis=1), gap.argmax(axis=1), miss.shape[1])
+
+
+def next_true(flags: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
+    """Per column of ``flags`` (rows 0..rb-1), for each row the first row at or below it
+    where the flag holds, rb if none: ``np.minimum.accumulate(np.where(flags, rows, rb)
+    [::-1], axis=0)[::-1]`` (in C with the accelerator: integers, the same values)."""
+    if (
+        _c_next_true is not None
+        and flags.dtype == np.bool_
+        and flags.ndim == 2
+        and 0 < flags.shape[0] == rb
+    ):
+        found = np.empty(flags.shape, np.intp)
+        _c_next_true(flags, rb, found)
+        return found
+    idx = np.where(flags, np.arange(rb)[:, None], rb)
+    out: npt.NDArray[np.intp] = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
+    return out
 
 
 def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:
