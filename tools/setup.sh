@@ -46,8 +46,9 @@ if [ ! -x .venv/bin/python ]; then
   log "creating .venv"
   "$python" -m venv .venv
 fi
-# pyproject.toml, setup.py and the C accelerator: a change to any of them reinstalls (rebuilds it)
-stamp=.venv/.installed-$(cat pyproject.toml setup.py host/obstacle_fusion/protocol/_cdecode.c | sha1sum | cut -c1-12)
+# pyproject.toml, setup.py and the C accelerators: a change to any of them reinstalls (rebuilds it)
+stamp=.venv/.installed-$(cat pyproject.toml setup.py host/obstacle_fusion/protocol/_cdecode.c \
+  host/obstacle_fusion/vision/fused/_cmiddle.c | sha1sum | cut -c1-12)
 if [ ! -f "$stamp" ]; then
   log "installing the Python package and its test tools into .venv"
   .venv/bin/python -m pip install -q --upgrade pip >/dev/null

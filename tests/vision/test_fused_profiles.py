@@ -9,14 +9,17 @@ from obstacle_fusion.vision.fused.profiles import (
     NETWORK_MIN_VALUES,
     VerticalFits,
     column_means,
+    first_gap,
     fit_vertical,
     grey_range_sums,
     median_of,
     median_u8,
+    next_true,
     norm,
     range_sums,
     row_norms,
     share,
+    walk_on,
 )
 from obstacle_fusion.vision.fused.scoring import band_ranges
 
@@ -141,3 +144,145 @@ def test_vertical_fits_are_fit_vertical_once_per_rows_and_columns() -> None:
                  (rows, [50, 141], 200), (rows, [50], 200), (rows, [50, 140], 199)):
         assert fits(*args) == fit_vertical(ax, *args)
         assert fits(*args) != first
+
+
+def test_the_median_accelerator_is_built() -> None:
+    """make setup builds the C accelerator; the tests fail (never skip) without it."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_middle_u8 is not None, "the C accelerator is not built (make setup)"
+
+
+@pytest.mark.parametrize("n", range(2, NETWORK_LANES + 1))
+@pytest.mark.parametrize("lanes", [1, 5, NETWORK_MIN_VALUES + 7])
+def test_median_u8_in_c_is_numpy_s_median(
+    n: int, lanes: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The accelerator's network gives the middles numpy's paths give (its selection
+    network and its sort, both exact): few lanes and many, odd and even counts, ties,
+    lanes along the first, a middle and the last axis, strided and reversed views."""
+    from obstacle_fusion.vision.fused import profiles
+
+    rng = np.random.default_rng(100 * n + lanes)
+    a = rng.integers(0, 256, (n, lanes, 3), np.uint8)
+    a[:, : lanes // 2] = rng.integers(100, 103, (n, lanes // 2, 3))  # many ties
+    cases = [(a, 0), (a.transpose(1, 0, 2), 1), (np.ascontiguousarray(a.T), 2), (a[:, ::-2], 0)]
+    cases += [(a[:, 0, 0], 0), (a[::-1, :, 1], 0)]
+    for arr, axis in cases:
+        got = median_u8(arr, axis)
+        with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_middle_u8", None)
+            want = median_u8(arr, axis)
+        assert type(got) is type(want)
+        assert np.asarray(got).dtype == np.float32
+        assert np.array_equal(got, want)
+        assert np.array_equal(got, np.median(arr.astype(np.float32), axis=axis))
+
+
+def test_median_u8_of_float_colours_takes_numpy_s_paths(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Callers pass medians on (float32 colours, enclose_by_margin): those take numpy's
+    paths as without the accelerator (the sort's 16-bit lanes, the network's floats), not
+    its 8-bit one."""
+    from obstacle_fusion.vision.fused import profiles
+
+    rng = np.random.default_rng(3)
+    for lanes in (40, NETWORK_MIN_VALUES + 7):
+        a = (rng.random((7, lanes, 3)) * 255).astype(np.float32)
+        got = median_u8(a, 0)
+        with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_middle_u8", None)
+            want = median_u8(a, 0)
+        assert np.array_equal(got, want)
+
+
+def test_the_median_accelerator_refuses_what_it_cannot_read() -> None:
+    from obstacle_fusion.vision.fused import _cmiddle
+    from obstacle_fusion.vision.fused.profiles import _NETWORK_BYTES
+
+    a = np.zeros((4, 3), np.uint8)
+    lo, hi = np.empty(4, np.uint8), np.empty(4, np.uint8)
+    _cmiddle.middle_u8(a, _NETWORK_BYTES[3], lo, hi)  # lanes of 3 along the last axis
+    with pytest.raises(TypeError):
+        _cmiddle.middle_u8(a.astype(np.int16), _NETWORK_BYTES[3], lo, hi)
+    with pytest.raises(ValueError):
+        _cmiddle.middle_u8(a, _NETWORK_BYTES[4], lo, hi)  # a comparator past the lane
+    with pytest.raises(ValueError):
+        _cmiddle.middle_u8(a, _NETWORK_BYTES[3], lo[:3], hi)  # an entry short
+    with pytest.raises(ValueError):
+        _cmiddle.middle_u8(a[:, :1], b"", lo, hi)  # lanes of one value
+
+
+def test_walk_on_in_c_is_the_python_walk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's walk ends where profiles' Python loop does: lists of bools or
+    ints, bool arrays (reversed views too), uint8 and float arrays, starts outside the
+    flags, steps both ways and longer than one, every gap limit."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_walk_on is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(7)
+    for _ in range(400):
+        n = int(rng.integers(0, 50))
+        flags = rng.random(n) < rng.random()
+        start, step = int(rng.integers(-2, n + 2)), int(rng.choice([-2, -1, 1, 3]))
+        gap = int(rng.integers(0, 5))
+        kinds = (flags.tolist(), [int(f) for f in flags], flags, flags[::-1], flags.astype(np.uint8))
+        for on in (*kinds, flags.astype(float)):
+            got = profiles.walk_on(on, start, step, gap)
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_walk_on", None)
+                want = profiles.walk_on(on, start, step, gap)
+            assert got == want and type(got) is int
+
+
+def test_walk_on_in_c_leaves_a_standing_walk_to_python() -> None:
+    """A step of 0 is walked in Python (here: stopped by the gap limit on a false flag)."""
+    from obstacle_fusion.vision.fused import _cmiddle
+
+    assert _cmiddle.walk_on([True, False, True], 1, 0, 2) is None
+    assert walk_on([True, False, True], 1, 0, 2) == 1
+    with pytest.raises(TypeError):
+        walk_on(5, 0, 1, 2)  # type: ignore[arg-type]
+
+
+def test_first_gap_in_c_is_numpy_s(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's search down the columns gives numpy's rows: 1 to 2 rows (the
+    first miss) and more (the first of 3 misses), none (the row count), reversed and
+    strided views; no rows at all stay numpy's error."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_first_gap is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        rows, cols = int(rng.integers(1, 25)), int(rng.integers(0, 9))
+        on = rng.random((rows, cols)) < rng.random()
+        for view in (on, on[::-1], on[:, ::-1], on[::2]):
+            got = first_gap(view)
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_first_gap", None)
+                want = first_gap(view)
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+    with pytest.raises(ValueError):
+        first_gap(np.zeros((0, 3), bool))
+
+
+def test_next_true_in_c_is_numpy_s(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's running minimum up the columns gives numpy's rows (rb where no
+    flag holds at or below), on reversed and strided views; a row count other than the
+    flags' stays numpy's error."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_next_true is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(12)
+    for _ in range(300):
+        rows, cols = int(rng.integers(1, 25)), int(rng.integers(0, 9))
+        flags = rng.random((rows, cols)) < rng.random()
+        for view in (flags, flags[::-1], flags[:, ::-1], flags[::2]):
+            got = next_true(view, view.shape[0])
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_next_true", None)
+                want = next_true(view, view.shape[0])
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+            idx = np.where(view, np.arange(view.shape[0])[:, None], view.shape[0])
+            assert np.array_equal(got, np.minimum.accumulate(idx[::-1], axis=0)[::-1])
+    with pytest.raises(ValueError):
+        next_true(np.zeros((4, 3), bool), 5)

@@ -107,6 +107,11 @@ class View:
         self._src_rows = np.clip(lowest + 2, 1, camera.height).tolist()
         self.grey = np.empty((camera.height, camera.width), np.uint8)
         self.out = np.empty((camera.height, camera.width), np.uint8)
+        # the held colour frame (:meth:`hold_colour`): its view blocks converted to CIE Lab
+        # so far, in one buffer (made on the first hold), and their (r0, r1, c0, c1)
+        self._held: npt.NDArray[Any] | None = None
+        self._lab: npt.NDArray[np.uint8] | None = None
+        self._lab_boxes: list[tuple[int, int, int, int]] = []
 
     def input_rows(self, rows: int) -> int:
         """How many of the input image's top rows the view's first ``rows`` rows read."""
@@ -133,6 +138,65 @@ class View:
             borderMode=cv2.BORDER_REPLICATE,
         )
         return self.out[:n]
+
+    def hold_colour(self, image: npt.NDArray[Any] | None) -> None:
+        """Keep the CIE Lab blocks :meth:`lab` converts from the BGR frame ``image`` until
+        the next call, which forgets them (None, or a grey frame: hold none).
+
+        The fused method's colour stages read a dozen blocks of one frame, half of them
+        inside one read before (the top's rows across the image, then the top's rows
+        between the sides; a side's strips, then the middle rows of those): such a block
+        is taken from the one read before, not converted again. The frame must not change
+        while it is held."""
+        self._held = image if image is not None and image.ndim == 3 else None
+        self._lab_boxes = []
+        if self._held is not None and self._lab is None:
+            self._lab = np.empty((*self.out.shape, 3), np.uint8)
+
+    def lab(
+        self,
+        image: npt.NDArray[Any],
+        r0: int,
+        r1: int,
+        c0: int = 0,
+        c1: int | None = None,
+        step: int = 1,
+    ) -> npt.NDArray[np.uint8]:
+        """The view's rows r0..r1-1 (columns c0..c1-1, every ``step``-th; numpy's slices of
+        the view) of the BGR ``image`` in CIE Lab, 8-bit: only the pixels read are
+        undistorted and converted.
+
+        Of a held frame (:meth:`hold_colour`), a block inside one converted before is a
+        view of that one's pixels, to be read only: each pixel is the bilinear remap and
+        the conversion of its own map entry, whatever block it is converted in, so the
+        values are the same either way."""
+        rows, cols = slice(r0, r1, step), slice(c0, c1, step)
+        lab = self._lab
+        if image is not self._held or step != 1 or lab is None:
+            return self._to_lab(image, rows, cols)
+        h, w = self.out.shape
+        ra, rb, _ = rows.indices(h)
+        ca, cb, _ = cols.indices(w)
+        if ra >= rb or ca >= cb:
+            return self._to_lab(image, rows, cols)  # OpenCV's answer to an empty block
+        for a, b, c, d in self._lab_boxes:
+            if a <= ra and rb <= b and c <= ca and cb <= d:
+                return lab[ra:rb, ca:cb]
+        block = self._to_lab(image, rows, cols)
+        lab[ra:rb, ca:cb] = block
+        self._lab_boxes.append((ra, rb, ca, cb))
+        return block
+
+    def _to_lab(self, image: npt.NDArray[Any], rows: slice, cols: slice) -> npt.NDArray[np.uint8]:
+        """The view block (rows, cols) of the BGR ``image``, undistorted and in CIE Lab."""
+        band = cv2.remap(
+            image,
+            self.map1[rows, cols],
+            self.map2[rows, cols],
+            cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        )
+        return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
 
     def to_input(self, pts: npt.ArrayLike) -> FloatArray:
         """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""

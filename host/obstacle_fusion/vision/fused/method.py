@@ -126,6 +126,23 @@ class FusedMethod:
         on the beam's axis (it lifts a face on the axis at a wrong row over the real one),
         nor the rival taken for a top edge across part of the face is used: the row
         search was tuned without them, and on the tuning rooms they moved it both ways."""
+        # the colour stages read blocks of the frame in Lab, some inside others
+        self.view.hold_colour(colour if colour is not None else image)
+        try:
+            return self._stages(image, range_m, timer, colour, rescue, floor_known)
+        finally:
+            self.view.hold_colour(None)
+
+    def _stages(
+        self,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        colour: npt.NDArray[Any] | None = None,
+        rescue: bool = True,
+        floor_known: bool = True,
+    ) -> Measurement:
+        """:meth:`run`'s stages, the frame's colour held."""
         v = self.view
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)

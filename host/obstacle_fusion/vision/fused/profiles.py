@@ -9,12 +9,24 @@ sums of integer-valued images are exact in float32 below 2**24.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import cv2
 import numpy as np
 import numpy.typing as npt
+
+_c_middle_u8: Callable[[Any, bytes, Any, Any], None] | None
+_c_walk_on: Callable[[Any, int, int, int], int | None] | None
+_c_first_gap: Callable[[Any, Any], None] | None
+_c_next_true: Callable[[Any, int, Any], None] | None
+try:  # the optional C accelerator (setup.py); without it numpy selects the middles
+    from obstacle_fusion.vision.fused import _cmiddle
+
+    _c_middle_u8, _c_walk_on = _cmiddle.middle_u8, _cmiddle.walk_on
+    _c_first_gap, _c_next_true = _cmiddle.first_gap, _cmiddle.next_true
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_middle_u8 = _c_walk_on = _c_first_gap = _c_next_true = None
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 I16 = npt.NDArray[np.int16]  # int16 gradient images
@@ -81,7 +93,8 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
 
 def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     """``median_of(a.astype(np.float32), axis)`` of an 8-bit array, without the float copy:
-    the middle values of each lane (by a selection network, or by sorting the lanes), taken
+    the middle values of each lane (by a selection network, in C when the optional
+    accelerator is built, or by sorting the lanes), taken
     to float32, the two middle ones averaged there (8-bit values are exact in float32: the
     same result)."""
     n = a.size if axis is None else a.shape[axis]
@@ -90,7 +103,18 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     k = n // 2
     lo: npt.NDArray[Any]
     hi: npt.NDArray[Any]
-    if axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
+    if (
+        axis is not None
+        and 2 <= n <= NETWORK_LANES
+        and _c_middle_u8 is not None
+        and a.dtype == np.uint8  # (some callers pass a median's float32 colours on)
+    ):
+        # the selection network over all lanes in one C call (:mod:`._cmiddle`)
+        lanes = lanes_last(a, axis)
+        lo = np.empty(lanes.shape[:-1], np.uint8)
+        hi = np.empty(lanes.shape[:-1], np.uint8)
+        _c_middle_u8(lanes, _NETWORK_BYTES[n], lo, hi)
+    elif axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
         lo, hi = _middle_by_network(a, axis, n)
     else:
         if axis is None:
@@ -145,6 +169,12 @@ def _middle_network(n: int) -> list[tuple[int, int, bool, bool]]:
 
 
 _MIDDLE_NETWORKS = {n: _middle_network(n) for n in range(2, NETWORK_LANES + 1)}
+#: The same networks for the C accelerator: (i, j, 1 if the minimum is needed + 2 if the
+#: maximum is) per comparator.
+_NETWORK_BYTES = {
+    n: bytes(x for i, j, lo, hi in ops for x in (i, j, int(lo) + 2 * int(hi)))
+    for n, ops in _MIDDLE_NETWORKS.items()
+}
 
 
 def _middle_by_network(
@@ -212,7 +242,12 @@ def walk_on(on: Sequence[bool] | npt.NDArray[np.bool_], start: int, step: int, m
     """Last ``on`` column from ``start`` towards ``step``, over gaps of up to max_gap.
 
     ``on`` as a Python list: a step reads one flag, which a numpy array's scalar
-    indexing makes several times dearer over a walk of hundreds of columns."""
+    indexing makes several times dearer over a walk of hundreds of columns. With the C
+    accelerator the walk is its (lists, and 1-D bool arrays read in place)."""
+    if _c_walk_on is not None:
+        end = _c_walk_on(on, start, step, max_gap)
+        if end is not None:
+            return end
     u, v, gap, n = start, start, 0, len(on)
     while 0 <= v + step < n and gap <= max_gap:
         v += step
@@ -298,11 +333,35 @@ def first_gap(on: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
     """Per column, the first row starting 3 consecutive misses (the row count if none).
 
     Worked on a transposed copy: numpy's any/argmax down the rows of a narrow array
-    cost several times as much as along contiguous rows.
+    cost several times as much as along contiguous rows. With the C accelerator, its
+    search down each column of ``on`` in place (2-D bool arrays with rows; numpy's error
+    for none).
     """
+    if _c_first_gap is not None and on.dtype == np.bool_ and on.ndim == 2 and on.shape[0]:
+        found = np.empty(on.shape[1], np.intp)
+        _c_first_gap(on, found)
+        return found
     miss = ~np.ascontiguousarray(on.T)
     gap = miss[:, :-2] & miss[:, 1:-1] & miss[:, 2:] if miss.shape[1] > 2 else miss
     return np.where(gap.any(axis=1), gap.argmax(axis=1), miss.shape[1])
+
+
+def next_true(flags: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
+    """Per column of ``flags`` (rows 0..rb-1), for each row the first row at or below it
+    where the flag holds, rb if none: ``np.minimum.accumulate(np.where(flags, rows, rb)
+    [::-1], axis=0)[::-1]`` (in C with the accelerator: integers, the same values)."""
+    if (
+        _c_next_true is not None
+        and flags.dtype == np.bool_
+        and flags.ndim == 2
+        and 0 < flags.shape[0] == rb
+    ):
+        found = np.empty(flags.shape, np.intp)
+        _c_next_true(flags, rb, found)
+        return found
+    idx = np.where(flags, np.arange(rb)[:, None], rb)
+    out: npt.NDArray[np.intp] = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
+    return out
 
 
 def late_run(on: npt.NDArray[np.bool_], late_rows: int) -> npt.NDArray[np.intp]:

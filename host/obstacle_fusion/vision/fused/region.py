@@ -110,14 +110,7 @@ def _lab8(
 ) -> npt.NDArray[np.uint8]:
     """:func:`_band` in 8 bits: the stages take only medians of it, by median_u8 (the
     float32 medians' values, without the float copy)."""
-    band = cv2.remap(
-        image,
-        view.map1[r0:r1:step, c0:c1:step],
-        view.map2[r0:r1:step, c0:c1:step],
-        cv2.INTER_LINEAR,
-        borderMode=cv2.BORDER_REPLICATE,
-    )
-    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
+    return view.lab(image, r0, r1, c0, c1, step)
 
 
 def widen_by_colour(

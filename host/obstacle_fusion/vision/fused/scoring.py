@@ -25,6 +25,7 @@ from obstacle_fusion.vision.fused.profiles import (
     VerticalFits,
     clamp,
     grey_range_sums,
+    next_true,
     partitioned,
     range_sums,
     running_counts,
@@ -60,8 +61,7 @@ def _face_shade(means: F32, rb: int, kf: int) -> F32:
 
 def _first_match(match: npt.NDArray[np.bool_], rb: int) -> npt.NDArray[np.intp]:
     """Per column, the first row at or below each row in the face's shade (rb if none)."""
-    row_idx = np.arange(rb)[:, None]
-    return np.minimum.accumulate(np.where(match, row_idx, rb)[::-1], axis=0)[::-1]
+    return next_true(match, rb)
 
 
 def _shade_share(

@@ -28,6 +28,7 @@ from obstacle_fusion.vision.fused.profiles import (
     local_maxima,
     mean,
     median,
+    next_true,
     running_counts,
 )
 from obstacle_fusion.vision.fused.tuning import (
@@ -181,8 +182,7 @@ class Sides:
         self.out_left = [k + i if cols[i] >= 4 else -1 for i in range(k)]
         self.out_right = [2 * k + i if cols[i] + 4 < w else -1 for i in range(k)]
         # first edge row at or below r (rb if none): the hole under a top candidate
-        idx = np.where(on, np.arange(rb)[:, None], rb)
-        self.nxt = np.minimum.accumulate(idx[::-1], axis=0)[::-1]
+        self.nxt = next_true(on, rb)
         # top row of the edge run from the floor-contact row (gaps under 3 rows)
         if rb - 1 < 3:
             self.run_top = [rb - 1] * k

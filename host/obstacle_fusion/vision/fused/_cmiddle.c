@@ -1,0 +1,335 @@
+/* The fused vision method's optional C accelerator: the two middle order statistics of
+ * every lane of an 8-bit array (profiles.median_u8 takes its medians from them).
+ *
+ * The colour stages take a median per row, column or channel of small Lab blocks: many
+ * short lanes (a few rows of a 500-column band, 6 columns of a 100-row strip), where
+ * numpy's sort costs a call per lane and profiles.py's selection network a numpy call per
+ * comparator. Here the same network runs over all lanes at once, in one call. Minima and
+ * maxima of integers: exactly the values numpy's sort gives. Built by setup.py (optional:
+ * without it, profiles.py does the same in numpy). Reads any strided buffer (numpy views).
+ * Also profiles.walk_on's walk along a row of flags (a Python loop of a few hundred steps,
+ * a dozen walks a frame), profiles.first_gap's search down each column of flags and
+ * profiles.next_true's running minimum up them.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <limits.h>
+#include <string.h>
+
+/* Dimensions a source may have (numpy's own limit is 64). */
+#define MAX_DIMS 64
+
+static int is_u8(const Py_buffer *b)
+{
+    return b->itemsize == 1 && (b->format == NULL || strcmp(b->format, "B") == 0);
+}
+
+/* One comparator over all lanes: the minimum to x (when wanted), the maximum to y. */
+static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssize_t lanes,
+                    int want)
+{
+    if (want == 3) {
+        for (Py_ssize_t l = 0; l < lanes; l++) {
+            unsigned char a = x[l], b = y[l];
+            x[l] = a < b ? a : b;
+            y[l] = a < b ? b : a;
+        }
+    } else if (want == 1) {
+        for (Py_ssize_t l = 0; l < lanes; l++)
+            x[l] = x[l] < y[l] ? x[l] : y[l];
+    } else {
+        for (Py_ssize_t l = 0; l < lanes; l++)
+            y[l] = x[l] < y[l] ? y[l] : x[l];
+    }
+}
+
+/* middle_u8(src, network, lo, hi): for every lane along src's last axis (uint8, any
+ * strides, n values), the sorted values at n // 2 - 1 and n // 2 into lo and hi (C-contiguous
+ * uint8, one entry per lane in C order of src's other axes), by the comparator network
+ * given as bytes (i, j, want) per comparator: the minimum of values i and j to i (want
+ * bit 0), their maximum to j (bit 1); the caller's network leaves the middles at n // 2 - 1
+ * and n // 2. The lanes are gathered into n rows of all lanes, so that each comparator is
+ * one pass of byte minima and maxima over contiguous rows. */
+static PyObject *middle_u8(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *src_obj, *lo_obj, *hi_obj;
+    const unsigned char *net;
+    Py_ssize_t net_len;
+    if (!PyArg_ParseTuple(args, "Oy#OO:middle_u8", &src_obj, &net, &net_len, &lo_obj, &hi_obj))
+        return NULL;
+    Py_buffer src, lo, hi;
+    if (PyObject_GetBuffer(src_obj, &src, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(lo_obj, &lo, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&src);
+        return NULL;
+    }
+    if (PyObject_GetBuffer(hi_obj, &hi, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&lo);
+        PyBuffer_Release(&src);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    unsigned char *rows = NULL;
+    Py_ssize_t *offsets = NULL;
+    int nd = src.ndim;
+    if (!is_u8(&src) || !is_u8(&lo) || !is_u8(&hi)) {
+        PyErr_SetString(PyExc_TypeError, "middle_u8: uint8 arrays only");
+        goto done;
+    }
+    if (nd < 1 || nd > MAX_DIMS || src.shape[nd - 1] < 2 || net_len % 3 != 0) {
+        PyErr_SetString(PyExc_ValueError, "middle_u8: lanes of at least two values");
+        goto done;
+    }
+    Py_ssize_t n = src.shape[nd - 1], lanes = 1;
+    for (int d = 0; d < nd - 1; d++)
+        lanes *= src.shape[d];
+    if (lo.len != lanes || hi.len != lanes) {
+        PyErr_SetString(PyExc_ValueError, "middle_u8: one output entry per lane");
+        goto done;
+    }
+    for (Py_ssize_t c = 0; c < net_len; c += 3) {
+        if (net[c] >= n || net[c + 1] >= n || net[c] == net[c + 1] || net[c + 2] > 3) {
+            PyErr_SetString(PyExc_ValueError, "middle_u8: a comparator outside the lanes");
+            goto done;
+        }
+    }
+    rows = PyMem_Malloc((size_t)(n * lanes));
+    offsets = PyMem_Malloc((size_t)lanes * sizeof *offsets);
+    if (rows == NULL || offsets == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    /* each lane's first value: an odometer over the other axes, last fastest (lanes next
+     * to each other in memory, as a row of values, are copied a row at a time) */
+    Py_ssize_t index[MAX_DIMS] = {0}, at = 0;
+    int adjacent = 1;
+    for (Py_ssize_t lane = 0; lane < lanes; lane++) {
+        offsets[lane] = at;
+        adjacent &= at == lane;
+        for (int d = nd - 2; d >= 0; d--) {
+            at += src.strides[d];
+            if (++index[d] < src.shape[d])
+                break;
+            at -= src.strides[d] * src.shape[d];
+            index[d] = 0;
+        }
+    }
+    const char *base = (const char *)src.buf;
+    Py_ssize_t step = src.strides[nd - 1];
+    for (Py_ssize_t i = 0; i < n; i++) {
+        unsigned char *row = rows + i * lanes;
+        const char *from = base + i * step;
+        if (adjacent) {
+            memcpy(row, from, (size_t)lanes);
+            continue;
+        }
+        for (Py_ssize_t lane = 0; lane < lanes; lane++)
+            row[lane] = (unsigned char)from[offsets[lane]];
+    }
+    for (Py_ssize_t c = 0; c < net_len; c += 3)
+        compare(rows + net[c] * lanes, rows + net[c + 1] * lanes, lanes, net[c + 2]);
+    Py_ssize_t k = n / 2;
+    memcpy(lo.buf, rows + (k - 1) * lanes, (size_t)lanes);
+    memcpy(hi.buf, rows + k * lanes, (size_t)lanes);
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyMem_Free(offsets);
+    PyMem_Free(rows);
+    PyBuffer_Release(&hi);
+    PyBuffer_Release(&lo);
+    PyBuffer_Release(&src);
+    return result;
+}
+
+/* walk_on(on, start, step, max_gap): profiles.walk_on's walk, for a list (or any
+ * sequence) of flags, or a 1-D bool or uint8 array read in place: from ``start`` towards
+ * ``step``, the last true index reached over runs of at most ``max_gap`` false ones.
+ * Returns None for a step of 0 or indices near the integer limits (the caller walks in
+ * Python then). */
+static int flag_at(PyObject **items, const Py_buffer *view, Py_ssize_t i)
+{
+    if (items != NULL)
+        return PyObject_IsTrue(items[i]);
+    return ((const unsigned char *)view->buf)[i * view->strides[0]] != 0;
+}
+
+static PyObject *walk_on(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *on;
+    Py_ssize_t start, step, max_gap;
+    if (!PyArg_ParseTuple(args, "Onnn:walk_on", &on, &start, &step, &max_gap))
+        return NULL;
+    const Py_ssize_t limit = PY_SSIZE_T_MAX / 4;
+    if (step == 0 || step > limit || step < -limit || start > limit || start < -limit)
+        Py_RETURN_NONE;
+    Py_buffer view;
+    PyObject *seq = NULL, **items = NULL;
+    int buffered = 0;
+    Py_ssize_t n;
+    if (PyObject_CheckBuffer(on) && !PyBytes_Check(on) && !PyByteArray_Check(on) &&
+        PyObject_GetBuffer(on, &view, PyBUF_STRIDES | PyBUF_FORMAT) == 0) {
+        if (view.ndim == 1 && view.itemsize == 1 && view.format != NULL &&
+            (strcmp(view.format, "?") == 0 || strcmp(view.format, "B") == 0)) {
+            buffered = 1;
+            n = view.shape[0];
+        } else {
+            PyBuffer_Release(&view);
+        }
+    } else {
+        PyErr_Clear();
+    }
+    if (!buffered) {
+        seq = PySequence_Fast(on, "walk_on: flags must be a sequence");
+        if (seq == NULL)
+            return NULL;
+        items = PySequence_Fast_ITEMS(seq);
+        n = PySequence_Fast_GET_SIZE(seq);
+    }
+    Py_ssize_t u = start, v = start, gap = 0;
+    int failed = 0;
+    while (0 <= v + step && v + step < n && gap <= max_gap) {
+        v += step;
+        int flag = flag_at(items, buffered ? &view : NULL, v);
+        if (flag < 0) {
+            failed = 1;
+            break;
+        }
+        if (flag) {
+            u = v;
+            gap = 0;
+        } else {
+            gap++;
+        }
+    }
+    if (buffered)
+        PyBuffer_Release(&view);
+    Py_XDECREF(seq);
+    return failed ? NULL : PyLong_FromSsize_t(u);
+}
+
+/* first_gap(on, out): profiles.first_gap for a 2-D bool array (any strides): per column,
+ * the first row starting 3 consecutive false ones (with fewer than 3 rows, the first
+ * false one), the row count if none, into out (C-contiguous, one 8-byte integer per
+ * column). */
+static PyObject *first_gap(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *on_obj, *out_obj;
+    if (!PyArg_ParseTuple(args, "OO:first_gap", &on_obj, &out_obj))
+        return NULL;
+    Py_buffer on, out;
+    if (PyObject_GetBuffer(on_obj, &on, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&on);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    if (on.ndim != 2 || on.itemsize != 1 || on.format == NULL || strcmp(on.format, "?") != 0 ||
+        out.itemsize != (Py_ssize_t)sizeof(long long) || out.len != on.shape[1] * out.itemsize) {
+        PyErr_SetString(PyExc_TypeError, "first_gap: a 2-D bool array and one int64 per column");
+        goto done;
+    }
+    Py_ssize_t rows = on.shape[0], cols = on.shape[1];
+    Py_ssize_t rs = on.strides[0], cs = on.strides[1];
+    const char *base = (const char *)on.buf;
+    long long *found = (long long *)out.buf;
+    for (Py_ssize_t c = 0; c < cols; c++) {
+        const char *col = base + c * cs;
+        Py_ssize_t at = rows;
+        if (rows > 2) {
+            for (Py_ssize_t r = 0; r + 2 < rows; r++) {
+                if (!col[r * rs] && !col[(r + 1) * rs] && !col[(r + 2) * rs]) {
+                    at = r;
+                    break;
+                }
+            }
+        } else {
+            for (Py_ssize_t r = 0; r < rows; r++) {
+                if (!col[r * rs]) {
+                    at = r;
+                    break;
+                }
+            }
+        }
+        found[c] = (long long)at;
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&on);
+    return result;
+}
+
+/* next_true(flags, fill, out): profiles.next_true for a 2-D bool array (any strides):
+ * out[r, c] = the minimum over rows r' >= r of (r' where flags[r', c], else fill), into
+ * out (C-contiguous, one 8-byte integer per entry). */
+static PyObject *next_true(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *flags_obj, *out_obj;
+    long long fill;
+    if (!PyArg_ParseTuple(args, "OLO:next_true", &flags_obj, &fill, &out_obj))
+        return NULL;
+    Py_buffer flags, out;
+    if (PyObject_GetBuffer(flags_obj, &flags, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&flags);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    if (flags.ndim != 2 || flags.itemsize != 1 || flags.format == NULL ||
+        strcmp(flags.format, "?") != 0 || out.itemsize != (Py_ssize_t)sizeof(long long) ||
+        out.len != flags.shape[0] * flags.shape[1] * out.itemsize) {
+        PyErr_SetString(PyExc_TypeError, "next_true: a 2-D bool array and one int64 per entry");
+        goto done;
+    }
+    Py_ssize_t rows = flags.shape[0], cols = flags.shape[1];
+    Py_ssize_t rs = flags.strides[0], cs = flags.strides[1];
+    const char *base = (const char *)flags.buf;
+    long long *to = (long long *)out.buf;
+    for (Py_ssize_t c = 0; c < cols; c++) {
+        long long low = LLONG_MAX;
+        for (Py_ssize_t r = rows - 1; r >= 0; r--) {
+            long long here = base[r * rs + c * cs] ? (long long)r : fill;
+            if (here < low)
+                low = here;
+            to[r * cols + c] = low;
+        }
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&flags);
+    return result;
+}
+
+static PyMethodDef methods[] = {
+    {"next_true", next_true, METH_VARARGS,
+     "next_true(flags, fill, out): per entry, the first true row at or below (profiles)."},
+    {"first_gap", first_gap, METH_VARARGS,
+     "first_gap(on, out): per column, the first row of 3 misses (profiles.first_gap)."},
+    {"walk_on", walk_on, METH_VARARGS,
+     "walk_on(on, start, step, max_gap): profiles.walk_on's walk (None: walk in Python)."},
+    {"middle_u8", middle_u8, METH_VARARGS,
+     "middle_u8(src, network, lo, hi): the two middle values of every last-axis lane."},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "_cmiddle", "Middle order statistics of 8-bit lanes; flag walks.", -1,
+    methods,
+    NULL, NULL, NULL, NULL,
+};
+
+PyMODINIT_FUNC PyInit__cmiddle(void)
+{
+    return PyModule_Create(&module);
+}

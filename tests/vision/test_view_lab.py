@@ -1,0 +1,85 @@
+"""A view's Lab blocks of a held frame are the blocks converted one by one, never stale."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+import pytest
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import View
+
+
+def pitched_view() -> View:
+    """The paper's lens (distorted) pitched down: every block a real remap."""
+    return View(CameraModel.paper(500, 375), Rig(camera_pitch_deg=6.0), "level")
+
+
+def frame(seed: int) -> npt.NDArray[np.uint8]:
+    rng = np.random.default_rng(seed)
+    img = rng.integers(0, 256, (375, 500, 3), np.uint8)
+    return np.asarray(cv2.GaussianBlur(img, (5, 5), 1.0), np.uint8)
+
+
+def converted(view: View, img: npt.NDArray[np.uint8], *block: int | None) -> npt.NDArray[np.uint8]:
+    """The block undistorted and converted on its own (what the stages read before)."""
+    r0, r1, c0, c1, step = (*block, *(None,) * (5 - len(block)))[:5]
+    rows, cols = slice(r0, r1, step or 1), slice(c0 or 0, c1, step or 1)
+    band = cv2.remap(
+        img, view.map1[rows, cols], view.map2[rows, cols], cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REPLICATE,
+    )  # fmt: skip
+    return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
+
+
+BLOCKS = [
+    (100, 140),  # rows across the view
+    (110, 120, 200, 260),  # inside the rows before
+    (100, 140, 0, 500),  # the same rows again
+    (90, 130, 200, 260),  # overlapping, not inside
+    (95, 125, 210, 230),  # inside the one before
+    (300, 375, 480, 500),  # the corner
+    (-20, -5, -30, -10),  # counted from the ends, as numpy's slices
+    (120, 160, 150, 400, 3),  # every third row and column
+]
+
+
+def test_a_held_frame_s_blocks_are_each_block_converted_alone() -> None:
+    view, img = pitched_view(), frame(1)
+    view.hold_colour(img)
+    for block in BLOCKS:
+        got = view.lab(img, *block)
+        want = converted(view, img, *block)
+        assert got.shape == want.shape and got.dtype == np.uint8, block
+        assert np.array_equal(got, want), block
+    # an empty block is OpenCV's error, held or not, as before
+    with pytest.raises(cv2.error):
+        view.lab(img, 130, 130, 0, 10)
+    view.hold_colour(None)
+    with pytest.raises(cv2.error):
+        view.lab(img, 130, 130, 0, 10)
+
+
+def test_a_new_frame_or_none_held_is_read_afresh() -> None:
+    """Each run holds its own frame: a frame changed in place (a camera's reused buffer)
+    after its hold ended, or another frame, is converted anew."""
+    view, img = pitched_view(), frame(2)
+    view.hold_colour(img)
+    first = view.lab(img, 100, 140).copy()
+    view.hold_colour(None)
+    img[:] = frame(3)
+    assert np.array_equal(view.lab(img, 110, 120, 200, 260), converted(view, img, 110, 120, 200, 260))
+    view.hold_colour(img)
+    assert not np.array_equal(view.lab(img, 100, 140), first)
+    assert np.array_equal(view.lab(img, 110, 120, 200, 260), converted(view, img, 110, 120, 200, 260))
+    other = frame(4)  # a frame other than the held one is never read from its blocks
+    assert np.array_equal(view.lab(other, 110, 120), converted(view, other, 110, 120))
+    view.hold_colour(None)
+
+
+def test_a_grey_frame_holds_nothing() -> None:
+    view = pitched_view()
+    grey = frame(5)[:, :, 0].copy()
+    view.hold_colour(grey)
+    assert view._held is None and view._lab_boxes == []
