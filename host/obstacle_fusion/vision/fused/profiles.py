@@ -21,7 +21,7 @@ _c_walk_on: Callable[[Any, int, int, int], int | None] | None
 _c_first_gap: Callable[[Any, Any], None] | None
 _c_next_true: Callable[[Any, int, Any], None] | None
 try:  # the optional C accelerator (setup.py); without it numpy selects the middles
-    from obstacle_fusion.vision.fused import _cmiddle
+    import obstacle_fusion.vision.fused._cmiddle as _cmiddle
 
     _c_middle_u8, _c_walk_on = _cmiddle.middle_u8, _cmiddle.walk_on
     _c_first_gap, _c_next_true = _cmiddle.first_gap, _cmiddle.next_true
