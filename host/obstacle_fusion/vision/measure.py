@@ -197,17 +197,20 @@ class Measurer:
                 method.view = base
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
-            log.debug(
-                "no rig: camera %.3f m, pitch %.1f deg, row %s%s: %s",
-                height,
-                pitch,
-                "from the height" if row is None else f"{row:.0f}",
-                ", known floor" if floor_known else "",
-                f"face {result.height_m:.3f} x {result.width_m:.3f} m, confidence "
-                f"{result.confidence or 0.0:.2f}"
-                if result.detected
-                else "none",
-            )
+            if log.isEnabledFor(logging.DEBUG):  # up to ~20 trials a frame: format only if read
+                log.debug(
+                    "no rig: camera %.3f m, pitch %.1f deg, row %.0f, slack %.0f px%s: %s, "
+                    "h %s, w %s, conf %.2f",
+                    height,
+                    pitch,
+                    row,
+                    slack,
+                    ", known floor" if floor_known else "",
+                    "face" if result.detected else "none",
+                    result.height_m,
+                    result.width_m,
+                    result.confidence or 0.0,
+                )
             return result
 
         def accepted(result: Measurement) -> bool:
