@@ -83,3 +83,18 @@ def test_a_grey_frame_holds_nothing() -> None:
     grey = frame(5)[:, :, 0].copy()
     view.hold_colour(grey)
     assert view._held is None and view._lab_boxes == []
+
+
+def test_a_reused_block_cannot_be_written_into_the_frames_cache() -> None:
+    """A block taken from an earlier one is a view of the frame's cache: read-only, so a
+    stage writing into it fails loudly instead of spoiling later blocks."""
+    view, img = pitched_view(), frame(11)
+    view.hold_colour(img)
+    first = view.lab(img, 100, 140)
+    first[:] = 0  # the first conversion is the stage's own array (the cache has a copy)
+    inside = view.lab(img, 110, 120, 200, 260)
+    assert not inside.flags.writeable
+    with pytest.raises(ValueError):
+        inside[:] = 0
+    np.testing.assert_array_equal(inside, converted(view, img, 110, 120, 200, 260))
+    view.hold_colour(None)

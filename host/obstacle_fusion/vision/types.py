@@ -181,7 +181,9 @@ class View:
             return self._to_lab(image, rows, cols)  # OpenCV's answer to an empty block
         for a, b, c, d in self._lab_boxes:
             if a <= ra and rb <= b and c <= ca and cb <= d:
-                return lab[ra:rb, ca:cb]
+                held = lab[ra:rb, ca:cb]
+                held.flags.writeable = False  # the frame's cache: a write would spoil it
+                return held
         block = self._to_lab(image, rows, cols)
         lab[ra:rb, ca:cb] = block
         self._lab_boxes.append((ra, rb, ca, cb))
