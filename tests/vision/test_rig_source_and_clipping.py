@@ -7,7 +7,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
+from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec, render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
@@ -15,7 +15,7 @@ from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_gre
 from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import Measurement, View
+from obstacle_fusion.vision.types import UNSEEN_MARGIN_PX, Measurement, View
 
 from tests.vision.rooms import plain_room
 
@@ -157,6 +157,51 @@ def test_a_face_cut_by_the_border_is_never_a_confident_full_width() -> None:
         assert "right" in res.clipped
         assert res.to_dict()["width_is_lower_bound"] is True
         assert res.width_m < truth["width_m"]
+
+
+def _face(left: float, right: float, top: float, bottom: float) -> np.ndarray:
+    """View corners bottom-left, bottom-right, top-right, top-left."""
+    return np.array([[left, bottom], [right, bottom], [right, top], [left, top]])
+
+
+def test_a_side_within_the_margin_of_the_views_border_is_unseen() -> None:
+    view = View(CAM, Rig(), "level")
+    m = UNSEEN_MARGIN_PX
+    w, h = CAM.size
+    assert view.unseen_sides(_face(100, 400, 100, 300), m) == []
+    assert view.unseen_sides(_face(m, 400, 100, 300), m) == []
+    assert view.unseen_sides(_face(m - 1, 400, 100, 300), m) == ["left"]
+    assert view.unseen_sides(_face(100, w - 1 - m, 100, 300), m) == []
+    assert view.unseen_sides(_face(100, w - m, 100, 300), m) == ["right"]
+    assert view.unseen_sides(_face(100, 400, m - 1, h - m), m) == ["top", "bottom"]
+
+
+def test_a_side_near_where_the_view_maps_outside_the_image_is_unseen() -> None:
+    # pitched down 8 degrees, the levelled view's top right corner reads past the input
+    # image's right border: its last seen column is short of the view's own border
+    view = View(CAM, Rig(camera_pitch_deg=8.0), "level")
+    m = UNSEEN_MARGIN_PX
+    top, bottom = 10, 30
+    rows = np.rint(np.linspace(top, bottom, 5)).astype(int)
+    src_x = view.map1[rows, :, 0].astype(int)
+    last_seen = int(min(np.flatnonzero(r < CAM.size[0]).max() for r in src_x))
+    assert last_seen + 1 < CAM.size[0] - 1 - m  # (the view's own border is not what cuts it)
+    right = last_seen - m
+    assert "right" not in view.unseen_sides(_face(400, right, top, bottom), m)
+    assert "right" in view.unseen_sides(_face(400, right + 1, top, bottom), m)
+
+
+def test_a_face_running_off_the_image_short_of_its_border_in_the_view_is_flagged() -> None:
+    # the levelled view loses the input's outer ~9 columns: the face's measured side ends
+    # ~11 px from the image's left border, yet the face runs on off the image
+    image, truth, spec = render_room("procedural", 910, False, CAM)
+    assert truth["clipped"] == ["left"]
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.box_px is not None
+    assert res.box_px[0] > 2 * CLIP_MARGIN_PX  # the image border alone would not say so
+    assert res.clipped == ["left"]
+    assert res.to_dict()["width_is_lower_bound"] is True
+    assert res.width_m is not None and res.width_m < truth["width_m"]
 
 
 def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(

@@ -541,7 +541,10 @@ class Measurer:
             )
         else:
             result.doubts = []
-        result.clipped = clipped_sides(result.box_px, image.shape[1], image.shape[0])
+        # the image's borders, and those the method's working view cuts short
+        cut = set(clipped_sides(result.box_px, image.shape[1], image.shape[0]))
+        cut.update(result.clipped)
+        result.clipped = [s for s in SIDES if s in cut]
         result.timings_ms = dict(timer.ms)
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
@@ -603,6 +606,7 @@ PITCHED_VIEWS_KEPT = 8
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5
+SIDES = ("left", "right", "top", "bottom")
 
 
 def _doubted(found: Measurement) -> float:

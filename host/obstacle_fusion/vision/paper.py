@@ -168,4 +168,5 @@ class PaperMethod:
             lines=lines,
             height_px=h_px,
             width_px=w_px,
+            clipped=v.unseen_sides(corners[[3, 2, 1, 0]]),  # (bottom-left first)
         )

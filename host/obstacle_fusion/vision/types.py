@@ -72,6 +72,13 @@ class Timer:
         self._t = now
 
 
+#: Points along a face's side checked for lying in sight of the view.
+SIDE_SAMPLES = 5
+#: A face side this close (view px) to what the view does not see may run on out there:
+#: the methods stop a side's search a few columns short of the view's edge.
+UNSEEN_MARGIN_PX = 4.0
+
+
 class View:
     """Per-camera (and per-rig) geometry of one working view, built once.
 
@@ -199,6 +206,38 @@ class View:
             borderMode=cv2.BORDER_REPLICATE,
         )
         return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
+
+    def unseen_sides(self, corners: npt.ArrayLike, margin: float = UNSEEN_MARGIN_PX) -> list[str]:
+        """The sides of a face (view corners bottom-left, bottom-right, top-right,
+        top-left) that come within ``margin`` px of what this view does not see: past its
+        own borders, or where it maps outside the input image (an undistorted, levelled
+        view loses the input's corners and a few columns at its edges, so a face running
+        off the image ends in the view short of the image's border). The face may run on
+        out there: its size across that side is a lower bound."""
+        c = np.asarray(corners, dtype=np.float64).reshape(4, 2)
+        bl, br, tr, tl = c
+        t = np.linspace(0.0, 1.0, SIDE_SAMPLES)[:, None]
+        outward = {
+            "left": (bl + t * (tl - bl)) - (margin, 0.0),
+            "right": (br + t * (tr - br)) + (margin, 0.0),
+            "top": (tl + t * (tr - tl)) - (0.0, margin),
+            "bottom": (bl + t * (br - bl)) + (0.0, margin),
+        }
+        h, w = self.map1.shape[:2]
+        w_in, h_in = self.camera.size
+        sides = []
+        for side, pts in outward.items():
+            u = np.rint(pts[:, 0]).astype(np.int64)
+            v = np.rint(pts[:, 1]).astype(np.int64)
+            inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
+            if not inside.all():
+                sides.append(side)
+                continue
+            src = self.map1[v, u].astype(np.int64)  # input pixel (integer part) each reads
+            seen = (src[:, 0] >= 0) & (src[:, 0] < w_in) & (src[:, 1] >= 0) & (src[:, 1] < h_in)
+            if not seen.all():
+                sides.append(side)
+        return sides
 
     def to_input(self, pts: npt.ArrayLike) -> FloatArray:
         """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""

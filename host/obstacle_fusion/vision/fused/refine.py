@@ -197,6 +197,7 @@ def refine(
         lines=lines,
         height_px=float(h_px),
         width_px=float(ur_f - ul_f),
+        clipped=v.unseen_sides(corners),
     )
 
 
