@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections import deque
+from collections.abc import Iterator
+
 import numpy as np
 import pytest
 from obstacle_fusion.sim.scenario import demo_scenario
@@ -108,3 +111,18 @@ def test_the_renderers_cold_first_frame_is_rendered_before_the_clock_runs(
     assert len(calls) == 2 and len(live._render_s) == 1
     SyntheticCamera(demo_scenario(), synthetic_camera_model(500, 375), Rig(), realtime=False)
     assert len(calls) == 2  # a camera that is not live keeps no lead: no extra render
+
+
+class _AppendedWhileRead(deque[tuple[int, float | None]]):
+    """A frame log the capture thread appends to between two steps of a reverse read."""
+
+    def __reversed__(self) -> Iterator[tuple[int, float | None]]:
+        for item in super().__reversed__():
+            self.append((99, 9.9))
+            yield item
+
+
+def test_a_frames_scene_time_is_found_while_frames_are_still_coming() -> None:
+    src = SyntheticCamera(demo_scenario(), synthetic_camera_model(500, 375), Rig(), realtime=False)
+    src.recent = _AppendedWhileRead([(1, 0.1), (2, 0.2)], maxlen=256)
+    assert src.scene_time_of(1) == pytest.approx(0.1)  # no "deque mutated" error

@@ -119,7 +119,9 @@ class SyntheticCamera(FrameSource):
         )
 
     def scene_time_of(self, index: int) -> float | None:
-        for i, t in reversed(self.recent):
+        # a snapshot (one C-level copy): the capture thread appends while the publisher
+        # looks a frame up, and a deque iterated across an append raises
+        for i, t in reversed(tuple(self.recent)):
             if i == index:
                 return t
         return None
