@@ -10,9 +10,8 @@ import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec, render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import FusedMethod
+from obstacle_fusion.vision.fused import FusedMethod, floor_contact
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
-from obstacle_fusion.vision.fused import floor_contact
 from obstacle_fusion.vision.fused.floor_contact import contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
