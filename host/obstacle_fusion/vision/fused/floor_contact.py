@@ -23,6 +23,7 @@ STEP_ROWS = 5  # rows averaged on each side of a candidate step
 MIN_STEP_GREY = 10.0  # a step smaller than this (colour distance, 8-bit) is floor texture
 NOISE_FACTOR = 5.0  # a step must stand this many median steps above the floor's own
 MAX_CANDIDATES = 8
+FLOOR_NOISE_ROWS = 20  # rows below a step whose own steps give the floor's texture
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
 
 
@@ -58,12 +59,40 @@ def contact_rows(
     above = (cs[v] - cs[v - k]) / k
     below = (cs[v + k] - cs[v]) / k
     step = row_norms(above - below)
-    threshold = max(MIN_STEP_GREY, NOISE_FACTOR * float(median_of(step)))
+    band_threshold = NOISE_FACTOR * float(median_of(step))
+    out = _steps(rows, v, step, top, band_threshold, None)
+    if not out:
+        # no step stands out of the whole band's (the wall and the face count there too:
+        # a busy room hides a clear foot on gravel): each against the floor's own texture
+        # below it
+        out = _steps(rows, v, step, top, band_threshold, FLOOR_NOISE_ROWS)
+    return out
+
+
+def _steps(
+    rows: npt.NDArray[np.float32],
+    v: npt.NDArray[np.int64],
+    step: npt.NDArray[np.float64],
+    top: int,
+    band_threshold: float,
+    floor_rows: int | None,
+) -> list[int]:
+    """The steps of :func:`contact_rows`, lowest first: over ``band_threshold``, or with
+    ``floor_rows``, over NOISE_FACTOR times the median step of that many rows below (at
+    least half of them there to read)."""
+    k = STEP_ROWS
     out: list[int] = []
     for i in range(len(step) - 2, 0, -1):  # from the bottom up
         s = step[i]
-        if s < threshold or s < step[i - 1] or s < step[i + 1]:
+        if s < MIN_STEP_GREY or s < step[i - 1] or s < step[i + 1]:
             continue
+        if floor_rows is None:
+            if s < band_threshold:
+                continue
+        else:
+            below = step[i + k : i + k + floor_rows]
+            if len(below) < floor_rows // 2 or s < NOISE_FACTOR * float(median_of(below)):
+                continue
         row = int(v[i])
         # the floor's colour below the step, robust to a seam line right under it
         floor = median_of(rows[row + 2 : row + 2 + 2 * k], axis=0)
