@@ -1057,5 +1057,9 @@ def test_sonar_only_records_say_what_the_sonar_heard() -> None:
     g = Fusion(clock=clock)
     undated = g.range_record(dataclasses.replace(_reading(1.0, 2.0), t_host=None))
     assert undated.t_host == 9.0 and not undated.alert  # no stop distance: never an alert
+    # the next reading, dated by the clock model now ready, happened before that receipt:
+    # the records still come out in time order
+    assert g.range_record(_reading(8.99, 2.0)).t_host == 9.0
+    assert g.range_record(_reading(9.5, 2.0)).t_host == 9.5
     s = f.stats
     assert (s.readings, s.clear, s.sonar_errors, s.alerts, s.published) == (5, 2, 2, 1, 5)

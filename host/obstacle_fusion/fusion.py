@@ -391,6 +391,7 @@ class Fusion:
     _pending: deque[tuple[Frame, float]] = field(default_factory=deque)
     _pairers: dict[int, RangePairer] = field(default_factory=dict)
     _tracks: dict[int, RangeTrack] = field(default_factory=dict)
+    _last_range_t: float = -math.inf  # the newest sonar-only record's time
 
     def __post_init__(self) -> None:
         self.pairing = PairingMode(self.pairing)
@@ -729,6 +730,10 @@ class Fusion:
             stats.alerts += 1
         stats.published += 1
         t = reading.t_host if reading.t_host is not None else self.clock()
+        # in order: a reading before the clock model was ready carries its receipt time,
+        # later than its instant, and the next one, mapped, must not go back before it
+        t = max(t, self._last_range_t)
+        self._last_range_t = t
         return ObstacleRecord(
             t_host=t,
             distance_m=distance,
