@@ -756,7 +756,7 @@ def _window_means(
     outs = []
     for lo, hi in windows:
         out = np.full(rows.shape, np.nan, np.float32)
-        a, b = max(0, -lo), min(n, n - hi)
+        a, b = max(0, -lo), min(n, n - hi + 1)  # rows r with 0 <= r + lo, r + hi <= n
         if a < b:
             out[a:b] = (c[a + hi : b + hi] - c[a + lo : b + lo]) / (hi - lo)
         outs.append(out)
