@@ -49,7 +49,8 @@ static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssi
  * given as bytes (i, j, want) per comparator: the minimum of values i and j to i (want
  * bit 0), their maximum to j (bit 1); the caller's network leaves the middles at n // 2 - 1
  * and n // 2. The lanes are gathered into n rows of all lanes, so that each comparator is
- * one pass of byte minima and maxima over contiguous rows. */
+ * one pass of byte minima and maxima over contiguous rows. An empty network: each lane's
+ * values are counted and the middles read off the counts instead (any lane length). */
 static PyObject *middle_u8(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -95,9 +96,9 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
             goto done;
         }
     }
-    rows = PyMem_Malloc((size_t)(n * lanes));
+    rows = net_len ? PyMem_Malloc((size_t)(n * lanes)) : NULL;
     offsets = PyMem_Malloc((size_t)lanes * sizeof *offsets);
-    if (rows == NULL || offsets == NULL) {
+    if ((net_len && rows == NULL) || offsets == NULL) {
         PyErr_NoMemory();
         goto done;
     }
@@ -118,6 +119,33 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
     }
     const char *base = (const char *)src.buf;
     Py_ssize_t step = src.strides[nd - 1];
+    Py_ssize_t k = n / 2;
+    if (net_len == 0) {
+        /* no network: each lane's values counted, the middles read off the counts (long
+         * lanes, where a network would be long and numpy sorts a 16-bit copy) */
+        unsigned char *lo_out = lo.buf, *hi_out = hi.buf;
+        Py_ssize_t count[256];
+        for (Py_ssize_t lane = 0; lane < lanes; lane++) {
+            const char *from = base + offsets[lane];
+            memset(count, 0, sizeof count);
+            for (Py_ssize_t i = 0; i < n; i++)
+                count[(unsigned char)from[i * step]]++;
+            Py_ssize_t below = 0;
+            int v = 0, first = -1;
+            for (; v < 256; v++) {
+                below += count[v];
+                if (first < 0 && below > k - 1)
+                    first = v;
+                if (below > k)
+                    break;
+            }
+            lo_out[lane] = (unsigned char)first;
+            hi_out[lane] = (unsigned char)v;
+        }
+        Py_INCREF(Py_None);
+        result = Py_None;
+        goto done;
+    }
     for (Py_ssize_t i = 0; i < n; i++) {
         unsigned char *row = rows + i * lanes;
         const char *from = base + i * step;
@@ -130,7 +158,6 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
     }
     for (Py_ssize_t c = 0; c < net_len; c += 3)
         compare(rows + net[c] * lanes, rows + net[c + 1] * lanes, lanes, net[c + 2]);
-    Py_ssize_t k = n / 2;
     memcpy(lo.buf, rows + (k - 1) * lanes, (size_t)lanes);
     memcpy(hi.buf, rows + k * lanes, (size_t)lanes);
     Py_INCREF(Py_None);
