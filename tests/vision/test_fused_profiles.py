@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 from obstacle_fusion.vision.fused.profiles import (
     NETWORK_LANES,
@@ -176,6 +177,45 @@ def test_median_u8_in_c_is_numpy_s_median(
         assert type(got) is type(want)
         assert np.asarray(got).dtype == np.float32
         assert np.array_equal(got, want)
+        assert np.array_equal(got, np.median(arr.astype(np.float32), axis=axis))
+
+
+@pytest.mark.parametrize("n", [NETWORK_LANES + 1, 18, 41, 100, 256, 257, 1500])
+def test_median_u8_of_long_lanes_counted_in_c_is_numpy_s_median(
+    n: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Lanes longer than a network are counted in C (an empty network): the middles
+    numpy's sort gives, odd and even counts, ties, only 0s and 255s, all values alike,
+    lanes along any axis, strided and reversed views, and the whole array (no axis)."""
+    from obstacle_fusion.vision.fused import profiles
+
+    calls: list[bytes] = []
+    c_middle = profiles._c_middle_u8
+    assert c_middle is not None, "the C accelerator is not built (make setup)"
+
+    def spied(src: object, network: bytes, lo: object, hi: object) -> None:
+        calls.append(network)
+        c_middle(src, network, lo, hi)
+
+    rng = np.random.default_rng(n)
+    a = rng.integers(0, 256, (n, 7, 3), np.uint8)
+    a[:, :2] = rng.integers(100, 103, (n, 2, 3))  # many ties
+    a[:, 2, 0] = rng.choice(np.array([0, 255], np.uint8), n)  # the extremes only
+    a[:, 3, 1] = 77  # one value all along
+    cases: list[tuple[npt.NDArray[np.uint8], int | None]] = [
+        (a, 0), (a.transpose(1, 0, 2), 1), (np.ascontiguousarray(a.T), 2), (a[::-1, ::2], 0),
+        (a[:, 0, 0], 0), (a, None), (a[:, 1:5], None), (a.reshape(-1, 3), 0),
+    ]  # fmt: skip
+    for arr, axis in cases:
+        calls.clear()
+        monkeypatch.setattr(profiles, "_c_middle_u8", spied)
+        got = median_u8(arr, axis)
+        assert calls == [b""], (arr.shape, axis)
+        monkeypatch.setattr(profiles, "_c_middle_u8", None)
+        want = median_u8(arr, axis)
+        assert type(got) is type(want)
+        assert np.asarray(got).dtype == np.float32
+        assert np.array_equal(got, want), (arr.shape, axis)
         assert np.array_equal(got, np.median(arr.astype(np.float32), axis=axis))
 
 

@@ -1140,3 +1140,30 @@ def test_a_prints_top_inside_its_frame_is_no_end_of_the_colour() -> None:
 def test_a_colour_end_at_one_side_is_enough() -> None:
     """The print reaching one side: the strip inside that side steps with the middle."""
     assert ends(framed_print(reach_right=True), COLOUR_TOP + 20)
+
+
+def _window_mean_alone(rows: npt.NDArray[np.float32], lo: int, hi: int) -> npt.NDArray[np.float32]:
+    """The window mean as lower_top_to_background took it before (one running sum per
+    window and colour block, index arrays for the rows covered)."""
+    n = rows.shape[0]
+    c = np.concatenate([np.zeros((1, rows.shape[1]), np.float64), np.cumsum(rows, axis=0)])
+    out = np.full(rows.shape, np.nan, np.float32)
+    r = np.arange(n)
+    ok = (r + lo >= 0) & (r + hi <= n)
+    out[ok] = (c[r[ok] + hi] - c[r[ok] + lo]) / (hi - lo)
+    return out
+
+
+def test_window_means_over_one_running_sum_are_each_window_alone() -> None:
+    """The stacked colour blocks and windows of lower_top_to_background give every block
+    the means its own window gave it alone, bit for bit (NaN where a window runs off)."""
+    rng = np.random.default_rng(7)
+    rows = rng.uniform(-255, 255, (37, 3, 3)).astype(np.float32)
+    windows = ((-5, -1), (2, 6), (0, 37), (-40, -38))
+    got = region._window_means(rows, windows)
+    for (lo, hi), means in zip(windows, got, strict=True):
+        for k in range(3):
+            np.testing.assert_array_equal(means[:, k], _window_mean_alone(rows[:, k], lo, hi))
+    # a window as long as the rows covers only the first; one longer, none
+    assert not np.isnan(got[2][0]).any() and np.isnan(got[2][1:]).all()
+    assert np.isnan(got[3]).all()

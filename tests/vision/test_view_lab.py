@@ -98,3 +98,41 @@ def test_a_reused_block_cannot_be_written_into_the_frames_cache() -> None:
         inside[:] = 0
     np.testing.assert_array_equal(inside, converted(view, img, 110, 120, 200, 260))
     view.hold_colour(None)
+
+
+#: Blocks overlapping earlier ones without lying inside any one of them (rows, columns).
+OVERLAPS = [
+    (100, 140, 100, 200),  # nothing before it
+    (120, 160, 150, 250),  # its corner read before
+    (110, 150, 120, 230),  # across both
+    (90, 170, 90, 260),  # around all of them
+    (100, 160, 100, 250),  # inside the union of those before, not inside one
+    (0, 5, 490, 500),  # a corner of the view
+    (2, 30, 480, 500),  # that corner again, and more
+]
+
+
+def test_an_overlapping_block_converts_only_what_no_block_before_covered(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Each pixel is converted once a frame (what the stages read overlaps by a third),
+    and every block read is still the block converted alone."""
+    view, img = pitched_view(), frame(21)
+    pixels: list[int] = []
+    to_lab = view._to_lab
+
+    def counted(image: npt.NDArray[np.uint8], rows: slice, cols: slice) -> npt.NDArray[np.uint8]:
+        out = to_lab(image, rows, cols)
+        pixels.append(out.shape[0] * out.shape[1])
+        return out
+
+    monkeypatch.setattr(view, "_to_lab", counted)
+    view.hold_colour(img)
+    seen = np.zeros(view.out.shape, bool)  # the view pixels read so far
+    for r0, r1, c0, c1 in OVERLAPS:
+        pixels.clear()
+        got = view.lab(img, r0, r1, c0, c1)
+        assert sum(pixels) == np.count_nonzero(~seen[r0:r1, c0:c1]), (r0, r1, c0, c1)
+        seen[r0:r1, c0:c1] = True
+        np.testing.assert_array_equal(got, converted(view, img, r0, r1, c0, c1))
+    view.hold_colour(None)

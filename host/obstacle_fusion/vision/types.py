@@ -173,10 +173,11 @@ class View:
         the view) of the BGR ``image`` in CIE Lab, 8-bit: only the pixels read are
         undistorted and converted.
 
-        Of a held frame (:meth:`hold_colour`), a block inside one converted before is a
-        view of that one's pixels, to be read only: each pixel is the bilinear remap and
-        the conversion of its own map entry, whatever block it is converted in, so the
-        values are the same either way."""
+        Of a held frame (:meth:`hold_colour`), a block overlapping blocks converted before
+        is a view of the frame's Lab pixels, to be read only, of which only the parts those
+        blocks did not cover are converted: each pixel is the bilinear remap and the
+        conversion of its own map entry, whatever block it is converted in, so the values
+        are the same either way."""
         rows, cols = slice(r0, r1, step), slice(c0, c1, step)
         lab = self._lab
         if image is not self._held or step != 1 or lab is None:
@@ -186,15 +187,40 @@ class View:
         ca, cb, _ = cols.indices(w)
         if ra >= rb or ca >= cb:
             return self._to_lab(image, rows, cols)  # OpenCV's answer to an empty block
+        # the block's parts no block before converted: rectangles (the block less each
+        # earlier box in turn: up to four pieces around it)
+        box = (ra, rb, ca, cb)
+        pieces = [box]
         for a, b, c, d in self._lab_boxes:
-            if a <= ra and rb <= b and c <= ca and cb <= d:
-                held = lab[ra:rb, ca:cb]
-                held.flags.writeable = False  # the frame's cache: a write would spoil it
-                return held
-        block = self._to_lab(image, rows, cols)
-        lab[ra:rb, ca:cb] = block
-        self._lab_boxes.append((ra, rb, ca, cb))
-        return block
+            rest = []
+            for p0, p1, q0, q1 in pieces:
+                if a >= p1 or b <= p0 or c >= q1 or d <= q0:
+                    rest.append((p0, p1, q0, q1))
+                    continue
+                if p0 < a:
+                    rest.append((p0, a, q0, q1))
+                if b < p1:
+                    rest.append((b, p1, q0, q1))
+                m0, m1 = max(p0, a), min(p1, b)
+                if q0 < c:
+                    rest.append((m0, m1, q0, c))
+                if d < q1:
+                    rest.append((m0, m1, d, q1))
+            pieces = rest
+            if not pieces:
+                break
+        if pieces == [box]:  # nothing converted before: the block itself
+            block = self._to_lab(image, rows, cols)
+            lab[ra:rb, ca:cb] = block
+            self._lab_boxes.append(box)
+            return block
+        for p0, p1, q0, q1 in pieces:
+            lab[p0:p1, q0:q1] = self._to_lab(image, slice(p0, p1), slice(q0, q1))
+        if pieces:
+            self._lab_boxes.append(box)  # whole now: a later block inside it is one test
+        held = lab[ra:rb, ca:cb]
+        held.flags.writeable = False  # the frame's cache: a write would spoil it
+        return held
 
     def _to_lab(self, image: npt.NDArray[Any], rows: slice, cols: slice) -> npt.NDArray[np.uint8]:
         """The view block (rows, cols) of the BGR ``image``, undistorted and in CIE Lab."""

@@ -43,13 +43,48 @@ static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssi
     }
 }
 
+/* Lanes of up to this many values are selected in a copy; longer ones counted. */
+#define SELECT_LANE 256
+
+/* The k-th smallest of a[0..n-1] (0 <= k < n), by Hoare's selection in place: on return
+ * a[k] is that value and every a[i], i < k, is at most it. */
+static unsigned char select_kth(unsigned char *a, Py_ssize_t n, Py_ssize_t k)
+{
+    Py_ssize_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        unsigned char pivot = a[lo + (hi - lo) / 2];
+        Py_ssize_t i = lo, j = hi;
+        while (i <= j) {
+            while (a[i] < pivot)
+                i++;
+            while (a[j] > pivot)
+                j--;
+            if (i <= j) {
+                unsigned char t = a[i];
+                a[i] = a[j];
+                a[j] = t;
+                i++;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            break; /* between the parts: equal to the pivot */
+    }
+    return a[k];
+}
+
 /* middle_u8(src, network, lo, hi): for every lane along src's last axis (uint8, any
  * strides, n values), the sorted values at n // 2 - 1 and n // 2 into lo and hi (C-contiguous
  * uint8, one entry per lane in C order of src's other axes), by the comparator network
  * given as bytes (i, j, want) per comparator: the minimum of values i and j to i (want
  * bit 0), their maximum to j (bit 1); the caller's network leaves the middles at n // 2 - 1
  * and n // 2. The lanes are gathered into n rows of all lanes, so that each comparator is
- * one pass of byte minima and maxima over contiguous rows. */
+ * one pass of byte minima and maxima over contiguous rows. An empty network: each lane's
+ * middles are selected in a copy of it, or read off counts of its values (any length). */
 static PyObject *middle_u8(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -95,9 +130,9 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
             goto done;
         }
     }
-    rows = PyMem_Malloc((size_t)(n * lanes));
+    rows = net_len ? PyMem_Malloc((size_t)(n * lanes)) : NULL;
     offsets = PyMem_Malloc((size_t)lanes * sizeof *offsets);
-    if (rows == NULL || offsets == NULL) {
+    if ((net_len && rows == NULL) || offsets == NULL) {
         PyErr_NoMemory();
         goto done;
     }
@@ -118,6 +153,45 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
     }
     const char *base = (const char *)src.buf;
     Py_ssize_t step = src.strides[nd - 1];
+    Py_ssize_t k = n / 2;
+    if (net_len == 0) {
+        /* no network: each lane's middles selected in a copy (lanes up to SELECT_LANE
+         * values), or read off counts of its values (longer ones): long lanes, where a
+         * network would be long and numpy sorts a 16-bit copy */
+        unsigned char *lo_out = lo.buf, *hi_out = hi.buf;
+        Py_ssize_t count[256];
+        unsigned char copy[SELECT_LANE];
+        for (Py_ssize_t lane = 0; lane < lanes; lane++) {
+            const char *from = base + offsets[lane];
+            if (n <= SELECT_LANE) {
+                for (Py_ssize_t i = 0; i < n; i++)
+                    copy[i] = (unsigned char)from[i * step];
+                hi_out[lane] = select_kth(copy, n, k);
+                unsigned char below_max = copy[0]; /* values before k: none above the kth */
+                for (Py_ssize_t i = 1; i < k; i++)
+                    below_max = copy[i] > below_max ? copy[i] : below_max;
+                lo_out[lane] = below_max;
+                continue;
+            }
+            memset(count, 0, sizeof count);
+            for (Py_ssize_t i = 0; i < n; i++)
+                count[(unsigned char)from[i * step]]++;
+            Py_ssize_t below = 0;
+            int v = 0, first = -1;
+            for (; v < 256; v++) {
+                below += count[v];
+                if (first < 0 && below > k - 1)
+                    first = v;
+                if (below > k)
+                    break;
+            }
+            lo_out[lane] = (unsigned char)first;
+            hi_out[lane] = (unsigned char)v;
+        }
+        Py_INCREF(Py_None);
+        result = Py_None;
+        goto done;
+    }
     for (Py_ssize_t i = 0; i < n; i++) {
         unsigned char *row = rows + i * lanes;
         const char *from = base + i * step;
@@ -130,7 +204,6 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
     }
     for (Py_ssize_t c = 0; c < net_len; c += 3)
         compare(rows + net[c] * lanes, rows + net[c + 1] * lanes, lanes, net[c + 2]);
-    Py_ssize_t k = n / 2;
     memcpy(lo.buf, rows + (k - 1) * lanes, (size_t)lanes);
     memcpy(hi.buf, rows + k * lanes, (size_t)lanes);
     Py_INCREF(Py_None);

@@ -27,6 +27,7 @@ to one plank, took a wall line crossing the face for its top and a print for the
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import cv2
@@ -737,13 +738,47 @@ LOWER_MIN_MOVE = 0.05
 
 def _window_mean(rows: npt.NDArray[np.float32], lo: int, hi: int) -> npt.NDArray[np.float32]:
     """Per row r, the mean of ``rows[r + lo : r + hi]`` (NaN where it runs off the ends)."""
+    return _window_means(rows, ((lo, hi),))[0]
+
+
+def _window_means(
+    rows: npt.NDArray[np.float32], windows: tuple[tuple[int, int], ...]
+) -> list[npt.NDArray[np.float32]]:
+    """:func:`_window_mean` for several windows (lo, hi) over one cumulative sum.
+
+    Each column's running sum is its own (numpy's cumsum adds down the rows in order), so
+    a block of several stages' columns gives every column the values it gives alone; the
+    rows a window covers whole are a slice (no index arrays)."""
     n = rows.shape[0]
-    c = np.concatenate([np.zeros((1, rows.shape[1]), np.float64), np.cumsum(rows, axis=0)])
-    out = np.full(rows.shape, np.nan, np.float32)
-    r = np.arange(n)
-    ok = (r + lo >= 0) & (r + hi <= n)
-    out[ok] = (c[r[ok] + hi] - c[r[ok] + lo]) / (hi - lo)
-    return out
+    c = np.empty((n + 1, *rows.shape[1:]), np.float64)
+    c[0] = 0.0
+    c[1:] = np.cumsum(rows, axis=0)  # float32 sums, as np.cumsum gives them, then float64
+    outs = []
+    for lo, hi in windows:
+        out = np.full(rows.shape, np.nan, np.float32)
+        a, b = max(0, -lo), min(n, n - hi + 1)  # rows r with 0 <= r + lo, r + hi <= n
+        if a < b:
+            out[a:b] = (c[a + hi : b + hi] - c[a + lo : b + lo]) / (hi - lo)
+        outs.append(out)
+    return outs
+
+
+@functools.lru_cache(maxsize=64)
+def _strip_columns(s: int, width: int) -> npt.NDArray[np.intp]:
+    """Columns of :func:`lower_top_to_background`'s four strips in a band ``width`` wide
+    (inside then outside the left side, inside then outside the right one), ``s`` columns
+    from the inner strips' outer ends to the band's."""
+    b = BESIDE_COLUMNS
+    cols = np.concatenate(
+        [
+            np.arange(s, s + b),
+            np.arange(b),
+            np.arange(width - s - b, width - s),
+            np.arange(width - b, width),
+        ]
+    )
+    cols.flags.writeable = False  # shared between calls
+    return cols
 
 
 def lower_top_to_background(
@@ -778,20 +813,25 @@ def lower_top_to_background(
     lab = _lab8(image, view, r0, bottom, c0, c1)
     mid = np.asarray(median_u8(lab[:, 2 * s : -2 * s : SUBSAMPLE], axis=1), np.float32)
     foot = median_of(mid[bottom - f1 - r0 : bottom - f0 - r0], axis=0)
-    strips = [
-        (lab[:, s : s + BESIDE_COLUMNS], lab[:, :BESIDE_COLUMNS]),
-        (lab[:, -s - BESIDE_COLUMNS : -s], lab[:, -BESIDE_COLUMNS:]),
-    ]
-    above_m, below_m = _window_mean(mid, -far, -near), _window_mean(mid, near + 1, far + 1)
+    # the four strips (inside and outside the left side, inside and outside the right
+    # one), each a median per row, in one call: rows x strip x colour
+    w_band = c1 - c0
+    strips = median_u8(
+        lab[:, _strip_columns(s, w_band)].reshape(lab.shape[0], 4, BESIDE_COLUMNS, 3), axis=2
+    )
+    diffs = strips[:, 0::2] - strips[:, 1::2]  # inside - outside, per side
+    # the middle's colour and both sides' differences, windowed above and below each row
+    # over one running sum: rows x (middle, left, right) x colour
+    above_all, below_all = _window_means(
+        np.concatenate([mid[:, None], diffs], axis=1), ((-far, -near), (near + 1, far + 1))
+    )
+    above_m, below_m = above_all[:, 0], below_all[:, 0]
     ok = (row_norms(above_m - below_m) >= TOP_COLOUR_STEP) & (
         row_norms(above_m - foot) >= TOP_COLOUR_STEP
     )
-    for inside, outside in strips:
-        diff = np.asarray(median_u8(inside, axis=1), np.float32) - np.asarray(
-            median_u8(outside, axis=1), np.float32
-        )
-        ok &= row_norms(_window_mean(diff, -far, -near)) <= BACKGROUND_MATCH
-        ok &= row_norms(_window_mean(diff, near + 1, far + 1)) >= SIDE_STEP
+    for k in (1, 2):
+        ok &= row_norms(above_all[:, k]) <= BACKGROUND_MATCH
+        ok &= row_norms(below_all[:, k]) >= SIDE_STEP
     first = far + max(far, int(LOWER_MIN_MOVE * (bottom - top)))
     rows = np.flatnonzero(ok[first : low - r0]) + first
     if rows.size == 0:
