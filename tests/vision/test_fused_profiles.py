@@ -102,6 +102,17 @@ def test_median_u8_is_the_float_median(shape: tuple[int, ...], axis: int | None)
     assert np.array_equal(got, want)
 
 
+@pytest.mark.parametrize(("shape", "axis"), [((9,), None), ((33, 10, 3), 1), ((3, 7), 0)])
+def test_median_u8_of_a_medians_half_values_keeps_the_halves(
+    shape: tuple[int, ...], axis: int | None
+) -> None:
+    """Callers pass a median's float32 colours on (the mean of two middle 8-bit values:
+    x.5 values); their median is the float median, not one of a 16-bit copy's."""
+    rng = np.random.default_rng(shape[0])
+    a = (rng.integers(0, 255, shape) + 0.5).astype(np.float32)
+    assert np.array_equal(median_u8(a, axis), np.median(a, axis=axis))
+
+
 def test_empty_blocks_give_numpy_s_answers_not_a_crash() -> None:
     """OpenCV's reduce and sort crash on empty blocks; a face at a tiny frame's top edge
     asked for the column means of no rows (seen as a segfault on a 40x30 frame)."""

@@ -124,12 +124,14 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
         hi = np.empty(lanes.shape[:-1], np.uint8)
         _c_middle_u8(lanes, b"", lo, hi)
     else:
-        if axis is None:
-            s = a.astype(np.uint16).ravel()
-        else:
-            s = lanes_last(a, axis).astype(np.uint16, order="C")
         # numpy's vectorised sort has no 8-bit kind, and sorts 16-bit lanes faster than
-        # float32 ones
+        # float32 ones; a median's float32 colours passed on are sorted as they are (a
+        # 16-bit copy would drop their halves)
+        kind = np.uint16 if a.dtype == np.uint8 else np.float32
+        if axis is None:
+            s = a.astype(kind).ravel()
+        else:
+            s = lanes_last(a, axis).astype(kind, order="C")
         s.sort(axis=-1)
         lo, hi = s[..., k - 1] if k else s[..., k], s[..., k]
     mid = hi.astype(np.float32)
