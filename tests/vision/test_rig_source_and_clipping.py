@@ -12,7 +12,8 @@ from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod, floor_contact
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
-from obstacle_fusion.vision.fused.floor_contact import contact_rows
+from obstacle_fusion.vision.fused.confidence import PITCH_UNREAD
+from obstacle_fusion.vision.fused.floor_contact import contact_rows, weak_contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import UNSEEN_MARGIN_PX, Measurement, View
@@ -273,6 +274,7 @@ def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(
 
     monkeypatch.setattr(FusedMethod, "run", counting_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.05], row_at[0.30]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])  # (the last resort's)
     Measurer(CAM, None).measure(image, truth["range_m"])
     # the 30 cm row, maybe its neighbours (measure.ROW_JITTER_PX); never the 5 cm row
     assert tried and tried[0] == row_at[0.30]
@@ -801,3 +803,143 @@ def test_with_no_rig_an_unsure_face_near_the_horizon_is_reported_rather_than_mis
     assert (res.confidence or 0.0) < 0.2
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
+
+
+def test_weak_contact_rows_take_the_steps_no_bar_lets_through() -> None:
+    """A floor stepping darker every 12 rows, 15 times: each step is as strong as the
+    band's and the floor's own texture, so no row stands out of :func:`contact_rows`; the
+    weak steps are every one of them, lowest first, the lowest 12
+    (floor_contact.MAX_WEAK_CANDIDATES)."""
+    h, w = 375, 500
+    img = np.full((h, w, 3), 200, np.uint8)
+    edges = list(range(200, 370, 12))
+    assert len(edges) == 15
+    for i, r in enumerate(edges):
+        img[r:] = 200 - 12 * (i + 1)
+    view = View(CAM, Rig(), "level")
+    flat = View(CameraModel(view.k.copy(), np.zeros(5), w, h), Rig(), "level")
+    assert contact_rows(img, flat, depth_m=1.5) == []
+    weak = weak_contact_rows(img, flat, depth_m=1.5)
+    assert len(weak) == 12
+    assert all(abs(r - e) <= 1 for r, e in zip(weak, edges[::-1], strict=False)), weak
+
+
+def _swept_room(
+    monkeypatch: pytest.MonkeyPatch, confirm: bool, stands: bool = True, level_conf: float = 0.0
+) -> tuple[Measurement, list[tuple[float, float]], dict[float, int], float]:
+    """A room whose level rows stand no face: a fake method finds one only in a view
+    pitched 4 degrees down, on either of two rows (a floor-contact row and a weak step
+    below it); the face's sides confirm the pitch when ``confirm``. Returns the answer, the
+    (camera height, pitch) of each trial, the rows and the face depth."""
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.25, 0.35)}
+    calls: list[tuple[float, float]] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        calls.append((self.view.rig.camera_height_m, self.view.rig.camera_pitch_deg))
+        if kwargs.get("floor_known"):
+            return fake_face(truth, False, 0.0)
+        if self.view.rig.camera_pitch_deg == 4.0:
+            return fake_face(truth, True, 0.3, height_m=0.3)
+        level = self.view.rig.camera_height_m == pytest.approx(row_height(row_at[0.25], depth, 0))
+        return fake_face(truth, level and level_conf > 0, level_conf, height_m=0.3)
+
+    def with_pitch(self: Measurer, found: Measurement, *args: object) -> Measurement | None:
+        return found if confirm else None
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.25]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[0.35], row_at[0.25]])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: stands)
+    monkeypatch.setattr(Measurer, "_with_pitch", with_pitch)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    return res, calls, row_at, depth
+
+
+def test_with_no_rig_and_no_face_anywhere_the_rows_are_swept_over_pitches(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Nothing stands a face level (rows, neighbours, known-floor cues): the rows and the
+    weak steps, lowest first, at the swept pitches, the weak step level too; the first face
+    whose sides read the pitch is taken, its pitch read (no PITCH_UNREAD doubt)."""
+    res, calls, row_at, depth = _swept_room(monkeypatch, confirm=True)
+    assert res.detected, res.reason
+    assert res.camera_height_m == pytest.approx(row_height(row_at[0.35], depth, 4.0), abs=0.01)
+    assert res.camera_pitch_deg == 4.0
+    assert PITCH_UNREAD not in res.doubts
+    # the weak step (not a contact row) is tried level first, then at the pitches in order
+    swept = [p for h, p in calls if h == pytest.approx(row_height(row_at[0.35], depth, p))]
+    assert swept[:4] == [0.0, -4.0, -2.0, 2.0]
+
+
+def row_height(row: int, depth: float, pitch: float) -> float:
+    """The camera height a level view's row gives at a pitch."""
+    view = View(CAM, Rig(), "level")
+    return measure.camera_height_for_row(row, depth, pitch, view.fy, view.cy)
+
+
+def test_with_no_rig_a_swept_face_whose_sides_read_no_pitch_is_not_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A face found only at a guessed pitch, its sides not reading one, is another face or
+    a part of the box as often as not (photo rooms 155, 301): missed, not measured."""
+    res, _, _, _ = _swept_room(monkeypatch, confirm=False)
+    assert not res.detected
+
+
+def test_with_no_rig_a_swept_face_whose_sides_end_above_the_row_is_not_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    res, _, _, _ = _swept_room(monkeypatch, confirm=True, stands=False)
+    assert not res.detected
+
+
+def test_with_no_rig_the_sweep_is_not_tried_when_a_row_stands_a_face(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The sweep acts only where everything else found nothing: a face on the contact row,
+    however unsure, is the answer, and no weak step is tried."""
+    res, calls, row_at, depth = _swept_room(monkeypatch, confirm=True, level_conf=0.1)
+    assert res.detected
+    # the contact row's face (its own pitch sweep takes the surer one at 4 degrees)
+    at_row = [row_height(row_at[0.25], depth, p) for p in (0.0, 4.0)]
+    assert any(res.camera_height_m == pytest.approx(h, abs=0.01) for h in at_row)
+    weak = [row_height(row_at[0.35], depth, p) for p in (0.0, *measure.SWEPT_PITCHES_DEG)]
+    assert not any(h == pytest.approx(w) for h, _ in calls for w in weak)
+
+
+def test_with_no_rig_a_pitched_lens_missed_level_is_found_by_the_sweep(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Room procedural/141 (ordinary): the lens pitched 5 degrees down, 0.85 m from a gloss
+    face. Its foot is found (row 360) but the level guess of the camera height (0.33 m, not
+    0.42) stands no face there, nor does any other cue; at a swept 4 degrees the face
+    shows, its sides read 4.8 and it is measured within 1 %, unsure. Without the sweep it
+    was missed."""
+    image, truth, spec = render_room("procedural", 141, False, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.01)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.01)
+    assert res.camera_pitch_deg == pytest.approx(spec.rig.camera_pitch_deg, abs=0.5)
+    assert (res.confidence or 0.0) < 0.5
+    monkeypatch.setattr(Measurer, "_pitch_swept_rows", lambda *a: None)
+    assert not Measurer(CAM, None).measure(image, truth["range_m"]).detected
+
+
+def test_with_no_rig_a_foot_stepping_less_than_the_gravel_is_found_by_the_sweep(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Room photo/143 (ordinary): a purple panelled face on grey gravel, the lens pitched
+    4 degrees down. The foot steps 16 in colour, the gravel's texture as much: no bar lets
+    it through, and the one row that stands out (a gravel step) stands no face. Among the
+    weak steps it is the seventh from the bottom; swept, its face's sides read the pitch and
+    it is measured within 3 %, unsure."""
+    image, truth, _ = render_room("photo", 143, False, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
+    assert (res.confidence or 0.0) < 0.5
+    monkeypatch.setattr(floor_contact, "MAX_WEAK_CANDIDATES", 6)
+    assert not Measurer(CAM, None).measure(image, truth["range_m"]).detected

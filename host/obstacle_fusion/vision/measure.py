@@ -32,6 +32,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     contact_rows,
     face_runs_below,
     sides_reach_foot,
+    weak_contact_rows,
 )
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
@@ -167,7 +168,8 @@ class Measurer:
         then show above the guessed horizon, and its back edge would be taken for the top),
         and that face kept unless clearly less sure. When nothing stands a sure face, the
         surest face a pitched view found near the horizon is reported with its low
-        confidence rather than missed."""
+        confidence rather than missed; when nothing stands any face, the rows and the
+        band's weaker steps are tried at the swept pitches (:meth:`_pitch_swept_rows`)."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
@@ -365,6 +367,13 @@ class Measurer:
                         break
             if (best is None or not best.detected) and fallback is not None:
                 best = fallback  # the last frame's camera height and pitch, not sure here
+            if (best is None or not best.detected) and unsure is None:
+                # still no face: the rows, and weaker steps, at a few pitches; a face whose
+                # sides read the pitch is taken
+                swept = self._pitch_swept_rows(image, view, depth, rows, trial)
+                timer.lap("pitch_sweep")
+                if swept is not None:
+                    best, pitch_read, pitch_tried = swept, True, True
             if (best is None or not best.detected) and unsure is not None:
                 # nothing surer anywhere: the surest face a pitched view found near the
                 # horizon, reported with its low confidence rather than missed
@@ -424,6 +433,44 @@ class Measurer:
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         return best
+
+    def _pitch_swept_rows(
+        self,
+        image: npt.NDArray[Any],
+        view: View,
+        depth: float,
+        rows: list[int],
+        trial: Callable[[float, float | None, float], Measurement],
+    ) -> Measurement | None:
+        """For a frame where nothing else stood a face: each floor-contact row, and each
+        weaker step of the band (:func:`weak_contact_rows`), lowest first, at the swept
+        pitches (and level, for a row not tried yet); the first face whose own sides then
+        read the pitch (:meth:`_with_pitch`) is returned, measured at that pitch, else
+        None. A lens pitched a few degrees down puts the level guess of its height off by
+        D tan(pitch), and a face's foot little apart from the floor's colour steps less
+        than the floor's texture: either left the frame without a face. A face the sides
+        do not confirm is not taken: on the tuning rooms such faces were another face or
+        a part of the box."""
+        tried = set(rows)
+        candidates = sorted(tried | set(weak_contact_rows(image, view, depth)), reverse=True)
+        for row in candidates:
+            pitches = SWEPT_PITCHES_DEG if row in tried else (0.0, *SWEPT_PITCHES_DEG)
+            for pitch in pitches:
+                height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
+                if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                    continue
+                result = trial(height, None, pitch)
+                if not (
+                    result.detected
+                    and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
+                    and sides_reach_foot(image, result.lines)
+                ):
+                    continue
+                confirmed = self._with_pitch(result, image, view, depth, trial)
+                if confirmed is not None:
+                    log.debug("no rig: row %d, swept pitch %.1f deg: the sides confirm", row, pitch)
+                    return confirmed
+        return None
 
     def _with_pitch(
         self,
@@ -582,7 +629,8 @@ RERUN_AGREE = 0.05
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
 PITCH_DECIMALS = 1
-#: With no rig, the pitches (degrees) the chosen floor-contact row is tried at besides 0 ...
+#: With no rig, the pitches (degrees) the chosen floor-contact row is tried at besides 0
+#: (and every row and weak step when nothing stands a face) ...
 SWEPT_PITCHES_DEG = (-4.0, -2.0, 2.0, 4.0)
 #: ... and how much surer a face found at one of them must be to be taken.
 SWEPT_PITCH_MARGIN = 0.15

@@ -23,6 +23,7 @@ STEP_ROWS = 5  # rows averaged on each side of a candidate step
 MIN_STEP_GREY = 10.0  # a step smaller than this (colour distance, 8-bit) is floor texture
 NOISE_FACTOR = 5.0  # a step must stand this many median steps above the floor's own
 MAX_CANDIDATES = 8
+MAX_WEAK_CANDIDATES = 12  # steps under the noise bars tried when no candidate stands a face
 FLOOR_NOISE_ROWS = 20  # rows below a step whose own steps give the floor's texture
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
 
@@ -46,19 +47,10 @@ def contact_rows(
 
     ``above_px``: how far above the view's centre row the floor may still show (a camera
     pitched down lifts the horizon); with no pitch the floor lies below the horizon."""
-    rows = band_rows(image, view, depth_m)
-    n = rows.shape[0]
-    k = STEP_ROWS
-    top = max(k, int(view.cy - above_px) + 2)
-    if n - top < 4 * k:
+    found = _band_steps(image, view, depth_m, above_px)
+    if found is None:
         return []
-    cs = np.vstack(
-        [np.zeros((1, rows.shape[1]), np.float64), np.cumsum(rows, axis=0, dtype=np.float64)]
-    )
-    v = np.arange(top + k, n - k)
-    above = (cs[v] - cs[v - k]) / k
-    below = (cs[v + k] - cs[v]) / k
-    step = row_norms(above - below)
+    rows, v, step, top = found
     band_threshold = NOISE_FACTOR * float(median_of(step))
     out = _steps(rows, v, step, top, band_threshold, None)
     if not out:
@@ -69,6 +61,40 @@ def contact_rows(
     return out
 
 
+def weak_contact_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> list[int]:
+    """Every step of the band's colour that could be a floor contact, lowest first, up to
+    MAX_WEAK_CANDIDATES: at least MIN_STEP_GREY, with the rows above it off the floor's
+    colour, however much of the band's (or the floor's) texture is as strong. For when no
+    row of :func:`contact_rows` stands a face: a foot of a face little apart from the floor
+    (a purple face on grey gravel) steps less than the gravel does."""
+    found = _band_steps(image, view, depth_m, 0.0)
+    if found is None:
+        return []
+    rows, v, step, top = found
+    return _steps(rows, v, step, top, 0.0, None, MAX_WEAK_CANDIDATES)
+
+
+def _band_steps(
+    image: npt.NDArray[np.uint8], view: View, depth_m: float, above_px: float
+) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int64], npt.NDArray[np.float64], int] | None:
+    """The band's row colours, the rows a step is read at, the step there (colour distance
+    of the STEP_ROWS rows above and below) and the highest row the floor may show; None
+    when too few rows lie below it."""
+    rows = band_rows(image, view, depth_m)
+    n = rows.shape[0]
+    k = STEP_ROWS
+    top = max(k, int(view.cy - above_px) + 2)
+    if n - top < 4 * k:
+        return None
+    cs = np.vstack(
+        [np.zeros((1, rows.shape[1]), np.float64), np.cumsum(rows, axis=0, dtype=np.float64)]
+    )
+    v = np.arange(top + k, n - k)
+    above = (cs[v] - cs[v - k]) / k
+    below = (cs[v + k] - cs[v]) / k
+    return rows, v, row_norms(above - below), top
+
+
 def _steps(
     rows: npt.NDArray[np.float32],
     v: npt.NDArray[np.int64],
@@ -76,10 +102,11 @@ def _steps(
     top: int,
     band_threshold: float,
     floor_rows: int | None,
+    max_candidates: int = MAX_CANDIDATES,
 ) -> list[int]:
-    """The steps of :func:`contact_rows`, lowest first: over ``band_threshold``, or with
-    ``floor_rows``, over NOISE_FACTOR times the median step of that many rows below (at
-    least half of them there to read)."""
+    """The steps of :func:`contact_rows`, lowest first, at most ``max_candidates``: over
+    ``band_threshold``, or with ``floor_rows``, over NOISE_FACTOR times the median step of
+    that many rows below (at least half of them there to read)."""
     k = STEP_ROWS
     out: list[int] = []
     for i in range(len(step) - 2, 0, -1):  # from the bottom up
@@ -103,7 +130,7 @@ def _steps(
         if float(median_of(row_norms(higher - floor))) < MIN_STEP_GREY:
             continue
         out.append(row)
-        if len(out) >= MAX_CANDIDATES:
+        if len(out) >= max_candidates:
             break
     return out
 
