@@ -11,6 +11,7 @@ the front top edge (:mod:`.top`) and the sub-pixel refinement (:mod:`.refine`).
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 from typing import Any
 
@@ -58,6 +59,8 @@ from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.types import Measurement, Timer, View
 
+log = logging.getLogger(__name__)
+
 #: A face's top edge must reach this share of its columns, else a rival whose top does
 #: (and scores at least RIVAL_SHARE of it) is taken.
 TOP_COVER_MIN = 0.6
@@ -78,6 +81,20 @@ def _top_cover(ay: npt.NDArray[np.float32], c: Candidate) -> float:
     part = np.partition(prof, (lo, hi))
     ref = float(part[lo]) + (pos - lo) * (float(part[hi]) - float(part[lo]))
     return float(np.mean(prof >= 0.3 * ref)) if ref > 0.0 else 0.0
+
+
+#: The top is decided again between the settled sides when they moved from the search's
+#: by at least this share of its width (both sides' moves together).
+SETTLED_MOVE_SHARE = 0.1
+#: ... and the top decided again is taken only where it moves by at least this share of
+#: the face's height (nearer, it is the same edge: the answer is left as it was).
+SETTLED_TOP_MOVE = 0.15
+
+
+def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
+    """Whether the width stages moved the sides far from the search's pair ``found``."""
+    move = abs(settled[0] - found[0]) + abs(settled[1] - found[1])
+    return move >= SETTLED_MOVE_SHARE * max(found[1] - found[0], 1)
 
 
 #: A face candidate off the beam's axis keeps this share of its score.
@@ -307,15 +324,47 @@ class FusedMethod:
         if framed is None:
             ul, ur = trim_to_foot(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, span)
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
-        # an object behind the face in line with its sides: the face's top is where the
-        # background beside it shows past it
-        lowered = lower_top_to_background(seen, v, rb, int(round(vt)), ul, ur)
-        if lowered > vt:
-            vt, top_row = lowered, None
-            sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
-        # a top that is no colour boundary may be a line on the face or behind it
-        conf *= top_agreement(seen, v, int(round(vt)), ul, ur)
-        conf *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)
+
+        def finish(
+            top: tuple[int, float, float | None],
+        ) -> tuple[int, float, float | None, float]:
+            """The top lowered to the background beside the face, and the confidence its
+            agreement with the face's colours leaves."""
+            vt, sign, top_row = top
+            # an object behind the face in line with its sides: the face's top is where
+            # the background beside it shows past it
+            lowered = lower_top_to_background(seen, v, rb, int(round(vt)), ul, ur)
+            if lowered > vt:
+                vt, top_row = lowered, None
+                sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
+            # a top that is no colour boundary may be a line on the face or behind it
+            agree = top_agreement(seen, v, int(round(vt)), ul, ur)
+            agree *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)
+            return vt, sign, top_row, conf * agree
+
+        vt, sign, top_row, face_conf = finish((vt, sign, top_row))
+        if (
+            floor_known
+            and framed is None
+            and face_conf >= self.min_confidence
+            and _moved(span, (ul, ur))
+        ):
+            # the top was decided between the search's sides; the face's sides settled
+            # far from them (one plank of a face, or a face with the background beside
+            # it): its top decided again between the sides it has, taken where it moved
+            # and the face under it is still one to report (a face this try refused is
+            # left to the next try, as before)
+            settled = self._settled_top(
+                seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top
+            )
+            again = finish(settled)
+            log.debug("top %d between the settled sides, %d as first found", again[0], vt)
+            if (
+                abs(again[0] - vt) >= SETTLED_TOP_MOVE * (rb - vt)
+                and again[3] >= self.min_confidence
+            ):
+                vt, sign, top_row, face_conf = again
+        conf = face_conf
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
             rescued = rescue_by_colour()
@@ -332,6 +381,45 @@ class FusedMethod:
         faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
         measured.doubts = [*doubts, *faced]
         return measured
+
+    def _settled_top(
+        self,
+        seen: npt.NDArray[Any],
+        ay: npt.NDArray[np.float32],
+        dy: npt.NDArray[np.int16],
+        rb: int,
+        ul: int,
+        ur: int,
+        depth: float,
+        noise: float,
+        start: int,
+        colour_top: bool,
+    ) -> tuple[int, float, float | None]:
+        """The face's top decided again between the sides the width stages settled on:
+        from ``start`` (the top before its front edge was sought), the colour's and the
+        sides' raises, the front top edge and whether the rows above it look like a top
+        face, each reading the face's columns as they are now (so the top may go down as
+        well as up). ``colour_top``: the face's colour ended at the top the search's sides
+        gave (a front top edge under it must end it too). Returns the row, its gradient's
+        sign and, from :func:`.top.front_from_back`, a sub-pixel row or None."""
+        v = self.view
+        vt = raise_top_by_colour(seen, v, ay, rb, start, ul, ur, depth)
+        vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        found_top = vt
+        vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        if (
+            colour_top and vt != found_top and not ends_in_colour(seen, v, rb, vt, ul, ur)
+        ) or not looks_like_top_face(seen, v, found_top, vt, ul, ur):
+            vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
+        front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
+        if colour_top and front is not None and not ends_in_colour(seen, v, rb, front[0], ul, ur):
+            front = None
+        if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
+            vt, sign, top_row = front
+            log.debug("sides settled at %d-%d: front top %d", ul, ur, vt)
+            return vt, sign, top_row
+        log.debug("sides settled at %d-%d: top %d", ul, ur, vt)
+        return vt, sign, None
 
     def _by_colour(
         self,
