@@ -706,8 +706,11 @@ class Fusion:
     def range_record(self, reading: SonarReading) -> ObstacleRecord:
         """A record for one reading alone: the sonar-only mode, with no camera to pair.
 
-        Its instant is the reading's reflection time; the status says what the sonar heard
-        (RANGE with a distance, CLEAR, or SONAR_ERROR); the alert is the same rule."""
+        Its instant is the reading's reflection time (or, before the clock model is
+        ready, its receipt time; records never go back in time, so the first mapped one
+        after those may be held at the last receipt time, a few ms late); the status says
+        what the sonar heard (RANGE with a distance, CLEAR, or SONAR_ERROR); the alert is
+        the same rule."""
         stats = self.stats
         stats.readings += 1
         reason = None

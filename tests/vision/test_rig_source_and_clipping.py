@@ -872,6 +872,37 @@ def test_with_no_rig_and_no_face_anywhere_the_rows_are_swept_over_pitches(
     assert swept[:4] == [0.0, -4.0, -2.0, 2.0]
 
 
+def test_with_no_rig_a_stream_that_swept_in_vain_rests_the_sweep_for_some_frames(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Nothing in view: the sweep (up to ~90 trials) finds nothing, and the stream's next
+    SWEEP_REST_FRAMES frames go without it; the frame after them sweeps again, and a sweep
+    that finds a face leaves the next frame free to sweep."""
+    image, truth, _, _ = no_rig_room(4001)
+    sweeps: list[int] = []
+    found: list[Measurement | None] = [None]
+
+    def sweep(self: Measurer, *args: object) -> Measurement | None:
+        sweeps.append(frame[0])
+        return found[0]
+
+    monkeypatch.setattr(FusedMethod, "run", lambda self, *a, **k: fake_face(truth, False, 0.0))
+    monkeypatch.setattr(Measurer, "_pitch_swept_rows", sweep)
+    m = Measurer(CAM, None)
+    frame = [0]
+    for frame[0] in range(23):
+        assert not m.measure(image, truth["range_m"]).detected
+    assert sweeps == [0, 11, 22]  # ten frames' rest after each vain sweep
+    found[0] = dataclasses.replace(
+        fake_face(truth, True, 0.3), camera_height_m=0.3, camera_pitch_deg=2.0
+    )
+    sweeps.clear()
+    m = Measurer(CAM, None)
+    for frame[0] in range(3):
+        assert m.measure(image, truth["range_m"]).detected
+    assert sweeps == [0, 1, 2]
+
+
 def row_height(row: int, depth: float, pitch: float) -> float:
     """The camera height a level view's row gives at a pitch."""
     view = View(CAM, Rig(), "level")

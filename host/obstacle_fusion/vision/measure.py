@@ -106,6 +106,7 @@ class Measurer:
         # camera height, pitch and whether the known-floor cues found the face
         self._last_rig: tuple[float, float, bool] | None = None
         self._last_pitch_doubts: list[str] = []
+        self._sweep_rest = 0  # frames still to go without the last-resort pitch sweep
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
 
@@ -369,11 +370,17 @@ class Measurer:
                 best = fallback  # the last frame's camera height and pitch, not sure here
             if (best is None or not best.detected) and unsure is None:
                 # still no face: the rows, and weaker steps, at a few pitches; a face whose
-                # sides read the pitch is taken
-                swept = self._pitch_swept_rows(image, view, depth, rows, trial)
-                timer.lap("pitch_sweep")
-                if swept is not None:
-                    best, pitch_read, pitch_tried = swept, True, True
+                # sides read the pitch is taken. Up to ~90 trials: in a stream that saw no
+                # face in its last sweep (nothing in view, most likely), the next
+                # SWEEP_REST_FRAMES frames go without
+                if self._sweep_rest > 0:
+                    self._sweep_rest -= 1
+                else:
+                    swept = self._pitch_swept_rows(image, view, depth, rows, trial)
+                    timer.lap("pitch_sweep")
+                    self._sweep_rest = SWEEP_REST_FRAMES if swept is None else 0
+                    if swept is not None:
+                        best, pitch_read, pitch_tried = swept, True, True
             if (best is None or not best.detected) and unsure is not None:
                 # nothing surer anywhere: the surest face a pitched view found near the
                 # horizon, reported with its low confidence rather than missed
@@ -654,7 +661,11 @@ PITCHED_VIEWS_KEPT = 8
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5
+#: The order ``clipped`` lists the cut sides in.
 SIDES = ("left", "right", "top", "bottom")
+#: With no rig, after a last-resort pitch sweep that found no face, this many frames of a
+#: stream go without one (a frame with nothing in view would pay ~90 trials each time).
+SWEEP_REST_FRAMES = 10
 
 
 def _doubted(found: Measurement) -> float:

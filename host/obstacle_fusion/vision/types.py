@@ -43,7 +43,8 @@ class Measurement:
     rig_source: str = "file"  # file: given; estimated: found in the image; default: assumed
     camera_height_m: float | None = None  # the estimated camera height (rig_source estimated)
     camera_pitch_deg: float | None = None  # the pitch used with it (positive: looking down)
-    clipped: list[str] = field(default_factory=list)  # image borders cutting the face
+    # image borders cutting the face (or the edges of what the working view sees)
+    clipped: list[str] = field(default_factory=list)
     # what made the confidence lower than the edges alone say (fused: names and reasons in
     # obstacle_fusion.vision.fused.confidence)
     doubts: list[str] = field(default_factory=list)
@@ -241,6 +242,8 @@ class View:
         off the image ends in the view short of the image's border). The face may run on
         out there: its size across that side is a lower bound."""
         c = np.asarray(corners, dtype=np.float64).reshape(4, 2)
+        if not np.isfinite(c).all():
+            return []  # no outline to place (the refinement's fits failed)
         bl, br, tr, tl = c
         t = np.linspace(0.0, 1.0, SIDE_SAMPLES)[:, None]
         outward = {
@@ -253,8 +256,9 @@ class View:
         w_in, h_in = self.camera.size
         sides = []
         for side, pts in outward.items():
-            u = np.rint(pts[:, 0]).astype(np.int64)
-            v = np.rint(pts[:, 1]).astype(np.int64)
+            # the pixel each point lies in: a margin of exactly ``margin`` either way
+            u = np.floor(pts[:, 0]).astype(np.int64)
+            v = np.floor(pts[:, 1]).astype(np.int64)
             inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
             if not inside.all():
                 sides.append(side)

@@ -43,7 +43,8 @@ def band_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> npt.N
 def contact_rows(
     image: npt.NDArray[np.uint8], view: View, depth_m: float, above_px: float = 0.0
 ) -> list[int]:
-    """Candidate floor-contact rows (view rows), lowest first; empty when none stands out.
+    """Candidate floor-contact rows (view rows), lowest first; empty when none stands out
+    of the band's steps nor of the floor's own texture below it.
 
     ``above_px``: how far above the view's centre row the floor may still show (a camera
     pitched down lifts the horizon); with no pitch the floor lies below the horizon."""
