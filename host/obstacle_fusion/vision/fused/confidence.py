@@ -167,6 +167,13 @@ FOOT_OFF_FLOOR = "foot_off_floor"
 #: (a seam or a plank's edge on the floor) (:func:`foot_doubts`).
 FLOOR_IN_FACE = "floor_in_face"
 
+#: With a rig, the face's floor-contact row lies above the one the rig and the range
+#: predict by more than FOOT_ABOVE_SHARE of the search band's half-width (the band allows
+#: for the rig's own error): the edge taken for the foot is on the face (a print's lower
+#: edge in a margin of the face's colour, a brick course), or the face stands farther back
+#: than the sonar's range (set by :meth:`FusedMethod._stages`).
+FOOT_ABOVE_CONTACT = "foot_above_contact"
+
 #: What one doubt leaves of the confidence: a doubt alone takes the surest face (1.0)
 #: under the 0.5 that means "sure" (halving would leave it at 0.5 exactly).
 DOUBT_FACTOR = 0.45
@@ -183,10 +190,14 @@ DOUBT_FACTORS: dict[str, float] = {
     NEAR_RIVALS: DOUBT_FACTOR,
     FOOT_OFF_FLOOR: DOUBT_FACTOR,
     FLOOR_IN_FACE: DOUBT_FACTOR,
+    FOOT_ABOVE_CONTACT: DOUBT_FACTOR,
 }
 
 #: Doubts that cut the confidence only when the floor contact was found in the image.
 NO_RIG_ONLY = frozenset({FRAMED})
+#: ... and only when it was predicted from a rig file (with no rig the contact row is the
+#: trial's own guess).
+RIG_ONLY = frozenset({FOOT_ABOVE_CONTACT})
 
 #: A face side of this many pixels or more is measured well enough for a 5 % bound: a
 #: size is the distance between two edges, each found to about half a pixel (the tuning
@@ -347,6 +358,20 @@ def foot_doubts(
     return doubts
 
 
+#: FOOT_ABOVE_CONTACT: the found contact row lies above the predicted one by more than this
+#: share of the search band's half-width (chosen on the tuning rooms with the rig: at
+#: confidence >= 0.5 it took 2 wrong faces and no right one under 0.5 there, 2 wrong and 2
+#: right on seeds 500-559 and 900-959).
+FOOT_ABOVE_SHARE = 0.5
+
+
+def contact_doubts(rb: int, vb0: float, tol: float) -> list[str]:
+    """FOOT_ABOVE_CONTACT for a face found standing on row ``rb`` where the rig and the
+    range predict ``vb0``, within a search band of half-width ``tol`` (working view rows;
+    the doubt counts only when the rig is given: :data:`RIG_ONLY`)."""
+    return [FOOT_ABOVE_CONTACT] if vb0 - rb > FOOT_ABOVE_SHARE * tol else []
+
+
 def rival_doubts(best: Candidate, rivals: list[Candidate]) -> list[str]:
     """NEAR_RIVALS: the other candidates (any overlap) scoring NEAR_RIVAL_SHARE of ``best``."""
     near = sum(1 for c in rivals if c is not best and c.score >= NEAR_RIVAL_SHARE * best.score)
@@ -408,7 +433,9 @@ def reported_confidence(
     applied = [
         d
         for d in dict.fromkeys(doubts)
-        if d in DOUBT_FACTORS and not (rig_given and d in NO_RIG_ONLY)
+        if d in DOUBT_FACTORS
+        and not (rig_given and d in NO_RIG_ONLY)
+        and not (not rig_given and d in RIG_ONLY)
     ]
     factor = 1.0
     for d in applied:

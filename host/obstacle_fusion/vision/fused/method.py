@@ -23,6 +23,7 @@ from obstacle_fusion.vision.fused.confidence import (
     FRAMED,
     TOP_FROM_SIDES,
     confidence,
+    contact_doubts,
     face_doubts,
     refusal,
 )
@@ -379,7 +380,7 @@ class FusedMethod:
         )
         # what the face as measured leaves in doubt (the reported confidence only)
         faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
-        measured.doubts = [*doubts, *faced]
+        measured.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
         return measured
 
     def _settled_top(
