@@ -27,7 +27,6 @@ to one plank, took a wall line crossing the face for its top and a print for the
 
 from __future__ import annotations
 
-import functools
 from typing import Any
 
 import cv2
@@ -763,7 +762,6 @@ def _window_means(
     return outs
 
 
-@functools.lru_cache(maxsize=64)
 def _strip_columns(s: int, width: int) -> npt.NDArray[np.intp]:
     """Columns of :func:`lower_top_to_background`'s four strips in a band ``width`` wide
     (inside then outside the left side, inside then outside the right one), ``s`` columns
@@ -777,7 +775,6 @@ def _strip_columns(s: int, width: int) -> npt.NDArray[np.intp]:
             np.arange(width - b, width),
         ]
     )
-    cols.flags.writeable = False  # shared between calls
     return cols
 
 
