@@ -70,3 +70,26 @@ def test_without_the_lowering_the_cylinders_top_is_taken(
 
     monkeypatch.setattr(method_mod, "lower_top_to_background", unchanged)
     assert height_error("procedural", 102, hard=True) > 0.10
+
+
+@pytest.mark.parametrize("seed", [127, 325])
+def test_a_face_found_by_colour_walks_its_sides_up_to_its_top(seed: int) -> None:
+    """Rooms photo 127 (a poster over the face, the wall's foot behind it) and 325 (a
+    brick print in a margin), hard: the edges give no face to report and the colour
+    rescue's walk up the face's middle stops at the print's or the background line's
+    edge; both sides still part the face from what is beside it up to its real top.
+    Found by colour alone, the face stays under a sure one's confidence."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("photo", seed, True, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    assert abs(res.height_m / truth["height_m"] - 1.0) < 0.05
+    assert (res.confidence or 0.0) <= method_mod.RESCUE_MAX_CONFIDENCE
+
+
+@pytest.mark.parametrize("seed", [127, 325])
+def test_without_the_sides_walk_the_rescue_stops_short(
+    seed: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(method_mod, "raise_top_by_sides", lambda *a: int(a[4]))
+    assert height_error("photo", seed, hard=True) > 0.25

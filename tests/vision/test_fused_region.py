@@ -1167,3 +1167,29 @@ def test_window_means_over_one_running_sum_are_each_window_alone() -> None:
     # a window as long as the rows covers only the first; one longer, none
     assert not np.isnan(got[2][0]).any() and np.isnan(got[2][1:]).all()
     assert np.isnan(got[3]).all()
+
+
+def lit_scene(slope: float = 1.75) -> npt.NDArray[np.uint8]:
+    """taped_scene with light falling on the face above the band: each row up to FACE_TOP
+    ``slope`` (Lab) lighter than the one under it, 35 at the top (a lamp's gradient, a
+    gloss): as far from the face's foot as a background colour."""
+    img = taped_scene().astype(np.float64)
+    low = TAPE_LOW - 12
+    for i, r in enumerate(range(low - 1, FACE_TOP - 1, -1)):
+        img[r, LEFT:RIGHT] = colour_at_distance((40, 40, 170), slope * (i + 1))
+    rng = np.random.default_rng(3)
+    img[FACE_TOP:low] += rng.normal(0, 2.0, img[FACE_TOP:low].shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("rows, reaches_top", [(3, True), (4, False), (40, False)])
+def test_the_sides_walk_follows_a_slow_drift_of_the_faces_colour(
+    rows: int, reaches_top: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Compared with the rows DRIFT_ROWS (3) under it, a row of the lit face is within the
+    face's own spread (1.75 a row, 5.25 over 3 rows, under the limit of 6); over 4 rows it
+    is not, and against the foot's colour (40 rows down: no drift allowed) the walk stops
+    soon above the band."""
+    monkeypatch.setattr(region, "DRIFT_ROWS", rows)
+    top = raise_by_sides(lit_scene(), TAPE_LOW)
+    assert (abs(top - FACE_TOP) <= 2) if reaches_top else top > FACE_TOP + 4

@@ -441,6 +441,9 @@ class FusedMethod:
         # the sides, in the gradients, may run on above where the colour walk stopped (a
         # joint or a label across the face): the face's top is where they end
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        # ... and where they do not show in the gradients (a face of the background's
+        # shade in grey), its colour parts it from what is beside it up to its top
+        vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
         if evidence < self.min_confidence or rb >= ay.shape[0] - 3:
             return None
         # without edges to confirm it, a face found by colour alone is never a sure one

@@ -568,6 +568,8 @@ CLEAR_SIDE_STEP = 24.0
 #: Rows where a side shows no colour step that the walk up crosses (a tape, a label's
 #: band in the background's shade), metres at the face.
 SIDE_WALK_GAP_M = 0.05
+#: Rows over which the sides' walk compares a strip's colour with the rows below it.
+DRIFT_ROWS = 3
 #: How far up the sides' walk may go at least, metres at the face.
 SIDE_WALK_REACH_M = 1.0
 
@@ -654,7 +656,12 @@ def _sides_walk(
         limit = clamp(
             SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
         )
-        on &= d_strip <= limit
+        # light falling off along a face (a lamp's gradient, vignetting) moves its colour
+        # slowly from what it is at the foot: a row a few rows above one of the face's in
+        # its own colour is the face's still, while the background starts with a step
+        drift = np.zeros_like(d_strip)
+        drift[:-DRIFT_ROWS] = row_norms(strip[:-DRIFT_ROWS] - strip[DRIFT_ROWS:])
+        on &= (d_strip <= limit) | ((d_strip <= MAX_FACE_DISTANCE) & (drift <= limit))
     return walk_on(on.tolist(), k, -1, gap)
 
 
