@@ -93,3 +93,15 @@ def test_without_the_sides_walk_the_rescue_stops_short(
 ) -> None:
     monkeypatch.setattr(method_mod, "raise_top_by_sides", lambda *a: int(a[4]))
     assert height_error("photo", seed, hard=True) > 0.25
+
+
+@pytest.mark.parametrize("seed", [155, 157])
+def test_a_glossy_face_is_measured_across_its_highlight(seed: int) -> None:
+    """Rooms photo 155 (blue) and 157 (teal), ordinary, with the rig: the search finds the
+    face's highlight between two soft edges; its colour along the foot, shaded but of one
+    hue, gives the whole width (it was 64 and 48 % short)."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("photo", seed, False, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.width_m is not None
+    assert abs(res.width_m / truth["width_m"] - 1.0) < 0.05

@@ -109,6 +109,9 @@ def test_the_colour_limits_decide(limit: str, monkeypatch: pytest.MonkeyPatch) -
     img = scene(seams=(100, 140, 180, 220))
     img[TOP:BOTTOM, LEFT:140] = np.clip(img[TOP:BOTTOM, LEFT:140].astype(int) + (0, 10, 0), 0, 255)
     monkeypatch.setattr(region, "OUTLINE_MIN_SHARE", 2.0)  # the colour run alone
+    # the planks differ mostly in lightness: weighed in full (a green face on grey would
+    # have its shades discounted, see the gloss tests below)
+    monkeypatch.setattr(region, "SHADE_WEIGHT", 1.0)
     assert widen(img, 142, 180)[0] <= LEFT + 2
     monkeypatch.setattr(region, limit, {"MIN_FACE_DISTANCE": 5.0, "MIN_FLOOR_STEP": 300.0}[limit])
     assert widen(img, 142, 180)[0] >= 130
@@ -196,6 +199,71 @@ def test_a_foot_showing_the_floors_chroma_itself_leaves_the_chroma_no_say(
     assert widen(shadowed_scene(0.4), LEFT, RIGHT)[1] >= RIGHT + 30
     monkeypatch.setattr(region, "MAX_FLOORLIKE_FOOT", 0.65)
     assert widen(shadowed_scene(0.6), LEFT, RIGHT)[1] <= RIGHT + 3
+
+
+# -- a glossy face: shaded, one hue -------------------------------------------------------
+
+TEAL = (150, 130, 20)  # BGR
+
+
+def gloss_scene(
+    floor: tuple[int, int, int] = FLOOR, highlight: float = 80.0
+) -> npt.NDArray[np.uint8]:
+    """A teal face with a gloss highlight (white light added, as the room renderer does)
+    centred over its right part, on a grey floor before a grey wall."""
+    rng = np.random.default_rng(3)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = (110, 110, 110)
+    img[BOTTOM:] = floor
+    h, w = BOTTOM - TOP, RIGHT - LEFT
+    yy, xx = np.mgrid[0:h, 0:w]
+    r = np.hypot(xx - 0.75 * w, yy - 0.6 * h) / max(h, w)
+    gloss = highlight * np.exp(-(r**2) / 0.05)
+    img[TOP:BOTTOM, LEFT:RIGHT] = np.array(TEAL, np.float64) + gloss[:, :, None]
+    img += rng.normal(0, 6.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("start", [(190, 240), (180, 250), (200, 235)])
+def test_a_glossy_face_is_widened_across_its_highlight(start: tuple[int, int]) -> None:
+    """Found on its highlight, the face runs on along its foot in the same hue, darker."""
+    left, right = widen(gloss_scene(), *start)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_with_the_lightness_weighed_in_full_the_highlight_ends_the_face(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(region, "SHADE_WEIGHT", 1.0)
+    assert widen(gloss_scene(), 190, 240)[0] >= LEFT + 50
+
+
+def test_a_glossy_face_of_the_floors_hue_keeps_the_lightness_weighed_in_full() -> None:
+    """On a teal floor, the floor behind beside the face differs from it in shade only:
+    the face's lightness keeps its full weight (and the highlight ends the run)."""
+    assert widen(gloss_scene(floor=(130, 110, 20)), 190, 240)[0] >= LEFT + 50
+
+
+def lab8(chroma_a: float, chroma_b: float, lightness: float = 128.0) -> npt.NDArray[np.float64]:
+    return np.array([lightness, 128.0 + chroma_a, 128.0 + chroma_b])
+
+
+@pytest.mark.parametrize(
+    ("face", "floor", "relaxed"),
+    [
+        (lab8(25.0, 0.0), lab8(0.0, 0.0), True),  # at the chroma limit (25)
+        (lab8(24.0, 0.0), lab8(-30.0, 0.0), False),  # just under it
+        (lab8(40.0, 0.0), lab8(20.0, 0.0), True),  # hues 20 apart: the limit
+        (lab8(40.0, 0.0), lab8(21.0, 0.0), False),  # 19 apart
+        (lab8(0.0, -40.0), lab8(0.0, -21.0), False),  # 19 apart along b
+    ],
+)
+def test_the_chroma_and_hue_limits_decide_the_lightness_weight(
+    face: npt.NDArray[np.float64], floor: npt.NDArray[np.float64], relaxed: bool
+) -> None:
+    weights = region._face_colour_weights(face, floor)
+    expected = [0.3 if relaxed else 1.0, 1.0, 1.0]
+    assert weights.tolist() == pytest.approx(expected)
 
 
 # -- the top from the colour ---------------------------------------------------------------

@@ -27,6 +27,7 @@ to one plank, took a wall line crossing the face for its top and a print for the
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import cv2
@@ -61,6 +62,15 @@ MAX_FACE_DISTANCE = 35.0
 #: ... and when it differs from the floor just below by at least this (the face's foot is
 #: an edge; farther floor above the contact row is the same floor as below it).
 MIN_FLOOR_STEP = 12.0
+#: A face whose colour has at least this chroma (8-bit Lab: a, b about 128) ...
+CHROMATIC_FACE = 25.0
+#: ... and whose hue stands at least this far (a, b) from the floor's just below it ...
+HUE_APART_FROM_FLOOR = 20.0
+#: ... is told along its foot with its lightness weighed this much against its hue: a
+#: gloss highlight or the light's fall-off shades a coloured face, it does not change its
+#: hue (a face of the floor's hue keeps the full weight: the floor behind beside it, in
+#: the face's shadow, differs from the face only in lightness).
+SHADE_WEIGHT = 0.3
 #: Rows just above the contact row (past EDGE_SKIP) read as the foot when moving a side in.
 FOOT_ROWS = 5
 #: Columns each foot colour is averaged over.
@@ -113,6 +123,19 @@ def _lab8(
     return view.lab(image, r0, r1, c0, c1, step)
 
 
+def _face_colour_weights(
+    face: npt.NDArray[Any], floor: npt.NDArray[Any]
+) -> npt.NDArray[np.float32]:
+    """Weights of (L, a, b) in a colour's distance from the face's colour ``face`` (8-bit
+    Lab): the lightness counts SHADE_WEIGHT for a chromatic face of a hue apart from the
+    ``floor``'s, else as much as the hue."""
+    chroma = math.hypot(float(face[1]) - 128.0, float(face[2]) - 128.0)
+    apart = math.hypot(float(face[1]) - float(floor[1]), float(face[2]) - float(floor[2]))
+    if chroma >= CHROMATIC_FACE and apart >= HUE_APART_FROM_FLOOR:
+        return np.array([SHADE_WEIGHT, 1.0, 1.0], np.float32)
+    return np.ones(3, np.float32)
+
+
 def widen_by_colour(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -149,7 +172,8 @@ def widen_by_colour(
     )[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
-    d_face = row_norms(face - ref)
+    weights = _face_colour_weights(ref, median_of(floor[seed], axis=0))
+    d_face = row_norms((face - ref) * weights)
     spread = float(median_of(d_face[seed]))
     limit = float(clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
     d_floor = row_norms(face - floor)
@@ -160,7 +184,7 @@ def widen_by_colour(
     max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     min_move = max(SNAP_COLUMNS, MIN_WIDEN_SHARE * (right - left))
     d_foot_floor = row_norms(foot - floor)
-    on_foot = (row_norms(foot - ref) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
+    on_foot = (row_norms((foot - ref) * weights) <= limit) & (d_foot_floor >= MIN_FLOOR_STEP)
     # beyond a side the floor runs on above the contact row, farther back or in the
     # face's shadow: another lightness, the floor's own chroma. No side moves out over it
     # (unless the face's own foot shows it too: a contact row below the foot)
