@@ -33,9 +33,11 @@ def test_the_top_stays_under_a_top_face_and_a_pole_in_line() -> None:
 def test_without_the_colour_top_the_sides_run_on(monkeypatch: pytest.MonkeyPatch) -> None:
     """The same room, with no short raise undone: the top runs up into the top face (and
     stays there when it is not lowered again, by :func:`region.lower_top_to_background`,
-    where the floor beside the face shows past it)."""
+    where the floor beside the face shows past it, nor by
+    :func:`region.lower_top_past_top_face`, where it shows past the top face's sides)."""
     monkeypatch.setattr(region, "SHORT_RAISE", 0.0)
     monkeypatch.setattr(method_mod, "lower_top_to_background", lambda *a: int(a[3]))
+    monkeypatch.setattr(method_mod, "lower_top_past_top_face", lambda *a: int(a[3]))
     assert height_error("procedural", 316) > 0.15
 
 
@@ -105,3 +107,34 @@ def test_a_glossy_face_is_measured_across_its_highlight(seed: int) -> None:
     res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.width_m is not None
     assert abs(res.width_m / truth["width_m"] - 1.0) < 0.05
+
+
+def test_a_top_found_above_a_narrowing_top_face_comes_down_to_its_front_edge() -> None:
+    """A low box of panels seen from above (lens 0.42 m, box 0.20 m) with a cylinder
+    behind it: the search's top is above the top face, lit like the front; the floor
+    shows just inside and just outside both sides down to the front top edge, so the
+    top comes down there (:func:`region.lower_top_past_top_face`) and the front top edge
+    is found under it."""
+    assert height_error("photo", 328, hard=True) < 0.05
+
+
+def test_without_the_top_face_seen_past_the_top_stays_high(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def unchanged(*a: Any) -> int:
+        return int(a[3])
+
+    monkeypatch.setattr(method_mod, "lower_top_past_top_face", unchanged)
+    assert height_error("photo", 328, hard=True) > 0.3
+
+
+def test_a_top_on_a_cup_behind_comes_down_past_one_side() -> None:
+    """A box with a brick print in a margin, a cup and saucer behind it, a spoon in line
+    with its right side: past its left side the dark cup shows on both sides of that
+    side, and that one side is enough to bring the top down from the cup's rim."""
+    assert height_error("photo", 310) < 0.05
+
+
+def test_without_one_side_the_cups_rim_is_taken(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "ONE_SIDE_ROWS", 10_000)
+    assert height_error("photo", 310) > 0.3

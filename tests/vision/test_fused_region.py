@@ -1189,6 +1189,54 @@ def test_the_face_keeps_a_fifth_of_its_height() -> None:
         assert moved or lowered(img, top) == top
 
 
+def one_side_scene(clear: int | None = None, gaps: tuple[int, ...] = ()) -> npt.NDArray[np.uint8]:
+    """behind_scene with a blue object behind the face in line with its right side (inside
+    it, not beyond it): past the right side the background does not show, past the left
+    one it does. ``clear``: an orange object in line with the left side too, up to that
+    many rows over the face's top; ``gaps``: rows where a dark line runs just outside the
+    left side only."""
+    img = behind_scene()
+    img[:TALL_TOP, RIGHT - 40 : RIGHT] = (40, 40, 200)
+    if clear is not None:
+        img[: TALL_TOP - clear, LEFT : LEFT + 20] = (200, 120, 60)
+    for g in gaps:
+        img[g, LEFT - SIDE_STRIP - 2 : LEFT] = (90, 90, 90)
+    return img
+
+
+def test_the_background_seen_past_one_side_is_enough() -> None:
+    """An object behind in line with one side (a spoon beside a cup) carries that side up;
+    past the other side the wall shows: the top comes down to the face's."""
+    assert abs(lowered(one_side_scene(), TALL_TOP - 20) - TALL_TOP) <= 1
+
+
+@pytest.mark.parametrize(
+    ("rows", "clear", "moved"), [(8, 7, True), (9, 7, False), (7, 6, True), (8, 6, False)]
+)
+def test_one_side_must_show_the_background_over_its_rows(
+    rows: int, clear: int, moved: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """One side is enough only where the background shows past it over the ONE_SIDE_ROWS
+    rows right above the top (8 rows, 80 % of them: 7 clear rows pass, 6 do not)."""
+    monkeypatch.setattr(region, "ONE_SIDE_ROWS", rows)
+    got = lowered(one_side_scene(clear=clear), TALL_TOP - 20)
+    assert (abs(got - TALL_TOP) <= 1) == moved and (moved or got == TALL_TOP - 20)
+
+
+@pytest.mark.parametrize(
+    ("share", "gaps", "moved"),
+    [(0.8, (22,), True), (0.9, (22,), False), (0.8, (22, 23), False), (0.7, (22, 23), True)],
+)
+def test_the_share_of_rows_seen_past_one_side_decides(
+    share: float, gaps: tuple[int, ...], moved: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Rows of the 8 above the top where the left side's strips differ (a line outside it
+    only): one of 8 leaves 87.5 %, two leave 75 %."""
+    monkeypatch.setattr(region, "PAST_SHARE", share)
+    got = lowered(one_side_scene(gaps=gaps), TALL_TOP - 20)
+    assert (abs(got - TALL_TOP) <= 1) == moved and (moved or got == TALL_TOP - 20)
+
+
 def framed_print(reach_right: bool = False) -> npt.NDArray[np.uint8]:
     """A grey face with a blue print from 20 rows under its top down to its foot, inside
     a 12-column frame of the face's grey (``reach_right``: the print runs out to the
@@ -1261,3 +1309,112 @@ def test_the_sides_walk_follows_a_slow_drift_of_the_faces_colour(
     monkeypatch.setattr(region, "DRIFT_ROWS", rows)
     top = raise_by_sides(lit_scene(), TAPE_LOW)
     assert (abs(top - FACE_TOP) <= 2) if reaches_top else top > FACE_TOP + 4
+
+
+# -- a top face seen past the sides (lower_top_past_top_face) -------------------------------
+
+FRONT_TOP = 100  # the front top edge in past_scene; the horizon (high_view) far above it
+WALL_LINE = 60  # a dark line across the wall: the top the search found
+
+
+def past_scene(
+    top_face_rows: int = 12, narrowing: int = 2, band: tuple[int, int] | None = None
+) -> npt.NDArray[np.uint8]:
+    """A green face from FRONT_TOP to BOTTOM against a grey wall crossed by a dark line at
+    WALL_LINE; above the face a top face of the front's own green, ``top_face_rows`` high,
+    narrowing by ``narrowing`` columns a row as it recedes; ``band``: rows where an
+    orange object behind the box shows between its sides (not beside them)."""
+    img = np.empty((H, W, 3), np.uint8)
+    img[:BOTTOM] = WALL
+    img[BOTTOM:] = FLOOR
+    img[WALL_LINE - 1 : WALL_LINE + 1] = (90, 90, 90)
+    img[FRONT_TOP:BOTTOM, LEFT:RIGHT] = FACE
+    for i in range(top_face_rows):
+        shrink = narrowing * (i + 1)
+        img[FRONT_TOP - 1 - i, LEFT + shrink : RIGHT - shrink] = FACE
+    if band is not None:
+        img[band[0] : band[1], LEFT:RIGHT] = (200, 120, 60)
+    return img
+
+
+def past(img: npt.NDArray[np.uint8], top: int = WALL_LINE, cy: float = 20.0) -> int:
+    return region.lower_top_past_top_face(img, high_view(cy), BOTTOM, top, LEFT, RIGHT)
+
+
+def test_a_top_face_of_the_fronts_colour_is_seen_past_to_its_front_edge() -> None:
+    """Found on a wall line above a top face lit like the front: the wall shows just
+    inside each side down to where the narrowing top face meets the front's sides."""
+    assert abs(past(past_scene()) - FRONT_TOP) <= 1
+
+
+def test_the_row_is_where_both_sides_step_on_their_own() -> None:
+    """The windows pass a few rows early (one strong row fills a window's mean); the row
+    taken is the face's first (a top face as wide as the front: its own first row)."""
+    assert past(past_scene(narrowing=0)) == FRONT_TOP - 12
+
+
+def test_no_top_face_shows_above_the_horizon() -> None:
+    """The horizon at the front top edge (the lens at the box's top): no top face shows
+    and nothing moves; one row higher the edge is below it."""
+    assert past(past_scene(), cy=FRONT_TOP) == WALL_LINE
+    assert abs(past(past_scene(), cy=FRONT_TOP - 1.0) - FRONT_TOP) <= 1
+
+
+def test_a_guessed_pitch_lets_the_horizon_slack_count() -> None:
+    """With the horizon 10 rows under the front edge, a view whose pitch is a guess sees a
+    top face within its slack: 10.5 rows reach the edge, 9.5 do not."""
+    view = high_view(FRONT_TOP + 10.0)
+    view.horizon_slack_px = 10.5
+    assert (
+        abs(
+            region.lower_top_past_top_face(past_scene(), view, BOTTOM, WALL_LINE, LEFT, RIGHT)
+            - FRONT_TOP
+        )
+        <= 1
+    )
+    view.horizon_slack_px = 9.5
+    assert (
+        region.lower_top_past_top_face(past_scene(), view, BOTTOM, WALL_LINE, LEFT, RIGHT)
+        == WALL_LINE
+    )
+
+
+def test_an_object_behind_between_the_sides_keeps_the_top() -> None:
+    """Rows where something other than the background shows between the sides (an object
+    behind the box, as wide as it) are no background seen past the face: 7 of the 38
+    rows leave 80 % seen past (lowered), 8 rows leave less (kept)."""
+    assert abs(past(past_scene(band=(WALL_LINE + 2, WALL_LINE + 9))) - FRONT_TOP) <= 1
+    assert past(past_scene(band=(WALL_LINE + 2, WALL_LINE + 10))) == WALL_LINE
+
+
+@pytest.mark.parametrize(("share", "rows", "moved"), [(0.9, 7, False), (0.7, 8, True)])
+def test_the_seen_past_share_decides(
+    share: float, rows: int, moved: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(region, "PAST_SHARE", share)
+    got = past(past_scene(band=(WALL_LINE + 2, WALL_LINE + 2 + rows)))
+    assert (abs(got - FRONT_TOP) <= 1) == moved and (moved or got == WALL_LINE)
+
+
+def test_a_top_a_few_rows_over_the_face_is_its_blur() -> None:
+    """A plain face (no top face): a top 5 rows over it stays (PAST_MIN_ROWS, 6, rows
+    seen past are needed, the windows' rows besides); 6 rows over, it comes down."""
+    img = past_scene(top_face_rows=0)
+    assert past(img, FRONT_TOP - 5) == FRONT_TOP - 5
+    assert abs(past(img, FRONT_TOP - 6) - FRONT_TOP) <= 1
+
+
+@pytest.mark.parametrize(("min_rows", "above", "moved"), [(7, 6, False), (5, 5, True)])
+def test_the_min_rows_decide(
+    min_rows: int, above: int, moved: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(region, "PAST_MIN_ROWS", min_rows)
+    got = past(past_scene(top_face_rows=0), FRONT_TOP - above)
+    assert (abs(got - FRONT_TOP) <= 1) == moved and (moved or got == FRONT_TOP - above)
+
+
+def test_the_top_face_is_not_lowered_into_the_face() -> None:
+    """The face's own top, and a grey image with no colour, stay."""
+    assert past(past_scene(), FRONT_TOP) == FRONT_TOP
+    grey = past_scene()[:, :, :1].repeat(3, axis=2)
+    assert region.lower_top_past_top_face(grey[:, :, 0], high_view(), BOTTOM, 60, LEFT, RIGHT) == 60

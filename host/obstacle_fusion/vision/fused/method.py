@@ -39,6 +39,7 @@ from obstacle_fusion.vision.fused.region import (
     ends_in_colour,
     face_from_colour,
     looks_like_top_face,
+    lower_top_past_top_face,
     lower_top_to_background,
     raise_top_by_colour,
     raise_top_by_sides,
@@ -338,6 +339,14 @@ class FusedMethod:
             if lowered > vt:
                 vt, top_row = lowered, None
                 sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
+            else:
+                # a top face narrower than the front, the background seen past both
+                # sides above its front edge: that edge is found from there
+                past = lower_top_past_top_face(seen, v, rb, int(round(vt)), ul, ur)
+                if past > vt:
+                    vt, sign = front_top(v, depth, dy, rb, ul, ur, past, noise)
+                    top_row = None
+                    log.debug("top face seen past the sides from %d: front top %d", past, vt)
             # a top that is no colour boundary may be a line on the face or behind it
             agree = top_agreement(seen, v, int(round(vt)), ul, ur)
             agree *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)

@@ -764,6 +764,15 @@ LOWER_MIN_SHARE = 0.2
 #: A top moves down by at least this share of the height found (and STEP_BAND_ROWS' far
 #: rows): nearer, it is the same top's blur, not what stands behind the face.
 LOWER_MIN_MOVE = 0.05
+#: The background is seen past a side when the strips just inside and just outside it
+#: match (BACKGROUND_MATCH) in at least this share of the rows above the row tried ...
+PAST_SHARE = 0.8
+#: ... of the ONE_SIDE_ROWS rows right above it, where one side is enough (the other may
+#: have an object behind it in line with it, a pole, a cup's rim) ...
+ONE_SIDE_ROWS = 8
+#: ... and, for a top face seen past both sides, of every row from the top found down,
+#: over at least this many rows (fewer are the top edge's own blur).
+PAST_MIN_ROWS = 6
 
 
 def _window_mean(rows: npt.NDArray[np.float32], lo: int, hi: int) -> npt.NDArray[np.float32]:
@@ -818,13 +827,17 @@ def lower_top_to_background(
     right: int,
 ) -> int:
     """The top moved down to the highest row under it where the face's colour ends and
-    both its sides end: above that row what shows just inside each side is what shows
-    just outside it, below it the two differ.
+    both its sides end: above that row what shows just inside a side is what shows just
+    outside it (at one side at least, over the ONE_SIDE_ROWS rows right above), below it
+    the two differ at both sides.
 
     An object behind the face in line with its sides (a cup, a pole, a shelf) carries the
     sides' edges on up, and the top found is that object's; at the face's own top the
-    background is seen past it, the same colour on both sides of each side (occlusion),
-    while a label or a print on the face keeps the face's sides."""
+    background is seen past it, the same colour on both sides of a side (occlusion),
+    while a label or a print on the face keeps the face's sides. One side is enough: an
+    object behind may stand in line with the other side too (a spoon beside a cup), but
+    a face's own colour beside a side, a label's or a print's, does not look like the
+    background over several rows."""
     if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
         return top
     w_view = view.out.shape[1]
@@ -857,9 +870,20 @@ def lower_top_to_background(
     ok = (row_norms(above_m - below_m) >= TOP_COLOUR_STEP) & (
         row_norms(above_m - foot) >= TOP_COLOUR_STEP
     )
+    # the background seen past at least one side (the other may have an object behind
+    # it in line, a pole or a cup's rim), held over the ONE_SIDE_ROWS rows right above,
+    # and both sides parting the face from it below
+    idx = np.arange(ok.size)
+    lo_i, hi_i = np.maximum(idx - near - ONE_SIDE_ROWS, 0), np.maximum(idx - near, 0)
+    held = hi_i - lo_i >= ONE_SIDE_ROWS
+    seen_past = np.zeros_like(ok)
     for k in (1, 2):
-        ok &= row_norms(above_all[:, k]) <= BACKGROUND_MATCH
         ok &= row_norms(below_all[:, k]) >= SIDE_STEP
+        matched = row_norms(diffs[:, k - 1]) <= BACKGROUND_MATCH
+        counts = np.concatenate([[0], np.cumsum(matched)])
+        past = (counts[hi_i] - counts[lo_i]) / np.maximum(hi_i - lo_i, 1)
+        seen_past |= (row_norms(above_all[:, k]) <= BACKGROUND_MATCH) & held & (past >= PAST_SHARE)
+    ok &= seen_past
     first = far + max(far, int(LOWER_MIN_MOVE * (bottom - top)))
     rows = np.flatnonzero(ok[first : low - r0]) + first
     if rows.size == 0:
@@ -869,6 +893,70 @@ def lower_top_to_background(
     run = rows[: int(np.argmax(np.diff(np.append(rows, rows[-1] + 2)) > 1)) + 1]
     step = row_norms(mid[run] - mid[run - 1])
     return int(r0 + run[int(np.argmax(step))])
+
+
+def lower_top_past_top_face(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> int:
+    """The top moved down past rows where the background shows on both sides of both
+    sides, to where the face's sides part it from the background again: a top face.
+
+    Below the horizon the lens looks down on the box's top face, and that face narrows
+    as it recedes (its back edge spans the front's columns scaled by D / (D + l) about the
+    principal point), so just inside each side column the background shows above the
+    front top edge, as it does outside: an edge found above that (the back edge, or an
+    object behind the box) is not the face's top. Unlike :func:`lower_top_to_background`
+    no colour step in the middle is needed: a top face is often of the front's colour.
+    Returns the highest such row (the top face's back edge or its front top edge, for
+    :func:`.top.front_top` to settle), or ``top``."""
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+        return top
+    w_view = view.out.shape[1]
+    s = SIDE_SKIP + BESIDE_COLUMNS
+    c0, c1 = left - s, right + s + 1
+    near, far = STEP_BAND_ROWS
+    if c0 < 0 or c1 > w_view or top < far:
+        return top
+    low = bottom - max(FOOT_BAND_ROWS[1] + far + 1, int(LOWER_MIN_SHARE * (bottom - top)))
+    first = far + PAST_MIN_ROWS + near  # band index of the first row that may pass
+    if low <= top + first - far:
+        return top
+    r0 = top - far
+    lab = _lab8(image, view, r0, low + far + 1, c0, c1)
+    strips = median_u8(
+        lab[:, _strip_columns(s, c1 - c0)].reshape(lab.shape[0], 4, BESIDE_COLUMNS, 3), axis=2
+    )
+    diffs = strips[:, 0::2] - strips[:, 1::2]  # inside - outside, per side
+    above_all, below_all = _window_means(diffs, ((-far, -near), (near + 1, far + 1)))
+    ok = np.ones(diffs.shape[0], bool)
+    for k in (0, 1):
+        ok &= row_norms(above_all[:, k]) <= BACKGROUND_MATCH
+        ok &= row_norms(below_all[:, k]) >= SIDE_STEP
+    # the background seen past both sides in most rows from the top found down
+    seen = (row_norms(diffs[:, 0]) <= BACKGROUND_MATCH) & (
+        row_norms(diffs[:, 1]) <= BACKGROUND_MATCH
+    )
+    counts = np.concatenate([[0], np.cumsum(seen)])
+    idx = np.arange(diffs.shape[0])
+    ends = np.maximum(idx - near, far)
+    past = (counts[ends] - counts[far]) / np.maximum(ends - far, 1)
+    ok &= past >= PAST_SHARE
+    # below the horizon only: a lens below the box's top sees no top face
+    ok &= idx + r0 > view.cy - view.horizon_slack_px
+    rows = np.flatnonzero(ok[first : low - r0]) + first
+    if rows.size == 0:
+        return top
+    # the windows pass a few rows early (one row of a strong step fills a window's
+    # mean): the row where both sides first step on their own, the face's first row
+    sides = (row_norms(diffs[:, 0]) >= SIDE_STEP) & (row_norms(diffs[:, 1]) >= SIDE_STEP)
+    start = int(rows[0])
+    own = np.flatnonzero(sides[start : start + 2 * far + 1])
+    return int(r0 + start + (int(own[0]) if own.size else 0))
 
 
 def ends_in_colour(
