@@ -391,7 +391,7 @@ done:
 
 /* remap_table(src, stride, offsets, fx, fy, dst): OpenCV's bilinear remap of a grey 8-bit
  * image (INTER_LINEAR, BORDER_REPLICATE, fixed-point maps) from a table made once per view
- * (View.remap_table): per output pixel the offset of its top-left source pixel in src
+ * (undistort.remap_table): per output pixel the offset of its top-left source pixel in src
  * (rows ``stride`` bytes apart) and its weights fx, fy in 32nds (0..32). OpenCV weighs
  * the four pixels (32 - fy)(32 - fx) x 32 ... in 15 bits and rounds (sum + 2**14) >> 15;
  * every weight is a multiple of 32, so that is (sum / 32 + 2**9) >> 10: the same integer.
@@ -399,7 +399,7 @@ done:
  * table says the same with fx or fy 0 (or 32, one pixel in) and the pair inside the image.
  * The table's offsets are checked against src. Returns None. Integer arithmetic: the
  * values are OpenCV's bit for bit; OpenCV's own loop costs ~39 instructions a pixel here,
- * this one (8 pixels at a time in SSE2 where there is SSE2) about a third of that. */
+ * this one (8 pixels at a time in SSE2 where there is SSE2) ~19. */
 static PyObject *remap_table(PyObject *self, PyObject *args)
 {
     (void)self;

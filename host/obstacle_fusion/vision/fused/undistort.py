@@ -2,11 +2,11 @@
 
 Receives the view (its OpenCV maps) and a grey frame; fills the view's top rows exactly as
 ``cv2.remap(src, map1, map2, INTER_LINEAR, borderMode=BORDER_REPLICATE)`` does. OpenCV's
-bilinear remap costs ~39 instructions a pixel here and is the largest single cost of a
+bilinear remap costs ~39 instructions a pixel here and was the largest single cost of a
 frame (~5 M of ~35 M); from a table of per-pixel source offsets and weights (the maps
-decoded once, border pixels folded in) the optional C accelerator takes about a third of
-that, with the same integers. Without the accelerator, or for a frame it cannot take (a
-strided or odd-sized one), OpenCV remaps as before.
+decoded once, border pixels folded in) the optional C accelerator takes ~19, with the same
+integers. Without the accelerator, or for a frame it cannot take (another size, pixels not
+packed, rows cut short above what the view reads), OpenCV remaps as before.
 """
 
 from __future__ import annotations
