@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any, Protocol
 
@@ -126,10 +127,17 @@ class View:
         n = max(1, min(int(rows), self.out.shape[0]))
         return int(self._src_rows[n - 1])
 
-    def warp(self, image: npt.NDArray[Any], rows: int | None = None) -> npt.NDArray[np.uint8]:
+    def warp(
+        self,
+        image: npt.NDArray[Any],
+        rows: int | None = None,
+        remap: Callable[[npt.NDArray[Any], npt.NDArray[np.uint8]], None] | None = None,
+    ) -> npt.NDArray[np.uint8]:
         """Input frame (BGR or grey) to this view's grey image (a reused buffer).
 
         ``rows`` limits the work to the view's top rows when only they are needed.
+        ``remap(grey, out)``, when given, fills ``out`` (the view's top rows) from the grey
+        frame with OpenCV's values (the fused method's faster one); else OpenCV remaps.
         """
         n = self.out.shape[0] if rows is None else max(1, min(int(rows), self.out.shape[0]))
         if image.ndim == 3:
@@ -137,6 +145,9 @@ class View:
             src = cv2.cvtColor(image[:k], cv2.COLOR_BGR2GRAY, dst=self.grey[:k])
         else:
             src = image
+        if remap is not None:
+            remap(src, self.out[:n])
+            return self.out[:n]
         cv2.remap(
             src,
             self.map1[:n],

@@ -31,6 +31,7 @@ The stages, one module each (each module's docstring says what it receives and r
 - ``method``      :class:`FusedMethod`: the working view, the gradients, the stages in order
 - ``channel``     the frame's channel turned towards the face's colour against the floor
 - ``floor_contact`` the floor-contact rows found in the image when no rig is given
+- ``undistort``   the levelled grey view's remap by a per-view table (OpenCV's values)
 
 Debug logging goes to the loggers under ``obstacle_fusion.vision.fused``.
 """

@@ -59,6 +59,7 @@ from obstacle_fusion.vision.fused.search import (
 from obstacle_fusion.vision.fused.texture import face_from_texture
 from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
+from obstacle_fusion.vision.fused.undistort import TableRemap
 from obstacle_fusion.vision.types import Measurement, Timer, View
 
 log = logging.getLogger(__name__)
@@ -119,6 +120,7 @@ class FusedMethod:
         self.min_confidence = min_confidence
         h, w = view.camera.height, view.camera.width
         self._kernel3 = np.ones((1, 3), np.uint8)
+        self._remap = TableRemap(view)  # OpenCV's remap, from a per-view table
         self._h, self._w = h, w
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
@@ -181,7 +183,8 @@ class FusedMethod:
             )
             return fail
         roi_end = min(h_img, r1b + 4)
-        roi = v.warp(image, roi_end)  # only the rows above the floor-contact band
+        # only the rows above the floor-contact band
+        roi = v.warp(image, roi_end, self._remap)
         timer.lap("undistort")
         n = roi.shape[0]
         ay = self._buf[0, :n]

@@ -1,0 +1,149 @@
+"""The fused method's table remap gives OpenCV's remap of the levelled view, value for value."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+import pytest
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import undistort
+from obstacle_fusion.vision.fused.undistort import TAB_BITS, TableRemap, _axis, remap_table
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import View
+
+
+def _opencv(view: View, src: npt.NDArray[np.uint8], rows: int) -> npt.NDArray[np.uint8]:
+    return np.asarray(
+        cv2.remap(
+            src,
+            view.map1[:rows],
+            view.map2[:rows],
+            cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        )
+    )
+
+
+def _frames(rng: np.random.Generator, h: int, w: int) -> list[npt.NDArray[np.uint8]]:
+    """Noise (every weight shows), a smooth frame and one with a hard step."""
+    noise = rng.integers(0, 256, (h, w), np.uint8)
+    step = np.zeros((h, w), np.uint8)
+    step[:, w // 2 :] = 255
+    return [noise, cv2.GaussianBlur(noise, (9, 9), 3), step]
+
+
+def test_the_border_folds_onto_one_pixel() -> None:
+    """Where OpenCV's replicated border reads one pixel twice, the table reads the pair
+    inside the image with all the weight on that pixel; inside, it is the map's own."""
+    at = np.array([-5, -1, 0, 3, 8, 9, 15])
+    frac = np.full(at.shape, 7)
+    first, weight = _axis(at, frac, 10)
+    assert first.tolist() == [0, 0, 0, 3, 8, 8, 8]
+    assert weight.tolist() == [0, 0, 7, 7, 7, 1 << TAB_BITS, 1 << TAB_BITS]
+
+
+@pytest.mark.parametrize(
+    ("kind", "pitch"), [("level", 0.0), ("level", 9.0), ("plain", 0.0), ("level", -25.0)]
+)
+def test_the_table_remap_in_c_is_opencvs(kind: str, pitch: float) -> None:
+    """Every row count and frame: the C remap by the view's table gives cv2.remap's
+    values, also where the maps reach past the frame's borders (a steep pitch)."""
+    assert undistort._c_remap_table is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(11)
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(camera_pitch_deg=pitch), kind)
+    off, fx, fy = remap_table(view, camera.width)
+    h = camera.height
+    for src in _frames(rng, h, camera.width):
+        for rows in (h, h // 3, 1):
+            want = _opencv(view, src, rows)
+            got = np.empty_like(want)
+            undistort._c_remap_table(src, camera.width, off[:rows], fx[:rows], fy[:rows], got)
+            assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("pitch", [-25.0, 9.0])
+def test_the_views_above_read_past_the_frame(pitch: float) -> None:
+    """The views of the test above do read past the frame's borders (columns past both
+    sides, rows above the top): folded entries, the weight on the border pixel, exist."""
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(camera_pitch_deg=pitch), "level")
+    x = view.map1[..., 0].astype(np.int64)
+    assert (x < 0).any() and (x >= camera.width - 1).any()
+    off, fx, _ = remap_table(view, camera.width)
+    assert (fx[x >= camera.width - 1] == 1 << TAB_BITS).all()
+    assert (fx[x < 0] == 0).all()
+    assert int(off.max()) <= (camera.height - 2) * camera.width + camera.width - 2
+
+
+def test_the_table_remap_in_c_follows_any_map() -> None:
+    """Maps of every fraction reaching far past all four borders (a view's maps replaced):
+    the C remap by the table is still cv2.remap, pixel for pixel."""
+    c = undistort._c_remap_table
+    assert c is not None
+    rng = np.random.default_rng(3)
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(), "plain")
+    h, w = camera.height, camera.width
+    view.map1 = np.stack(
+        [rng.integers(-40, w + 40, (h, w)), rng.integers(-40, h + 40, (h, w))], axis=-1
+    ).astype(np.int16)
+    view.map2 = rng.integers(0, 1 << 16, (h, w)).astype(np.uint16)  # high bits ignored
+    off, fx, fy = remap_table(view, w + 3)
+    for src in _frames(rng, h, w + 3):
+        frame = src[:, :w]  # rows w + 3 bytes apart
+        want = _opencv(view, frame, h)
+        got = np.empty_like(want)
+        c(frame, w + 3, off, fx, fy, got)
+        assert np.array_equal(got, want)
+
+
+def test_warp_with_the_table_is_warp_with_opencv(monkeypatch: pytest.MonkeyPatch) -> None:
+    """View.warp by TableRemap, with and without the accelerator, equals OpenCV's warp:
+    grey and colour frames, a strided grey frame, every row count."""
+    rng = np.random.default_rng(5)
+    camera = CameraModel.paper(320, 240)
+    h, w = camera.height, camera.width
+    for pitch in (0.0, 7.0):
+        view = View(camera, Rig(camera_pitch_deg=pitch), "level")
+        remap = TableRemap(view)
+        wide = np.zeros((h, w + 9), np.uint8)
+        wide[:, :w] = rng.integers(0, 256, (h, w), np.uint8)
+        frames = [*_frames(rng, h, w), rng.integers(0, 256, (h, w, 3), np.uint8), wide[:, :w]]
+        for image in frames:
+            for rows in (h, 100, 2, 1):
+                want = view.warp(image, rows).copy()
+                assert np.array_equal(view.warp(image, rows, remap), want)
+                with monkeypatch.context() as m:
+                    m.setattr(undistort, "_c_remap_table", None)
+                    assert np.array_equal(view.warp(image, rows, remap), want)
+
+
+def test_the_table_remap_refuses_what_it_cannot_read() -> None:
+    """Offsets past the frame (a table for a taller frame, a forged entry) are refused
+    before anything is read; TableRemap then remaps by OpenCV."""
+    c = undistort._c_remap_table
+    assert c is not None
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(camera_pitch_deg=20.0), "level")
+    off, fx, fy = remap_table(view, camera.width)
+    src = np.zeros((camera.height, camera.width), np.uint8)
+    out = np.empty((camera.height, camera.width), np.uint8)
+    bad = off.copy()
+    bad[5, 17] = camera.height * camera.width
+    with pytest.raises(ValueError):
+        c(src, camera.width, bad, fx, fy, out)
+    bad[5, 17] = -1
+    with pytest.raises(ValueError):
+        c(src, camera.width, bad, fx, fy, out)
+    with pytest.raises(ValueError):
+        c(src[:10], camera.width, off, fx, fy, out)  # rows the short frame does not have
+    with pytest.raises(ValueError):
+        c(src, camera.width + 1, off, fx, fy, out)  # not the frame's row stride
+    with pytest.raises(TypeError):
+        c(src, camera.width, off.astype(np.int64), fx, fy, out)
+    short = src[:10]
+    got = np.empty((view.map1.shape[0], camera.width), np.uint8)
+    TableRemap(view)(short, got)  # the C call refuses: OpenCV's values all the same
+    assert np.array_equal(got, _opencv(view, short, view.map1.shape[0]))
