@@ -138,3 +138,45 @@ def test_a_top_on_a_cup_behind_comes_down_past_one_side() -> None:
 def test_without_one_side_the_cups_rim_is_taken(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "ONE_SIDE_ROWS", 10_000)
     assert height_error("photo", 310) > 0.3
+
+
+def no_rig_answer(family: str, seed: int, hard: bool) -> tuple[float, float, float]:
+    """Relative width and height errors and the confidence with no rig, on a tuning room."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, _ = render_room(family, seed, hard, cam)
+    res = Measurer(cam, None).measure(image, truth["range_m"])
+    assert res.detected and res.width_m is not None and res.height_m is not None
+    return (
+        abs(res.width_m / truth["width_m"] - 1.0),
+        abs(res.height_m / truth["height_m"] - 1.0),
+        res.confidence or 0.0,
+    )
+
+
+#: Rooms with no rig where the face is found by its colour alone, from the beam's core on
+#: one plank (photo 137, 138: planks and tape; procedural 337: a tape down a grey face).
+RESCUED_PLANK_FACES = [("photo", 137), ("photo", 138), ("procedural", 337)]
+
+
+@pytest.mark.parametrize(("family", "seed"), RESCUED_PLANK_FACES)
+def test_a_face_of_planks_found_by_colour_is_walked_out_to_its_sides(
+    family: str, seed: int
+) -> None:
+    """Hard rooms, no rig: the colour rescue's first walk runs from the beam's core under a
+    made-up top and stops at the first plank or tape edge; walked again from the face's
+    top, the outline carries on to the face's sides (it was 42-62 % short)."""
+    width, height, _ = no_rig_answer(family, seed, True)
+    assert width < 0.06 and height < 0.06
+
+
+@pytest.mark.parametrize(("family", "seed"), RESCUED_PLANK_FACES)
+def test_without_the_walk_from_the_top_the_rescued_face_stays_one_plank_wide(
+    family: str, seed: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The rule switched off: the face stays a plank or a tape wide; the walk from the top
+    moves the width only (the same face, the same height)."""
+    on = no_rig_answer(family, seed, True)
+    monkeypatch.setattr(method_mod, "RESCUE_WIDEN_AT_TOP", False)
+    off = no_rig_answer(family, seed, True)
+    assert off[0] > 0.25
+    assert off[1] == pytest.approx(on[1], abs=0.02)
