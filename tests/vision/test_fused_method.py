@@ -180,3 +180,11 @@ def test_without_the_walk_from_the_top_the_rescued_face_stays_one_plank_wide(
     off = no_rig_answer(family, seed, True)
     assert off[0] > 0.25
     assert off[1] == pytest.approx(on[1], abs=0.02)
+
+
+def test_a_gloss_face_against_a_night_sky_keeps_its_upper_half() -> None:
+    """Room photo 140, hard, with the rig: the face's light upper half steps from the dark
+    sky beside it by about a third of what its foot steps from the lights behind; its sides
+    still stand there (region.SIDE_WALK_SHARE), and the top is the face's own (it was 40 %
+    short, at the horizon's line behind)."""
+    assert height_error("photo", 140, hard=True) < 0.05

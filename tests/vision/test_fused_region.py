@@ -999,6 +999,21 @@ def test_the_side_walk_share_and_the_clear_step_decide(
     assert (abs(top - FACE_TOP) <= 2) if raised else top == TAPE_LOW
 
 
+@pytest.mark.parametrize(
+    "wall, raised",
+    [((80, 50, 165), True), ((70, 45, 168), False)],
+)
+def test_a_side_stepping_a_third_of_its_foots_step_still_stands(
+    wall: tuple[int, int, int], raised: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A wall above the band nearer still the face's colour: a step of Lab 24 against
+    the foot's 68 (35 %) is a side at SIDE_WALK_SHARE 0.3 (not at 0.4); one of 18 (26 %)
+    is not (it would be at 0.2). CLEAR_SIDE_STEP is put out of reach."""
+    monkeypatch.setattr(region, "CLEAR_SIDE_STEP", 100.0)
+    top = raise_by_sides(taped_scene(wall_above=wall), TAPE_LOW)
+    assert (abs(top - FACE_TOP) <= 2) if raised else top == TAPE_LOW
+
+
 @pytest.mark.parametrize("reach_m, reaches_top", [(1.0, True), (0.0, False)])
 def test_a_face_found_as_its_foots_strip_walks_up_to_its_top(
     reach_m: float, reaches_top: bool, monkeypatch: pytest.MonkeyPatch

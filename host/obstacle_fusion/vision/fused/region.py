@@ -584,8 +584,10 @@ def _colour_walk_up(
 
 
 #: A row's side stands when its colour step is at least this share of the side's step
-#: along the face (a side against a wall of another shade steps less, not nothing).
-SIDE_WALK_SHARE = 0.5
+#: along the face (a side against a wall of another shade steps less, not nothing: a
+#: gloss's light upper half against a night sky steps a third of what its dark foot does
+#: against the lights beside it).
+SIDE_WALK_SHARE = 0.3
 #: ... but a step this large (Lab) is a side whatever the step along the face (a face
 #: found on its foot's strip, against a floor far from its colour).
 CLEAR_SIDE_STEP = 24.0
