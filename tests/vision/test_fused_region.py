@@ -1238,6 +1238,14 @@ def test_one_side_must_show_the_background_over_its_rows(
     assert (abs(got - TALL_TOP) <= 1) == moved and (moved or got == TALL_TOP - 20)
 
 
+@pytest.mark.parametrize(("clear", "moved"), [(7, True), (6, False)])
+def test_one_side_shows_the_background_over_the_shipped_rows(clear: int, moved: bool) -> None:
+    """As above with ONE_SIDE_ROWS as shipped (8): 7 clear rows of 8 pass, 6 do not (at 9
+    rows 7 would not, at 7 rows 6 would)."""
+    got = lowered(one_side_scene(clear=clear), TALL_TOP - 20)
+    assert (abs(got - TALL_TOP) <= 1) == moved and (moved or got == TALL_TOP - 20)
+
+
 @pytest.mark.parametrize(
     ("share", "gaps", "moved"),
     [(0.8, (22,), True), (0.9, (22,), False), (0.8, (22, 23), False), (0.7, (22, 23), True)],
@@ -1324,6 +1332,11 @@ def test_the_sides_walk_follows_a_slow_drift_of_the_faces_colour(
     monkeypatch.setattr(region, "DRIFT_ROWS", rows)
     top = raise_by_sides(lit_scene(), TAPE_LOW)
     assert (abs(top - FACE_TOP) <= 2) if reaches_top else top > FACE_TOP + 4
+
+
+def test_the_sides_walk_follows_the_drift_at_its_default_rows() -> None:
+    """As above with DRIFT_ROWS as shipped (red at 4 rows)."""
+    assert abs(raise_by_sides(lit_scene(), TAPE_LOW) - FACE_TOP) <= 2
 
 
 # -- a top face seen past the sides (lower_top_past_top_face) -------------------------------

@@ -44,14 +44,22 @@ def test_the_border_folds_onto_one_pixel() -> None:
 
 
 @pytest.mark.parametrize(
-    ("kind", "pitch"), [("level", 0.0), ("level", 9.0), ("plain", 0.0), ("level", -25.0)]
+    ("kind", "pitch", "width"),
+    [
+        ("level", 0.0, 320),
+        ("level", 9.0, 320),
+        ("plain", 0.0, 320),
+        ("level", -25.0, 320),
+        ("level", 3.0, 324),  # not a multiple of 8: the scalar loop ends each row
+        ("level", 0.0, 500),
+    ],
 )
-def test_the_table_remap_in_c_is_opencvs(kind: str, pitch: float) -> None:
+def test_the_table_remap_in_c_is_opencvs(kind: str, pitch: float, width: int) -> None:
     """Every row count and frame: the C remap by the view's table gives cv2.remap's
     values, also where the maps reach past the frame's borders (a steep pitch)."""
     assert undistort._c_remap_table is not None, "the C accelerator is not built (make setup)"
     rng = np.random.default_rng(11)
-    camera = CameraModel.paper(320, 240)
+    camera = CameraModel.paper(width, width * 3 // 4)
     view = View(camera, Rig(camera_pitch_deg=pitch), kind)
     off, fx, fy = remap_table(view, camera.width)
     h = camera.height
@@ -147,3 +155,83 @@ def test_the_table_remap_refuses_what_it_cannot_read() -> None:
     got = np.empty((view.map1.shape[0], camera.width), np.uint8)
     TableRemap(view)(short, got)  # the C call refuses: OpenCV's values all the same
     assert np.array_equal(got, _opencv(view, short, view.map1.shape[0]))
+
+
+@pytest.mark.parametrize("weight", [-1, 33, -32768])
+@pytest.mark.parametrize("column", [3, 322])  # in the 8-wide loop, in the scalar tail
+def test_the_table_remap_refuses_a_weight_outside_0_to_32(weight: int, column: int) -> None:
+    """A forged weight is refused (both loops), never read as arithmetic past its range."""
+    c = undistort._c_remap_table
+    assert c is not None
+    camera = CameraModel.paper(324, 243)
+    view = View(camera, Rig(), "level")
+    off, fx, fy = remap_table(view, camera.width)
+    src = np.zeros((camera.height, camera.width), np.uint8)
+    out = np.empty((camera.height, camera.width), np.uint8)
+    for table in (fx, fy):
+        bad = table.copy()
+        bad[7, column] = weight
+        args = (bad, fy) if table is fx else (fx, bad)
+        with pytest.raises(ValueError, match="weight"):
+            c(src, camera.width, off, *args, out)
+
+
+def test_view_warp_takes_the_c_path_for_grey_and_colour_frames(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """TableRemap's fallback to OpenCV would hide a C path that refused every frame: the
+    packed grey frames the method reads, and colour frames' grey, go through C."""
+    c = undistort._c_remap_table
+    assert c is not None
+    calls: list[bool] = []
+
+    def spy(*args: object) -> None:
+        try:
+            c(*args)  # type: ignore[arg-type]
+        except ValueError:
+            calls.append(False)
+            raise
+        calls.append(True)
+
+    monkeypatch.setattr(undistort, "_c_remap_table", spy)
+    rng = np.random.default_rng(9)
+    camera = CameraModel.paper(500, 375)
+    view = View(camera, Rig(camera_pitch_deg=4.0), "level")
+    remap = TableRemap(view)
+    grey = rng.integers(0, 256, (375, 500), np.uint8)
+    for rows in (375, 200, 2):
+        view.warp(grey, rows, remap)
+        view.warp(cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR), rows, remap)
+    assert calls and all(calls)
+
+
+def test_a_lazy_remap_makes_its_table_on_a_strides_second_frame() -> None:
+    """Not eager (a view levelled for a pitch tried once): the first frame is OpenCV's,
+    the table comes with the second; both give OpenCV's values."""
+    rng = np.random.default_rng(4)
+    camera = CameraModel.paper(324, 243)
+    view = View(camera, Rig(camera_pitch_deg=3.0), "level")
+    remap = TableRemap(view, eager=False)
+    src = rng.integers(0, 256, (camera.height, camera.width), np.uint8)
+    want = _opencv(view, src, camera.height)
+    for made in (False, True):
+        got = np.empty_like(want)
+        remap(src, got)
+        assert np.array_equal(got, want)
+        assert (camera.width in remap._tables) is made
+    assert camera.width in TableRemap(view)._tables  # eager: made with the view
+
+
+def test_no_table_for_rows_reversed() -> None:
+    """A frame read bottom-up (a negative row stride) is OpenCV's to remap, every time."""
+    rng = np.random.default_rng(6)
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(), "level")
+    remap = TableRemap(view, eager=False)
+    src = rng.integers(0, 256, (camera.height, camera.width), np.uint8)[::-1]
+    want = _opencv(view, src, 100)
+    for _ in range(2):
+        got = np.empty_like(want)
+        remap(src, got)
+        assert np.array_equal(got, want)
+    assert remap._tables == {}

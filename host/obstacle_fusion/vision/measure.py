@@ -51,8 +51,10 @@ def _paper(camera: CameraModel, rig: Rig, min_confidence: float | None) -> Metho
     return PaperMethod(View(camera, rig, "plain"))
 
 
-def _fused(camera: CameraModel, rig: Rig, min_confidence: float | None) -> Method:
-    fused = FusedMethod(View(camera, rig, "level"))
+def _fused(
+    camera: CameraModel, rig: Rig, min_confidence: float | None, eager_tables: bool = True
+) -> FusedMethod:
+    fused = FusedMethod(View(camera, rig, "level"), eager_tables=eager_tables)
     if min_confidence is not None:
         fused.min_confidence = min_confidence
     warm_colour_tables()
@@ -131,7 +133,7 @@ class Measurer:
         if impl is None:
             cam = self.camera.scaled_to(width, height)
             rig = dataclasses.replace(self.rig, camera_pitch_deg=pitch_deg)
-            impl = cast(FusedMethod, METHODS[self.method](cam, rig, self.min_confidence))
+            impl = _fused(cam, rig, self.min_confidence, eager_tables=False)
         self._pitched[key] = impl  # most recent last
         while len(self._pitched) > PITCHED_VIEWS_KEPT:
             del self._pitched[next(iter(self._pitched))]

@@ -439,9 +439,9 @@ static PyObject *remap_table(PyObject *self, PyObject *args)
         PyErr_SetString(PyExc_ValueError, "remap_table: a table for this image and output");
         goto done;
     }
-    /* the last offset a pair of rows may start at: both rows and both columns inside
-     * (every offset is checked before it is read; weights outside 0..32 would only give
-     * wrong values) */
+    /* the last offset a pair of rows may start at: both pixels of both rows inside the
+     * buffer (every offset is checked before it is read, and every weight: one outside
+     * 0..32 is refused, as an offset past this one) */
     long long last = (long long)(src.shape[0] - 2) * stride + src.shape[1] - 2;
     if (last > INT_MAX) {
         PyErr_SetString(PyExc_ValueError, "remap_table: an image too large for the table");
@@ -472,6 +472,10 @@ static PyObject *remap_table(PyObject *self, PyObject *args)
             __m128i bot = _mm_loadu_si128((const __m128i *)(const void *)b);
             __m128i fx8 = _mm_loadu_si128((const __m128i *)(const void *)(ax + c));
             __m128i fy8 = _mm_loadu_si128((const __m128i *)(const void *)(ay + c));
+            __m128i wbad = _mm_or_si128(_mm_cmpgt_epi16(_mm_max_epi16(fx8, fy8), k32),
+                                        _mm_cmplt_epi16(_mm_min_epi16(fx8, fy8), zero));
+            if (_mm_movemask_epi8(wbad))
+                goto outside;
             /* weight pairs (32 - f, f) per pixel, in the order of the byte pairs */
             __m128i gx = _mm_sub_epi16(k32, fx8), gy = _mm_sub_epi16(k32, fy8);
             __m128i wx_lo = _mm_unpacklo_epi16(gx, fx8), wx_hi = _mm_unpackhi_epi16(gx, fx8);
@@ -493,10 +497,10 @@ static PyObject *remap_table(PyObject *self, PyObject *args)
 #endif
         for (; c < m; c++) {
             unsigned at = (unsigned)o[c];
-            if (at > limit)
+            int gx = ax[c], gy = ay[c];
+            if (at > limit || (unsigned)gx > 32u || (unsigned)gy > 32u)
                 goto outside;
             const unsigned char *p = base + at;
-            int gx = ax[c], gy = ay[c];
             int top = p[0] * (32 - gx) + p[1] * gx;
             int bottom = p[stride] * (32 - gx) + p[stride + 1] * gx;
             out[c] = (unsigned char)((top * (32 - gy) + bottom * gy + 512) >> 10);
@@ -506,7 +510,8 @@ static PyObject *remap_table(PyObject *self, PyObject *args)
     result = Py_None;
     goto done;
 outside:
-    PyErr_SetString(PyExc_ValueError, "remap_table: an entry outside the image");
+    PyErr_SetString(PyExc_ValueError,
+                    "remap_table: an entry outside the image, or a weight outside 0..32");
 done:
     for (int i = got - 1; i >= 0; i--)
         PyBuffer_Release(views[i]);

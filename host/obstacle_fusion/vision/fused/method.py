@@ -108,8 +108,8 @@ RESCUE_MAX_CONFIDENCE = 0.4
 #: The highest confidence a face found by its texture alone gets: its sides and top are
 #: where a smoothed texture changes, known to half a window.
 TEXTURE_MAX_CONFIDENCE = 0.3
-#: A face found by its colour has its sides walked out again from its top (a switch for
-#: the tests).
+#: A face found by its colour has its sides walked again from its top (read-only in
+#: use: a switch for the tests).
 RESCUE_WIDEN_AT_TOP = True
 
 
@@ -118,12 +118,19 @@ class FusedMethod:
 
     name = "fused"
 
-    def __init__(self, view: View, min_confidence: float = DEFAULT_MIN_CONFIDENCE) -> None:
+    def __init__(
+        self,
+        view: View,
+        min_confidence: float = DEFAULT_MIN_CONFIDENCE,
+        eager_tables: bool = True,
+    ) -> None:
+        """``eager_tables``: the remap's table made now (a view measured frame after frame)
+        rather than on the view's second frame (a view levelled for a pitch tried once)."""
         self.view = view
         self.min_confidence = min_confidence
         h, w = view.camera.height, view.camera.width
         self._kernel3 = np.ones((1, 3), np.uint8)
-        self._remap = TableRemap(view)  # OpenCV's remap, from a per-view table
+        self._remap = TableRemap(view, eager_tables)  # OpenCV's remap, from a table
         self._h, self._w = h, w
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves
@@ -453,24 +460,25 @@ class FusedMethod:
         if found is None:
             return None
         rb, vt, ul, ur, evidence = found
+        if evidence < self.min_confidence or rb >= ay.shape[0] - 3:
+            return None
         # the sides, in the gradients, may run on above where the colour walk stopped (a
         # joint or a label across the face): the face's top is where they end
         vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
         # ... and where they do not show in the gradients (a face of the background's
         # shade in grey), its colour parts it from what is beside it up to its top
         vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
-        if evidence < self.min_confidence or rb >= ay.shape[0] - 3:
-            return None
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
         if conf < self.min_confidence:
             return None
         if RESCUE_WIDEN_AT_TOP:
-            # the sides walked out once more, from the face's top: the first walk ran from
-            # the beam's core under a made-up top, so on a face of planks or tape its
-            # colour run ended at the first plank and the outline walk past it read no top
-            # step. Only the width moves (the top and the confidence stay the first
-            # sides': read at the new ones they made sure faces of rows no rig tries)
+            # the sides walked again along the foot, from the face's top: the first walk
+            # ran from the beam's core under a made-up top, so on a face of planks or tape
+            # its colour run ended at the first plank and the outline walk past it read no
+            # top step (the walk may bring a side in as well, past floor at the foot).
+            # Only the width moves (the top and the confidence stay the first sides':
+            # read at the new ones they made sure faces of rows no rig tries)
             ul, ur = widen_by_colour(seen, self.view, ax3, rb, vt, ul, ur, depth)
         return rb, vt, ul, ur, conf
 

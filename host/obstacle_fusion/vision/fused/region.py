@@ -18,7 +18,11 @@ to one plank, took a wall line crossing the face for its top and a print for the
 * :func:`stops_at_colour_top`, :func:`ends_in_colour`: a short raise past a top where the
   face's colour ends is undone (the sides ran on up what stands behind the face);
 * :func:`lower_top_to_background`: a top on what stands behind comes down to where the
-  background shows past the face;
+  background shows past the face (past one side is enough over several rows);
+* :func:`lower_top_past_top_face`: a top on a top face's back edge, seen from above, comes
+  down to where the background stops showing just inside both sides;
+* :func:`raise_top_by_sides`: the top, up while both sides still part the face from what
+  stands beside it (a band across the whole face stops the colour walks, not the sides);
 * :func:`looks_like_top_face`: whether rows under the top are a box's top face;
 * :func:`top_agreement`, :func:`side_agreement`: confidence factors, how clearly the
   colour ends at the top and at the weaker side;
@@ -683,8 +687,9 @@ def _sides_walk(
             SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
         )
         # light falling off along a face (a lamp's gradient, vignetting) moves its colour
-        # slowly from what it is at the foot: a row a few rows above one of the face's in
-        # its own colour is the face's still, while the background starts with a step
+        # slowly away from what it is below the top: a row within the face's spread of the
+        # row DRIFT_ROWS under it (and within MAX_FACE_DISTANCE of the colour below the
+        # top) is taken as the face's still, while the background starts with a step
         drift = np.zeros_like(d_strip)
         drift[:-DRIFT_ROWS] = row_norms(strip[:-DRIFT_ROWS] - strip[DRIFT_ROWS:])
         on &= (d_strip <= limit) | ((d_strip <= MAX_FACE_DISTANCE) & (drift <= limit))
@@ -770,7 +775,8 @@ LOWER_MIN_MOVE = 0.05
 #: match (BACKGROUND_MATCH) in at least this share of the rows above the row tried ...
 PAST_SHARE = 0.8
 #: ... of the ONE_SIDE_ROWS rows right above it, where one side is enough (the other may
-#: have an object behind it in line with it, a pole, a cup's rim) ...
+#: have an object behind it in line with it, a pole, a cup's rim), and where both sides
+#: show the background too ...
 ONE_SIDE_ROWS = 8
 #: ... and, for a top face seen past both sides, of every row from the top found down,
 #: over at least this many rows (fewer are the top edge's own blur).
@@ -928,6 +934,8 @@ def lower_top_past_top_face(
     first = far + PAST_MIN_ROWS + near  # band index of the first row that may pass
     if low <= top + first - far:
         return top
+    if low - 1 <= view.cy - view.horizon_slack_px:
+        return top  # every row it could come down to is above the horizon (see below)
     r0 = top - far
     lab = _lab8(image, view, r0, low + far + 1, c0, c1)
     strips = median_u8(

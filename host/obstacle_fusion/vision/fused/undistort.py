@@ -29,6 +29,9 @@ except ImportError:  # pragma: no cover - only where the extension did not build
 #: Weights of OpenCV's fixed-point maps: 32nds of a pixel (INTER_BITS = 5).
 TAB_BITS = 5
 
+#: The largest byte offset a table holds (int32).
+MAX_TABLE_OFFSET = int(np.iinfo(np.int32).max)
+
 Table = tuple[npt.NDArray[np.int32], npt.NDArray[np.int16], npt.NDArray[np.int16]]
 
 
@@ -59,16 +62,33 @@ def remap_table(view: View, stride: int) -> Table:
 
 class TableRemap:
     """:meth:`View.warp`'s remap for one view: by the view's table in C (one table per row
-    stride of the frames seen: packed rows made with the view, others on first use), else
-    by OpenCV."""
+    stride of the frames seen), else by OpenCV. ``eager``: the table for packed frames of
+    the camera's width is made now, with the rest of the per-size state, not on the first
+    frame's clock; otherwise a stride's table is made when a second frame of it comes (a
+    table costs ~11 ms of numpy: a view levelled for a pitch tried once, with no rig, is
+    remapped by OpenCV and never pays it)."""
 
-    def __init__(self, view: View) -> None:
+    def __init__(self, view: View, eager: bool = True) -> None:
         self.view = view
-        # the table for packed frames of the camera's width (the grey frames the method
-        # reads) made now, with the rest of the per-size state, not on the first frame
         self._tables: dict[int, Table] = {}
-        if _c_remap_table is not None:
+        self._seen: set[int] = set()  # strides remapped once by OpenCV, no table yet
+        if _c_remap_table is not None and eager:
             self._tables[view.camera.width] = remap_table(view, view.camera.width)
+
+    def _table(self, stride: int) -> Table | None:
+        """The table for frames whose rows are ``stride`` bytes apart, or None: not made
+        yet (its first frame), or a stride no table can serve."""
+        table = self._tables.get(stride)
+        if table is not None:
+            return table
+        w, h = self.view.camera.size
+        if stride < w or (h - 2) * stride + w - 2 > MAX_TABLE_OFFSET:
+            return None  # rows reversed or overlapping, or offsets past int32
+        if stride not in self._seen:
+            self._seen.add(stride)
+            return None
+        table = self._tables[stride] = remap_table(self.view, stride)
+        return table
 
     def __call__(self, src: npt.NDArray[Any], dst: npt.NDArray[np.uint8]) -> None:
         """The view's first ``len(dst)`` rows of the grey ``src`` into ``dst``."""
@@ -85,16 +105,14 @@ class TableRemap:
             and dst.strides[1] == 1
             and n <= v.map1.shape[0]
         ):
-            stride = src.strides[0]
-            table = self._tables.get(stride)
-            if table is None:
-                table = self._tables[stride] = remap_table(v, stride)
-            off, fx, fy = table
-            try:
-                _c_remap_table(src, stride, off[:n], fx[:n], fy[:n], dst)
-                return
-            except ValueError:  # a frame cut short above a row the view reads
-                pass
+            table = self._table(src.strides[0])
+            if table is not None:
+                off, fx, fy = table
+                try:
+                    _c_remap_table(src, src.strides[0], off[:n], fx[:n], fy[:n], dst)
+                    return
+                except ValueError:  # a frame cut short above a row the view reads
+                    pass
         cv2.remap(
             src,
             v.map1[:n],
