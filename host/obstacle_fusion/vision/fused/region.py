@@ -826,6 +826,34 @@ def _strip_columns(s: int, width: int) -> npt.NDArray[np.intp]:
     return cols
 
 
+def _sides_band(
+    image: npt.NDArray[Any] | None, view: View, top: int, left: int, right: int
+) -> tuple[int, int] | None:
+    """The columns c0..c1 of a band around both sides (each side's strips just inside and
+    just outside, past its blur), or None: no colour frame, a face too narrow for its
+    strips, a band past the view's edges or a top too near the view's first row."""
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+        return None
+    s = SIDE_SKIP + BESIDE_COLUMNS
+    c0, c1 = left - s, right + s + 1
+    if c0 < 0 or c1 > view.out.shape[1] or top < STEP_BAND_ROWS[1]:
+        return None
+    return c0, c1
+
+
+def _inside_minus_outside(lab: npt.NDArray[Any]) -> npt.NDArray[Any]:
+    """Per row of a band of :func:`_sides_band`'s columns, in Lab: each side's strip just
+    inside minus the one just outside (rows x side x colour), the four strips' per-row
+    medians taken in one call."""
+    strips = median_u8(
+        lab[:, _strip_columns(SIDE_SKIP + BESIDE_COLUMNS, lab.shape[1])].reshape(
+            lab.shape[0], 4, BESIDE_COLUMNS, 3
+        ),
+        axis=2,
+    )
+    return strips[:, 0::2] - strips[:, 1::2]
+
+
 def lower_top_to_background(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -846,14 +874,12 @@ def lower_top_to_background(
     object behind may stand in line with the other side too (a spoon beside a cup), but
     a face's own colour beside a side, a label's or a print's, does not look like the
     background over several rows."""
-    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+    band = _sides_band(image, view, top, left, right)
+    if band is None or image is None:
         return top
-    w_view = view.out.shape[1]
+    c0, c1 = band
     s = SIDE_SKIP + BESIDE_COLUMNS
-    c0, c1 = left - s, right + s + 1
     near, far = STEP_BAND_ROWS
-    if c0 < 0 or c1 > w_view or top < far:
-        return top
     f0, f1 = FOOT_BAND_ROWS
     low = bottom - max(f1 + far + 1, int(LOWER_MIN_SHARE * (bottom - top)))
     if low <= top + far:
@@ -862,13 +888,7 @@ def lower_top_to_background(
     lab = _lab8(image, view, r0, bottom, c0, c1)
     mid = np.asarray(median_u8(lab[:, 2 * s : -2 * s : SUBSAMPLE], axis=1), np.float32)
     foot = median_of(mid[bottom - f1 - r0 : bottom - f0 - r0], axis=0)
-    # the four strips (inside and outside the left side, inside and outside the right
-    # one), each a median per row, in one call: rows x strip x colour
-    w_band = c1 - c0
-    strips = median_u8(
-        lab[:, _strip_columns(s, w_band)].reshape(lab.shape[0], 4, BESIDE_COLUMNS, 3), axis=2
-    )
-    diffs = strips[:, 0::2] - strips[:, 1::2]  # inside - outside, per side
+    diffs = _inside_minus_outside(lab)
     # the middle's colour and both sides' differences, windowed above and below each row
     # over one running sum: rows x (middle, left, right) x colour
     above_all, below_all = _window_means(
@@ -922,14 +942,11 @@ def lower_top_past_top_face(
     no colour step in the middle is needed: a top face is often of the front's colour.
     Returns the highest such row (the top face's back edge or its front top edge, for
     :func:`.top.front_top` to settle), or ``top``."""
-    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+    band = _sides_band(image, view, top, left, right)
+    if band is None or image is None:
         return top
-    w_view = view.out.shape[1]
-    s = SIDE_SKIP + BESIDE_COLUMNS
-    c0, c1 = left - s, right + s + 1
+    c0, c1 = band
     near, far = STEP_BAND_ROWS
-    if c0 < 0 or c1 > w_view or top < far:
-        return top
     low = bottom - max(FOOT_BAND_ROWS[1] + far + 1, int(LOWER_MIN_SHARE * (bottom - top)))
     first = far + PAST_MIN_ROWS + near  # band index of the first row that may pass
     if low <= top + first - far:
@@ -938,10 +955,7 @@ def lower_top_past_top_face(
         return top  # every row it could come down to is above the horizon (see below)
     r0 = top - far
     lab = _lab8(image, view, r0, low + far + 1, c0, c1)
-    strips = median_u8(
-        lab[:, _strip_columns(s, c1 - c0)].reshape(lab.shape[0], 4, BESIDE_COLUMNS, 3), axis=2
-    )
-    diffs = strips[:, 0::2] - strips[:, 1::2]  # inside - outside, per side
+    diffs = _inside_minus_outside(lab)
     above_all, below_all = _window_means(diffs, ((-far, -near), (near + 1, far + 1)))
     ok = np.ones(diffs.shape[0], bool)
     for k in (0, 1):
