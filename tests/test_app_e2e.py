@@ -408,9 +408,9 @@ width_m = 0.5
 
 def test_online_rig_and_camera_latency_on_the_emulated_robot(uno_elf: Path, tmp_path: Path) -> None:
     """A camera 80 ms late and a pitched rig: the run finds both and pairs frames with the
-    range of the scene they show. The emulator's time base itself moves by a few ms from
-    run to run (README), so the latency is held to 10 ms here; the estimator's own 5 ms
-    target is tested on modelled and rendered series (tests/timing, tests/test_online.py)."""
+    range of the scene they show. The issue's target, 5 ms, holds here too: the virtual
+    sensor measures the face at the reflection instant, the one the host dates a reading at
+    (with the trigger instant instead, this read 73-76 ms)."""
     from obstacle_fusion.outputs.foxglove_schemas import event_of_log
     from obstacle_fusion.sim.scenario import load_scenario
 
@@ -425,7 +425,7 @@ def test_online_rig_and_camera_latency_on_the_emulated_robot(uno_elf: Path, tmp_
     assert run.returncode == 0, run.stderr
     lat = re.search(r"camera latency: ([\d.]+) ms .*pairing uses ([\d.]+) ms", run.stderr)
     assert lat is not None, run.stderr
-    assert abs(float(lat.group(1)) - 80.0) < 10.0, run.stderr
+    assert abs(float(lat.group(1)) - 80.0) < 5.0, run.stderr
     est = re.search(r"online rig: camera ([\d.]+) m high, pitch ([-+\d.]+) deg", run.stderr)
     assert est is not None, run.stderr
     assert abs(float(est.group(1)) - 0.30) < 0.01 and abs(float(est.group(2)) - 5.0) < 0.5
@@ -443,6 +443,6 @@ def test_online_rig_and_camera_latency_on_the_emulated_robot(uno_elf: Path, tmp_
     assert errors[len(errors) // 2] < 0.01  # 80 ms late at 0.6 m/s would be 5 cm
     rec = read_recording(mcap)
     online = json.loads(rec.metadata["online"]["camera_latency"])
-    assert abs(online["latency_s"] - 0.08) < 0.01
+    assert abs(online["latency_s"] - 0.08) < 0.005
     events = [event_of_log(m.data)[0] for m in rec.messages if m.topic == TOPIC_EVENT]
     assert "online_estimates" in events

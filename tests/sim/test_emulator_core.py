@@ -113,13 +113,30 @@ def test_scene_keyframes_interpolate_and_step(emulator_factory: Factory, tmp_pat
         if t < 4:
             return None
         return 0.7  # equal times: the later keyframe wins
+
+    def at_reflection(rec: TruthRecord) -> float | None:
+        """The distance when the burst (leaving as ECHO rises) meets the face: d(rise + d/v)."""
+        rise_s = rec.rise_cycle / 16e6
+        v = sound_speed(rec.temperature_c)
+        ramp = (1.0 + rise_s / 2.0) / (1.0 - 1.0 / (2.0 * v))  # d = 1 + (rise + d / v) / 2
+        if rise_s + ramp / v < 2:
+            return ramp
+        if expected(rise_s) is None:
+            return None
+        return next((c for c in (2.0, 0.7) if expected(rise_s + c / v) == c), None)
+
+    moved = 0
     for rec in truth:
-        want = expected(rec.trigger_s)
+        want = at_reflection(rec)
         if want is None:
             assert rec.distance_m is None and rec.kind == "none"
             assert rec.echo_ticks == pytest.approx(76000, abs=1)
         else:
-            assert rec.distance_m == pytest.approx(want, abs=1e-6)
+            assert rec.distance_m == pytest.approx(want, abs=1e-6), rec
+            at_trigger = expected(rec.trigger_s)
+            moved += at_trigger is not None and abs(rec.distance_m - at_trigger) > 1e-3
+    # on the 0.5 m/s ramp the face moves 2-3 mm between the trigger and the reflection
+    assert moved >= 10
 
 
 def test_no_obstacle_and_beyond_range_give_the_38ms_pulse(emulator_factory: Factory) -> None:

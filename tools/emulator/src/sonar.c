@@ -1,5 +1,6 @@
 /* HC-SR04 behaviour: a trigger of >= 10 us starts a measurement; after the burst delay
- * ECHO is high for exactly 2 d / v (or the ~38 ms no-echo pulse). Both edges are cycle
+ * ECHO is high for exactly 2 d / v (or the ~38 ms no-echo pulse), d being the distance
+ * when the burst meets the face. Both edges are cycle
  * timers at their exact cycle, and a truth-log line records what was sent. */
 #include "sonar.h"
 
@@ -7,6 +8,9 @@
 
 #include "avr_ioport.h"
 #include "sim_cycle_timers.h"
+
+/* Fixed-point passes for the distance at the reflection instant (start_measurement). */
+#define REFLECTION_PASSES 3
 
 void sonar_default_params(sonar_params_t *p)
 {
@@ -100,11 +104,20 @@ static avr_cycle_count_t echo_rise(avr_t *avr, avr_cycle_count_t when, void *par
 static void start_measurement(sonar_t *s, avr_cycle_count_t trig_cycle)
 {
     const sonar_params_t *p = &s->p;
-    double t = sonar_true_time(s, trig_cycle);
-    double d;
-    int have = scene_distance(s->scene, t, &d) == 0;
-    s->m_distance = have ? d : NAN;
+    double rate = mcu_rate(s);
+    avr_cycle_count_t burst = (avr_cycle_count_t)llround(p->burst_us * 1e-6 * rate);
     s->m_temperature = s->scene->temperature_c;
+    double v = sound_speed(s->m_temperature);
+    /* The burst leaves as ECHO rises and meets the face d / v later: a moving face is
+     * measured where it stands at that instant (1.5 m away, 4.4 ms after the burst), not
+     * at the trigger. d depends on the instant, so settle it in a few passes; at robot
+     * speeds the second already moves it by well under a micrometre. */
+    double t_leave = sonar_true_time(s, s->avr->cycle + burst);
+    double d = NAN;
+    int have = scene_distance(s->scene, t_leave, &d) == 0;
+    for (int pass = 0; have && pass < REFLECTION_PASSES; pass++)
+        have = scene_distance(s->scene, t_leave + d / v, &d) == 0;
+    s->m_distance = have ? d : NAN;
     double echo_s;
     const char *kind = "echo";
     double ed = have ? d : NAN;
@@ -127,12 +140,10 @@ static void start_measurement(sonar_t *s, avr_cycle_count_t trig_cycle)
         ed = NAN;
         echo_s = p->no_echo_us * 1e-6;
     } else {
-        echo_s = 2.0 * ed / sound_speed(s->m_temperature);
+        echo_s = 2.0 * ed / v;
     }
     s->m_echo_distance = ed;
     s->m_kind = kind;
-    double rate = mcu_rate(s);
-    avr_cycle_count_t burst = (avr_cycle_count_t)llround(p->burst_us * 1e-6 * rate);
     avr_cycle_count_t width = (avr_cycle_count_t)llround(echo_s * rate);
     if (width < 1)
         width = 1;
