@@ -1446,3 +1446,56 @@ def test_the_top_face_is_not_lowered_into_the_face() -> None:
     assert past(past_scene(), FRONT_TOP) == FRONT_TOP
     grey = past_scene()[:, :, :1].repeat(3, axis=2)
     assert region.lower_top_past_top_face(grey[:, :, 0], high_view(), BOTTOM, 60, LEFT, RIGHT) == 60
+
+
+def _skirting(rows: int) -> tuple[npt.NDArray[np.uint8], int]:
+    """A green band ``rows`` high standing on row BOTTOM across the whole image (a
+    skirting, the wall's foot), over the grey floor; its top row."""
+    top = BOTTOM - rows
+    img = scene()
+    img[:BOTTOM] = (150, 90, 170)  # the wall above
+    img[top:BOTTOM] = FACE
+    rng = np.random.default_rng(1)
+    img[top:BOTTOM] = np.clip(img[top:BOTTOM] + rng.normal(0, 6.0, (rows, W, 3)), 0, 255)
+    return img, top
+
+
+def test_a_strip_too_low_to_read_its_foot_finds_no_side_outwards() -> None:
+    """A strip 8 rows high (its foot's rows reach into its top edge's blur) found between
+    two columns of a skirting that runs across the image: its colour along the foot is the
+    skirting's, which runs on to the border; the sides stay where the search put them
+    (the widening ran them out to the image's edges: a 4x width)."""
+    img, top = _skirting(8)
+    found = widen_by_colour(img, level_view(), side_strength(img), BOTTOM, top, 140, 180, DEPTH)
+    assert found == (140, 180)
+
+
+def test_a_strip_high_enough_is_widened_along_its_foot() -> None:
+    """The same band at the lowest height whose foot is read clear of both edges' blur: the
+    colour run goes on (it is a face of that height, for all the foot tells)."""
+    assert region.MIN_COLOUR_FACE_ROWS == 10  # 2 rows of blur either side of a 5-row foot
+    img, top = _skirting(10)
+    left, right = widen_by_colour(
+        img, level_view(), side_strength(img), BOTTOM, top, 140, 180, DEPTH
+    )
+    assert left < 100 and right > 220
+
+
+def test_a_low_strip_taken_out_over_the_floor_still_comes_in() -> None:
+    """A low face whose right side the search took 40 columns out over the floor (no foot
+    there): bringing it in needs no colour read along the face, only the floor's."""
+    rows = 8
+    img = scene()
+    img[: BOTTOM - rows, :] = FLOOR
+    img[: BOTTOM - rows, :] = np.clip(
+        img[: BOTTOM - rows].astype(np.float64)
+        + np.random.default_rng(2).normal(0, 12.0, img[: BOTTOM - rows].shape),
+        0,
+        255,
+    ).astype(np.uint8)
+    img[BOTTOM - rows : BOTTOM, :LEFT] = FLOOR
+    img[BOTTOM - rows : BOTTOM, RIGHT:] = FLOOR
+    left, right = widen_by_colour(
+        img, level_view(), side_strength(img), BOTTOM, BOTTOM - rows, LEFT, RIGHT + 40, DEPTH
+    )
+    assert left == LEFT and abs(right - RIGHT) <= 3

@@ -79,6 +79,11 @@ SHADE_WEIGHT = 0.3
 FOOT_ROWS = 5
 #: Columns each foot colour is averaged over.
 SMOOTH_COLUMNS = 5
+#: The lowest face (rows) whose foot's colour is read along it: the foot's rows must lie
+#: clear of the contact edge's blur below and of the top edge's above. On a lower strip
+#: the "foot" is the whole strip and its colour is any horizontal band's on that row (a
+#: skirting, the wall's foot), which runs on beside the face: the run found no side.
+MIN_COLOUR_FACE_ROWS = 2 * EDGE_SKIP + FOOT_ROWS + 1
 #: Columns of another colour crossed without ending the face (a seam, a joint, tape), metres
 #: at the face.
 MAX_GAP_M = 0.04
@@ -155,7 +160,10 @@ def widen_by_colour(
 
     ``chroma``: no side moves out over a foot showing the floor's own chroma (see
     :func:`floor_chroma`); off where the sides are a core a few centimetres wide in the
-    beam, whose colour may be a tape's or a label's on a face of the floor's chroma."""
+    beam, whose colour may be a tape's or a label's on a face of the floor's chroma.
+
+    A face lower than MIN_COLOUR_FACE_ROWS is not widened (its foot's colour is any band's
+    along that row), only brought in over columns with no foot."""
     if image is None or image.ndim != 3 or right - left < 6 or bottom - top < 4:
         return left, right
     h_view = view.out.shape[0]
@@ -203,10 +211,14 @@ def widen_by_colour(
     outline: list[bool] | None = None  # columns with both a foot and a top step
     top_step: list[bool] = []
     outline_gap = max(2, int(round(view.fx * OUTLINE_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
+    # a strip too low to read a foot clear of its top's blur finds no side outwards (its
+    # colour is any band's along that row); where no foot steps from the floor at all, the
+    # floor runs on behind and the side may still come in
+    outwards = bottom - top >= MIN_COLOUR_FACE_ROWS
     new = []
     for side, step in ((left, -1), (right, 1)):
-        end = walk_on(on_both, side - step * 2, step, max_gap)
-        if (end - side) * step <= min_move:
+        end = walk_on(on_both, side - step * 2, step, max_gap) if outwards else side
+        if outwards and (end - side) * step <= min_move:
             # a face of several colours (planks, tape, a print) ends its colour run at
             # the first change; its outline runs on: a foot on the floor and a top
             # against what is behind, where beside the face there is neither
