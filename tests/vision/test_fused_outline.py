@@ -5,10 +5,12 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
+from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import region
 from obstacle_fusion.vision.fused.extent import foot_in_band
 from obstacle_fusion.vision.fused.region import widen_along_margin
+from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
 
@@ -83,3 +85,19 @@ def test_a_strip_of_edge_blur_only_is_no_margin() -> None:
     # 4 rows between the print's lower edge and the foot: only the two edges' blur
     assert walk(scene(foot=4), foot=4) is None
     assert walk(scene(foot=5), foot=5) is not None
+
+
+@pytest.mark.parametrize(
+    ("family", "seed"),
+    [
+        ("procedural", 339),  # a print standing above the predicted row (was -11 %)
+        ("procedural", 132),  # text on a page standing above it (was -16 %)
+    ],
+)
+def test_rooms_with_a_print_in_a_thin_margin_are_measured_whole(family: str, seed: int) -> None:
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room(family, seed, True, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None and res.width_m is not None
+    assert abs(res.height_m / truth["height_m"] - 1) < 0.05
+    assert abs(res.width_m / truth["width_m"] - 1) < 0.05
