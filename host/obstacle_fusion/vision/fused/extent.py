@@ -251,3 +251,32 @@ def enclose_inner_frame(
     if outer_top >= top:
         return left, right, top
     return new[0], new[1], outer_top
+
+
+#: How far beyond a print's side its face's outline is sought, as a share of the print's
+#: larger side (a margin of up to 12 % of the face is 16 % of the print inside it).
+OUTLINE_REACH = 0.25
+#: A foot under a print may be faint in grey (a margin of the floor's shade, a contact
+#: shadow): its row need only stand this many noise levels (the margin's colour decides).
+OUTLINE_FOOT_SNR = 1.5
+
+
+def foot_in_band(
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    left: int,
+    right: int,
+    band: tuple[int, int],
+    noise: float,
+) -> int | None:
+    """The row in the floor-contact ``band`` below ``bottom`` where the horizontal edge
+    across the face's columns is strongest (the face's foot under a print standing above
+    it), or None when none stands OUTLINE_SNR noise levels."""
+    n = ay.shape[0]
+    r0, r1 = max(bottom + 2, band[0]), min(band[1], n - 2)
+    if r0 > r1 or right - left < 4:
+        return None
+    foot = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
+    if float(foot.max()) < OUTLINE_FOOT_SNR * noise:
+        return None
+    return r0 + int(foot.argmax())

@@ -20,6 +20,7 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.confidence import (
+    FOOT_ABOVE_SHARE,
     FRAMED,
     TOP_FROM_SIDES,
     confidence,
@@ -28,7 +29,10 @@ from obstacle_fusion.vision.fused.confidence import (
     refusal,
 )
 from obstacle_fusion.vision.fused.extent import (
+    OUTLINE_REACH,
+    SNAP_COLUMNS,
     enclose_inner_frame,
+    foot_in_band,
     raise_top_past_inner_edges,
     widen_across_seams,
 )
@@ -47,6 +51,7 @@ from obstacle_fusion.vision.fused.region import (
     stops_at_colour_top,
     top_agreement,
     trim_to_foot,
+    widen_along_margin,
     widen_by_colour,
 )
 from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
@@ -396,6 +401,15 @@ class FusedMethod:
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
+        if floor_known and vb0 - rb > FOOT_ABOVE_SHARE * tol:
+            # standing above the floor the rig predicts: a print on the face, whose own
+            # sides stand on down to the floor round it
+            outline = self._outline(
+                seen, ay, ax3, rb, int(round(vt)), ul, ur, (r0b, r1b), depth, noise
+            )
+            if outline is not None:
+                rb, vt, ul, ur = outline
+                sign, top_row = (1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0), None
         timer.lap("extent")
         measured = self._refine(
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
@@ -443,6 +457,39 @@ class FusedMethod:
             return vt, sign, top_row
         log.debug("sides settled at %d-%d: top %d", ul, ur, vt)
         return vt, sign, None
+
+    def _outline(
+        self,
+        seen: npt.NDArray[Any],
+        ay: npt.NDArray[np.float32],
+        ax3: npt.NDArray[np.int16],
+        rb: int,
+        vt: int,
+        ul: int,
+        ur: int,
+        band: tuple[int, int],
+        depth: float,
+        noise: float,
+    ) -> tuple[int, int, int, int] | None:
+        """The face round a print found standing above the floor-contact ``band`` (with
+        the rig known the face's foot is there): its foot the strongest edge in the band
+        under the print, its sides where the margin of the face's colour between the two
+        ends (:func:`.region.widen_along_margin`), its top where its sides and its colour
+        end; None when no margin of one colour encloses the print."""
+        v = self.view
+        nb = foot_in_band(ay, rb, ul, ur, band, noise)
+        if nb is None:
+            return None
+        reach = max(SNAP_COLUMNS, int(OUTLINE_REACH * max(ur - ul, rb - vt)))
+        sides = widen_along_margin(seen, v, rb, nb, ul, ur, reach)
+        if sides is None:
+            return None
+        nl, nr = sides
+        nt = raise_top_past_inner_edges(ay, ax3, nb, vt, nl, nr, noise)
+        nt = raise_top_by_colour(seen, v, ay, nb, nt, nl, nr, depth)
+        nt = raise_top_by_sides(seen, v, ay, nb, nt, nl, nr, depth)
+        log.debug("outline round a print standing at %d: %d-%d x %d-%d", rb, nl, nr, nt, nb)
+        return nb, min(nt, vt), nl, nr
 
     def _by_colour(
         self,

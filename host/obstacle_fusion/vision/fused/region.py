@@ -1285,3 +1285,58 @@ def side_agreement(
     if image is None or image.ndim != 3 or bottom - top < 8:
         return 1.0
     return min(1.0, _side_step(image, view, bottom, top, left, right) / SIDE_STEP_FULL)
+
+
+#: The margin under a print: a column is the margin's while its colour is within this
+#: share of the margin's step from what lies beside the face (8-bit Lab distance) ...
+MARGIN_SHARE = 0.5
+#: ... and the margin must step at least this much from what is beside it.
+MARGIN_MIN_STEP = 12.0
+#: Columns of another colour the walk along the margin crosses (a seam, a fleck).
+MARGIN_GAP = 2
+#: Rows of the margin that must show clear of the blur of the print's lower edge and of
+#: the foot (a face found whole, standing a little above the predicted row, has only the
+#: two edges' blur tails between them).
+MARGIN_MIN_ROWS = 2
+
+
+def widen_along_margin(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    print_bottom: int,
+    foot: int,
+    left: int,
+    right: int,
+    reach: int,
+) -> tuple[int, int] | None:
+    """The face's sides round a print, walked along the margin under it.
+
+    A print standing above the floor-contact row leaves a strip of the face's own colour
+    between its lower edge and the foot; that strip runs out past the print's sides to the
+    face's own sides, where what stands beside the face (the floor behind it, the wall)
+    starts. Returns the new sides, or None where no margin of one colour shows there."""
+    if image is None or image.ndim != 3 or right - left < 6:
+        return None
+    r0, r1 = print_bottom + EDGE_SKIP, foot - 1
+    if r1 - r0 < MARGIN_MIN_ROWS:
+        return None
+    w = view.out.shape[1]
+    c0, c1 = max(0, left - reach - SMOOTH_COLUMNS), min(w, right + reach + SMOOTH_COLUMNS + 1)
+    lab = _lab8(image, view, r0, r1, c0, c1)
+    cols = cv2.blur(median_u8(lab, axis=0)[None], (3, 1))[0].astype(np.float32)
+    inner = cols[left - c0 + 1 : right - c0]
+    margin = np.median(inner, axis=0)
+    dist = np.sqrt(((cols - margin) ** 2).sum(axis=1))
+    if float(np.median(dist[left - c0 + 1 : right - c0])) > MARGIN_MIN_STEP:
+        return None  # under the print: no one colour
+    new = []
+    for side, step in ((left, -1), (right, 1)):
+        out = side - c0 + step * (reach + 1)
+        out = int(clamp(out, 0, cols.shape[0] - 1))
+        beside = float(dist[out])
+        if beside < MARGIN_MIN_STEP:
+            return None  # no step from the margin to what is beside the face
+        on = dist <= MARGIN_SHARE * beside
+        end = walk_on(on, side - c0, step, MARGIN_GAP)
+        new.append(int(clamp(end + c0, left - reach, right + reach)))
+    return new[0], new[1]
