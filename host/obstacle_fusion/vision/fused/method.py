@@ -42,6 +42,7 @@ from obstacle_fusion.vision.fused.region import (
     enclose_by_margin,
     ends_in_colour,
     face_from_colour,
+    face_under_raised_top,
     looks_like_top_face,
     lower_top_past_top_face,
     lower_top_to_background,
@@ -289,7 +290,7 @@ class FusedMethod:
         # background band of the face's width, its sides the edges of what is behind;
         # that top is the front top edge already (no top face's front below it)
         colour_top = stops_at_colour_top(seen, v, rb, vt, raised, ul, ur)
-        if colour_top:
+        if colour_top or not face_under_raised_top(seen, v, rb, vt, raised, ul, ur):
             raised = vt
         # what lowers the reported confidence: no top edge's score chose that row
         doubts = [TOP_FROM_SIDES] if raised < vt or closed else []
@@ -304,8 +305,12 @@ class FusedMethod:
         if framed is not None:
             rb, vt, ul, ur = framed
         # a background line crossing the face is not its top: the face's colour runs on
-        vt = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
-        vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        coloured = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
+        if face_under_raised_top(seen, v, rb, vt, coloured, ul, ur):
+            vt = coloured
+        walked = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True):
+            vt = walked
 
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)

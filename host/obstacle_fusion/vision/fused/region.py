@@ -773,6 +773,62 @@ def stops_at_colour_top(
     )
 
 
+#: Rows right under a raised top read for the face's colour (a share of the way up, at
+#: least RETURN_MIN_ROWS): a face's top has the face under it.
+RETURN_BAND_SHARE = 0.15
+RETURN_MIN_ROWS = 3
+#: The face found shows the face's colour when the way up is at most this many times its
+#: height (a band, a label or a print's margin at the foot is thinner than what is above).
+RETURN_MAX_RAISE = 2.0
+#: ... and at least this share of it (shorter: a frame's top margin, a top face, blur;
+#: the same share as SHORT_RAISE, where stops_at_colour_top judges the way up).
+RETURN_MIN_RAISE = 0.5
+
+
+def face_under_raised_top(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    raised: int,
+    left: int,
+    right: int,
+    one_strip: bool = False,
+) -> bool:
+    """Whether the face's colour is back right under ``raised``, a top the sides ran on up
+    to past ``top``.
+
+    The face is one surface: past a label, a tape or a band across it, its own colour
+    comes back under its real top. Sides that run on past where the face's colour ended,
+    into something else all the way up, are the edges of what stands behind the face in
+    line with it (a pole, a rocket in a photograph on the wall), not the face's."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
+        return True
+    way, found = top - raised, bottom - top
+    if found < 4 or not RETURN_MIN_RAISE * found <= way <= RETURN_MAX_RAISE * found:
+        # a short way up is a frame's top margin, a top face or a blurred top
+        # (stops_at_colour_top judges it); and a strip found at the face's foot (a band,
+        # a print's lower margin) does not show the face's colour: neither is judged
+        return True
+    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
+    lab = _lab8(image, view, raised, bottom, c0, c1)
+    k, n = top - raised + 2, max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * (top - raised)))
+
+    def back(part: npt.NDArray[np.uint8]) -> bool:
+        rows = median_u8(part, axis=1).astype(np.float32)
+        ref = median_of(rows[k:], axis=0)
+        spread = float(median_of(row_norms(rows[k:] - ref)))
+        limit = clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE)
+        return float(median_of(row_norms(rows[2 : 2 + n] - ref))) <= limit
+
+    # the middle, or both strips just inside the sides (a print over the middle, in a
+    # margin of the face's colour that runs up to the face's top)
+    if back(lab):
+        return True
+    strips = (back(lab[:, :BESIDE_COLUMNS]), back(lab[:, -BESIDE_COLUMNS:]))
+    return any(strips) if one_strip else all(strips)
+
+
 #: Above the face's top the strip just inside each side is within this (Lab, 8-bit) of
 #: the strip just outside it: the background seen past the face on both sides of its side.
 BACKGROUND_MATCH = 10.0
