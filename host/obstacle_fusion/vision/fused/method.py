@@ -36,6 +36,7 @@ from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     enclose_by_margin,
+    enclose_by_ring,
     ends_in_colour,
     face_from_colour,
     looks_like_top_face,
@@ -292,6 +293,9 @@ class FusedMethod:
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
         framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
+        if framed is None and floor_known:
+            # a margin too thin for fixed strips: its own colour runs, its foot on the floor
+            framed = enclose_by_ring(seen, v, rb, vt, ul, ur, (r0b, r1b))
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:
