@@ -476,6 +476,11 @@ class FusedMethod:
         conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
         if conf < self.min_confidence:
             return None
+        framed = enclose_by_ring(seen, self.view, rb, vt, ul, ur, rows)
+        if framed is not None:
+            # the colour found a print (its lower edge a stronger colour step than the
+            # margin's foot): the face is the margin's frame, its sides the margin's
+            return framed[0], framed[1], framed[2], framed[3], conf
         if RESCUE_WIDEN_AT_TOP:
             # the sides walked again along the foot, from the face's top: the first walk
             # ran from the beam's core under a made-up top, so on a face of planks or tape

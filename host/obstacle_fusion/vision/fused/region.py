@@ -1176,6 +1176,8 @@ def enclose_by_margin(
 RING_SKIP = 1
 #: Leading entries of the margin above a print read for the margin's colour.
 RING_SEED = 4
+#: Entries a margin above a print runs at least (its end is sought past them).
+RING_MIN = 2
 #: A margin's run holds while within this (Lab) of the margin's colour, and ends where
 #: the next few entries (their median, not one blurred entry) are farther than this.
 RING_AGREE = 20.0
@@ -1195,8 +1197,11 @@ def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], r
     if run == 0:
         return 0
     # the margin ends at its sharpest step (a top face of another shade of the same
-    # paint, lit otherwise, may lie within the tolerance next to it)
-    return int(np.argmax(row_norms(np.diff(profile[: run + 1], axis=0)))) + 1
+    # paint, lit otherwise, may lie within the tolerance next to it), past the first
+    # RING_MIN entries (the margin itself; a blurred step spreads over its last ones)
+    lo = min(RING_MIN, run)
+    steps = row_norms(np.diff(profile[: run + 1], axis=0))
+    return lo + int(np.argmax(steps[lo - 1 : run]))
 
 
 def enclose_by_ring(
@@ -1227,24 +1232,31 @@ def enclose_by_ring(
     c0, c1 = left - reach_u, right + reach_u + 1
     if r0 < 0 or c0 < 0 or c1 > w or r1 <= bottom + 4:
         return None
-    lab = _lab8(image, view, r0, r1, c0, c1).astype(np.float32)
-    k_v, k_u = max(1, (bottom - top) // 5), max(1, (right - left) // 5)
-    t, b, lf, rt = top - r0, bottom - r0, left - c0, right - c0
-    print_colour = median_of(lab[t + k_v : b - k_v, lf + k_u : rt - k_u].reshape(-1, 3), axis=0)
-    rows = median_of(lab[:, lf + k_u : rt - k_u], axis=1)  # per row, over the print's middle
-    cols = median_of(lab[t + k_v : b - k_v], axis=0)  # per column, beside the print
+    # two bands through the print's middle, a tenth of its size wide: rows over its
+    # middle columns (above, the print, below), columns over its middle rows (beside)
+    q_u, q_v = max(2, (right - left) // 10), max(2, (bottom - top) // 10)
+    cm, rm = (left + right) // 2, (top + bottom) // 2
+    band = _lab8(image, view, r0, r1, cm - q_u, cm + q_u + 1)
+    k_v = max(1, (bottom - top) // 5)
+    t, b = top - r0, bottom - r0
+    print_colour = median_u8(band[t + k_v : b - k_v].reshape(-1, 3), axis=0)
+    rows = np.asarray(median_u8(band, axis=1), np.float32)
     above = rows[t - RING_SKIP :: -1]
     ring = median_of(above[:RING_SEED], axis=0)
     if norm(ring - print_colour) < MARGIN_VS_PRINT:
         return None
     up = _ring_run(above, ring, reach_v)
-    if up < 2:
+    if up < RING_MIN:
         return None
     below = rows[b + RING_SKIP :]
     down = _ring_run(below, ring, below.shape[0])
     new_bottom = bottom + RING_SKIP + down
     if down < 1 or not foot_rows[0] <= new_bottom <= foot_rows[1]:
         return None
+    cols = np.asarray(
+        median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
+    )
+    lf, rt = left - c0, right - c0
     out = []
     for profile in (cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :]):
         run = _ring_run(profile, ring, reach_u)
