@@ -188,3 +188,26 @@ def test_a_gloss_face_against_a_night_sky_keeps_its_upper_half() -> None:
     still stand there (region.SIDE_WALK_SHARE), and the top is the face's own (it was 40 %
     short, at the horizon's line behind)."""
     assert height_error("photo", 140, hard=True) < 0.05
+
+
+#: Ordinary rooms with the rig, faces of photographed bricks covering most of the face in
+#: a thin margin of its colour: found by the edges (photo 309) and by colour (photo 339).
+PRINTS_IN_THIN_MARGINS = [("photo", 309), ("photo", 339)]
+
+
+@pytest.mark.parametrize(("family", "seed"), PRINTS_IN_THIN_MARGINS)
+def test_a_print_in_a_thin_margin_is_enclosed_by_the_margins_own_colour(
+    family: str, seed: int
+) -> None:
+    """The search (309) or the colour rescue (339) takes the brick print for the face; the
+    margin's own colour runs (region.enclose_by_ring) enclose it, its foot on the rig's
+    contact row (both were 16-18 % short)."""
+    assert height_error(family, seed) < 0.05
+
+
+@pytest.mark.parametrize(("family", "seed"), PRINTS_IN_THIN_MARGINS)
+def test_without_the_ring_the_print_is_taken_for_the_face(
+    family: str, seed: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(method_mod, "enclose_by_ring", lambda *a: None)
+    assert height_error(family, seed) > 0.1

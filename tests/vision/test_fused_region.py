@@ -1499,3 +1499,70 @@ def test_a_low_strip_taken_out_over_the_floor_still_comes_in() -> None:
         img, level_view(), side_strength(img), BOTTOM, BOTTOM - rows, LEFT, RIGHT + 40, DEPTH
     )
     assert left == LEFT and abs(right - RIGHT) <= 3
+
+
+# -- a print in a thin margin: the margin's own colour runs ------------------------------
+
+THIN = {"top": 10, "bottom": 4, "left": 3, "right": 1}  # an uneven, thin margin
+NARROW = (100, 220)  # the face's columns: a margin's reach fits in the view beside it
+
+
+def thin_framed_scene() -> npt.NDArray[np.uint8]:
+    """A green face (columns NARROW) on the floor, a red print over most of it."""
+    img = scene(beyond=(200, 120, 40))
+    img[TOP:BOTTOM, LEFT : NARROW[0]] = (200, 120, 40)
+    img[TOP:BOTTOM, NARROW[1] : RIGHT] = (200, 120, 40)
+    t, b, lf, r = (THIN[k] for k in ("top", "bottom", "left", "right"))
+    img[TOP + t : BOTTOM - b, NARROW[0] + lf : NARROW[1] - r] = PRINT
+    return img
+
+
+def ring(
+    img: npt.NDArray[np.uint8], foot_rows: tuple[int, int] = (BOTTOM - 4, BOTTOM + 4)
+) -> tuple[int, int, int, int] | None:
+    t, b, lf, r = (THIN[k] for k in ("top", "bottom", "left", "right"))
+    return region.enclose_by_ring(
+        img, level_view(), BOTTOM - b, TOP + t, NARROW[0] + lf, NARROW[1] - r, foot_rows
+    )
+
+
+def test_a_print_in_a_thin_uneven_margin_is_enclosed_by_the_margins_run() -> None:
+    """A margin 1-4 px at the sides and foot: the fixed strips read past it; its own
+    colour's runs from the print's edges outward end at the face's outline."""
+    found = ring(thin_framed_scene())
+    assert found is not None
+    bottom, top, left, right = found
+    assert abs(bottom - BOTTOM) <= 1 and abs(top - TOP) <= 1
+    assert abs(left - NARROW[0]) <= 1 and abs(right - NARROW[1]) <= 1
+
+
+def test_a_ring_whose_foot_is_off_the_floor_band_is_no_frame() -> None:
+    """The face stands on the floor: a margin ending above the rig's contact rows (a
+    print's lower edge, another print's margin) is no face's foot."""
+    assert ring(thin_framed_scene(), (BOTTOM + 8, BOTTOM + 16)) is None
+
+
+def test_a_plain_face_under_a_wall_has_no_ring() -> None:
+    """A plain face found whole, a wall of one colour over it and beside it: what is over
+    the "print" runs on past a margin's reach, no frame."""
+    img = scene(beyond=(200, 120, 40))
+    img[:, :LEFT] = (200, 120, 40)
+    found = region.enclose_by_ring(
+        img, level_view(), BOTTOM, TOP, *NARROW, (BOTTOM - 4, BOTTOM + 4)
+    )
+    assert found is None
+
+
+def test_the_margin_ends_under_a_top_face_lit_otherwise() -> None:
+    """A top face of the same paint lit lighter over the margin: the margin ends at the
+    step between them, not where the top face ends."""
+    img = thin_framed_scene()
+    img[TOP - 12 : TOP, NARROW[0] : NARROW[1]] = np.clip(np.asarray(FACE) + 30, 0, 255)
+    found = ring(img)
+    assert found is not None and abs(found[1] - TOP) <= 1
+
+
+def test_the_ring_tolerance_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert ring(thin_framed_scene()) is not None
+    monkeypatch.setattr(region, "RING_AGREE", 2.0)
+    assert ring(thin_framed_scene()) is None

@@ -40,6 +40,7 @@ from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     enclose_by_margin,
+    enclose_by_ring,
     ends_in_colour,
     face_from_colour,
     face_under_raised_top,
@@ -298,6 +299,9 @@ class FusedMethod:
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
         framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
+        if framed is None and floor_known:
+            # a margin too thin for fixed strips: its own colour runs, its foot on the floor
+            framed = enclose_by_ring(seen, v, rb, vt, ul, ur, (r0b, r1b))
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:
@@ -524,6 +528,11 @@ class FusedMethod:
         conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
         if conf < self.min_confidence:
             return None
+        framed = enclose_by_ring(seen, self.view, rb, vt, ul, ur, rows)
+        if framed is not None:
+            # the colour found a print (its lower edge a stronger colour step than the
+            # margin's foot): the face is the margin's frame, its sides the margin's
+            return framed[0], framed[1], framed[2], framed[3], conf
         if RESCUE_WIDEN_AT_TOP:
             # the sides walked again along the foot, from the face's top: the first walk
             # ran from the beam's core under a made-up top, so on a face of planks or tape

@@ -1240,6 +1240,107 @@ def enclose_by_margin(
     return bottom + 2 + out_below, new_top, c0 + left - 2 - out_left, c0 + right + 3 + out_right
 
 
+#: Columns (rows) skipped past a print's edge before its margin is read: the edge's blur.
+RING_SKIP = 1
+#: Leading entries of the margin above a print read for the margin's colour.
+RING_SEED = 4
+#: Entries a margin above a print runs at least (its end is sought past them).
+RING_MIN = 2
+#: A margin's run holds while within this (Lab) of the margin's colour, and ends where
+#: the next few entries (their median, not one blurred entry) are farther than this.
+RING_AGREE = 20.0
+
+
+def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], reach: int) -> int:
+    """How far (entries) a margin of colour ``ring`` runs out along ``profile`` (the
+    colours outward from a print's edge, past its blur): -1 when it runs on past
+    ``reach`` (a wall of that colour, no margin) or what lies beyond it is no other colour
+    (one entry of blur or noise)."""
+    run = _run_length(profile[:reach], ring, RING_AGREE)
+    if run >= reach:
+        return -1
+    beyond = median_of(profile[run : run + 3], axis=0)
+    if norm(beyond - ring) <= RING_AGREE:
+        return -1
+    if run == 0:
+        return 0
+    # the margin ends at its sharpest step (a top face of another shade of the same
+    # paint, lit otherwise, may lie within the tolerance next to it), past the first
+    # RING_MIN entries (the margin itself; a blurred step spreads over its last ones)
+    lo = min(RING_MIN, run)
+    steps = row_norms(np.diff(profile[: run + 1], axis=0))
+    return lo + int(np.argmax(steps[lo - 1 : run]))
+
+
+def enclose_by_ring(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    foot_rows: tuple[int, int],
+) -> tuple[int, int, int, int] | None:
+    """A print (bricks, a poster) covering most of a face, found instead of the face,
+    whose margin of the face's own colour is too thin or uneven for
+    :func:`enclose_by_margin`'s fixed strips (a margin of 1-4 px at a side).
+
+    The face is one surface: the margin above the print is its colour, and where the
+    margin shows beside the print (at least one side) and under it, it is that same
+    colour, ending within a margin's reach where the room (at another depth) begins. The
+    face stands on the floor: the margin's foot must fall in the rig's band of
+    floor-contact rows ``foot_rows`` (a print's lower edge above the band is no foot).
+    Returns the frame (bottom, top, left, right) or None."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 10:
+        return None
+    h, w = view.out.shape
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + RING_SKIP + 3
+    reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + RING_SKIP + 3
+    r0, r1 = top - reach_v, min(h, foot_rows[1] + 4)
+    c0, c1 = left - reach_u, right + reach_u + 1
+    if r0 < 0 or c0 < 0 or c1 > w or r1 <= bottom + 4:
+        return None
+    # two bands through the print's middle, a tenth of its size wide: rows over its
+    # middle columns (above, the print, below), columns over its middle rows (beside)
+    q_u, q_v = max(2, (right - left) // 10), max(2, (bottom - top) // 10)
+    cm, rm = (left + right) // 2, (top + bottom) // 2
+    band = _lab8(image, view, r0, r1, cm - q_u, cm + q_u + 1)
+    k_v = max(1, (bottom - top) // 5)
+    t, b = top - r0, bottom - r0
+    print_colour = median_u8(band[t + k_v : b - k_v].reshape(-1, 3), axis=0)
+    rows = np.asarray(median_u8(band, axis=1), np.float32)
+    above = rows[t - RING_SKIP :: -1]
+    ring = median_of(above[:RING_SEED], axis=0)
+    if norm(ring - print_colour) < MARGIN_VS_PRINT:
+        return None
+    up = _ring_run(above, ring, reach_v)
+    if up < RING_MIN:
+        return None
+    below = rows[b + RING_SKIP :]
+    down = _ring_run(below, ring, below.shape[0])
+    new_bottom = bottom + RING_SKIP + down
+    if down < 1 or not foot_rows[0] <= new_bottom <= foot_rows[1]:
+        return None
+    cols = np.asarray(
+        median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
+    )
+    lf, rt = left - c0, right - c0
+    out = []
+    for profile in (cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :]):
+        run = _ring_run(profile, ring, reach_u)
+        out.append(max(run, 0))
+        if run < 0 and norm(profile[0] - ring) < RING_AGREE:
+            return None  # the margin's colour runs on beside the print: a wall of it
+    if max(out) < 2:
+        return None  # no margin beside the print: the ring above it is something else
+    return (
+        new_bottom,
+        top - RING_SKIP - up,
+        left - RING_SKIP - out[0],
+        right + RING_SKIP + out[1],
+    )
+
+
 #: Half the beam's core sampled for the face's colour at its foot, metres at the face.
 CORE_HALF_M = 0.03
 #: Rows either side of a contact row read for the face (above) and the floor (below).
