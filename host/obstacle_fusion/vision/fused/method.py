@@ -299,8 +299,9 @@ class FusedMethod:
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
         framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
-        if framed is None and floor_known:
+        if framed is None and floor_known and vb0 - rb <= FOOT_ABOVE_SHARE * tol:
             # a margin too thin for fixed strips: its own colour runs, its foot on the floor
+            # (a face standing above the floor's row is _outline's, after the confidence)
             framed = enclose_by_ring(seen, v, rb, vt, ul, ur, (r0b, r1b))
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
