@@ -393,29 +393,36 @@ def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
 
 
 @pytest.mark.parametrize(
-    "weak_conf, expected",
+    "weak_conf, weak_drop, expected",
     [
-        (0.30, 0.30),  # the weaker step below stands a sure face: the nearer foot
-        (0.10, 0.20),  # an unsure face there too: the row that stood out stays
+        (0.30, 1.0, 0.30),  # the weaker step below stands a sure face: the nearer foot
+        (0.10, 1.0, 0.20),  # an unsure face there too: the row that stood out stays
+        (0.30, 0.0, 0.20),  # the same face on its own foot (the step its foot's blur)
     ],
 )
 def test_with_no_rig_a_weaker_step_below_an_unsure_face_is_the_nearer_foot(
-    weak_conf: float, expected: float, monkeypatch: pytest.MonkeyPatch
+    weak_conf: float, weak_drop: float, expected: float, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The sonar measured the nearest surface in its beam: when the only row that stands
     out of the band's steps (a wall's foot) stands an unsure face, a weaker step below it
-    (a face of nearly the floor's colour) that stands a face of at least ESTIMATE_ACCEPT
-    is the face's foot."""
+    (a face of nearly the floor's colour) that stands a face of at least ESTIMATE_ACCEPT,
+    its foot lower than the unsure face's, is the face's foot."""
 
     image, truth, view, depth = no_rig_room(4001)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
     outcome = {0.20: 0.10, 0.30: weak_conf}
+    # the faces' feet (input pixels): the weak row's lower by weak_drop of the rows' gap
+    foot = {
+        0.20: float(row_at[0.20]),
+        0.30: row_at[0.20] + weak_drop * (row_at[0.30] - row_at[0.20]),
+    }
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         height = round(self.view.rig.camera_height_m, 2)
         if self.view.rig.camera_pitch_deg or height not in outcome or kwargs.get("floor_known"):
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
-        return fake_face(truth, True, outcome[height], height_m=0.3)
+        box = (100.0, foot[height] - 50.0, 200.0, foot[height])
+        return fake_face(truth, True, outcome[height], height_m=0.3, box_px=box)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.20]])

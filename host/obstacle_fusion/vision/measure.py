@@ -291,7 +291,9 @@ class Measurer:
                 if result.detected:
                     lower_faces.append((row, result))
             if best is not None and best.detected and best_row is not None and not accepted(best):
-                nearer = self._nearer_weak_contact(image, view, depth, best_row, set(rows), trial)
+                nearer = self._nearer_weak_contact(
+                    image, view, depth, best_row, set(rows), trial, best.box_px
+                )
                 if nearer is not None:
                     best, best_row = nearer
             if best is not None and best.detected and best_row is not None:
@@ -465,10 +467,13 @@ class Measurer:
         row: int,
         tried: set[int],
         trial: Callable[[float, float | None], Measurement],
+        upper_box: tuple[float, float, float, float] | None = None,
     ) -> tuple[Measurement, int] | None:
         """A face on a weaker step of the band below ``row`` (nearer the robot), when the
-        face on ``row`` is not a sure one: the first, lowest first, that stands a face of
-        at least ESTIMATE_ACCEPT on its own foot, with that row; else None.
+        face on ``row`` (its box ``upper_box``, input pixels) is not a sure one: the first,
+        lowest first, that stands a face of at least ESTIMATE_ACCEPT on its own foot, that
+        foot at least MIN_NEARER_DROP_PX under the unsure face's (else it is that face
+        again, the step its foot's blur or shadow), with that row; else None.
 
         The sonar measured the nearest surface in its beam, so the face's foot is the
         lowest floor contact under the beam; the wall's foot, the farthest, is a clear step
@@ -486,10 +491,14 @@ class Measurer:
             if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
                 continue
             result = trial(height, low)
-            if (
+            if not (
                 result.detected
-                and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
-                and sides_reach_foot(image, result.lines)
+                and result.box_px is not None
+                and (upper_box is None or result.box_px[3] >= upper_box[3] + MIN_NEARER_DROP_PX)
+            ):
+                continue  # no face, or the unsure face again on its own foot's blur
+            if (result.confidence or 0.0) >= ESTIMATE_ACCEPT and sides_reach_foot(
+                image, result.lines
             ):
                 log.debug("no rig: weak row %d below row %d stands a sure face", low, row)
                 return result, low
