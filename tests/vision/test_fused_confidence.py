@@ -33,6 +33,7 @@ from obstacle_fusion.vision.fused.confidence import (
     SMALL_FACE_PX,
     TOP_FROM_SIDES,
     TOP_RUNS_ON,
+    TRIAL_RIVAL,
     UNEVEN_SIDES,
     contact_doubts,
     foot_doubts,
@@ -69,6 +70,7 @@ def test_one_doubt_takes_the_surest_face_under_half() -> None:
         FOOT_OFF_FLOOR,
         FLOOR_IN_FACE,
         FOOT_ABOVE_CONTACT,
+        TRIAL_RIVAL,
     }
     for doubt in DOUBT_FACTORS:
         rig = doubt in RIG_ONLY
@@ -121,7 +123,7 @@ def test_doubts_multiply_once_each_and_unknown_names_are_ignored() -> None:
 
 
 def test_a_print_margin_cuts_only_with_the_contact_found_in_the_image() -> None:
-    assert NO_RIG_ONLY == frozenset({FRAMED})
+    assert NO_RIG_ONLY == frozenset({FRAMED, TRIAL_RIVAL})
     assert reported_confidence(0.8, [FRAMED], 200.0, 200.0, 0.05, rig_given=True) == (0.8, [])
     assert reported_confidence(0.8, [FRAMED], 200.0, 200.0, 0.05, rig_given=False) == (
         0.36,

@@ -392,6 +392,91 @@ def test_with_no_rig_and_no_row_accepted_the_lowest_face_wins(
     assert res.camera_height_m == pytest.approx(expected, abs=0.01)
 
 
+@pytest.mark.parametrize(
+    "weak_conf, weak_drop, expected",
+    [
+        (0.30, 1.0, 0.30),  # the weaker step below stands a sure face: the nearer foot
+        (0.10, 1.0, 0.20),  # an unsure face there too: the row that stood out stays
+        (0.30, 0.0, 0.20),  # the same face on its own foot (the step its foot's blur)
+    ],
+)
+def test_with_no_rig_a_weaker_step_below_an_unsure_face_is_the_nearer_foot(
+    weak_conf: float, weak_drop: float, expected: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The sonar measured the nearest surface in its beam: when the only row that stands
+    out of the band's steps (a wall's foot) stands an unsure face, a weaker step below it
+    (a face of nearly the floor's colour) that stands a face of at least ESTIMATE_ACCEPT,
+    its foot lower than the unsure face's, is the face's foot."""
+
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    outcome = {0.20: 0.10, 0.30: weak_conf}
+    # the faces' feet (input pixels): the weak row's lower by weak_drop of the rows' gap
+    foot = {
+        0.20: float(row_at[0.20]),
+        0.30: row_at[0.20] + weak_drop * (row_at[0.30] - row_at[0.20]),
+    }
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in outcome or kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        box = (100.0, foot[height] - 50.0, 200.0, foot[height])
+        return fake_face(truth, True, outcome[height], height_m=0.3, box_px=box)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+def boxed(x0: float, x1: float, conf: float = 0.6) -> Measurement:
+    """A detected face spanning columns x0..x1 (rows 100..200)."""
+    return Measurement(
+        detected=True, method="fused", range_m=1.0, confidence=conf, box_px=(x0, 100, x1, 200)
+    )
+
+
+def test_a_sure_face_of_another_trial_beside_the_face_is_a_rival() -> None:
+    """Two no-rig trials (another guessed camera height or pitch) found sure faces side by
+    side: the face measured is one the unknown rig decides between (TRIAL_RIVAL); a wider
+    or narrower reading of the same face, or a rival not standing on its foot, is not."""
+    best = boxed(100, 160)
+    beside = boxed(180, 220)
+    assert measure._rival_trial(best, [best, beside], lambda r: True)
+    assert not measure._rival_trial(best, [best, beside], lambda r: False)  # not standing
+    assert not measure._rival_trial(best, [best, boxed(90, 175)], lambda r: True)  # same face
+    assert not measure._rival_trial(best, [best, boxed(130, 200)], lambda r: True)  # half of it
+    assert measure._rival_trial(best, [boxed(135, 220)], lambda r: True)  # a quarter shared
+
+
+def test_with_no_rig_a_rival_trial_face_takes_the_answer_under_half(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The doubt reaches the reported confidence: a sure face (0.7) with a sure rival
+    beside it from a trial at another guessed pitch is reported under 0.5."""
+
+    image, truth, view, depth = no_rig_room(4001)
+    row = int(round(view.cy + view.fy * 0.20 / depth))
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        if kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        pitch = self.view.rig.camera_pitch_deg
+        x0 = 100.0 if pitch <= 0 else 300.0  # the guessed pitch decides which face
+        return fake_face(truth, True, 0.7 if pitch == 0 else 0.3, box_px=(x0, 100, x0 + 60, 200))
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert measure.TRIAL_RIVAL in res.doubts
+    assert (res.confidence or 0.0) < 0.5
+
+
 def test_with_no_rig_a_face_only_the_known_floor_cues_find_is_taken_at_the_lowest_row(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -929,14 +1014,17 @@ def test_with_no_rig_the_sweep_is_not_tried_when_a_row_stands_a_face(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """The sweep acts only where everything else found nothing: a face on the contact row,
-    however unsure, is the answer, and no weak step is tried."""
+    however unsure, is the answer, and no weak step is tried at the swept pitches (the weak
+    step below it is tried level only, as a nearer foot: it stands no face here)."""
     res, calls, row_at, depth = _swept_room(monkeypatch, confirm=True, level_conf=0.1)
     assert res.detected
     # the contact row's face (its own pitch sweep takes the surer one at 4 degrees)
     at_row = [row_height(row_at[0.25], depth, p) for p in (0.0, 4.0)]
     assert any(res.camera_height_m == pytest.approx(h, abs=0.01) for h in at_row)
-    weak = [row_height(row_at[0.35], depth, p) for p in (0.0, *measure.SWEPT_PITCHES_DEG)]
+    weak = [row_height(row_at[0.35], depth, p) for p in measure.SWEPT_PITCHES_DEG]
     assert not any(h == pytest.approx(w) for h, _ in calls for w in weak)
+    level_weak = row_height(row_at[0.35], depth, 0.0)
+    assert [p for h, p in calls if h == pytest.approx(level_weak)] == [0.0]
 
 
 def test_with_no_rig_a_pitched_lens_missed_level_is_found_by_the_sweep(

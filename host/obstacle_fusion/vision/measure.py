@@ -26,6 +26,7 @@ from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.confidence import (
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
+    TRIAL_RIVAL,
     reported_confidence,
 )
 from obstacle_fusion.vision.fused.floor_contact import (
@@ -202,6 +203,8 @@ class Measurer:
                 method.view = base
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
+            if accepted(result):
+                sure_trials.append(result)
             if log.isEnabledFor(logging.DEBUG):  # up to ~20 trials a frame: format only if read
                 log.debug(
                     "no rig: camera %.3f m, pitch %.1f deg, row %.0f, slack %.0f px%s: %s, "
@@ -235,6 +238,7 @@ class Measurer:
         fallback: Measurement | None = None  # the last frame's rig's face, not sure
         unstood = 0  # faces found on rows they did not stand on
         unsure: Measurement | None = None  # the surest near-horizon face, not accepted
+        sure_trials: list[Measurement] = []  # every trial's face of at least ESTIMATE_ACCEPT
         try:
             last = self._last_rig
             if last is not None:
@@ -286,6 +290,12 @@ class Measurer:
                     break
                 if result.detected:
                     lower_faces.append((row, result))
+            if best is not None and best.detected and best_row is not None and not accepted(best):
+                nearer = self._nearer_weak_contact(
+                    image, view, depth, best_row, set(rows), trial, best.box_px
+                )
+                if nearer is not None:
+                    best, best_row = nearer
             if best is not None and best.detected and best_row is not None:
                 # the row is found to a pixel or two, and the face a level view finds can
                 # change with it: the surest of the row and its neighbours
@@ -416,6 +426,12 @@ class Measurer:
         finally:
             if best is not None and best.detected and not pitch_read:
                 best.doubts = [*best.doubts, PITCH_UNREAD]
+            if (
+                best is not None
+                and best.detected
+                and _rival_trial(best, sure_trials, lambda r: sides_reach_foot(image, r.lines))
+            ):
+                best.doubts = [*best.doubts, TRIAL_RIVAL]
             self._last_rig = (
                 (
                     best.camera_height_m or 0.0,
@@ -442,6 +458,51 @@ class Measurer:
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         return best
+
+    def _nearer_weak_contact(
+        self,
+        image: npt.NDArray[Any],
+        view: View,
+        depth: float,
+        row: int,
+        tried: set[int],
+        trial: Callable[[float, float | None], Measurement],
+        upper_box: tuple[float, float, float, float] | None = None,
+    ) -> tuple[Measurement, int] | None:
+        """A face on a weaker step of the band below ``row`` (nearer the robot), when the
+        face on ``row`` (its box ``upper_box``, input pixels) is not a sure one: the first,
+        lowest first, that stands a face of at least ESTIMATE_ACCEPT on its own foot, that
+        foot at least MIN_NEARER_DROP_PX under the unsure face's (else it is that face
+        again, the step its foot's blur or shadow), with that row; else None.
+
+        The sonar measured the nearest surface in its beam, so the face's foot is the
+        lowest floor contact under the beam; the wall's foot, the farthest, is a clear step
+        while a face of nearly the floor's colour steps little where it meets the floor
+        (under the noise bar of :func:`contact_rows`). A wall's foot (or a band between
+        legs at it) standing only an unsure face, with a weak step below it that stands an
+        accepted one, is behind that face."""
+        lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
+        for low in weak_contact_rows(image, view, depth):  # lowest first
+            if low <= row + MIN_NEARER_DROP_PX:
+                break
+            if low in tried or low < lowest:
+                continue
+            height = camera_height_for_row(low, depth, 0.0, view.fy, view.cy)
+            if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                continue
+            result = trial(height, low)
+            if not (
+                result.detected
+                and result.box_px is not None
+                and (upper_box is None or result.box_px[3] >= upper_box[3] + MIN_NEARER_DROP_PX)
+            ):
+                continue  # no face, or the unsure face again on its own foot's blur
+            if (result.confidence or 0.0) >= ESTIMATE_ACCEPT and sides_reach_foot(
+                image, result.lines
+            ):
+                log.debug("no rig: weak row %d below row %d stands a sure face", low, row)
+                return result, low
+        return None
 
     def _pitch_swept_rows(
         self,
@@ -646,6 +707,9 @@ SWEPT_PITCH_MARGIN = 0.15
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
+#: A weaker step tried as a nearer foot lies at least this many rows below the row whose
+#: face was unsure (closer steps are that row's own edge blur, tried by the jitter).
+MIN_NEARER_DROP_PX = 2 * ROW_JITTER_PX
 #: With no rig and the pitch not read from the face's sides, the lens may look down by up
 #: to this much more than the guess (degrees): a box's top face may show that far above
 #: the guessed horizon ...
@@ -663,11 +727,38 @@ PITCHED_VIEWS_KEPT = 8
 
 #: A face box within this many pixels of an image border is cut by it.
 CLIP_MARGIN_PX = 1.5
+#: A sure face of another no-rig trial sharing under this share of the narrower face's
+#: columns with the face reported is another face beside it (a face and its own parts or
+#: a wider reading of it share most of them).
+RIVAL_SHARED_WIDTH = 0.5
 #: The order ``clipped`` lists the cut sides in.
 SIDES = ("left", "right", "top", "bottom")
 #: With no rig, after a last-resort pitch sweep that found no face, this many frames of a
 #: stream go without one (a frame with nothing in view would pay ~90 trials each time).
 SWEEP_REST_FRAMES = 10
+
+
+def _rival_trial(
+    best: Measurement,
+    trials: list[Measurement],
+    stands: Callable[[Measurement], bool],
+) -> bool:
+    """Whether a sure face of another no-rig trial lies beside ``best``: its columns share
+    under RIVAL_SHARED_WIDTH of the narrower face's width, and it stands on its foot
+    (``stands``). The trials differ only in the guessed camera height and pitch, so the face
+    measured is one of two the unknown rig decides between (TRIAL_RIVAL)."""
+    if best.box_px is None:
+        return False
+    x0, _, x1, _ = best.box_px
+    for other in trials:
+        if other is best or other.box_px is None:
+            continue
+        o0, _, o1, _ = other.box_px
+        narrower = min(x1 - x0, o1 - o0)
+        shared = min(x1, o1) - max(x0, o0)
+        if narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower and stands(other):
+            return True
+    return False
 
 
 def _doubted(found: Measurement) -> float:

@@ -122,6 +122,11 @@ PITCH_UNREAD = "pitch_unread"
 #: came out another size (or was not found): the size reported is the level view's one
 #: scaled, from two measurements that disagree.
 PITCH_RERUN_DISAGREES = "pitch_rerun_disagrees"
+#: No rig: another trial of the floor-contact search (a neighbouring row, another guessed
+#: pitch, so another guessed camera height) found a different sure face beside this one,
+#: standing on its own foot (little shared width): which face is measured depends on the
+#: camera height and pitch the method could only guess, and the beam holds both.
+TRIAL_RIVAL = "trial_rival"
 #: A face whose image height or width (working view) is under SMALL_FACE_PX: its size is
 #: only as sure as its share of that (see :func:`pixel_factor`).
 SMALL_FACE = "small_face"
@@ -191,10 +196,11 @@ DOUBT_FACTORS: dict[str, float] = {
     FOOT_OFF_FLOOR: DOUBT_FACTOR,
     FLOOR_IN_FACE: DOUBT_FACTOR,
     FOOT_ABOVE_CONTACT: DOUBT_FACTOR,
+    TRIAL_RIVAL: DOUBT_FACTOR,
 }
 
 #: Doubts that cut the confidence only when the floor contact was found in the image.
-NO_RIG_ONLY = frozenset({FRAMED})
+NO_RIG_ONLY = frozenset({FRAMED, TRIAL_RIVAL})
 #: ... and only when it was predicted from a rig file (with no rig the contact row is the
 #: trial's own guess).
 RIG_ONLY = frozenset({FOOT_ABOVE_CONTACT})
