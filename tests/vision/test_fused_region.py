@@ -1566,3 +1566,59 @@ def test_the_ring_tolerance_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert ring(thin_framed_scene()) is not None
     monkeypatch.setattr(region, "RING_AGREE", 2.0)
     assert ring(thin_framed_scene()) is None
+
+
+def test_a_side_found_inside_the_prints_blurred_edge_walks_out_to_the_margins_end() -> None:
+    """A side found a few columns inside the print (its edge blurred past the side): the
+    margin's colour shows just beyond that blur, so the side is inside the face and the
+    run goes on to the margin's end, the face's outline (photo/339: -7.5 % in width)."""
+    img = thin_framed_scene()
+    t, b, lf, r = (THIN[k] for k in ("top", "bottom", "left", "right"))
+    inset = 3  # the side found 3 columns inside the print's left edge
+    found = region.enclose_by_ring(
+        img,
+        level_view(),
+        BOTTOM - b,
+        TOP + t,
+        NARROW[0] + lf + inset,
+        NARROW[1] - r,
+        (BOTTOM - 4, BOTTOM + 4),
+    )
+    assert found is not None
+    assert abs(found[2] - NARROW[0]) <= 1
+
+
+def test_a_margin_past_the_blur_reach_is_not_walked(monkeypatch: pytest.MonkeyPatch) -> None:
+    """RING_BLUR bounds how far past the side the margin may start: with none, the side
+    found inside the print stays there."""
+    monkeypatch.setattr(region, "RING_BLUR", 1)
+    img = thin_framed_scene()
+    t, b, lf, r = (THIN[k] for k in ("top", "bottom", "left", "right"))
+    found = region.enclose_by_ring(
+        img,
+        level_view(),
+        BOTTOM - b,
+        TOP + t,
+        NARROW[0] + lf + 3,
+        NARROW[1] - r,
+        (BOTTOM - 4, BOTTOM + 4),
+    )
+    assert found is None or found[2] > NARROW[0] + 1
+
+
+def _profile(dists: list[float]) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+    """Colours outward from a print's edge at these Lab distances (in L) from a margin."""
+    ring_colour = np.array([100.0, 128.0, 128.0], np.float32)
+    prof = np.tile(ring_colour, (len(dists), 1))
+    prof[:, 0] += np.asarray(dists, np.float32)
+    return prof, ring_colour
+
+
+def test_a_blur_ramp_past_the_side_is_crossed_a_third_colour_band_is_not() -> None:
+    """Past a side found inside a print's blurred edge the colours ramp down to the
+    margin's: the run starts there. A band of a third colour (no ramp: nearer, then
+    farther again) is no blur; the run stays at 0 as before."""
+    ramp, ring_colour = _profile([41, 28, 14, 3, 2, 3, 2, 60, 70, 70, 70, 70])
+    assert region._ring_run(ramp, ring_colour, 10) == 7
+    band, _ = _profile([21, 16, 21, 3, 2, 3, 2, 60, 70, 70, 70, 70])
+    assert region._ring_run(band, ring_colour, 10) == 0

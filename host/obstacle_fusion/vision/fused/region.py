@@ -1249,6 +1249,11 @@ RING_MIN = 2
 #: A margin's run holds while within this (Lab) of the margin's colour, and ends where
 #: the next few entries (their median, not one blurred entry) are farther than this.
 RING_AGREE = 20.0
+#: Entries outward from a side within which a margin's run may start (the print's edge
+#: blurred past the side found: RING_SKIP plus these).
+RING_BLUR = 4
+#: ... where its colour shows within this share of RING_AGREE (clearly the margin's).
+RING_CLEAR = 0.75
 
 
 def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], reach: int) -> int:
@@ -1256,18 +1261,30 @@ def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], r
     colours outward from a print's edge, past its blur): -1 when it runs on past
     ``reach`` (a wall of that colour, no margin) or what lies beyond it is no other colour
     (one entry of blur or noise)."""
-    run = _run_length(profile[:reach], ring, RING_AGREE)
+    # the print's edge may stand a column or two farther out than the side found (its
+    # blur): where the first entry is not the margin's, the margin starts where its colour
+    # first shows clearly within RING_BLUR entries, reached by a ramp (each entry nearer
+    # the margin's colour, as a blurred step is; a band of a third colour is no blur). The
+    # margin's colour seen beyond the side means the side is inside the face
+    start = 0
+    dist = row_norms(profile[:RING_BLUR] - ring)
+    clear = dist <= RING_CLEAR * RING_AGREE
+    if dist.size and dist[0] > RING_AGREE and clear.any():
+        first = int(np.argmax(clear))
+        if bool(np.all(np.diff(dist[: first + 1]) <= 0.0)):
+            start = first
+    run = start + _run_length(profile[start:reach], ring, RING_AGREE)
     if run >= reach:
         return -1
     beyond = median_of(profile[run : run + 3], axis=0)
     if norm(beyond - ring) <= RING_AGREE:
         return -1
-    if run == 0:
+    if run == start:
         return 0
     # the margin ends at its sharpest step (a top face of another shade of the same
     # paint, lit otherwise, may lie within the tolerance next to it), past the first
     # RING_MIN entries (the margin itself; a blurred step spreads over its last ones)
-    lo = min(RING_MIN, run)
+    lo = start + min(RING_MIN, run - start)
     steps = row_norms(np.diff(profile[: run + 1], axis=0))
     return lo + int(np.argmax(steps[lo - 1 : run]))
 
