@@ -24,9 +24,12 @@ _c_remap_table: Callable[[Any, int, Any, Any, Any, Any], None] | None
 _c_remap_table3: Callable[[Any, Any, Any, Any, int, int, Any], None] | None
 try:  # the optional C accelerator (setup.py)
     from obstacle_fusion.vision.fused._cmiddle import remap_table as _c_remap_table
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_remap_table = None
+try:  # (apart: an accelerator built before the colour remap still remaps the grey view)
     from obstacle_fusion.vision.fused._cmiddle import remap_table3 as _c_remap_table3
 except ImportError:  # pragma: no cover - only where the extension did not build
-    _c_remap_table = _c_remap_table3 = None
+    _c_remap_table3 = None
 
 #: Weights of OpenCV's fixed-point maps: 32nds of a pixel (INTER_BITS = 5).
 TAB_BITS = 5
