@@ -1622,3 +1622,41 @@ def test_a_blur_ramp_past_the_side_is_crossed_a_third_colour_band_is_not() -> No
     assert region._ring_run(ramp, ring_colour, 10) == 7
     band, _ = _profile([21, 16, 21, 3, 2, 3, 2, 60, 70, 70, 70, 70])
     assert region._ring_run(band, ring_colour, 10) == 0
+
+
+def _walk_colour_by_search(
+    colour: npt.NDArray[np.float32], on: npt.NDArray[np.bool_], start: int, limit: float, gap: int
+) -> int:
+    """The colour walk as first written: each row's reference searched for in the rows
+    reached (the last one at least STEP_ROWS below it, else the start)."""
+    reached = [start]
+    misses, r = 0, start
+    while r - 1 >= 0 and misses <= gap:
+        r -= 1
+        ref = next((q for q in reversed(reached) if q >= r + region.STEP_ROWS), start)
+        if (
+            on[r]
+            and float(np.sqrt((colour[r] - colour[ref]).dot(colour[r] - colour[ref]))) <= limit
+        ):
+            reached.append(r)
+            misses = 0
+        else:
+            misses += 1
+    return reached[-1]
+
+
+def test_the_colour_walk_keeps_its_reference_rows() -> None:
+    """The walk's reference row followed by a pointer (the rows reached fall one by one)
+    reaches the rows the search over all rows reached did: drifting colours with gaps,
+    steps and misses, every start and limit."""
+    rng = np.random.default_rng(31)
+    for _ in range(300):
+        n = int(rng.integers(2, 60))
+        colour = np.cumsum(rng.normal(0.0, 3.0, (n, 3)), axis=0).astype(np.float32)
+        colour[rng.random(n) < 0.1] += 40.0  # steps
+        on = rng.random(n) > 0.15
+        start = int(rng.integers(0, n))
+        limit = float(rng.uniform(2.0, 12.0))
+        gap = int(rng.integers(0, 4))
+        want = _walk_colour_by_search(colour, on, start, limit, gap)
+        assert region._walk_colour(colour, on, start, limit, gap) == want

@@ -235,3 +235,91 @@ def test_no_table_for_rows_reversed() -> None:
         remap(src, got)
         assert np.array_equal(got, want)
     assert remap._tables == {}
+
+
+def _colour_frames(rng: np.random.Generator, h: int, w: int) -> list[npt.NDArray[np.uint8]]:
+    """BGR noise (every weight and channel shows), smoothed, and a hard colour step."""
+    noise = rng.integers(0, 256, (h, w, 3), np.uint8)
+    step = np.zeros((h, w, 3), np.uint8)
+    step[:, w // 2 :] = (255, 0, 128)
+    return [noise, cv2.GaussianBlur(noise, (9, 9), 3), step]
+
+
+@pytest.mark.parametrize(("kind", "pitch"), [("level", 0.0), ("level", 9.0), ("level", -25.0)])
+def test_the_colour_block_remap_in_c_is_opencvs(kind: str, pitch: float) -> None:
+    """Blocks of a BGR frame by the C colour remap: cv2.remap's values channel for
+    channel, the whole view (past the frame's borders: the last row and column's pixels)
+    and blocks inside it, one pixel wide too."""
+    assert undistort._c_remap_table3 is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(17)
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(camera_pitch_deg=pitch), kind)
+    remap = TableRemap(view)
+    h, w = camera.height, camera.width
+    blocks = [(0, h, 0, w), (50, 90, 7, 301), (h - 1, h, 0, w), (0, h, w - 1, w), (3, 4, 5, 6)]
+    for image in _colour_frames(rng, h, w):
+        for r0, r1, c0, c1 in blocks:
+            want = cv2.remap(
+                image,
+                view.map1[r0:r1, c0:c1],
+                view.map2[r0:r1, c0:c1],
+                cv2.INTER_LINEAR,
+                borderMode=cv2.BORDER_REPLICATE,
+            )
+            got = remap.colour_block(image, r0, r1, c0, c1)
+            assert got is not None
+            assert np.array_equal(got, want.reshape(got.shape))
+
+
+def test_the_colour_block_remap_leaves_what_it_cannot_read_to_opencv() -> None:
+    """A grey frame, a frame of another size or with gaps between its rows: no block
+    (the caller remaps with OpenCV); a table's entry outside the frame is refused."""
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(), "level")
+    remap = TableRemap(view)
+    h, w = camera.height, camera.width
+    assert remap.colour_block(np.zeros((h, w), np.uint8), 0, 4, 0, 4) is None
+    assert remap.colour_block(np.zeros((h, w + 1, 3), np.uint8), 0, 4, 0, 4) is None
+    assert remap.colour_block(np.zeros((h, w + 2, 3), np.uint8)[:, :w], 0, 4, 0, 4) is None
+    c = undistort._c_remap_table3
+    assert c is not None
+    off, fx, fy = remap_table(view, w)
+    top, bottom = undistort.pair_weights((off, fx, fy))
+    bad = off.copy()
+    bad[2, 3] = (h - 1) * w  # the last row's first pixel: no row below it
+    with pytest.raises(ValueError, match="outside the image"):
+        c(np.zeros((h, w, 3), np.uint8), bad, top, bottom, 0, 0, np.empty((4, 5, 3), np.uint8))
+    with pytest.raises(ValueError, match="table for this image and block"):
+        c(np.zeros((h, w, 3), np.uint8), off, top, bottom, h - 2, 0, np.empty((4, 5, 3), np.uint8))
+
+
+def test_lab_blocks_by_the_c_colour_remap_are_opencvs(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The fused method's view converts its Lab blocks from the C colour remap: the same
+    values as with OpenCV's remap (the accelerator off), held frame or not, and a block
+    inside one converted before is that one's."""
+    from obstacle_fusion.vision.fused import FusedMethod
+
+    rng = np.random.default_rng(23)
+    camera = CameraModel.paper(320, 240)
+    view = View(camera, Rig(camera_pitch_deg=6.0), "level")
+    FusedMethod(view)  # hands the view its colour remap
+    image = cv2.GaussianBlur(rng.integers(0, 256, (240, 320, 3), np.uint8), (5, 5), 2)
+    blocks = [(100, 160, 0, 320), (120, 140, 30, 90), (90, 130, 20, 80), (150, 200, 10, 60)]
+
+    def lab_blocks(hold: bool) -> list[npt.NDArray[np.uint8]]:
+        view.hold_colour(image if hold else None)
+        out = [view.lab(image, *b).copy() for b in blocks]
+        view.hold_colour(None)
+        return out
+
+    with_c = lab_blocks(True) + lab_blocks(False)
+    with monkeypatch.context() as m:
+        m.setattr(undistort, "_c_remap_table3", None)
+        without = lab_blocks(True) + lab_blocks(False)
+    view.use_colour_remap(None)
+    plain = lab_blocks(True) + lab_blocks(False)
+    for a, b, c in zip(with_c, without, plain, strict=True):
+        assert np.array_equal(a, b) and np.array_equal(a, c)
+    n = len(blocks)
+    for held, fresh in zip(with_c[:n], with_c[n:], strict=True):  # the cache's: its own
+        assert np.array_equal(held, fresh)

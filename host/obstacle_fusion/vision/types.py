@@ -20,6 +20,8 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 
 FloatArray = npt.NDArray[np.float64]
+#: A colour block's remap (:meth:`View.use_colour_remap`): image, r0, r1, c0, c1.
+ColourRemap = Callable[[npt.NDArray[Any], int, int, int, int], "npt.NDArray[np.uint8] | None"]
 Box = tuple[float, float, float, float]
 Line = tuple[float, float, float, float]
 
@@ -121,6 +123,14 @@ class View:
         self._held: npt.NDArray[Any] | None = None
         self._lab: npt.NDArray[np.uint8] | None = None
         self._lab_boxes: list[tuple[int, int, int, int]] = []
+        # a method's faster remap of a colour block (:meth:`use_colour_remap`)
+        self._colour_remap: ColourRemap | None = None
+
+    def use_colour_remap(self, remap: ColourRemap | None) -> None:
+        """``remap(image, r0, r1, c0, c1)``: the view block rows r0..r1-1, columns c0..c1-1
+        of the BGR ``image`` with OpenCV's bilinear remap's values (or None: OpenCV remaps
+        it), for :meth:`lab`'s blocks (the fused method's table remap)."""
+        self._colour_remap = remap
 
     def input_rows(self, rows: int) -> int:
         """How many of the input image's top rows the view's first ``rows`` rows read."""
@@ -199,6 +209,11 @@ class View:
         ca, cb, _ = cols.indices(w)
         if ra >= rb or ca >= cb:
             return self._to_lab(image, rows, cols)  # OpenCV's answer to an empty block
+        for a, b, c, d in reversed(self._lab_boxes):
+            if a <= ra and rb <= b and c <= ca and cb <= d:  # inside one block before
+                held = lab[ra:rb, ca:cb]
+                held.flags.writeable = False
+                return held
         # the block's parts no block before converted: rectangles (the block less each
         # earlier box in turn: up to four pieces around it)
         box = (ra, rb, ca, cb)
@@ -236,13 +251,21 @@ class View:
 
     def _to_lab(self, image: npt.NDArray[Any], rows: slice, cols: slice) -> npt.NDArray[np.uint8]:
         """The view block (rows, cols) of the BGR ``image``, undistorted and in CIE Lab."""
-        band = cv2.remap(
-            image,
-            self.map1[rows, cols],
-            self.map2[rows, cols],
-            cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_REPLICATE,
-        )
+        band: npt.NDArray[Any] | None = None
+        if self._colour_remap is not None and rows.step in (None, 1) and cols.step in (None, 1):
+            h, w = self.out.shape
+            ra, rb, _ = rows.indices(h)
+            ca, cb, _ = cols.indices(w)
+            if ra < rb and ca < cb:
+                band = self._colour_remap(image, ra, rb, ca, cb)
+        if band is None:
+            band = cv2.remap(
+                image,
+                self.map1[rows, cols],
+                self.map2[rows, cols],
+                cv2.INTER_LINEAR,
+                borderMode=cv2.BORDER_REPLICATE,
+            )
         return np.asarray(cv2.cvtColor(band, cv2.COLOR_BGR2LAB))
 
     def unseen_sides(self, corners: npt.ArrayLike, margin: float = UNSEEN_MARGIN_PX) -> list[str]:

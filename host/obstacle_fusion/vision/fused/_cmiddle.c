@@ -27,6 +27,12 @@ static int is_u8(const Py_buffer *b)
     return b->itemsize == 1 && (b->format == NULL || strcmp(b->format, "B") == 0);
 }
 
+static int is_i32(const Py_buffer *b)
+{
+    return b->itemsize == 4 && b->format != NULL &&
+           (strcmp(b->format, "i") == 0 || strcmp(b->format, "l") == 0);
+}
+
 /* One comparator over all lanes: the minimum to x (when wanted), the maximum to y. */
 static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssize_t lanes,
                     int want)
@@ -519,9 +525,136 @@ done:
 }
 
 
+/* remap_table3(src, offsets, wtop, wbot, r0, c0, dst): remap_table's remap of a packed
+ * BGR image (rows 3 x its width bytes apart: a BGR pixel's byte offset is three times the
+ * grey one the table holds for the same width), each channel as OpenCV remaps it (its
+ * bilinear weights are per pixel, the same for every channel), for the view block whose
+ * top-left pixel is (r0, c0) in the full-view table: dst (rows, columns, 3). wtop and wbot
+ * hold per pixel the products of remap_table's weights, in 16-bit halves: (32 - fx)(32 - fy)
+ * and fx (32 - fy) for the top row's two pixels, (32 - fx) fy and fx fy for the bottom's;
+ * the sum of the four weighed pixels, + 2**9, >> 10 is remap_table's integer. The colour
+ * stages convert a few dozen small view blocks a frame to Lab: OpenCV's remap takes ~55
+ * instructions a BGR pixel here and a call's overhead on top. Only the offsets are checked
+ * (memory safety); weights outside 0..1024 give wrong values, never a wrong access. */
+static PyObject *remap_table3(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *src_obj, *off_obj, *wt_obj, *wb_obj, *dst_obj;
+    Py_ssize_t r0, c0;
+    if (!PyArg_ParseTuple(args, "OOOOnnO:remap_table3", &src_obj, &off_obj, &wt_obj, &wb_obj,
+                          &r0, &c0, &dst_obj))
+        return NULL;
+    Py_buffer src, off, wt, wb, dst;
+    Py_buffer *views[5] = {&src, &off, &wt, &wb, &dst};
+    PyObject *objs[5] = {src_obj, off_obj, wt_obj, wb_obj, dst_obj};
+    int flags[5] = {PyBUF_STRIDES | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
+                    PyBUF_C_CONTIGUOUS | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
+                    PyBUF_STRIDES | PyBUF_FORMAT | PyBUF_WRITABLE};
+    int got = 0;
+    for (; got < 5; got++) {
+        if (PyObject_GetBuffer(objs[got], views[got], flags[got]) < 0)
+            break;
+    }
+    PyObject *result = NULL;
+    if (got < 5)
+        goto done;
+    if (!is_u8(&src) || !is_u8(&dst) || !is_i32(&off) || !is_i32(&wt) || !is_i32(&wb) ||
+        src.ndim != 3 || dst.ndim != 3 || off.ndim != 2 || wt.ndim != 2 || wb.ndim != 2) {
+        PyErr_SetString(PyExc_TypeError,
+                        "remap_table3: 3-D uint8 images, int32 offsets and weights");
+        goto done;
+    }
+    Py_ssize_t n = dst.shape[0], m = dst.shape[1], w = src.shape[1];
+    Py_ssize_t stride = src.strides[0];
+    if (src.shape[2] != 3 || dst.shape[2] != 3 || src.strides[2] != 1 || src.strides[1] != 3 ||
+        stride != 3 * w || dst.strides[2] != 1 || dst.strides[1] != 3 || src.shape[0] < 2 ||
+        w < 3 || r0 < 0 || c0 < 0 || wt.shape[0] != off.shape[0] ||
+        wt.shape[1] != off.shape[1] || wb.shape[0] != off.shape[0] ||
+        wb.shape[1] != off.shape[1] || r0 + n > off.shape[0] || c0 + m > off.shape[1]) {
+        PyErr_SetString(PyExc_ValueError, "remap_table3: a table for this image and block");
+        goto done;
+    }
+    /* the last grey offset a pair of rows may start at (as in remap_table) */
+    long long last = (long long)(src.shape[0] - 2) * w + w - 2;
+    if (3 * last + stride + 8 > (long long)INT_MAX) {
+        PyErr_SetString(PyExc_ValueError, "remap_table3: an image too large for the table");
+        goto done;
+    }
+    const unsigned limit = (unsigned)last;
+    /* up to this grey offset 8 bytes may be read at both rows (the bottom row's run off
+     * the image's last row past it) */
+    const unsigned wide_limit = (unsigned)(last - 1);
+    const unsigned char *base = (const unsigned char *)src.buf;
+    const Py_ssize_t tw = off.shape[1];
+    for (Py_ssize_t r = 0; r < n; r++) {
+        const int *restrict o = (const int *)off.buf + (r0 + r) * tw + c0;
+        const int *restrict at_top = (const int *)wt.buf + (r0 + r) * tw + c0;
+        const int *restrict at_bot = (const int *)wb.buf + (r0 + r) * tw + c0;
+        unsigned char *restrict out = (unsigned char *)dst.buf + r * dst.strides[0];
+        for (Py_ssize_t c = 0; c < m; c++) {
+            unsigned at = (unsigned)o[c];
+            if (at > limit)
+                goto outside;
+            const unsigned char *p = base + 3 * (size_t)at;
+#ifdef __SSE2__
+            const __m128i zero = _mm_setzero_si128();
+            __m128i top, bot;
+            if (at <= wide_limit) {
+                top = _mm_loadl_epi64((const __m128i *)(const void *)p);
+                bot = _mm_loadl_epi64((const __m128i *)(const void *)(p + stride));
+            } else {
+                long long t = 0, b = 0;
+                memcpy(&t, p, 6);
+                memcpy(&b, p + stride, 6);
+                top = _mm_cvtsi64_si128(t);
+                bot = _mm_cvtsi64_si128(b);
+            }
+            top = _mm_unpacklo_epi8(top, zero); /* the two pixels' channels, 16 bits */
+            bot = _mm_unpacklo_epi8(bot, zero);
+            /* (first, second) pixel's value per channel, by their weights */
+            __m128i v = _mm_add_epi32(
+                _mm_madd_epi16(_mm_unpacklo_epi16(top, _mm_srli_si128(top, 6)),
+                               _mm_shuffle_epi32(_mm_cvtsi32_si128(at_top[c]), 0)),
+                _mm_madd_epi16(_mm_unpacklo_epi16(bot, _mm_srli_si128(bot, 6)),
+                               _mm_shuffle_epi32(_mm_cvtsi32_si128(at_bot[c]), 0)));
+            v = _mm_srai_epi32(_mm_add_epi32(v, _mm_set1_epi32(512)), 10);
+            v = _mm_packs_epi32(v, v);
+            int bytes = _mm_cvtsi128_si32(_mm_packus_epi16(v, v));
+            if (c + 1 < m) {
+                memcpy(out + 3 * c, &bytes, 4); /* the 4th byte: the next pixel's, written next */
+            } else {
+                out[3 * c] = (unsigned char)(bytes & 0xff);
+                out[3 * c + 1] = (unsigned char)((bytes >> 8) & 0xff);
+                out[3 * c + 2] = (unsigned char)((bytes >> 16) & 0xff);
+            }
+#else
+            unsigned wtop = (unsigned)at_top[c], wbot = (unsigned)at_bot[c];
+            int w00 = (short)(wtop & 0xffff), w01 = (short)(wtop >> 16);
+            int w10 = (short)(wbot & 0xffff), w11 = (short)(wbot >> 16);
+            for (int k = 0; k < 3; k++) {
+                int sum = p[k] * w00 + p[k + 3] * w01 + p[stride + k] * w10 +
+                          p[stride + k + 3] * w11;
+                out[3 * c + k] = (unsigned char)((sum + 512) >> 10);
+            }
+#endif
+        }
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+    goto done;
+outside:
+    PyErr_SetString(PyExc_ValueError, "remap_table3: an entry outside the image");
+done:
+    for (int i = got - 1; i >= 0; i--)
+        PyBuffer_Release(views[i]);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"remap_table", remap_table, METH_VARARGS,
      "remap_table(src, stride, offsets, fx, fy, dst): OpenCV's bilinear remap by a view's table."},
+    {"remap_table3", remap_table3, METH_VARARGS,
+     "remap_table3(src, offsets, wtop, wbot, r0, c0, dst): remap_table's remap of a BGR block."},
     {"next_true", next_true, METH_VARARGS,
      "next_true(flags, fill, out): per entry, the first true row at or below (profiles)."},
     {"first_gap", first_gap, METH_VARARGS,

@@ -138,6 +138,8 @@ class FusedMethod:
         h, w = view.camera.height, view.camera.width
         self._kernel3 = np.ones((1, 3), np.uint8)
         self._remap = TableRemap(view, eager_tables)  # OpenCV's remap, from a table
+        # the colour stages' Lab blocks remapped by the same table (OpenCV's values)
+        view.use_colour_remap(self._remap.colour_block)
         self._h, self._w = h, w
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves

@@ -1100,11 +1100,14 @@ def _walk_colour(
     ``limit`` of a row reached at least STEP_ROWS below (a gloss or a shadow shades the
     face slowly; the edge to a top face or to the background is a step, blurred over a
     few rows, that no gap crosses)."""
-    reached = [start]
+    reached = [start]  # descending: the reference is the last one STEP_ROWS below r
+    at = 0  # reached[at]: the reference for the row walked into next (start, at first)
     gap, r = 0, start
     while r - 1 >= 0 and gap <= max_gap:
         r -= 1
-        ref = next((q for q in reversed(reached) if q >= r + STEP_ROWS), start)
+        while at + 1 < len(reached) and reached[at + 1] >= r + STEP_ROWS:
+            at += 1  # (r falls row by row: the reference only moves up)
+        ref = reached[at]
         if on[r] and norm(colour[r] - colour[ref]) <= limit:
             reached.append(r)
             gap = 0

@@ -21,10 +21,15 @@ import numpy.typing as npt
 from obstacle_fusion.vision.types import View
 
 _c_remap_table: Callable[[Any, int, Any, Any, Any, Any], None] | None
+_c_remap_table3: Callable[[Any, Any, Any, Any, int, int, Any], None] | None
 try:  # the optional C accelerator (setup.py)
     from obstacle_fusion.vision.fused._cmiddle import remap_table as _c_remap_table
 except ImportError:  # pragma: no cover - only where the extension did not build
     _c_remap_table = None
+try:  # (apart: an accelerator built before the colour remap still remaps the grey view)
+    from obstacle_fusion.vision.fused._cmiddle import remap_table3 as _c_remap_table3
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_remap_table3 = None
 
 #: Weights of OpenCV's fixed-point maps: 32nds of a pixel (INTER_BITS = 5).
 TAB_BITS = 5
@@ -60,6 +65,17 @@ def remap_table(view: View, stride: int) -> Table:
     return offsets, np.ascontiguousarray(fx, np.int16), np.ascontiguousarray(fy, np.int16)
 
 
+def pair_weights(table: Table) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+    """The table's bilinear weights as products per source pixel pair, two 16-bit halves
+    of an int32 each (the C colour remap's): (32 - fx)(32 - fy) | fx (32 - fy) << 16 for
+    the top row's pixels, (32 - fx) fy | fx fy << 16 for the bottom row's."""
+    fx, fy = table[1].astype(np.int32), table[2].astype(np.int32)
+    hx, hy = (1 << TAB_BITS) - fx, (1 << TAB_BITS) - fy
+    top = np.ascontiguousarray(hx * hy | (fx * hy) << 16, np.int32)
+    bottom = np.ascontiguousarray(hx * fy | (fx * fy) << 16, np.int32)
+    return top, bottom
+
+
 class TableRemap:
     """:meth:`View.warp`'s remap for one view: by the view's table in C (one table per row
     stride of the frames seen), else by OpenCV. ``eager``: the table for packed frames of
@@ -72,6 +88,8 @@ class TableRemap:
         self.view = view
         self._tables: dict[int, Table] = {}
         self._seen: set[int] = set()  # strides remapped once by OpenCV, no table yet
+        # the camera width's table's weights as the colour remap takes them (pair_weights)
+        self._weights3: tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]] | None = None
         if _c_remap_table is not None and eager:
             self._tables[view.camera.width] = remap_table(view, view.camera.width)
 
@@ -89,6 +107,34 @@ class TableRemap:
             return None
         table = self._tables[stride] = remap_table(self.view, stride)
         return table
+
+    def colour_block(
+        self, src: npt.NDArray[Any], r0: int, r1: int, c0: int, c1: int
+    ) -> npt.NDArray[np.uint8] | None:
+        """The view block rows r0..r1-1, columns c0..c1-1 of the packed BGR frame ``src``,
+        remapped as OpenCV's bilinear remap does it (the same integers, channel by
+        channel), by the table of the camera's width; None where the C accelerator, that
+        table or such a frame is missing (the caller remaps with OpenCV)."""
+        w, h = self.view.camera.size
+        table = self._tables.get(w)
+        if (
+            _c_remap_table3 is None
+            or table is None
+            or src.ndim != 3
+            or src.shape[:2] != (h, w)
+            or src.shape[2] != 3
+            or src.dtype != np.uint8
+            or src.strides != (3 * w, 3, 1)
+        ):
+            return None
+        if self._weights3 is None:
+            self._weights3 = pair_weights(table)
+        dst = np.empty((r1 - r0, c1 - c0, 3), np.uint8)
+        try:
+            _c_remap_table3(src, table[0], *self._weights3, r0, c0, dst)
+        except ValueError:  # pragma: no cover - a table not of this frame's view
+            return None
+        return dst
 
     def __call__(self, src: npt.NDArray[Any], dst: npt.NDArray[np.uint8]) -> None:
         """The view's first ``len(dst)`` rows of the grey ``src`` into ``dst``."""
