@@ -395,6 +395,29 @@ done:
 
 
 
+/* The table remaps' five buffers (source, offsets, two weight tables, destination), in that
+ * order: the count acquired; 5 unless one failed (its error set), the rest released by
+ * release_buffers(views, count). */
+static int table_buffers(PyObject *objs[5], Py_buffer *views[5])
+{
+    static const int flags[5] = {
+        PyBUF_STRIDES | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
+        PyBUF_C_CONTIGUOUS | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
+        PyBUF_STRIDES | PyBUF_FORMAT | PyBUF_WRITABLE};
+    int got = 0;
+    for (; got < 5; got++) {
+        if (PyObject_GetBuffer(objs[got], views[got], flags[got]) < 0)
+            break;
+    }
+    return got;
+}
+
+static void release_buffers(Py_buffer *views[], int count)
+{
+    for (int i = count - 1; i >= 0; i--)
+        PyBuffer_Release(views[i]);
+}
+
 /* remap_table(src, stride, offsets, fx, fy, dst): OpenCV's bilinear remap of a grey 8-bit
  * image (INTER_LINEAR, BORDER_REPLICATE, fixed-point maps) from a table made once per view
  * (undistort.remap_table): per output pixel the offset of its top-left source pixel in src
@@ -417,14 +440,7 @@ static PyObject *remap_table(PyObject *self, PyObject *args)
     Py_buffer src, off, fx, fy, dst;
     Py_buffer *views[5] = {&src, &off, &fx, &fy, &dst};
     PyObject *objs[5] = {src_obj, off_obj, fx_obj, fy_obj, dst_obj};
-    int flags[5] = {PyBUF_STRIDES | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
-                    PyBUF_C_CONTIGUOUS | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
-                    PyBUF_STRIDES | PyBUF_FORMAT | PyBUF_WRITABLE};
-    int got = 0;
-    for (; got < 5; got++) {
-        if (PyObject_GetBuffer(objs[got], views[got], flags[got]) < 0)
-            break;
-    }
+    int got = table_buffers(objs, views);
     PyObject *result = NULL;
     if (got < 5)
         goto done;
@@ -519,8 +535,7 @@ outside:
     PyErr_SetString(PyExc_ValueError,
                     "remap_table: an entry outside the image, or a weight outside 0..32");
 done:
-    for (int i = got - 1; i >= 0; i--)
-        PyBuffer_Release(views[i]);
+    release_buffers(views, got);
     return result;
 }
 
@@ -547,14 +562,7 @@ static PyObject *remap_table3(PyObject *self, PyObject *args)
     Py_buffer src, off, wt, wb, dst;
     Py_buffer *views[5] = {&src, &off, &wt, &wb, &dst};
     PyObject *objs[5] = {src_obj, off_obj, wt_obj, wb_obj, dst_obj};
-    int flags[5] = {PyBUF_STRIDES | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
-                    PyBUF_C_CONTIGUOUS | PyBUF_FORMAT, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT,
-                    PyBUF_STRIDES | PyBUF_FORMAT | PyBUF_WRITABLE};
-    int got = 0;
-    for (; got < 5; got++) {
-        if (PyObject_GetBuffer(objs[got], views[got], flags[got]) < 0)
-            break;
-    }
+    int got = table_buffers(objs, views);
     PyObject *result = NULL;
     if (got < 5)
         goto done;
@@ -645,8 +653,7 @@ static PyObject *remap_table3(PyObject *self, PyObject *args)
 outside:
     PyErr_SetString(PyExc_ValueError, "remap_table3: an entry outside the image");
 done:
-    for (int i = got - 1; i >= 0; i--)
-        PyBuffer_Release(views[i]);
+    release_buffers(views, got);
     return result;
 }
 
