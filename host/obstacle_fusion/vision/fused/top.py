@@ -83,6 +83,8 @@ SIDE_SKIP_PX = 2
 #: below, and within a pixel: it runs on flat there (a receding side edge has come
 #: most of the way down).
 FLAT_SHARE = 0.25
+#: Columns beyond a side (past its blur) where a front top edge has ended.
+OUTSIDE_PX = (3, 7)
 
 
 def _no_back_edge(view: View, dy: I16, ul: int, ur: int, vt: int, row: int) -> bool:
@@ -93,9 +95,10 @@ def _no_back_edge(view: View, dy: I16, ul: int, ur: int, vt: int, row: int) -> b
     front corners, on the front edge's row at the sides. So where s puts both back
     corners >= BACK_INSET_MIN_PX inside the sides, a top edge that still runs on near
     its own row next to both sides (within FLAT_SHARE of the way to ``row`` and a
-    pixel) is the front top
-    edge itself. Both sides: a yawed box moves its back corners one way, so one side
-    may have its corner there; no yaw brings both out to the sides."""
+    pixel) is the front top edge itself. Both sides: a yawed box moves its back
+    corners one way, so one side may have its corner there; no yaw brings both out to
+    the sides. The edge must stop
+    at the sides too (a background line behind the box runs on)."""
     v = view
     if v.horizon_slack_px > 0.0 or row - v.cy <= 0.0 or row - vt < 2:
         return False
@@ -110,7 +113,8 @@ def _no_back_edge(view: View, dy: I16, ul: int, ur: int, vt: int, row: int) -> b
     level = median(mid.max(axis=0))
     if level <= 0.0:
         return False
-    at = r0 + median(mid.argmax(axis=0).astype(np.float32))  # the top edge's own row
+    # the top edge's own row (not a line under it)
+    at = r0 + median(mid[: vt + 2 - r0].argmax(axis=0).astype(np.float32))
     for c0, c1 in (
         (ul + SIDE_SKIP_PX, ul + SIDE_SKIP_PX + max(2, int(left / 3))),
         (ur - SIDE_SKIP_PX - max(2, int(right / 3)), ur - SIDE_SKIP_PX),
@@ -122,6 +126,16 @@ def _no_back_edge(view: View, dy: I16, ul: int, ur: int, vt: int, row: int) -> b
         off = np.abs(r0 + zone.argmax(axis=0).astype(np.float32) - at)
         flat = median(off) <= min(1.0, FLAT_SHARE * (row - vt))
         if median(zone.max(axis=0)) < 0.5 * level or not flat:
+            return False
+    # ... and stops there: a line running on past the sides is the background's, which
+    # may stand right behind a top face's back edge
+    lo, hi = max(0, int(at) - 1 - r0), int(at) + 2 - r0
+    for c0, c1 in (
+        (ul - OUTSIDE_PX[1], ul - OUTSIDE_PX[0]),
+        (ur + OUTSIDE_PX[0], ur + OUTSIDE_PX[1]),
+    ):
+        beyond = ay[lo:hi, max(0, c0) : max(0, c1)]
+        if beyond.size and median(beyond.max(axis=0)) >= 0.5 * level:
             return False
     log.debug("top %d runs on to both sides: no top face's back edge over %d", vt, row)
     return True
