@@ -99,3 +99,63 @@ def test_a_guessed_horizon_leaves_reach_for_the_front_top_edge(slack: float, exp
     _, dy, noise = gradients(lidded_box())
     row, _ = top.front_top(view, DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP - 6, noise)
     assert abs(row - expected) <= 1
+
+
+JOINT = FACE_TOP + 6  # a panel joint across the front face, a few rows under its top
+
+
+def receding_box(back: int, joint: bool) -> npt.NDArray[np.uint8]:
+    """The face without print under a lighter top face that recedes as seen from the
+    lens: its back edge on row ``back`` spans the front's columns scaled by
+    (back - CY) / (FACE_TOP - CY) about the principal point; with ``joint``, a dark line
+    across the whole front face on row JOINT."""
+    img = box(print_bottom=PRINT_TOP).astype(np.float64)
+    s = (back - CY) / (FACE_TOP - CY)
+    cx = W / 2
+    for r in range(back, FACE_TOP):
+        t = (r - back) / (FACE_TOP - back)  # 0 at the back edge, 1 at the front edge
+        k = s + t * (1.0 - s)
+        img[r, int(round(cx + k * (LEFT - cx))) : int(round(cx + k * (RIGHT - cx)))] = 220.0
+    if joint:
+        img[JOINT : JOINT + 2, LEFT:RIGHT] = 145.0
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("share, expected", [(top.FLAT_SHARE, FACE_TOP), (-1.0, JOINT + 2)])
+def test_a_joint_under_a_front_top_edge_is_no_top_face(
+    share: float, expected: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The top found is the front top edge (a receding top face above it): it runs on
+    flat to both sides, where a top face's back edge over the joint would end well
+    inside them, so the joint inside the front face is no front top edge (with no run
+    on counted flat, the joint's lower edge would be taken)."""
+    monkeypatch.setattr(top, "FLAT_SHARE", share)
+    _, dy, noise = gradients(receding_box(FACE_TOP - 8, joint=True))
+    row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
+    assert abs(row - expected) <= 1
+
+
+def test_a_receding_top_faces_back_edge_keeps_the_front_edge_under_it() -> None:
+    """The top found is the receding top face's back edge: it ends inside the sides as
+    the front edge 8 rows down predicts, so that front edge is taken."""
+    back = FACE_TOP - 8
+    _, dy, noise = gradients(receding_box(back, joint=False))
+    row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, back, noise)
+    assert abs(row - FACE_TOP) <= 1
+
+
+@pytest.mark.parametrize("outside, expected", [(top.OUTSIDE_PX, JOINT + 2), ((W, W + 1), FACE_TOP)])
+def test_a_top_edge_running_on_past_the_sides_is_the_backgrounds(
+    outside: tuple[int, int], expected: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The same face with the wall changing colour on the top edge's row beyond both
+    sides: a line running on past the sides may stand behind a top face's back edge, so
+    it does not make the top the front top edge (reading nothing beyond the sides, it
+    would)."""
+    monkeypatch.setattr(top, "OUTSIDE_PX", outside)
+    img = receding_box(FACE_TOP - 8, joint=True).astype(np.float64)
+    img[:FACE_TOP, :LEFT] = 130.0
+    img[:FACE_TOP, RIGHT:] = 130.0
+    _, dy, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
+    row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
+    assert abs(row - expected) <= 1

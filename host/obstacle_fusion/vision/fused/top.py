@@ -66,7 +66,79 @@ def front_top(
     # the lowest, unless it ends inside both sides: a print's or a label's top edge, inset
     # in the face, while the front top edge runs from side to side
     best = next((r for r in reversed(found) if not _inset(dy, r, ul, ur)), vt)
+    if best != vt and _no_back_edge(v, dy, ul, ur, vt, best):
+        # the top edge runs on flat where no top face's back edge could: it is the front
+        # top edge, the line under it a joint or a gloss's edge inside the front face
+        # (the lines between are the face's as well: a thinner top face is not told
+        # apart from the top edge's blur here)
+        best = vt
     return best, (1.0 if prof[best - vt] >= 0 else -1.0)
+
+
+#: A back edge must be predicted at least this many columns inside each side.
+BACK_INSET_MIN_PX = 6.0
+#: Columns next to the side skipped (the side's own blur).
+SIDE_SKIP_PX = 2
+#: Next to the sides the top edge stays within this share of the way down to the row
+#: below, and within a pixel: it runs on flat there (a receding side edge has come
+#: most of the way down).
+FLAT_SHARE = 0.25
+#: Columns beyond a side (past its blur) where a front top edge has ended.
+OUTSIDE_PX = (3, 7)
+
+
+def _no_back_edge(view: View, dy: I16, ul: int, ur: int, vt: int, row: int) -> bool:
+    """Whether the top edge on ``vt`` cannot be the back edge of a top face whose front
+    edge is on ``row``. A top face recedes: with the horizon known (the rig), its back
+    edge spans the front's columns scaled by s = (vt - cy) / (row - cy) about the
+    principal point, and beyond its corners the top face's side edges run down to the
+    front corners, on the front edge's row at the sides. So where s puts both back
+    corners >= BACK_INSET_MIN_PX inside the sides, a top edge that still runs on near
+    its own row next to both sides (within FLAT_SHARE of the way to ``row`` and a
+    pixel) is the front top edge itself. Both sides: a yawed box moves its back
+    corners one way, so one side may have its corner there; no yaw brings both out to
+    the sides. The edge must stop
+    at the sides too (a background line behind the box runs on)."""
+    v = view
+    if v.horizon_slack_px > 0.0 or row - v.cy <= 0.0 or row - vt < 2:
+        return False
+    s = max(0.0, (vt - v.cy) / (row - v.cy))
+    left, right = (1.0 - s) * (v.cx - ul), (1.0 - s) * (ur - v.cx)
+    if min(left, right) < BACK_INSET_MIN_PX:
+        return False
+    r0 = max(0, vt - 2)
+    ay = np.abs(dy[r0 : row + 1]).astype(np.float32)
+    m = max(2, (ur - ul) // 4)
+    mid = ay[:, ul + m : ur - m]
+    level = median(mid.max(axis=0))
+    if level <= 0.0:
+        return False
+    # the top edge's own row (not a line under it)
+    at = r0 + median(mid[: vt + 2 - r0].argmax(axis=0).astype(np.float32))
+    for c0, c1 in (
+        (ul + SIDE_SKIP_PX, ul + SIDE_SKIP_PX + max(2, int(left / 3))),
+        (ur - SIDE_SKIP_PX - max(2, int(right / 3)), ur - SIDE_SKIP_PX),
+    ):
+        # the outer third of the way to the back corner: a receding side edge is there
+        # most of the way down to the front edge's row (and blurred with it), the top
+        # edge running on stays on its own row (the corner's blur weakens it a little)
+        zone = ay[:, c0:c1]
+        off = np.abs(r0 + zone.argmax(axis=0).astype(np.float32) - at)
+        flat = median(off) <= min(1.0, FLAT_SHARE * (row - vt))
+        if median(zone.max(axis=0)) < 0.5 * level or not flat:
+            return False
+    # ... and stops there: a line running on past the sides is the background's, which
+    # may stand right behind a top face's back edge
+    lo, hi = max(0, int(at) - 1 - r0), int(at) + 2 - r0
+    for c0, c1 in (
+        (ul - OUTSIDE_PX[1], ul - OUTSIDE_PX[0]),
+        (ur + OUTSIDE_PX[0], ur + OUTSIDE_PX[1]),
+    ):
+        beyond = ay[lo:hi, max(0, c0) : max(0, c1)]
+        if beyond.size and median(beyond.max(axis=0)) >= 0.5 * level:
+            return False
+    log.debug("top %d runs on to both sides: no top face's back edge over %d", vt, row)
+    return True
 
 
 #: An edge ending this many columns inside both of the face's sides is inset in it.
