@@ -11,6 +11,7 @@ from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method as method_mod
 from obstacle_fusion.vision.fused import region
+from obstacle_fusion.vision.fused import top as top_mod
 from obstacle_fusion.vision.measure import Measurer
 
 
@@ -54,7 +55,41 @@ def test_an_edge_inside_the_face_cuts_it_without_that_check(
         return True
 
     monkeypatch.setattr(method_mod, "ends_in_colour", always)
+    # the highlight's own fading-out rows are a ramp (top.RAMP_ROWS): without that check too
+    monkeypatch.setattr(top_mod, "RAMP_ROWS", 1000)
     assert height_error("photo", 313) > 0.15
+
+
+def test_a_glosss_highlight_under_the_top_is_no_front_top_edge() -> None:
+    """A glossy box with its top face showing (procedural 115): under the top face the
+    highlight's brightening runs over five rows and more, a shading ramp and not the
+    front top edge; the edge between the top face and the front is a sharp peak."""
+    assert height_error("procedural", 115) < 0.05
+
+
+def test_without_the_ramp_check_the_highlight_cuts_the_face(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(top_mod, "RAMP_ROWS", 1000)
+    assert height_error("procedural", 115) > 0.10
+
+
+def test_a_face_found_by_colour_keeps_its_colour_top_and_takes_its_front_edge() -> None:
+    """A glossy box found by colour alone (photo 346: its sides too faint in grey), a
+    brown rail behind it in line with its sides: the sides' edges run on up the rail, yet
+    the face's colour ends at its top; the thin top face's front edge under it is the
+    face's top."""
+    assert height_error("photo", 346) < 0.05
+
+
+def test_found_by_colour_without_the_colour_top_the_rail_is_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def never(*_: Any) -> bool:
+        return False
+
+    monkeypatch.setattr(method_mod, "stops_at_colour_top", never)
+    assert height_error("photo", 346) > 0.15
 
 
 def test_a_top_on_a_cylinder_behind_comes_down_to_the_face() -> None:
@@ -214,3 +249,12 @@ def test_without_the_ring_the_print_is_taken_for_the_face(
     monkeypatch.setattr(method_mod, "enclose_by_ring", lambda *a: None)
     monkeypatch.setattr(method_mod.FusedMethod, "_outline", lambda *a: None)
     assert height_error(family, seed) > 0.1
+
+
+def test_a_ramp_is_told_from_an_edge() -> None:
+    """The signed gradient's rows: a sharp peak (an edge blurred over 3 rows) is no ramp;
+    a peak whose same-signed rows stay over half of it for 5 rows is one."""
+    edge = [0.0, 2.0, 40.0, 90.0, 45.0, 6.0, 1.0]
+    ramp = [0.0, 15.0, 24.0, 28.0, 26.0, 20.0, 17.0, 9.0]
+    assert not top_mod._ramp(edge, 3)
+    assert top_mod._ramp(ramp, 3)

@@ -264,13 +264,22 @@ class FusedMethod:
             if not rescue:
                 return None
             rows = (r0b, r1b)
-            found = self._by_colour(seen, ay, ax3, rows, depth, noise)
+            found = self._by_colour(seen, ay, ax3, rows, depth, noise, floor_known)
             if found is None and floor_known:
                 found = self._by_texture(seen, ay, rows, depth)
             if found is None:
                 return None
             rb, vt, ul, ur, conf = found
             sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+            # a box below the lens shows its top face: the colour's top may be that face's
+            # back edge, its sides the top face's receding edges; the front top edge under
+            # it is the face's top when the rows between differ in colour from the front
+            # (with the rig only: under a row merely tried, the horizon is a guess)
+            if floor_known:
+                front, front_sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+                log.debug("rescue: top %d, front top %d", vt, front)
+                if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur):
+                    vt, sign = front, front_sign
             return self._refine(
                 ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
             )
@@ -511,6 +520,7 @@ class FusedMethod:
         rows: tuple[int, int],
         depth: float,
         noise: float,
+        floor_known: bool = True,
     ) -> tuple[int, int, int, int, float] | None:
         """The face from its colour alone (:func:`.region.face_from_colour`): (contact row,
         top, left, right, confidence), or None: where the edges gave no face or no clear
@@ -523,7 +533,12 @@ class FusedMethod:
             return None
         # the sides, in the gradients, may run on above where the colour walk stopped (a
         # joint or a label across the face): the face's top is where they end
-        vt = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        # ... unless the face's colour ends at its top a short way under where they end:
+        # those are the edges of what stands behind it in line (as in the edge search)
+        # (with the rig only, as the front top edge in rescue_by_colour)
+        if not (floor_known and stops_at_colour_top(seen, self.view, rb, vt, raised, ul, ur)):
+            vt = raised
         # ... and where they do not show in the gradients (a face of the background's
         # shade in grey), its colour parts it from what is beside it up to its top
         vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)

@@ -49,7 +49,8 @@ def front_top(
     # the row means only where the scan reads them (rows vt..last), as Python floats;
     # prof[r - vt] is row r
     last = max(vt, min(vt + reach, rb - 3) + 1)
-    prof = row_means(dy[vt : last + 1, ul + m : ur - m]).tolist()
+    # (a few rows more below: how far a peak's own rows run, see _ramp)
+    prof = row_means(dy[vt : min(last + RAMP_ROWS, rb - 1) + 1, ul + m : ur - m]).tolist()
     # noise of a mean over the face's columns (Sobel smooths ~3 columns together); next
     # to the top edge also its own blur tail, further up only noise
     thr_noise = FRONT_TOP_SIGMAS * noise * math.sqrt(3.0 / max(1, ur - ul - 2 * m))
@@ -63,6 +64,8 @@ def front_top(
             found.append(r)
         elif a >= thr and p * p_prev < 0 and a > abs(p_next):
             found.append(r)
+    # a shading ramp (a gloss's highlight fading out, a shadow) is no edge
+    found = [r for r in found if not _ramp(prof, r - vt)]
     # the lowest, unless it ends inside both sides: a print's or a label's top edge, inset
     # in the face, while the front top edge runs from side to side
     best = next((r for r in reversed(found) if not _inset(dy, r, ul, ur)), vt)
@@ -73,6 +76,24 @@ def front_top(
         # apart from the top edge's blur here)
         best = vt
     return best, (1.0 if prof[best - vt] >= 0 else -1.0)
+
+
+#: A peak of the signed gradient whose same-signed run at half its value or more spans
+#: this many rows is a shading ramp, not an edge: an edge blurred by the optics and the
+#: 3-row Sobel spans 3 or 4, a gloss's highlight fading across the face spans 5 or more.
+RAMP_ROWS = 5
+
+
+def _ramp(prof: list[float], i: int) -> bool:
+    """Whether the peak at ``prof[i]`` is a shading ramp (see RAMP_ROWS)."""
+    p = prof[i]
+    half = 0.5 * p
+    lo = hi = i
+    while lo > 0 and prof[lo - 1] * p > 0 and abs(prof[lo - 1]) >= abs(half):
+        lo -= 1
+    while hi + 1 < len(prof) and prof[hi + 1] * p > 0 and abs(prof[hi + 1]) >= abs(half):
+        hi += 1
+    return hi - lo + 1 >= RAMP_ROWS
 
 
 #: A back edge must be predicted at least this many columns inside each side.
