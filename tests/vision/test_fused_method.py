@@ -258,3 +258,17 @@ def test_a_ramp_is_told_from_an_edge() -> None:
     ramp = [0.0, 15.0, 24.0, 28.0, 26.0, 20.0, 17.0, 9.0]
     assert not top_mod._ramp(edge, 3)
     assert top_mod._ramp(ramp, 3)
+
+
+def test_under_a_colour_top_a_top_face_a_few_shades_off_gives_its_front_edge() -> None:
+    """A low box of green planks seen from above (photo 119): its top face, nine rows
+    thick, is a few shades lighter than its front (17 Lab), the gravel above it differs
+    more; the front top edge under it ends that lighter band."""
+    assert height_error("photo", 119) < 0.10
+
+
+def test_with_the_full_colour_step_the_top_face_stays_in(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(method_mod, "FRONT_COLOUR_STEP", 20.0)
+    assert height_error("photo", 119) > 0.2

@@ -39,6 +39,8 @@ from obstacle_fusion.vision.fused.extent import (
 from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
+    MIN_TOP_FACE_ROWS,
+    TOP_COLOUR_STEP,
     enclose_by_margin,
     enclose_by_ring,
     ends_in_colour,
@@ -74,6 +76,11 @@ log = logging.getLogger(__name__)
 #: A face's top edge must reach this share of its columns, else a rival whose top does
 #: (and scores at least RIVAL_SHARE of it) is taken.
 TOP_COVER_MIN = 0.6
+#: Under a top where the face's colour ends, a front top edge must end a colour too, by
+#: this much (Lab, 8-bit): a top face a few shades lighter than the front, with the
+#: background above it differing more (region.TOP_COLOUR_STEP); a gloss's highlight
+#: under the top is a ramp, which top.front_top skips, not an edge.
+FRONT_COLOUR_STEP = 15.0
 RIVAL_SHARE = 0.5
 
 
@@ -99,6 +106,17 @@ SETTLED_MOVE_SHARE = 0.1
 #: ... and the top decided again is taken only where it moves by at least this share of
 #: the face's height (nearer, it is the same edge: the answer is left as it was).
 SETTLED_TOP_MOVE = 0.15
+
+
+def _front_ends_colour(
+    seen: npt.NDArray[Any], v: View, rb: int, top: int, front: int, ul: int, ur: int
+) -> bool:
+    """Whether a front top edge on row ``front``, under a top on row ``top`` where the
+    face's colour ends, ends a colour too: by FRONT_COLOUR_STEP where the band between
+    is a top face thick enough to show its own colour (MIN_TOP_FACE_ROWS), else by the
+    full TOP_COLOUR_STEP (a thinner band's colour is the edges' blur)."""
+    step = FRONT_COLOUR_STEP if front - top >= MIN_TOP_FACE_ROWS else TOP_COLOUR_STEP
+    return ends_in_colour(seen, v, rb, front, ul, ur, step)
 
 
 def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
@@ -344,7 +362,11 @@ class FusedMethod:
         # a frame's top is its margin's (the print below it is no top face)
         if framed is None:
             vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
-            if colour_top and vt != found_top and not ends_in_colour(seen, v, rb, vt, ul, ur):
+            if (
+                colour_top
+                and vt != found_top
+                and not _front_ends_colour(seen, v, rb, found_top, vt, ul, ur)
+            ):
                 # under a top where the face's colour ends, a front top edge ends it too
                 vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         else:
@@ -353,7 +375,11 @@ class FusedMethod:
             vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         top_row: float | None = None  # a sub-pixel front top row that needs no refining
         front = None if framed is not None else front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
-        if colour_top and front is not None and not ends_in_colour(seen, v, rb, front[0], ul, ur):
+        if (
+            colour_top
+            and front is not None
+            and not _front_ends_colour(seen, v, rb, vt, front[0], ul, ur)
+        ):
             front = None
         if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front
@@ -466,11 +492,17 @@ class FusedMethod:
         found_top = vt
         vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
         if (
-            colour_top and vt != found_top and not ends_in_colour(seen, v, rb, vt, ul, ur)
+            colour_top
+            and vt != found_top
+            and not _front_ends_colour(seen, v, rb, found_top, vt, ul, ur)
         ) or not looks_like_top_face(seen, v, found_top, vt, ul, ur):
             vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         front = front_from_back(v, depth, ay, dy, rb, ul, ur, vt)
-        if colour_top and front is not None and not ends_in_colour(seen, v, rb, front[0], ul, ur):
+        if (
+            colour_top
+            and front is not None
+            and not _front_ends_colour(seen, v, rb, vt, front[0], ul, ur)
+        ):
             front = None
         if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front

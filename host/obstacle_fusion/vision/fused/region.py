@@ -1058,10 +1058,11 @@ def ends_in_colour(
     top: int,
     left: int,
     right: int,
+    step: float = TOP_COLOUR_STEP,
 ) -> bool:
     """Whether the face's colour ends at ``top`` from side to side: the rows just above it
     differ from the rows just below it and from the face's colour over the floor by
-    TOP_COLOUR_STEP, and so do those rows in the strips just inside each side.
+    ``step`` (TOP_COLOUR_STEP), and so do those rows in the strips just inside each side.
 
     Over a label's or a print's lower edge the colour differs from the face's just below
     but, across a short band, the sides run on; over a face's real top it is something
@@ -1079,14 +1080,14 @@ def ends_in_colour(
     above, below = lab[: far - near], lab[far + near + 1 : 2 * far + 1]
     foot = median_u8(lab[bottom - f1 - (top - far) :].reshape(-1, 3), axis=0)
     a = median_u8(above.reshape(-1, 3), axis=0)
-    if min(norm(a - median_u8(below.reshape(-1, 3), axis=0)), norm(a - foot)) < TOP_COLOUR_STEP:
+    if min(norm(a - median_u8(below.reshape(-1, 3), axis=0)), norm(a - foot)) < step:
         return False
     steps = []
     for strip in (slice(0, BESIDE_COLUMNS), slice(-BESIDE_COLUMNS, None)):
         up = median_u8(above[:, strip].reshape(-1, 3), axis=0)
         down = median_u8(below[:, strip].reshape(-1, 3), axis=0)
         steps.append(norm(up - down))
-    return max(steps) >= TOP_COLOUR_STEP
+    return max(steps) >= step
 
 
 def _walk_colour(
