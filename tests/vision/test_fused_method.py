@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
@@ -272,3 +273,21 @@ def test_with_the_full_colour_step_the_top_face_stays_in(
 ) -> None:
     monkeypatch.setattr(method_mod, "FRONT_COLOUR_STEP", 20.0)
     assert height_error("photo", 119) > 0.2
+
+
+def test_a_floor_of_two_shades_beside_the_face_is_no_foot() -> None:
+    """A wide glossy box (procedural 112) with a pole behind, right of it, that the side
+    search paired with the box's left side: beyond the box's right side a darker floor
+    stripe crosses the contact row, its chroma a little off the floor's below, far off
+    the face's; it is floor, and the side comes in to the box's."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("procedural", 112, False, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.width_m is not None and abs(res.width_m / truth["width_m"] - 1.0) < 0.05
+
+
+def test_the_floors_other_shade_counts_as_floor_by_its_chroma() -> None:
+    floor = np.array([[75.0, 154.0, 90.0]] * 2, np.float32)
+    foot = np.array([[92.0, 159.0, 84.0], [180.0, 90.0, 137.0]], np.float32)
+    ref = np.array([190.0, 87.0, 137.0], np.float32)
+    assert region.floor_chroma(foot, floor, ref).tolist() == [True, False]

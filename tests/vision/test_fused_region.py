@@ -182,8 +182,11 @@ def test_a_shadow_on_the_floor_beside_the_face_is_not_widened_into() -> None:
 def test_the_chroma_limits_decide(name: str, value: float, monkeypatch: pytest.MonkeyPatch) -> None:
     """The shadow's chroma is within FLOOR_CHROMA (6) of the floor's (the grain's few
     units), the face's about 15 from it, over FACE_CHROMA_STEP (12): either limit moved
-    past the scene's figures lets the side out onto the shadow."""
+    past the scene's figures lets the side out onto the shadow (FLOOR_CHROMA with the
+    relative limit, FLOOR_CHROMA_NEAR_SHARE, off: that one alone also tells it)."""
     monkeypatch.setattr(region, name, value)
+    if name == "FLOOR_CHROMA":
+        monkeypatch.setattr(region, "FLOOR_CHROMA_NEAR_SHARE", 0.0)
     assert widen(shadowed_scene(), LEFT, RIGHT)[1] >= RIGHT + 30
 
 

@@ -100,6 +100,10 @@ FLOOR_CHROMA = 6.0
 #: ... where the face's own chroma differs from that floor's by at least this (a grey face
 #: on a grey floor leaves the chroma no say).
 FACE_CHROMA_STEP = 12.0
+#: A foot within FLOOR_CHROMA_FAR of the floor's chroma is floor too where it is within
+#: this share of its chroma distance to the face's colour (a floor of two shades).
+FLOOR_CHROMA_NEAR_SHARE = 0.2
+FLOOR_CHROMA_FAR = 12.0
 #: ... and while at most this share of the face's own foot looks like floor.
 MAX_FLOORLIKE_FOOT = 0.5
 
@@ -421,7 +425,14 @@ def floor_chroma(
     ``ref`` does not: floor above the contact row (farther back, or shadowed), not the face."""
     foot_step = row_norms(foot[:, 1:] - floor[:, 1:])
     face_step = row_norms(ref[None, 1:] - floor[:, 1:])
-    out: npt.NDArray[np.bool_] = (foot_step < FLOOR_CHROMA) & (face_step >= FACE_CHROMA_STEP)
+    # a floor of two shades (a plank's stripe, a seam crossing the contact row) moves
+    # the chroma a little more; the foot is still the floor's where it stays far nearer
+    # that than the face's own
+    near = foot_step < FLOOR_CHROMA_NEAR_SHARE * row_norms(foot[:, 1:] - ref[None, 1:])
+    near &= foot_step < FLOOR_CHROMA_FAR
+    out: npt.NDArray[np.bool_] = ((foot_step < FLOOR_CHROMA) | near) & (
+        face_step >= FACE_CHROMA_STEP
+    )
     return out
 
 
