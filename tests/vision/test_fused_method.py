@@ -291,3 +291,28 @@ def test_the_floors_other_shade_counts_as_floor_by_its_chroma() -> None:
     foot = np.array([[92.0, 159.0, 84.0], [180.0, 90.0, 137.0]], np.float32)
     ref = np.array([190.0, 87.0, 137.0], np.float32)
     assert region.floor_chroma(foot, floor, ref).tolist() == [True, False]
+
+
+def test_a_contact_band_past_the_images_foot_is_searched_where_it_fits() -> None:
+    """A near glossy box low in the view (photo 354), its sides too faint in grey for the
+    edge search: the colour rescue's contact band ran past the image's foot and the face
+    was missed; the rows of the band that leave floor below them in view hold its foot."""
+    assert height_error("photo", 354) < 0.05
+
+
+def test_without_the_clipped_band_the_low_face_is_missed() -> None:
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("photo", 354, False, cam)
+    m = Measurer(cam, spec.rig)
+    assert m.measure(image, truth["range_m"]).detected
+    original = region.face_from_colour
+
+    def unclipped(*a: Any) -> Any:
+        return original(*a[:6], False)
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(method_mod, "face_from_colour", unclipped)
+    try:
+        assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
+    finally:
+        mp.undo()

@@ -198,7 +198,9 @@ class Measurer:
                 row = base.cy + base.fy * height / depth
             try:
                 grey = face_floor_grey(image, base, row, depth)
-                result = method.run(grey, range_m, timer, image, floor_known=floor_known)
+                result = method.run(
+                    grey, range_m, timer, image, floor_known=floor_known, rig_known=False
+                )
             finally:
                 method.view = base
             result.camera_height_m = float(height)

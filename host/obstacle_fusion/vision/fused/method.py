@@ -173,6 +173,7 @@ class FusedMethod:
         colour: npt.NDArray[Any] | None = None,
         rescue: bool = True,
         floor_known: bool = True,
+        rig_known: bool = True,
     ) -> Measurement:
         """``colour``: the BGR frame ``image`` was made from, when ``image`` is one channel
         of it (the face's colour along its foot sets its width). ``rescue``: where the
@@ -183,11 +184,14 @@ class FusedMethod:
         at many rows, a tile line or a wall's foot as well), nor the preference for faces
         on the beam's axis (it lifts a face on the axis at a wrong row over the real one),
         nor the rival taken for a top edge across part of the face is used: the row
-        search was tuned without them, and on the tuning rooms they moved it both ways."""
+        search was tuned without them, and on the tuning rooms they moved it both ways.
+        ``rig_known``: False while the camera's height and pitch are only tried (with
+        ``floor_known`` too, in the no-rig search's last rounds): the colour rescue then
+        leaves a contact band running past the image's foot alone."""
         # the colour stages read blocks of the frame in Lab, some inside others
         self.view.hold_colour(colour if colour is not None else image)
         try:
-            return self._stages(image, range_m, timer, colour, rescue, floor_known)
+            return self._stages(image, range_m, timer, colour, rescue, floor_known, rig_known)
         finally:
             self.view.hold_colour(None)
 
@@ -199,6 +203,7 @@ class FusedMethod:
         colour: npt.NDArray[Any] | None = None,
         rescue: bool = True,
         floor_known: bool = True,
+        rig_known: bool = True,
     ) -> Measurement:
         """:meth:`run`'s stages, the frame's colour held."""
         v = self.view
@@ -282,7 +287,7 @@ class FusedMethod:
             if not rescue:
                 return None
             rows = (r0b, r1b)
-            found = self._by_colour(seen, ay, ax3, rows, depth, noise, floor_known)
+            found = self._by_colour(seen, ay, ax3, rows, depth, noise, floor_known, rig_known)
             if found is None and floor_known:
                 found = self._by_texture(seen, ay, rows, depth)
             if found is None:
@@ -553,11 +558,12 @@ class FusedMethod:
         depth: float,
         noise: float,
         floor_known: bool = True,
+        rig_known: bool = True,
     ) -> tuple[int, int, int, int, float] | None:
         """The face from its colour alone (:func:`.region.face_from_colour`): (contact row,
         top, left, right, confidence), or None: where the edges gave no face or no clear
         one (a brick pattern's joints, a face the floor's shade in grey)."""
-        found = face_from_colour(seen, self.view, ax3, ay, rows, depth)
+        found = face_from_colour(seen, self.view, ax3, ay, rows, depth, rig_known)
         if found is None:
             return None
         rb, vt, ul, ur, evidence = found

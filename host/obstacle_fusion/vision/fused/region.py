@@ -1393,6 +1393,7 @@ def face_from_colour(
     ay: npt.NDArray[np.float32],
     rows: tuple[int, int],
     depth_m: float,
+    clip: bool = True,
 ) -> tuple[int, int, int, int, float] | None:
     """A face found by its colour alone, where the edges found none: (contact row, top row,
     left, right, evidence 0..1) in the levelled view, or None.
@@ -1409,8 +1410,14 @@ def face_from_colour(
     r0, r1 = rows
     core = max(2, int(round(view.fx * CORE_HALF_M / depth_m)))
     c0, c1 = int(view.cx) - core, int(view.cx) + core + 1
+    # a band running past the image's foot (a near box low in the view) is searched over
+    # the rows that leave the floor below them in view (``clip``; with the rig only: with
+    # none, a band low in the view is one of many rows tried, the face found by colour
+    # there outbid the rows whose sides confirm it)
+    if clip:
+        r1 = min(r1, h - CONTACT_ROWS - 3)
     lo, hi = r0 - CONTACT_ROWS - 2, r1 + CONTACT_ROWS + 3
-    if lo < 0 or hi > h or c0 < 0 or c1 > w:
+    if lo < 0 or r1 < r0 or hi > h or c0 < 0 or c1 > w:
         return None
     prof = median_u8(_lab8(image, view, lo, hi, c0, c1), axis=1)  # per row
     best_step, contact = 0.0, -1
