@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import extent as extent_mod
 from obstacle_fusion.vision.fused import method as method_mod
 from obstacle_fusion.vision.fused import region
 from obstacle_fusion.vision.fused import top as top_mod
@@ -316,3 +317,23 @@ def test_without_the_clipped_band_the_low_face_is_missed() -> None:
         assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
     finally:
         mp.undo()
+
+
+def test_a_panelled_face_in_the_floors_shade_widens_by_its_top_edge() -> None:
+    """A box of six blue panels on a cyan floor (procedural 116): its foot shows no edge
+    in grey, the panel joints were taken for its sides; its top edge runs on across the
+    joints to its real sides, which stand down to the floor."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("procedural", 116, False, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.width_m is not None
+    assert abs(res.width_m / truth["width_m"] - 1.0) < 0.05
+
+
+def test_without_the_top_edge_alone_the_panelled_face_is_missed(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(extent_mod, "TOP_ALONE_SNR", 1e9)
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("procedural", 116, False, cam)
+    assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected

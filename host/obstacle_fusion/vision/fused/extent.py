@@ -50,6 +50,11 @@ EDGE_ROWS = 1
 SNAP_COLUMNS = 6
 #: The face's own edges must stand this many noise levels above the floor's texture.
 MIN_EDGE_SNR = 3.0
+#: With the foot edge fainter than that (a face in the floor's shade), the top edge alone
+#: must stand this many noise levels ...
+TOP_ALONE_SNR = 10.0
+#: ... and runs on while at this share of its strength along the face.
+TOP_ALONE_SHARE = 0.5
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -95,8 +100,11 @@ def widen_across_seams(
     left: int,
     right: int,
     noise: float,
+    top_alone: bool = False,
 ) -> tuple[int, int]:
-    """The face's side columns, moved out to where its top and bottom edges both end."""
+    """The face's side columns, moved out to where its top and bottom edges both end
+    (``top_alone``: or, with the foot edge too faint, where a strong top edge ends; only
+    with the rig: under a row merely tried, that top is often a background line)."""
     if right - left < 4 or bottom - top < 3:
         return left, right
     gb = _edge_profile(ay, bottom)
@@ -104,17 +112,26 @@ def widen_across_seams(
     inner = slice(left + 1, right)
     ref_b = float(median_of(gb[inner]))
     ref_t = float(median_of(gt[inner]))
-    if min(ref_b, ref_t) < MIN_EDGE_SNR * noise:
+    faint_b = top_alone and ref_b < MIN_EDGE_SNR * noise
+    if ref_b < MIN_EDGE_SNR * noise and not faint_b:
         return left, right  # too faint to tell a seam from a side
-    for profile, ref in ((gb, ref_b), (gt, ref_t)):
+    if ref_t < MIN_EDGE_SNR * noise or (faint_b and ref_t < TOP_ALONE_SNR * noise):
+        return left, right  # too faint to tell a seam from a side
+    edges = ((gt, ref_t),) if faint_b else ((gb, ref_b), (gt, ref_t))
+    for profile, ref in edges:
         if ref < EVEN_SHARE * _p90(profile[inner]):
             return left, right  # the edge does not run along the face itself: no face here
     kernel = _WALK_KERNEL
-    # both edges run on: together at CONTINUE_SHARE of the face's, neither below
-    # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
-    sb = np.convolve(gb, kernel, mode="same") / ref_b
     st = np.convolve(gt, kernel, mode="same") / ref_t
-    runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
+    if faint_b:
+        # a face in the floor's shade shows no foot edge: a strong top edge alone, running
+        # on at the face's strength (the sides found must still stand down to the floor)
+        runs_on = st >= TOP_ALONE_SHARE
+    else:
+        # both edges run on: together at CONTINUE_SHARE of the face's, neither below
+        # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
+        sb = np.convolve(gb, kernel, mode="same") / ref_b
+        runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
     sides = column_means(ax[top : bottom + 1])
     # a side stands as a vertical edge at least this strong (the chosen seams' weaker half)
     need = max(

@@ -390,7 +390,7 @@ class FusedMethod:
             vt, sign, top_row = front
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
-        ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known)
         # ... and stand on the floor-contact row: no side beyond where the face's foot ends
         # (a print's frame is a margin's colour run already: its sides are that margin's)
         if framed is None:
