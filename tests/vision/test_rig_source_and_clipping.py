@@ -1128,3 +1128,55 @@ def test_with_no_rig_an_unconfirmed_swept_face_is_measured_not_missed() -> None:
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
     assert PITCH_UNREAD in res.doubts
+
+
+@pytest.mark.parametrize(
+    "upper_box, expected",
+    [
+        ((50.0, -60.0, 450.0, 0.0), 0.30),  # a strip along the wall (0.15 as tall as wide)
+        ((150.0, -160.0, 350.0, 0.0), 0.20),  # a face as tall as wide: it stays
+        ((220.0, -40.0, 480.0, 0.0), 0.20),  # a strip not spanning the lower face
+    ],
+)
+def test_with_no_rig_an_unsure_face_under_a_strip_along_the_wall_is_the_nearer_foot(
+    upper_box: tuple[float, float, float, float],
+    expected: float,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Room photo/151 in small: the wall's foot stands an unsure strip (a face 0.13 as tall
+    as wide, right across the room) and a weak step below it an unsure face within its
+    columns (confidence 0.10, under ESTIMATE_ACCEPT). The sonar measured the nearer
+    surface: the lower face, when the upper one is a strip spanning it
+    (measure.SPAN_FACTOR, STRIP_MAX_ASPECT); else the upper row stays."""
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    outcome = {0.20: 0.12, 0.30: 0.10}
+    box_at = {
+        0.20: tuple(v + (row_at[0.20] if i % 2 else 0.0) for i, v in enumerate(upper_box)),
+        0.30: (200.0, row_at[0.30] - 50.0, 300.0, float(row_at[0.30])),
+    }
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in outcome or kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        return fake_face(truth, True, outcome[height], height_m=0.3, box_px=box_at[height])
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+def test_with_no_rig_photo_151_the_face_below_the_wall_strip() -> None:
+    """Room photo/151 (ordinary): the wall's foot stood an unsure strip 1.4 m wide taken for
+    the face (width +389 %); the weak step below it stands the face, unsure: its height
+    within 7 %, its width within 5 %."""
+    image, truth, _ = render_room("photo", 151, False, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.07)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)

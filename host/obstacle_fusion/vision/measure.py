@@ -493,7 +493,9 @@ class Measurer:
         while a face of nearly the floor's colour steps little where it meets the floor
         (under the noise bar of :func:`contact_rows`). A wall's foot (or a band between
         legs at it) standing only an unsure face, with a weak step below it that stands an
-        accepted one, is behind that face."""
+        accepted one, is behind that face. So is an unsure face spanning the lower face's
+        columns and SPAN_FACTOR times its width or more (a strip along the wall behind
+        it), when the lower face reaches SPANNED_NEARER_ACCEPT."""
         lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
         for low in weak_contact_rows(image, view, depth):  # lowest first
             if low <= row + MIN_NEARER_DROP_PX:
@@ -510,10 +512,12 @@ class Measurer:
                 and (upper_box is None or result.box_px[3] >= upper_box[3] + MIN_NEARER_DROP_PX)
             ):
                 continue  # no face, or the unsure face again on its own foot's blur
-            if (result.confidence or 0.0) >= ESTIMATE_ACCEPT and sides_reach_foot(
-                image, result.lines
-            ):
-                log.debug("no rig: weak row %d below row %d stands a sure face", low, row)
+            conf = result.confidence or 0.0
+            if (
+                conf >= ESTIMATE_ACCEPT
+                or (conf >= SPANNED_NEARER_ACCEPT and _spans(upper_box, result.box_px))
+            ) and sides_reach_foot(image, result.lines):
+                log.debug("no rig: weak row %d below row %d stands a face", low, row)
                 return result, low
         return None
 
@@ -750,6 +754,14 @@ CLIP_MARGIN_PX = 1.5
 #: columns with the face reported is another face beside it (a face and its own parts or
 #: a wider reading of it share most of them).
 RIVAL_SHARED_WIDTH = 0.5
+#: With no rig, an unsure face spanning the columns of a face on a weaker step below it,
+#: this many times as wide or more, is a strip along the wall behind it ...
+SPAN_FACTOR = 2.0
+#: ... and under this share as tall as it is wide (a face taller for its width is one,
+#: and a lower face under it its reflection on a glossy floor)
+STRIP_MAX_ASPECT = 0.2
+#: ... and the lower face is taken from this confidence up (ESTIMATE_ACCEPT otherwise).
+SPANNED_NEARER_ACCEPT = 0.08
 #: With no rig, a face under this share as tall as it is wide is a band along the wall,
 #: not taken (the flattest faces of the tuning rooms stand 0.13 as tall as wide; the bands
 #: taken for faces on wrong rows 0.04-0.09).
@@ -793,6 +805,23 @@ def _wall_band(found: Measurement) -> bool:
         return False
     x0, y0, x1, y1 = found.box_px
     return x1 > x0 and (y1 - y0) < BAND_MAX_ASPECT * (x1 - x0)
+
+
+def _spans(
+    upper: tuple[float, float, float, float] | None,
+    lower: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether a face box is a strip along the wall behind a lower one: under
+    STRIP_MAX_ASPECT as tall as wide, spanning the lower box's columns and at least
+    SPAN_FACTOR times as wide (input pixel boxes x0, y0, x1, y1)."""
+    if upper is None or lower is None:
+        return False
+    return (
+        upper[3] - upper[1] < STRIP_MAX_ASPECT * (upper[2] - upper[0])
+        and upper[0] <= lower[0]
+        and upper[2] >= lower[2]
+        and upper[2] - upper[0] >= SPAN_FACTOR * (lower[2] - lower[0])
+    )
 
 
 def _doubted(found: Measurement) -> float:
