@@ -1180,3 +1180,61 @@ def test_with_no_rig_photo_151_the_face_below_the_wall_strip() -> None:
     assert res.detected, res.reason
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.07)
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+
+
+@pytest.mark.parametrize(
+    "lower_conf, lower_doubts, expected",
+    [
+        (0.10, [], 0.30),  # an unsure face on the lowest row: the contact
+        (0.10, ["floor_in_face"], 0.20),  # unsure, floor taken in: the face above it
+        (0.40, ["floor_in_face"], 0.20),  # sure, floor taken in: the face above it
+        (0.40, [], 0.30),  # sure: the contact
+    ],
+)
+def test_with_no_rig_a_face_that_took_floor_in_settles_no_row(
+    lower_conf: float,
+    lower_doubts: list[str],
+    expected: float,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A face whose lowest band has the colour of what lies under it (FLOOR_IN_FACE: a
+    floor tile between two joints, a face's strip run down over its shadow) stands on a
+    row below the true foot: the lowest face above it without that doubt is taken."""
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in row_at or kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        box = (200.0, row_at[height] - 80.0, 300.0, float(row_at[height]))
+        if height == 0.30:
+            return fake_face(truth, True, lower_conf, box_px=box, doubts=list(lower_doubts))
+        return fake_face(truth, True, 0.12, box_px=box)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+@pytest.mark.parametrize(
+    "family, seed, was",
+    [
+        ("photo", 126, "a panel's strip run down over its shadow, width -70 %"),
+        ("procedural", 154, "a floor tile between grid lines, height -81 %"),
+    ],
+)
+def test_with_no_rig_rooms_whose_lowest_face_took_floor_in(
+    family: str, seed: int, was: str
+) -> None:
+    """Ordinary rooms whose lowest standing face, taken before, had floor in it (``was``):
+    the face above it is measured within 3 %."""
+    image, truth, _ = render_room(family, seed, False, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)

@@ -24,6 +24,7 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.confidence import (
+    FLOOR_IN_FACE,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
     TRIAL_RIVAL,
@@ -279,11 +280,23 @@ class Measurer:
                 if result.detected and not sides_reach_foot(image, result.lines):
                     unstood += 1
                     continue  # a line on the floor below the face: its sides end above it
-                if best is None or (result.detected and not best.detected):
+                if (
+                    best is None
+                    or (result.detected and not best.detected)
+                    or (
+                        result.detected
+                        and FLOOR_IN_FACE in best.doubts
+                        and FLOOR_IN_FACE not in result.doubts
+                    )
+                ):
                     # with no row accepted, the lowest that stands a face: below the face
-                    # there is only floor (a surer face higher up stands on a line on it)
+                    # there is only floor (a surer face higher up stands on a line on it).
+                    # A face whose lowest band has the colour under it (FLOOR_IN_FACE)
+                    # took floor in, its row below the foot (a floor tile between two
+                    # joints, a face's strip run down over its shadow): it settles no row,
+                    # and the lowest face above it without that doubt replaces it
                     best, best_row = result, row
-                if accepted(result):
+                if accepted(result) and FLOOR_IN_FACE not in result.doubts:
                     best, best_row = result, row
                     # a print on the face stands on its own lower edge, surer than the
                     # face found on the row below it: that face, when the print's margin
