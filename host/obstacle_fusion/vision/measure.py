@@ -25,6 +25,7 @@ from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.confidence import (
     FLOOR_IN_FACE,
+    FRAMED,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
     TRIAL_RIVAL,
@@ -319,6 +320,20 @@ class Measurer:
                 )
                 if nearer is not None:
                     best, best_row = nearer
+            elif (
+                best is not None
+                and best.box_px is not None
+                and best_row is not None
+                and FRAMED in best.doubts
+            ):
+                # a print in a frame, accepted on the print's lower edge: a weak step below
+                # it standing a face that covers it, the strip between them the frame's
+                # colour, is the box's own foot (face_runs_below)
+                framed = self._framed_print_foot(
+                    image, view, depth, best_row, set(rows), trial, best.box_px
+                )
+                if framed is not None:
+                    best, best_row = framed
             if best is not None and best.detected and best_row is not None:
                 # the row is found to a pixel or two, and the face a level view finds can
                 # change with it: the surest of the row and its neighbours
@@ -531,6 +546,40 @@ class Measurer:
                 or (conf >= SPANNED_NEARER_ACCEPT and _spans(upper_box, result.box_px))
             ) and sides_reach_foot(image, result.lines):
                 log.debug("no rig: weak row %d below row %d stands a face", low, row)
+                return result, low
+        return None
+
+    def _framed_print_foot(
+        self,
+        image: npt.NDArray[Any],
+        view: View,
+        depth: float,
+        row: int,
+        tried: set[int],
+        trial: Callable[[float, float | None], Measurement],
+        print_box: tuple[float, float, float, float],
+    ) -> tuple[Measurement, int] | None:
+        """A face on a weaker step of the band below ``row`` that the framed print found on
+        ``row`` (its box ``print_box``, input pixels) runs down to (:func:`face_runs_below`:
+        the lower face covers it and the strip between their feet has the margin's
+        colour), lowest first, with that row; else None. The weak steps are not among the
+        rows tried for a contact, so the print's own lower edge stood for the foot."""
+        for low in weak_contact_rows(image, view, depth):  # lowest first
+            if low <= row + MIN_NEARER_DROP_PX:
+                break
+            if low in tried:
+                continue
+            height = camera_height_for_row(low, depth, 0.0, view.fy, view.cy)
+            if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                continue
+            result = trial(height, low)
+            if (
+                accepted_face(result)
+                and result.box_px is not None
+                and face_runs_below(image, print_box, result.box_px)
+                and sides_reach_foot(image, result.lines)
+            ):
+                log.debug("no rig: weak row %d below the framed print's row %d", low, row)
                 return result, low
         return None
 
@@ -818,6 +867,11 @@ def _wall_band(found: Measurement) -> bool:
         return False
     x0, y0, x1, y1 = found.box_px
     return x1 > x0 and (y1 - y0) < BAND_MAX_ASPECT * (x1 - x0)
+
+
+def accepted_face(result: Measurement) -> bool:
+    """Whether a no-rig trial found a face of at least ESTIMATE_ACCEPT."""
+    return result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
 
 
 def _spans(
