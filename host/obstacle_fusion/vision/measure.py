@@ -24,6 +24,8 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.confidence import (
+    FLOOR_IN_FACE,
+    FRAMED,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
     TRIAL_RIVAL,
@@ -203,6 +205,16 @@ class Measurer:
                 )
             finally:
                 method.view = base
+            if _wall_band(result):
+                # a band along the wall (its foot, a skirting board) on a row taken for the
+                # floor contact: no obstacle's face; the rows go on as if it found none
+                result = Measurement(
+                    False,
+                    result.method,
+                    range_m,
+                    confidence=result.confidence,
+                    reason="a band along the wall, not a face",
+                )
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
             if accepted(result):
@@ -271,11 +283,23 @@ class Measurer:
                 if result.detected and not sides_reach_foot(image, result.lines):
                     unstood += 1
                     continue  # a line on the floor below the face: its sides end above it
-                if best is None or (result.detected and not best.detected):
+                if (
+                    best is None
+                    or (result.detected and not best.detected)
+                    or (
+                        result.detected
+                        and FLOOR_IN_FACE in best.doubts
+                        and FLOOR_IN_FACE not in result.doubts
+                    )
+                ):
                     # with no row accepted, the lowest that stands a face: below the face
-                    # there is only floor (a surer face higher up stands on a line on it)
+                    # there is only floor (a surer face higher up stands on a line on it).
+                    # A face whose lowest band has the colour under it (FLOOR_IN_FACE)
+                    # took floor in, its row below the foot (a floor tile between two
+                    # joints, a face's strip run down over its shadow): it settles no row,
+                    # and the lowest face above it without that doubt replaces it
                     best, best_row = result, row
-                if accepted(result):
+                if accepted(result) and FLOOR_IN_FACE not in result.doubts:
                     best, best_row = result, row
                     # a print on the face stands on its own lower edge, surer than the
                     # face found on the row below it: that face, when the print's margin
@@ -298,6 +322,20 @@ class Measurer:
                 )
                 if nearer is not None:
                     best, best_row = nearer
+            elif (
+                best is not None
+                and best.box_px is not None
+                and best_row is not None
+                and FRAMED in best.doubts
+            ):
+                # a print in a frame, accepted on the print's lower edge: a weak step below
+                # it standing a face that covers it, the strip between them the frame's
+                # colour, is the box's own foot (face_runs_below)
+                framed = self._framed_print_foot(
+                    image, view, depth, best_row, set(rows), trial, best.box_px
+                )
+                if framed is not None:
+                    best, best_row = framed
             if best is not None and best.detected and best_row is not None:
                 # the row is found to a pixel or two, and the face a level view finds can
                 # change with it: the surest of the row and its neighbours
@@ -384,17 +422,20 @@ class Measurer:
                 best = fallback  # the last frame's camera height and pitch, not sure here
             if (best is None or not best.detected) and unsure is None:
                 # still no face: the rows, and weaker steps, at a few pitches; a face whose
-                # sides read the pitch is taken. Up to ~90 trials: in a stream that saw no
-                # face in its last sweep (nothing in view, most likely), the next
-                # SWEEP_REST_FRAMES frames go without
+                # sides read the pitch is taken, else the lowest sure one. Up to ~90
+                # trials: in a stream that saw no face in its last sweep (nothing in view,
+                # most likely), the next SWEEP_REST_FRAMES frames go without
                 if self._sweep_rest > 0:
                     self._sweep_rest -= 1
                 else:
-                    swept = self._pitch_swept_rows(image, view, depth, rows, trial)
+                    swept, read = self._pitch_swept_rows(image, view, depth, rows, trial)
                     timer.lap("pitch_sweep")
                     self._sweep_rest = SWEEP_REST_FRAMES if swept is None else 0
                     if swept is not None:
-                        best, pitch_read, pitch_tried = swept, True, True
+                        # a face the sides did not confirm keeps its guessed pitch, doubted
+                        # (PITCH_UNREAD) and not carried on to the next frame
+                        best, pitch_read, pitch_tried = swept, read, True
+                        pitch_swept = not read
             if (best is None or not best.detected) and unsure is not None:
                 # nothing surer anywhere: the surest face a pitched view found near the
                 # horizon, reported with its low confidence rather than missed
@@ -482,7 +523,9 @@ class Measurer:
         while a face of nearly the floor's colour steps little where it meets the floor
         (under the noise bar of :func:`contact_rows`). A wall's foot (or a band between
         legs at it) standing only an unsure face, with a weak step below it that stands an
-        accepted one, is behind that face."""
+        accepted one, is behind that face. So is an unsure face spanning the lower face's
+        columns and SPAN_FACTOR times its width or more (a strip along the wall behind
+        it), when the lower face reaches SPANNED_NEARER_ACCEPT."""
         lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
         for low in weak_contact_rows(image, view, depth):  # lowest first
             if low <= row + MIN_NEARER_DROP_PX:
@@ -499,10 +542,46 @@ class Measurer:
                 and (upper_box is None or result.box_px[3] >= upper_box[3] + MIN_NEARER_DROP_PX)
             ):
                 continue  # no face, or the unsure face again on its own foot's blur
-            if (result.confidence or 0.0) >= ESTIMATE_ACCEPT and sides_reach_foot(
-                image, result.lines
+            conf = result.confidence or 0.0
+            if (
+                conf >= ESTIMATE_ACCEPT
+                or (conf >= SPANNED_NEARER_ACCEPT and _spans(upper_box, result.box_px))
+            ) and sides_reach_foot(image, result.lines):
+                log.debug("no rig: weak row %d below row %d stands a face", low, row)
+                return result, low
+        return None
+
+    def _framed_print_foot(
+        self,
+        image: npt.NDArray[Any],
+        view: View,
+        depth: float,
+        row: int,
+        tried: set[int],
+        trial: Callable[[float, float | None], Measurement],
+        print_box: tuple[float, float, float, float],
+    ) -> tuple[Measurement, int] | None:
+        """A face on a weaker step of the band below ``row`` that the framed print found on
+        ``row`` (its box ``print_box``, input pixels) runs down to (:func:`face_runs_below`:
+        the lower face covers it and the strip between their feet has the margin's
+        colour), lowest first, with that row; else None. The weak steps are not among the
+        rows tried for a contact, so the print's own lower edge stood for the foot."""
+        for low in weak_contact_rows(image, view, depth):  # lowest first
+            if low <= row + MIN_NEARER_DROP_PX:
+                break
+            if low in tried:
+                continue
+            height = camera_height_for_row(low, depth, 0.0, view.fy, view.cy)
+            if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                continue
+            result = trial(height, low)
+            if (
+                accepted_face(result)
+                and result.box_px is not None
+                and face_runs_below(image, print_box, result.box_px)
+                and sides_reach_foot(image, result.lines)
             ):
-                log.debug("no rig: weak row %d below row %d stands a sure face", low, row)
+                log.debug("no rig: weak row %d below the framed print's row %d", low, row)
                 return result, low
         return None
 
@@ -513,17 +592,21 @@ class Measurer:
         depth: float,
         rows: list[int],
         trial: Callable[[float, float | None, float], Measurement],
-    ) -> Measurement | None:
+    ) -> tuple[Measurement | None, bool]:
         """For a frame where nothing else stood a face: each floor-contact row, and each
         weaker step of the band (:func:`weak_contact_rows`), lowest first, at the swept
         pitches (and level, for a row not tried yet); the first face whose own sides then
-        read the pitch (:meth:`_with_pitch`) is returned, measured at that pitch, else
-        None. A lens pitched a few degrees down puts the level guess of its height off by
+        read the pitch (:meth:`_with_pitch`) is returned, measured at that pitch, with True.
+        A lens pitched a few degrees down puts the level guess of its height off by
         D tan(pitch), and a face's foot little apart from the floor's colour steps less
-        than the floor's texture: either left the frame without a face. A face the sides
-        do not confirm is not taken: on the tuning rooms such faces were another face or
-        a part of the box."""
+        than the floor's texture: either left the frame without a face. When no face's
+        sides confirm a pitch, the first sure face standing on its foot (the lowest row's:
+        below the face there is only floor) with False, its pitch a guess; (None, False)
+        when there is none. (Such faces were dropped before; with bands along the wall
+        no longer taken for faces on the rows above, on the tuning rooms taking them
+        turned three misses into two faces within 3 % and one 33 % off.)"""
         tried = set(rows)
+        unconfirmed: Measurement | None = None
         candidates = sorted(tried | set(weak_contact_rows(image, view, depth)), reverse=True)
         for row in candidates:
             pitches = SWEPT_PITCHES_DEG if row in tried else (0.0, *SWEPT_PITCHES_DEG)
@@ -541,8 +624,10 @@ class Measurer:
                 confirmed = self._with_pitch(result, image, view, depth, trial)
                 if confirmed is not None:
                     log.debug("no rig: row %d, swept pitch %.1f deg: the sides confirm", row, pitch)
-                    return confirmed
-        return None
+                    return confirmed, True
+                if unconfirmed is None:
+                    unconfirmed = result
+        return unconfirmed, False
 
     def _with_pitch(
         self,
@@ -733,6 +818,18 @@ CLIP_MARGIN_PX = 1.5
 #: columns with the face reported is another face beside it (a face and its own parts or
 #: a wider reading of it share most of them).
 RIVAL_SHARED_WIDTH = 0.5
+#: With no rig, an unsure face spanning the columns of a face on a weaker step below it,
+#: this many times as wide or more, is a strip along the wall behind it ...
+SPAN_FACTOR = 2.0
+#: ... and under this share as tall as it is wide (a face taller for its width is one,
+#: and a lower face under it its reflection on a glossy floor)
+STRIP_MAX_ASPECT = 0.2
+#: ... and the lower face is taken from this confidence up (ESTIMATE_ACCEPT otherwise).
+SPANNED_NEARER_ACCEPT = 0.08
+#: With no rig, a face under this share as tall as it is wide is a band along the wall,
+#: not taken (the flattest faces of the tuning rooms stand 0.13 as tall as wide; the bands
+#: taken for faces on wrong rows 0.04-0.09).
+BAND_MAX_ASPECT = 0.1
 #: The order ``clipped`` lists the cut sides in.
 SIDES = ("left", "right", "top", "bottom")
 #: With no rig, after a last-resort pitch sweep that found no face, this many frames of a
@@ -761,6 +858,39 @@ def _rival_trial(
         if narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower and stands(other):
             return True
     return False
+
+
+def _wall_band(found: Measurement) -> bool:
+    """Whether a face found with no rig is a band along the wall rather than an obstacle's
+    face: its box under BAND_MAX_ASPECT as tall as wide (a wall's foot, a skirting board or a
+    floor board's edge standing on a row guessed for the floor contact reads as a long low
+    strip; an obstacle the sonar's beam sees stands taller for its width)."""
+    if not found.detected or found.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    return x1 > x0 and (y1 - y0) < BAND_MAX_ASPECT * (x1 - x0)
+
+
+def accepted_face(result: Measurement) -> bool:
+    """Whether a no-rig trial found a face of at least ESTIMATE_ACCEPT."""
+    return result.detected and (result.confidence or 0.0) >= ESTIMATE_ACCEPT
+
+
+def _spans(
+    upper: tuple[float, float, float, float] | None,
+    lower: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether a face box is a strip along the wall behind a lower one: under
+    STRIP_MAX_ASPECT as tall as wide, spanning the lower box's columns and at least
+    SPAN_FACTOR times as wide (input pixel boxes x0, y0, x1, y1)."""
+    if upper is None or lower is None:
+        return False
+    return (
+        upper[3] - upper[1] < STRIP_MAX_ASPECT * (upper[2] - upper[0])
+        and upper[0] <= lower[0]
+        and upper[2] >= lower[2]
+        and upper[2] - upper[0] >= SPAN_FACTOR * (lower[2] - lower[0])
+    )
 
 
 def _doubted(found: Measurement) -> float:
