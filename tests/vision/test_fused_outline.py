@@ -87,17 +87,48 @@ def test_a_strip_of_edge_blur_only_is_no_margin() -> None:
     assert walk(scene(foot=5), foot=5) is not None
 
 
+def test_a_margin_running_on_past_the_reach_is_followed_to_its_end() -> None:
+    # a small piece of the print (one block) found: the margin under it runs on far past
+    # a reach scaled by that piece, out to the face's sides
+    img = scene()
+    c = P_LEFT + 80
+    view = level_view()
+    assert widen_along_margin(img, view, P_BOTTOM, BOTTOM, c, c + 20, 8) is None
+    sides = widen_along_margin(img, view, P_BOTTOM, BOTTOM, c, c + 20, 8, 200)
+    assert sides is not None
+    assert abs(sides[0] - LEFT) <= 2 and abs(sides[1] - RIGHT) <= 2
+    # ... but no farther than ``far``: a margin still running on there is no outline
+    assert widen_along_margin(img, view, P_BOTTOM, BOTTOM, c, c + 20, 8, 60) is None
+
+
+def test_a_thin_strip_counts_only_where_it_runs_on_far() -> None:
+    # 4 rows: two clear of the blur only if the strip runs on well past the piece found
+    img = scene(foot=4)
+    view = level_view()
+    p_bottom = BOTTOM - 4
+    c = P_LEFT + 80
+    sides = widen_along_margin(img, view, p_bottom, BOTTOM, c, c + 20, 8, 200)
+    assert sides is not None and abs(sides[0] - LEFT) <= 2 and abs(sides[1] - RIGHT) <= 2
+    # the whole print found, its strip ending within the reach: still only blur
+    assert widen_along_margin(img, view, p_bottom, BOTTOM, P_LEFT, P_RIGHT, REACH, 200) is None
+
+
 @pytest.mark.parametrize(
-    ("family", "seed"),
+    ("family", "seed", "tol"),
     [
-        ("procedural", 339),  # a print standing above the predicted row (was -11 %)
-        ("procedural", 132),  # text on a page standing above it (was -16 %)
+        ("procedural", 339, 0.05),  # a print standing above the predicted row (was -11 %)
+        ("procedural", 132, 0.05),  # text on a page standing above it (was -16 %)
+        # a small piece of a print covering most of the face, standing above the row
+        ("procedural", 305, 0.08),  # was -83 % / -61 %
+        ("procedural", 306, 0.10),  # was -71 % / -55 %
     ],
 )
-def test_rooms_with_a_print_in_a_thin_margin_are_measured_whole(family: str, seed: int) -> None:
+def test_rooms_with_a_print_in_a_thin_margin_are_measured_whole(
+    family: str, seed: int, tol: float
+) -> None:
     cam = CameraModel.paper(500, 375)
     image, truth, spec = render_room(family, seed, True, cam)
     res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None and res.width_m is not None
-    assert abs(res.height_m / truth["height_m"] - 1) < 0.05
-    assert abs(res.width_m / truth["width_m"] - 1) < 0.05
+    assert abs(res.height_m / truth["height_m"] - 1) < tol
+    assert abs(res.width_m / truth["width_m"] - 1) < tol

@@ -273,6 +273,9 @@ def enclose_inner_frame(
 #: How far beyond a print's side its face's outline is sought, as a share of the print's
 #: larger side (a margin of up to 12 % of the face is 16 % of the print inside it).
 OUTLINE_REACH = 0.25
+#: ... and how far (metres at the face's depth) a margin still running on at that reach
+#: is followed (the piece found is a small part of a print covering most of the face).
+OUTLINE_FAR_M = 0.6
 #: A foot under a print may be faint in grey (a margin of the floor's shade, a contact
 #: shadow): its row need only stand this many noise levels (the margin's colour decides).
 OUTLINE_FOOT_SNR = 1.5

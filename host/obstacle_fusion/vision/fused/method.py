@@ -29,6 +29,7 @@ from obstacle_fusion.vision.fused.confidence import (
     refusal,
 )
 from obstacle_fusion.vision.fused.extent import (
+    OUTLINE_FAR_M,
     OUTLINE_REACH,
     SNAP_COLUMNS,
     enclose_inner_frame,
@@ -539,7 +540,8 @@ class FusedMethod:
         if nb is None:
             return None
         reach = max(SNAP_COLUMNS, int(OUTLINE_REACH * max(ur - ul, rb - vt)))
-        sides = widen_along_margin(seen, v, rb, nb, ul, ur, reach)
+        far = int(v.fx * OUTLINE_FAR_M / depth)
+        sides = widen_along_margin(seen, v, rb, nb, ul, ur, reach, far)
         if sides is None:
             return None
         nl, nr = sides

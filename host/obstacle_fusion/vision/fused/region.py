@@ -1504,20 +1504,28 @@ def widen_along_margin(
     left: int,
     right: int,
     reach: int,
+    far: int = 0,
 ) -> tuple[int, int] | None:
     """The face's sides round a print, walked along the margin under it.
 
     A print standing above the floor-contact row leaves a strip of the face's own colour
     between its lower edge and the foot; that strip runs out past the print's sides to the
     face's own sides, where what stands beside the face (the floor behind it, the wall)
-    starts. Returns the new sides, or None where no margin of one colour shows there."""
+    starts. Returns the new sides, or None where no margin of one colour shows there.
+    ``far`` (> ``reach``): where the margin still runs on ``reach`` beyond a side (the
+    piece found is a small part of the print, the print's own lower edge), it is followed
+    on up to ``far`` columns to where it ends at a step to what is beside the face."""
     if image is None or image.ndim != 3 or right - left < 6:
         return None
     r0, r1 = print_bottom + EDGE_SKIP, foot - 1
-    if r1 - r0 < MARGIN_MIN_ROWS:
+    # a thinner strip only where it runs on far past the piece found (the blur tails of a
+    # face's own foot and the floor's edge under it do not end in a step on both sides)
+    thin = r1 - r0 < MARGIN_MIN_ROWS
+    if r1 - r0 < (MARGIN_MIN_ROWS if far <= reach else MARGIN_MIN_ROWS - 1):
         return None
     w = view.out.shape[1]
-    c0, c1 = max(0, left - reach - SMOOTH_COLUMNS), min(w, right + reach + SMOOTH_COLUMNS + 1)
+    span = max(reach, far)
+    c0, c1 = max(0, left - span - SMOOTH_COLUMNS), min(w, right + span + SMOOTH_COLUMNS + 1)
     lab = _lab8(image, view, r0, r1, c0, c1)
     cols = cv2.blur(median_u8(lab, axis=0)[None], (3, 1))[0].astype(np.float32)
     inner = cols[left - c0 + 1 : right - c0]
@@ -1526,13 +1534,26 @@ def widen_along_margin(
     if float(np.median(dist[left - c0 + 1 : right - c0])) > MARGIN_MIN_STEP:
         return None  # under the print: no one colour
     new = []
+    followed = False
     for side, step in ((left, -1), (right, 1)):
         out = side - c0 + step * (reach + 1)
         out = int(clamp(out, 0, cols.shape[0] - 1))
         beside = float(dist[out])
+        limit = reach
+        if beside < MARGIN_MIN_STEP and far > reach:
+            # the margin runs on past the reach: follow it to its end, the step beyond
+            limit, followed = far, True
+            run = walk_on(dist < MARGIN_MIN_STEP, side - c0, step, MARGIN_GAP)
+            if abs(run - (side - c0)) <= far:
+                last = cols.shape[0] - 1
+                a = int(clamp(run + step * (MARGIN_GAP + 1), 0, last))
+                b = int(clamp(run + step * (MARGIN_GAP + 1 + SMOOTH_COLUMNS), 0, last))
+                beside = float(np.median(dist[min(a, b) : max(a, b) + 1]))
         if beside < MARGIN_MIN_STEP:
             return None  # no step from the margin to what is beside the face
         on = dist <= MARGIN_SHARE * beside
         end = walk_on(on, side - c0, step, MARGIN_GAP)
-        new.append(int(clamp(end + c0, left - reach, right + reach)))
+        new.append(int(clamp(end + c0, left - limit, right + limit)))
+    if thin and not followed:
+        return None
     return new[0], new[1]
