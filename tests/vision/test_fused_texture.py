@@ -113,3 +113,30 @@ def test_a_grey_brick_face_on_grey_paving_is_measured_by_its_texture(
     assert 0.0 < res.confidence <= method.TEXTURE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "face_from_texture", lambda *args: None)
     assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected
+
+
+def test_a_print_found_by_its_texture_has_its_top_walked_up_by_the_sides(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Room photo/346 hard (a tuning scene): a print of coins covers most of a face, its
+    plain margin round it. The edges' face is refused (a side on a cylinder beside it), and
+    the texture finds the print's lower rows only (the texture's walk up stops at a row of
+    the print). The face's margin parts it from the wall at both sides up to its top: the
+    sides' walk takes the top up there (height -48 -> -19 %); without it the height is
+    under 60 % of the face's."""
+    from obstacle_fusion.sim.room_scene import TextureMissing, render_room
+    from obstacle_fusion.vision.fused import method
+    from obstacle_fusion.vision.measure import Measurer
+
+    try:
+        image, truth, spec = render_room("photo", 346, True)
+    except TextureMissing as exc:
+        pytest.skip(str(exc))
+    cam = CameraModel.paper(500, 375)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.25)
+    assert 0.0 < res.confidence <= method.TEXTURE_MAX_CONFIDENCE  # type: ignore[operator]
+    monkeypatch.setattr(method, "TEXTURE_SIDES_WALK", False)
+    short = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert short.detected and short.height_m < 0.6 * truth["height_m"]  # type: ignore[operator]

@@ -137,6 +137,10 @@ TEXTURE_MAX_CONFIDENCE = 0.3
 #: A face found by its colour has its sides walked again from its top (read-only in
 #: use: a switch for the tests).
 RESCUE_WIDEN_AT_TOP = True
+#: The face found by its texture walks its sides up too (:meth:`FusedMethod._by_texture`):
+#: a print's texture stops the texture's walk at the print's top or inside it, while the
+#: face's margin at both sides parts it from what is beside it up to its real top.
+TEXTURE_SIDES_WALK = True
 
 
 class FusedMethod:
@@ -617,6 +621,12 @@ class FusedMethod:
         rb, vt, ul, ur, evidence = found
         if rb >= ay.shape[0] - 3 or vt >= ay.shape[0]:
             return None
+        # a print covering the face is textured and the face's margin round it is not:
+        # the texture's walk up stops at the print's top or inside it (a row of its
+        # pattern), while both sides still part the face from what is beside it up to
+        # its real top (the sides' walk, as for the colour rescue's face)
+        if TEXTURE_SIDES_WALK:
+            vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
         conf = TEXTURE_MAX_CONFIDENCE * evidence
         return (rb, vt, ul, ur, conf) if conf >= self.min_confidence else None
 
