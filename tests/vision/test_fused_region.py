@@ -981,59 +981,9 @@ def test_a_background_pole_in_line_with_the_sides_is_not_the_face() -> None:
     assert abs(raise_by_sides(img, TAPE_LOW) - FACE_TOP) <= 2
 
 
-def test_below_the_horizon_the_sides_walk_is_left_alone_over_a_top_face() -> None:
-    """Seen from above, a top face parts from the wall too: the walk does not go there
-    (the rows it would cross are the top face's colour, not the front's)."""
-    img = wall_scene(top_face_rows=12)
-    assert raise_by_sides(img, FACE_TOP, high_view()) == FACE_TOP
-    # the top face is a band right above the front, with the wall above it: no face back
-    assert not region._face_back_above(
-        img, high_view(), FACE_TOP - 30, FACE_TOP, BOTTOM, LEFT, RIGHT
-    )
-
-
-def test_below_the_horizon_the_sides_cross_a_band_with_the_face_above_it(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    """A tape across a low face seen from above (photo/303 hard): above the band the
-    face's own colour is back, which a top face (lit unlike the front, meeting it with
-    no band between) never shows; the walk is taken (it stopped at the tape's lower
-    edge, -46 % in height). Without the rule the band ends the face below the horizon."""
-    assert abs(raise_by_sides(taped_scene(), TAPE_LOW, high_view()) - FACE_TOP) <= 2
-    monkeypatch.setattr(region, "BAND_BELOW_HORIZON", False)
+def test_below_the_horizon_the_sides_walk_is_left_alone() -> None:
+    """Seen from above, a top face parts from the wall too: the walk does not go there."""
     assert raise_by_sides(taped_scene(), TAPE_LOW, high_view()) == TAPE_LOW
-
-
-def test_below_the_horizon_a_band_needs_the_face_back_above_it() -> None:
-    """The same band with the rows above it another colour than the face (a top face of
-    the band's colour over a strip of it): not the face's colour back, not crossed."""
-    img = taped_scene()
-    img[FACE_TOP : TAPE_LOW - 12, LEFT:RIGHT] = (200, 170, 90)
-    assert raise_by_sides(img, TAPE_LOW, high_view()) == TAPE_LOW
-    assert not region._face_back_above(img, high_view(), FACE_TOP, TAPE_LOW, BOTTOM, LEFT, RIGHT)
-    # a band thinner than BACK_BAND_ROWS is the top edge's blur: no band, not crossed
-    assert not region._face_back_above(
-        taped_scene(tape_rows=2), high_view(), FACE_TOP, TAPE_LOW, BOTTOM, LEFT, RIGHT
-    )
-    assert region._face_back_above(
-        taped_scene(), high_view(), FACE_TOP, TAPE_LOW, BOTTOM, LEFT, RIGHT
-    )
-
-
-def test_a_tape_across_a_low_box_seen_from_above_is_crossed() -> None:
-    """Room photo/303 hard, with the rig: a light tape across a dark low box the lens
-    looks down on; the face's top is above the tape (was at its lower edge, -46 %)."""
-    from obstacle_fusion.sim.room_scene import TextureMissing, render_room
-    from obstacle_fusion.vision.measure import Measurer
-
-    try:
-        image, truth, spec = render_room("photo", 303, True)
-    except TextureMissing as exc:
-        pytest.skip(str(exc))
-    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
 
 
 @pytest.mark.parametrize(

@@ -666,68 +666,13 @@ def raise_top_by_sides(
     if end is None:
         return top  # a side that does not part the face from its surroundings
     r0, k = short, top - short
-    if k - end <= SNAP_ROWS:
-        return top
-    if r0 + end > view.cy and not (
-        BAND_BELOW_HORIZON and _face_back_above(image, view, r0 + end, top, bottom, left, right)
-    ):
+    if k - end <= SNAP_ROWS or r0 + end > view.cy:
         # below the horizon the lens looks down on the face's top: a top face's colour
         # stands apart from the wall beside it as well, so the walk cannot tell its end
-        # (unless the face's own colour is back above a band: a tape across the face)
         return top
     lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
     rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
     return int(r0 + lo + np.argmax(rows))
-
-
-#: Below the horizon, the sides' walk is taken where the face's own colour is back above
-#: the band it crossed (:func:`_face_back_above`; read-only in use: a switch for the tests).
-BAND_BELOW_HORIZON = True
-#: ... over at least this share of the rows walked above the band (a top face, lit unlike
-#: the front, has the wall above it; a tape leaves the face's colour above it).
-BACK_ABOVE_SHARE = 0.5
-#: ... above a band of another colour at least this many rows tall right above the top
-#: (thinner: the top edge's blur or a highlight along it).
-BACK_BAND_ROWS = 3
-#: Rows under the top read for the face's colour (at most; a third of the face at most).
-BACK_REF_ROWS = 12
-#: The face's colour is matched within its spread times SPREAD_FACTOR, within these (Lab).
-BACK_LIMITS = (10.0, MIN_FACE_DISTANCE)
-
-
-def _face_back_above(
-    image: npt.NDArray[Any],
-    view: View,
-    upper: int,
-    top: int,
-    bottom: int,
-    left: int,
-    right: int,
-) -> bool:
-    """Whether the rows ``upper``..``top`` the sides' walk crossed are a band of another
-    colour across the face (a tape, a label strip) with the face above it again: right
-    above ``top`` at least BACK_BAND_ROWS rows unlike the face's colour under ``top``
-    (between the sides), and above them that colour over at least BACK_ABOVE_SHARE of the
-    rows. A box's top face seen from above is lit unlike its front and has the wall, not
-    the front's colour, above it; a top with no band over it is left to the colour walks."""
-    n = min(BACK_REF_ROWS, (bottom - top) // 3)
-    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP
-    if n < 3 or top - upper < 3 or c1 - c0 < 4:
-        return False
-    rows = median_u8(_lab8(image, view, upper, top + 3 + n, c0, c1), axis=1)  # per row
-    face = rows[top - upper + 3 :]
-    ref = median_of(face, axis=0)
-    spread = float(median_of(row_norms(face - ref)))
-    limit = clamp(SPREAD_FACTOR * spread, *BACK_LIMITS)
-    walked = (row_norms(rows[: top - upper] - ref) <= limit).tolist()
-    # the band: rows of another colour right above the top (its edge's blur may match)
-    going_up = walked[::-1]
-    start = 1 if going_up[0] else 0
-    band = 0
-    while start + band < len(going_up) and not going_up[start + band]:
-        band += 1
-    above = going_up[start + band :]
-    return band >= BACK_BAND_ROWS and bool(above) and share(np.array(above)) >= BACK_ABOVE_SHARE
 
 
 def _sides_walk(
