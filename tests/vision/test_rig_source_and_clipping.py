@@ -686,6 +686,54 @@ def _fake_faces(
     return fake_run
 
 
+@pytest.mark.parametrize(
+    "swept_box, taken",
+    [
+        ((210.0, 150.0, 310.0, 200.0), True),  # the level face read again: taken
+        ((250.0, 150.0, 410.0, 200.0), True),  # half the narrower face's columns shared
+        ((280.0, 150.0, 440.0, 200.0), False),  # a surer face beside it: not taken
+    ],
+)
+def test_with_no_rig_a_swept_pitch_takes_the_level_face_read_again_not_a_face_beside_it(
+    swept_box: tuple[float, float, float, float],
+    taken: bool,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Room photo/102 (hard) in small: the level view finds the box (confidence 0.15); at
+    +4 degrees the guessed camera height stands a wall print beside it (0.34, surer by
+    more than SWEPT_PITCH_MARGIN), which was taken (width +103 %). A swept pitch moves a
+    face's top and foot, not its sides: a face sharing under half the narrower face's
+    columns with the level one is another face, and the level face stays."""
+    image, truth, view, depth = no_rig_room(4007)
+    found = int(round(view.cy + view.fy * 0.30 / depth))
+    level_box = (200.0, 150.0, 300.0, 200.0)
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        pitch = self.view.rig.camera_pitch_deg
+        if pitch == 4.0:
+            return fake_face(truth, True, 0.34, height_m=0.2, box_px=swept_box)
+        return fake_face(truth, True, 0.15 if pitch == 0.0 else 0.05, box_px=level_box)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.height_m == pytest.approx(0.2 if taken else 0.3)
+    assert res.camera_pitch_deg == (4.0 if taken else 0.0)
+
+
+def test_with_no_rig_photo_102_the_box_not_the_print_beside_it() -> None:
+    """Room photo/102 (hard): with no rig the level view finds the gloss box (within 5 %);
+    at +4 degrees a wall print beside it stood a surer face (width +103 %). The box is
+    measured: within 10 % in both."""
+    image, truth, _ = render_room("photo", 102, True, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.10)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.10)
+
+
 def test_with_no_rig_the_surest_of_the_swept_pitches_wins_in_any_order(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

@@ -354,8 +354,11 @@ class Measurer:
                 # height from the row is off by D tan(pitch): a box's top face seen or not
                 # changes with it. The row at a few usual pitches: of the faces clearly
                 # surer than the level view's, the surest is taken (its sides may still
-                # read the pitch below). A level face that sure already is kept.
+                # read the pitch below). A level face that sure already is kept, and a
+                # surer face beside it (under half its columns shared) is another face,
+                # not the level face read again: not taken.
                 level_conf = best.confidence or 0.0
+                level_box = best.box_px
                 for pitch in SWEPT_PITCHES_DEG if level_conf + SWEPT_PITCH_MARGIN < 1.0 else ():
                     height = camera_height_for_row(best_row, depth, pitch, view.fy, view.cy)
                     if not plausible(height):
@@ -367,6 +370,7 @@ class Measurer:
                         and conf > level_conf + SWEPT_PITCH_MARGIN
                         and conf > (best.confidence or 0.0)
                         and sides_reach_foot(image, result.lines)
+                        and not _beside(result.box_px, level_box)
                     ):
                         best, pitch_swept = result, True
             if best is None or not best.detected:
@@ -846,18 +850,25 @@ def _rival_trial(
     under RIVAL_SHARED_WIDTH of the narrower face's width, and it stands on its foot
     (``stands``). The trials differ only in the guessed camera height and pitch, so the face
     measured is one of two the unknown rig decides between (TRIAL_RIVAL)."""
-    if best.box_px is None:
+    return any(
+        other is not best and _beside(best.box_px, other.box_px) and stands(other)
+        for other in trials
+    )
+
+
+def _beside(
+    box: tuple[float, float, float, float] | None,
+    other: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether two face boxes (input pixels) share under RIVAL_SHARED_WIDTH of the narrower
+    one's columns: another face beside it, not the same face read with another guess of
+    the rig (a guessed pitch or camera height moves a face's top and foot, not its sides).
+    False when either box is unknown."""
+    if box is None or other is None:
         return False
-    x0, _, x1, _ = best.box_px
-    for other in trials:
-        if other is best or other.box_px is None:
-            continue
-        o0, _, o1, _ = other.box_px
-        narrower = min(x1 - x0, o1 - o0)
-        shared = min(x1, o1) - max(x0, o0)
-        if narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower and stands(other):
-            return True
-    return False
+    narrower = min(box[2] - box[0], other[2] - other[0])
+    shared = min(box[2], other[2]) - max(box[0], other[0])
+    return narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower
 
 
 def _wall_band(found: Measurement) -> bool:
