@@ -206,6 +206,14 @@ class Measurer:
             finally:
                 method.view = base
             if _wall_band(result):
+                log.debug(
+                    "no rig: row %.0f: a band along the wall, box %s, h %s, w %s, conf %.2f",
+                    row if row is not None else -1.0,
+                    result.box_px,
+                    result.height_m,
+                    result.width_m,
+                    result.confidence or 0.0,
+                )
                 # a band along the wall (its foot, a skirting board) on a row taken for the
                 # floor contact: no obstacle's face; the rows go on as if it found none
                 result = Measurement(
@@ -504,6 +512,22 @@ class Measurer:
                 reason=f"no rig given and {found}; "
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
+        if best.detected and _doubted(best) < MIN_DOUBTED_CONFIDENCE:
+            # every cue against it: the guessed rig stood a face its own outline doubts on
+            # every count (a stripe, a print, a wall band read as a face), wrong by a
+            # multiple of its size more often than not; no answer is better than that one
+            self._last_rig = None
+            self._last_pitch_doubts = []
+            return Measurement(
+                False,
+                self.method,
+                range_m,
+                confidence=best.confidence,
+                reason=f"no rig given and the face found is doubted on every count "
+                f"({', '.join(best.doubts)}): its confidence with them is "
+                f"{_doubted(best):.3f}, under {MIN_DOUBTED_CONFIDENCE}; "
+                "give --rig (obstacle-fusion calibrate-rig writes one)",
+            )
         return best
 
     def _nearer_weak_contact(
@@ -771,6 +795,12 @@ NOMINAL_CAMERA_HEIGHT_M = 0.3
 MAX_ESTIMATED_PITCH_DEG = 8.0
 #: ... and such a face whose sides give no pitch is kept only from this confidence up.
 GUESSED_PITCH_SURE = 0.5
+
+#: With no rig, a face whose confidence with all its doubts applied (each a factor
+#: DOUBT_FACTOR, a small face its pixel share; unfloored) stays under this is no answer
+#: (``detected: false``): on the tuning rooms, 4 of the 6 such faces were 67-115 % off,
+#: the others 7 % and 18 %; a rig file's face is never turned down so.
+MIN_DOUBTED_CONFIDENCE = 0.01
 
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.
