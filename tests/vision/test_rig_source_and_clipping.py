@@ -288,6 +288,31 @@ def test_with_no_rig_a_contact_row_too_close_to_the_horizon_is_not_tried(
     assert row_at[0.05] in tried
 
 
+def test_with_no_rig_a_contact_row_under_a_lens_over_1_5_m_is_not_tried(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A row that would put the lens 1.7 m above the floor (a line far below the face at the
+    longest range) is no floor contact a mobile robot's camera sees: never tried, at any
+    pitch; one at 1.2 m is."""
+    image, truth, view, depth = no_rig_room(4001)
+    far = 5.0  # the longest range: the rows of such heights lie inside the image
+    depth = Rig().face_depth(far)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (1.2, 1.7)}
+    assert row_at[1.7] < image.shape[0]
+    heights: list[float] = []
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        heights.append(self.view.rig.camera_height_m)
+        return Measurement(detected=False, method="fused", range_m=far)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[1.7], row_at[1.2]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[1.7]])
+    Measurer(CAM, None).measure(image, far)
+    assert any(abs(h - 1.2) < 0.01 for h in heights), heights
+    assert max(heights) < measure.MAX_ESTIMATED_CAMERA_HEIGHT_M <= 1.5
+
+
 def test_with_no_rig_a_stream_tries_the_last_frames_camera_height_first(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

@@ -786,8 +786,10 @@ class Measurer:
 #: is not tried: it is a line on the wall or a print's edge far above the floor, not the
 #: obstacle's foot (on textured rooms such rows gave most of the gross errors with no rig).
 MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
-#: ... and at most this (metres): a row giving more is no floor contact of this range.
-MAX_ESTIMATED_CAMERA_HEIGHT_M = 5.0
+#: ... and at most this (metres): a row giving more is no floor contact of this range (a
+#: mobile robot's camera stands well under it; on the tuning rooms no trial reached it, so
+#: it only keeps rows far below a face from standing one 3-5 m under a guessed lens).
+MAX_ESTIMATED_CAMERA_HEIGHT_M = 1.5
 #: With no rig, a contact row nearer the horizon than that height allows is tried as seen
 #: by a camera this high, pitched down to put the contact there ...
 NOMINAL_CAMERA_HEIGHT_M = 0.3
