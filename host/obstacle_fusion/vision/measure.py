@@ -206,6 +206,14 @@ class Measurer:
             finally:
                 method.view = base
             if _wall_band(result):
+                log.debug(
+                    "no rig: row %.0f: a band along the wall, box %s, h %s, w %s, conf %.2f",
+                    row if row is not None else -1.0,
+                    result.box_px,
+                    result.height_m,
+                    result.width_m,
+                    result.confidence or 0.0,
+                )
                 # a band along the wall (its foot, a skirting board) on a row taken for the
                 # floor contact: no obstacle's face; the rows go on as if it found none
                 result = Measurement(
@@ -354,8 +362,11 @@ class Measurer:
                 # height from the row is off by D tan(pitch): a box's top face seen or not
                 # changes with it. The row at a few usual pitches: of the faces clearly
                 # surer than the level view's, the surest is taken (its sides may still
-                # read the pitch below). A level face that sure already is kept.
+                # read the pitch below). A level face that sure already is kept, and a
+                # surer face beside it (under half its columns shared) is another face,
+                # not the level face read again: not taken.
                 level_conf = best.confidence or 0.0
+                level_box = best.box_px
                 for pitch in SWEPT_PITCHES_DEG if level_conf + SWEPT_PITCH_MARGIN < 1.0 else ():
                     height = camera_height_for_row(best_row, depth, pitch, view.fy, view.cy)
                     if not plausible(height):
@@ -367,6 +378,7 @@ class Measurer:
                         and conf > level_conf + SWEPT_PITCH_MARGIN
                         and conf > (best.confidence or 0.0)
                         and sides_reach_foot(image, result.lines)
+                        and not _beside(result.box_px, level_box)
                     ):
                         best, pitch_swept = result, True
             if best is None or not best.detected:
@@ -498,6 +510,22 @@ class Measurer:
                 self.method,
                 range_m,
                 reason=f"no rig given and {found}; "
+                "give --rig (obstacle-fusion calibrate-rig writes one)",
+            )
+        if best.detected and _doubted(best) < MIN_DOUBTED_CONFIDENCE:
+            # every cue against it: the guessed rig stood a face its own outline doubts on
+            # every count (a stripe, a print, a wall band read as a face), wrong by a
+            # multiple of its size more often than not; no answer is better than that one
+            self._last_rig = None
+            self._last_pitch_doubts = []
+            return Measurement(
+                False,
+                self.method,
+                range_m,
+                confidence=best.confidence,
+                reason=f"no rig given and the face found is doubted on every count "
+                f"({', '.join(best.doubts)}): its confidence with them is "
+                f"{_doubted(best):.3f}, under {MIN_DOUBTED_CONFIDENCE}; "
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         return best
@@ -758,8 +786,10 @@ class Measurer:
 #: is not tried: it is a line on the wall or a print's edge far above the floor, not the
 #: obstacle's foot (on textured rooms such rows gave most of the gross errors with no rig).
 MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
-#: ... and at most this (metres): a row giving more is no floor contact of this range.
-MAX_ESTIMATED_CAMERA_HEIGHT_M = 5.0
+#: ... and at most this (metres): a row giving more is no floor contact of this range (a
+#: mobile robot's camera stands well under it; on the tuning rooms no trial reached it, so
+#: it only keeps rows far below a face from standing one 3-5 m under a guessed lens).
+MAX_ESTIMATED_CAMERA_HEIGHT_M = 1.5
 #: With no rig, a contact row nearer the horizon than that height allows is tried as seen
 #: by a camera this high, pitched down to put the contact there ...
 NOMINAL_CAMERA_HEIGHT_M = 0.3
@@ -767,6 +797,12 @@ NOMINAL_CAMERA_HEIGHT_M = 0.3
 MAX_ESTIMATED_PITCH_DEG = 8.0
 #: ... and such a face whose sides give no pitch is kept only from this confidence up.
 GUESSED_PITCH_SURE = 0.5
+
+#: With no rig, a face whose confidence with all its doubts applied (each a factor
+#: DOUBT_FACTOR, a small face its pixel share; unfloored) stays under this is no answer
+#: (``detected: false``): on the tuning rooms, 4 of the 6 such faces were 67-115 % off,
+#: the others 7 % and 18 %; a rig file's face is never turned down so.
+MIN_DOUBTED_CONFIDENCE = 0.01
 
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.
@@ -846,18 +882,25 @@ def _rival_trial(
     under RIVAL_SHARED_WIDTH of the narrower face's width, and it stands on its foot
     (``stands``). The trials differ only in the guessed camera height and pitch, so the face
     measured is one of two the unknown rig decides between (TRIAL_RIVAL)."""
-    if best.box_px is None:
+    return any(
+        other is not best and _beside(best.box_px, other.box_px) and stands(other)
+        for other in trials
+    )
+
+
+def _beside(
+    box: tuple[float, float, float, float] | None,
+    other: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether two face boxes (input pixels) share under RIVAL_SHARED_WIDTH of the narrower
+    one's columns: another face beside it, not the same face read with another guess of
+    the rig (a guessed pitch or camera height moves a face's top and foot, not its sides).
+    False when either box is unknown."""
+    if box is None or other is None:
         return False
-    x0, _, x1, _ = best.box_px
-    for other in trials:
-        if other is best or other.box_px is None:
-            continue
-        o0, _, o1, _ = other.box_px
-        narrower = min(x1 - x0, o1 - o0)
-        shared = min(x1, o1) - max(x0, o0)
-        if narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower and stands(other):
-            return True
-    return False
+    narrower = min(box[2] - box[0], other[2] - other[0])
+    shared = min(box[2], other[2]) - max(box[0], other[0])
+    return narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower
 
 
 def _wall_band(found: Measurement) -> bool:
