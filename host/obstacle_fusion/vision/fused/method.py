@@ -260,8 +260,16 @@ class FusedMethod:
         best: Candidate | None = None
         cands: list[Candidate] = []
         min_w = min_width_px(v, depth)
+        seen_early = colour if colour is not None else image
+
+        def lab_rows(r0: int, r1: int) -> npt.NDArray[np.uint8] | None:
+            """The working view's rows r0..r1-1 in 8-bit Lab (None for a grey frame)."""
+            if seen_early.ndim != 3:
+                return None
+            return v.lab(seen_early, r0, r1, 0, None, 1)
+
         for rb, pb in bottoms:
-            found = side_candidates(v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w)
+            found = side_candidates(v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows)
             if found is None:
                 continue
             sides, pairs = found
