@@ -141,6 +141,14 @@ RESCUE_WIDEN_AT_TOP = True
 #: a print's texture stops the texture's walk at the print's top or inside it, while the
 #: face's margin at both sides parts it from what is beside it up to its real top.
 TEXTURE_SIDES_WALK = True
+#: With the rig, a face found standing above the floor-contact band (farther back than
+#: the sonar's range, or on an edge across the face) with no margin round it gives way to
+#: the face its colour finds standing in the band (a switch for the tests)...
+STANDING_BEHIND_RESCUE = True
+#: ... when that face reaches up as high, within this share of the first face's height:
+#: the same face read with its foot in the band, or the box in front of an outline of
+#: things behind it; a colour face reaching much lower is a print on the face found.
+STANDING_TOP_SHARE = 0.25
 
 
 class FusedMethod:
@@ -256,8 +264,16 @@ class FusedMethod:
         best: Candidate | None = None
         cands: list[Candidate] = []
         min_w = min_width_px(v, depth)
+        seen_early = colour if colour is not None else image
+
+        def lab_rows(r0: int, r1: int) -> npt.NDArray[np.uint8] | None:
+            """The working view's rows r0..r1-1 in 8-bit Lab (None for a grey frame)."""
+            if seen_early.ndim != 3:
+                return None
+            return v.lab(seen_early, r0, r1, 0, None, 1)
+
         for rb, pb in bottoms:
-            found = side_candidates(v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w)
+            found = side_candidates(v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows)
             if found is None:
                 continue
             sides, pairs = found
@@ -286,9 +302,10 @@ class FusedMethod:
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
 
-        def rescue_by_colour() -> Measurement | None:
+        def rescue_by_colour(top_at_most: int | None = None) -> Measurement | None:
             """Where the edges give no face, or none clear, the face by its colour (else,
-            with the floor row known, by its texture)."""
+            with the floor row known, by its texture). ``top_at_most``: a face whose top
+            is lower than this row is not taken."""
             if not rescue:
                 return None
             rows = (r0b, r1b)
@@ -298,6 +315,9 @@ class FusedMethod:
             if found is None:
                 return None
             rb, vt, ul, ur, conf = found
+            log.debug("rescue: face %d-%d x %d-%d", ul, ur, vt, rb)
+            if top_at_most is not None and vt > top_at_most:
+                return None
             sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
             # a box below the lens shows its top face: the colour's top may be that face's
             # back edge, its sides the top face's receding edges; the front top edge under
@@ -467,6 +487,13 @@ class FusedMethod:
             if outline is not None:
                 rb, vt, ul, ur = outline
                 sign, top_row = (1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0), None
+            elif STANDING_BEHIND_RESCUE:
+                # no face round it: what stands at the range is on the floor the rig
+                # predicts; its colour there, reaching up as high, is the face
+                rescued = rescue_by_colour(vt + int(STANDING_TOP_SHARE * (rb - vt)))
+                if rescued is not None and rescued.detected:
+                    log.debug("face standing above the contact band: the colour's face")
+                    return rescued
         timer.lap("extent")
         measured = self._refine(
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits

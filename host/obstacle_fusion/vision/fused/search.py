@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from typing import Any
 
 import cv2
@@ -28,6 +29,7 @@ from obstacle_fusion.vision.fused.profiles import (
     local_maxima,
     mean,
     median,
+    median_u8,
     next_true,
     running_counts,
 )
@@ -96,9 +98,14 @@ def side_candidates(
     u_lo: int,
     u_hi: int,
     min_w: float,
+    grey: npt.NDArray[np.uint8] | None = None,
+    lab: Callable[[int, int], npt.NDArray[np.uint8] | None] | None = None,
 ) -> tuple[Sides, list[tuple[int, int]]] | None:
     """The side columns at floor-contact row ``rb``: their presence tables and the
-    (left, right) pairs at least ``min_w`` apart, or None when no side stands there."""
+    (left, right) pairs at least ``min_w`` apart, or None when no side stands there.
+    ``grey``: the working view the gradients were taken of, ``lab``: its rows r0..r1-1 in
+    8-bit Lab; with both, a column whose edge near the floor is a shading ramp between two
+    shades of one colour (:func:`ramp_columns`) is no side."""
     v = view
     k = int(clamp(round(v.fy * 0.05 / depth), 3, 25))
     top_strip = max(0, rb - 1 - k)
@@ -127,6 +134,14 @@ def side_candidates(
         noise,
         rb - 1 - tall,
     )
+    if grey is not None and lab is not None and RAMP_SIDES:
+        ramps = ramp_columns(
+            grey[top_strip : rb - 1], lambda: lab(top_strip, rb - 1), [*left, *right]
+        )
+        if ramps:
+            log.debug("bottom %d: shading ramps %s are no sides", rb, sorted(ramps))
+            left = [c for c in left if c not in ramps]
+            right = [c for c in right if c not in ramps]
     log.debug("bottom %d: peaks %s, left %s, right %s", rb, peaks.tolist(), left, right)
     cols = sorted({*left, *right})
     if not cols:
@@ -134,6 +149,69 @@ def side_candidates(
     sides = Sides(ax3, cols, _presence(prof_short[cols].astype(np.float64), noise), rb)
     pairs = [(ul, ur) for ul in left for ur in right if ur - ul >= min_w]
     return sides, pairs
+
+
+#: A side's edge across the rows just above the floor falls to half its peak within this
+#: many columns (the optics and the 3x3 Sobel blur a face's edge over 3-4 columns); one
+#: holding half its peak, one sign, over RAMP_COLUMNS or more is a shading ramp: a
+#: shadow's penumbra on the floor beside the face, not a side.
+RAMP_COLUMNS = 7
+#: Ramps are told from sides (a switch for the tests).
+RAMP_SIDES = True
+#: Columns read beyond each end of a ramp for the shades' chroma ...
+RAMP_BESIDE = 4
+#: ... which differ by less than this (8-bit Lab a, b) for one colour's two shades.
+RAMP_SAME_CHROMA = 6.0
+
+
+def ramp_columns(
+    strip: npt.NDArray[np.uint8],
+    lab: npt.NDArray[np.uint8] | Callable[[], npt.NDArray[np.uint8] | None],
+    cols: list[int],
+) -> set[int]:
+    """Of ``cols``, those where the strip (rows just above the floor) changes as a ramp
+    between two shades of one colour: the signed difference across the column (its
+    strongest within one column) stays at half of it or more, with its sign, over
+    RAMP_COLUMNS columns or more, and the chroma beyond its two ends differs by less than
+    RAMP_SAME_CHROMA (a shadow darkens the floor it falls on; a face's side blurred on a
+    ramp of shading parts two colours). ``lab``: the strip's rows in 8-bit Lab, or a
+    function giving them (called only once a ramp is seen; None for a grey frame)."""
+    if strip.shape[0] == 0 or not cols:
+        return set()
+    chroma: npt.NDArray[np.float32] | None = None
+    # per row, then the median over the rows: a line slanting across the strip (a floor
+    # seam) is a step in a few rows at each column, a penumbra a ramp in every row
+    d = strip[:, 2:].astype(np.int16) - strip[:, :-2].astype(np.int16)
+    g = np.zeros(strip.shape[1], np.float32)
+    g[1:-1] = np.median(d, axis=0)
+    w = g.size
+    out = set()
+    for c in cols:
+        lo, hi = max(c - 1, 0), min(c + 2, w)
+        k = lo + int(np.argmax(np.abs(g[lo:hi])))
+        peak = float(g[k])
+        if peak == 0.0:
+            continue
+        half = 0.5 * abs(peak)
+        sg = 1.0 if peak > 0 else -1.0
+        a = k
+        while a - 1 >= 0 and sg * float(g[a - 1]) >= half:
+            a -= 1
+        b = k
+        while b + 1 < w and sg * float(g[b + 1]) >= half:
+            b += 1
+        if b - a + 1 < RAMP_COLUMNS or a - RAMP_BESIDE < 0 or b + RAMP_BESIDE >= w:
+            continue
+        if chroma is None:
+            block = lab() if callable(lab) else lab
+            if block is None or block.shape[:2] != strip.shape:
+                return set()  # a grey frame: no chroma to tell a shadow by
+            chroma = median_u8(block[:, :, 1:], axis=0).astype(np.float32)  # W x 2
+        before = np.median(chroma[a - RAMP_BESIDE : a], axis=0)
+        after = np.median(chroma[b + 1 : b + 1 + RAMP_BESIDE], axis=0)
+        if float(np.hypot(*(before - after))) < RAMP_SAME_CHROMA:
+            out.add(c)
+    return out
 
 
 def min_width_px(view: View, depth: float) -> float:
