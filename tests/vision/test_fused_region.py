@@ -689,6 +689,48 @@ def test_the_outline_must_hold_over_its_share(monkeypatch: pytest.MonkeyPatch) -
     assert abs(widen(img, *first)[0] - LEFT) <= 2
 
 
+DARK_FLOOR = (45, 50, 85)  # BGR: a dark red-brown floor, Lab about (64, 143, 138)
+DARK_STRIP = (48, 54, 72)  # a dark strip of the floor's lightness, Lab (62, 135, 135): 9 apart
+LIGHT_TAPE = (150, 170, 110)  # a light teal tape down the face's middle
+TAPE_WALL = (170, 175, 180)
+
+
+def taped_down_the_middle(strip: tuple[int, int, int] = DARK_STRIP) -> npt.NDArray[np.uint8]:
+    """A face of ``strip`` colour with a light tape from its top to its foot down its middle
+    (columns 140-180), on the dark floor (procedural/905): beside the tape the face's foot
+    differs from the floor by under MIN_FLOOR_STEP, in chroma only."""
+    rng = np.random.default_rng(3)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = TAPE_WALL
+    img[BOTTOM:] = DARK_FLOOR
+    img[TOP:BOTTOM, LEFT:RIGHT] = strip
+    img[TOP:BOTTOM, 140:180] = LIGHT_TAPE
+    img += rng.normal(0, 3.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_tape_down_a_face_of_the_floors_lightness_is_widened_to_the_face() -> None:
+    """The tape's sides were taken for the face's: the outline (top step, a foot apart
+    from the floor in chroma) runs on to the face's sides."""
+    left, right = widen(taped_down_the_middle(), 140, 180)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_foot_told_from_the_floor_by_chroma_only_needs_the_rule(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(region, "OUTLINE_CHROMA_FOOT", False)
+    left, right = widen(taped_down_the_middle(), 140, 180)
+    assert abs(left - 140) <= 3 and abs(right - 180) <= 3
+
+
+def test_a_strip_of_the_floors_own_colour_beside_a_tape_is_no_foot() -> None:
+    """Beside the tape, the floor's own colour up to the top row: nothing stands there
+    apart from the floor in lightness or chroma (the floor running on, in its shade)."""
+    left, right = widen(taped_down_the_middle(strip=DARK_FLOOR), 140, 180)
+    assert abs(left - 140) <= 3 and abs(right - 180) <= 3
+
+
 WALL_GREEN = (100, 125, 100)  # a wall little darker in grey than the green face
 
 

@@ -205,7 +205,8 @@ def widen_by_colour(
     # face's shadow: another lightness, the floor's own chroma. No side moves out over it
     # (unless the face's own foot shows it too: a contact row below the foot)
     floorlike = floor_chroma(foot, floor, ref)
-    if not chroma or share(floorlike[seed]) > MAX_FLOORLIKE_FOOT:
+    chroma_told = chroma and share(floorlike[seed]) <= MAX_FLOORLIKE_FOOT
+    if not chroma_told:
         floorlike[:] = False
     on_both = (on & on_foot & ~floorlike).tolist()  # Python lists for the walks
     on_foot_flags = on_foot.tolist()
@@ -228,9 +229,13 @@ def widen_by_colour(
             # against what is behind, where beside the face there is neither
             if outline is None:
                 top_step = _top_step_columns(image, view, top)
-                outline = (
-                    np.asarray(top_step) & (d_foot_floor >= MIN_FLOOR_STEP) & ~floorlike
-                ).tolist()
+                # a foot stands out from the floor in lightness, or (where the chroma
+                # tells the face from the floor) in chroma: a dark strip of tape on a dark
+                # floor differs from it only in hue
+                stands = d_foot_floor >= MIN_FLOOR_STEP
+                if chroma_told and OUTLINE_CHROMA_FOOT:
+                    stands |= chroma_apart(floor, ref)
+                outline = (np.asarray(top_step) & stands & ~floorlike).tolist()
             end_outline = walk_on(outline, side - step * 2, step, outline_gap)
             # the face's top edge ends at its side: a top edge running on past the outline's
             # end is a background line at the top's row (the wall's foot), no evidence
@@ -436,6 +441,14 @@ def floor_chroma(
     return out
 
 
+def chroma_apart(floor: npt.NDArray[Any], ref: npt.NDArray[Any]) -> npt.NDArray[np.bool_]:
+    """Per column (W x 3 Lab): the face's colour ``ref`` stands FACE_CHROMA_STEP or more
+    from the ``floor``'s chroma there, so that a foot not of the floor's chroma
+    (:func:`floor_chroma`) is something standing on it."""
+    out: npt.NDArray[np.bool_] = row_norms(ref[None, 1:] - floor[:, 1:]) >= FACE_CHROMA_STEP
+    return out
+
+
 def _snap_side(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> tuple[int, float]:
     """The strongest vertical edge within SNAP_COLUMNS of ``column``: (column, its mean
     |d/dx| over the face's rows)."""
@@ -470,6 +483,9 @@ OUTLINE_SIDE_SHARE = 0.25
 #: own sides; a shadow's edge on the floor beside the face stands in the lower rows only).
 OUTLINE_WEAK_SIDE_SHARE = 0.15
 OUTLINE_UPPER_SHARE = 0.4
+#: Along the outline a foot not of the floor's chroma stands on the floor even where its
+#: lightness matches the floor's (a switch for the tests).
+OUTLINE_CHROMA_FOOT = True
 
 
 def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[bool]:
