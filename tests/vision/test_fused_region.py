@@ -1705,3 +1705,53 @@ def test_the_colour_walk_keeps_its_reference_rows() -> None:
         gap = int(rng.integers(0, 4))
         want = _walk_colour_by_search(colour, on, start, limit, gap)
         assert region._walk_colour(colour, on, start, limit, gap) == want
+
+
+# -- a print found inside itself: its frame read from the foot the rig gives ----------------
+
+#: The print's found rectangle: its lower edge, a row of its own pattern for its top, and
+#: sides inside it (a colour or texture walk stopped on the print's pattern).
+INSIDE = (BOTTOM - MARGIN, TOP + 40, LEFT + 30, RIGHT - 30)
+FOOT_ROWS = (BOTTOM - 5, BOTTOM + 5)
+
+
+def from_foot(img: npt.NDArray[np.uint8]) -> tuple[int, int, int, int] | None:
+    return region.enclose_from_foot(img, level_view(), *INSIDE, FOOT_ROWS)
+
+
+def test_a_print_found_inside_itself_is_enclosed_from_its_foot() -> None:
+    img = framed_scene()
+    # no margin shows above the found top (the print's own colour): the ring finds none
+    assert region.enclose_by_ring(img, level_view(), *INSIDE, FOOT_ROWS) is None
+    found = from_foot(img)
+    assert found is not None
+    bottom, top, left, right = found
+    assert abs(bottom - BOTTOM) <= 2 and abs(top - TOP) <= 2
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_print_reaching_the_foot_is_no_frame_from_the_foot() -> None:
+    img = framed_scene()
+    img[BOTTOM - MARGIN : BOTTOM, LEFT + MARGIN : RIGHT - MARGIN] = PRINT
+    assert from_foot(img) is None
+
+
+def test_a_band_of_the_margins_colour_along_the_floor_is_no_frame() -> None:
+    """A skirting of the margin's colour runs on along the foot past the face: no edge of
+    a face ends the lower margin's run."""
+    img = framed_scene()
+    img[BOTTOM - MARGIN : BOTTOM, :] = FACE
+    assert from_foot(img) is None
+
+
+def test_a_margin_colour_running_on_up_is_no_frame() -> None:
+    """The margin's colour runs on up past the face (a wall of it): no frame's top."""
+    img = framed_scene()
+    img[:TOP, LEFT:RIGHT] = FACE
+    assert from_foot(img) is None
+
+
+def test_the_frame_agreement_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert from_foot(framed_scene()) is not None
+    monkeypatch.setattr(region, "FOOT_FRAME_AGREE", 0.0)
+    assert from_foot(framed_scene()) is None

@@ -122,8 +122,9 @@ def test_a_print_found_by_its_texture_has_its_top_walked_up_by_the_sides(
     plain margin round it. The edges' face is refused (a side on a cylinder beside it), and
     the texture finds the print's lower rows only (the texture's walk up stops at a row of
     the print). The face's margin parts it from the wall at both sides up to its top: the
-    sides' walk takes the top up there (height -48 -> -19 %); without it the height is
-    under 60 % of the face's."""
+    sides' walk takes the top up there (height -48 -> -19 %); without it (and without
+    the frame read from the foot, region.enclose_from_foot, which encloses the print on
+    its own) the height is under 60 % of the face's."""
     from obstacle_fusion.sim.room_scene import TextureMissing, render_room
     from obstacle_fusion.vision.fused import method
     from obstacle_fusion.vision.measure import Measurer
@@ -138,5 +139,6 @@ def test_a_print_found_by_its_texture_has_its_top_walked_up_by_the_sides(
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.25)
     assert 0.0 < res.confidence <= method.TEXTURE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "TEXTURE_SIDES_WALK", False)
+    monkeypatch.setattr(method, "enclose_from_foot", lambda *a: None)
     short = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert short.detected and short.height_m < 0.6 * truth["height_m"]  # type: ignore[operator]

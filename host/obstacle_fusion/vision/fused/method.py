@@ -44,6 +44,7 @@ from obstacle_fusion.vision.fused.region import (
     TOP_COLOUR_STEP,
     enclose_by_margin,
     enclose_by_ring,
+    enclose_from_foot,
     ends_in_colour,
     face_from_colour,
     face_under_raised_top,
@@ -618,6 +619,9 @@ class FusedMethod:
         if conf < self.min_confidence:
             return None
         framed = enclose_by_ring(seen, self.view, rb, vt, ul, ur, rows)
+        if framed is None and floor_known and rig_known:
+            # its top and sides inside the print: the margin read from the foot up
+            framed = enclose_from_foot(seen, self.view, rb, vt, ul, ur, rows)
         if framed is not None:
             # the colour found a print (its lower edge a stronger colour step than the
             # margin's foot): the face is the margin's frame, its sides the margin's
@@ -655,7 +659,14 @@ class FusedMethod:
         if TEXTURE_SIDES_WALK:
             vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
         conf = TEXTURE_MAX_CONFIDENCE * evidence
-        return (rb, vt, ul, ur, conf) if conf >= self.min_confidence else None
+        if conf < self.min_confidence:
+            return None
+        # the texture found a print whose margin is not textured: the face is the
+        # margin's frame, read from the foot the rig gives up its sides
+        framed = enclose_from_foot(seen, self.view, rb, vt, ul, ur, rows)
+        if framed is not None:
+            rb, vt, ul, ur = framed
+        return rb, vt, ul, ur, conf
 
     def _refine(
         self,

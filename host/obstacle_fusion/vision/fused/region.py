@@ -1389,6 +1389,90 @@ def enclose_by_ring(
     )
 
 
+#: How far above a print's found top (a share of the found face's height) the frame's
+#: top is sought along its side margins.
+FOOT_FRAME_REACH = 0.8
+#: Rows in a row without the margin's colour that end its run up a frame's side.
+FOOT_FRAME_GAP = 3
+#: A row shows the margin where some pixel between the face's edge and the found side is
+#: within this (Lab) of the margin's colour (the nearest of many: tighter than RING_AGREE).
+FOOT_FRAME_AGREE = 10.0
+
+
+def enclose_from_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    foot_rows: tuple[int, int],
+) -> tuple[int, int, int, int] | None:
+    """A print found instead of the face, its found top and sides rows and columns inside
+    the print (a colour or texture walk stopped on the print's own pattern), so that no
+    margin shows above or beside it for :func:`enclose_by_ring`.
+
+    With the rig the face's foot is known: under the print, its margin runs down to a foot
+    in the band of floor-contact rows ``foot_rows`` (a colour unlike the print's and the
+    floor's). The face is one surface standing there: along that lower margin its colour
+    runs out past the found sides to the face's (ending within a margin's reach: the room
+    at another depth beyond), and up the face's edges, just inside them, the same colour
+    runs up past the found top to the face's top (the frame's side margins). Returns the
+    frame (bottom, top, left, right) or None."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 10:
+        return None
+    h, w = view.out.shape
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + RING_SKIP + 3
+    reach_up = int((1.0 + FOOT_FRAME_REACH) * (bottom - top))
+    r0, r1 = top - int(FOOT_FRAME_REACH * (bottom - top)) - 4, min(h, foot_rows[1] + 4)
+    c0, c1 = left - reach_u - 1, right + reach_u + 2
+    if r0 < 0 or c0 < 0 or c1 > w or r1 <= bottom + 4:
+        return None
+    q_u = max(2, (right - left) // 10)
+    cm = (left + right) // 2
+    k_v = max(1, (bottom - top) // 5)
+    lab = _lab8(image, view, r0, r1, c0, c1)
+    t, b, lf, rt = top - r0, bottom - r0, left - c0, right - c0
+    mid = lab[:, cm - q_u - c0 : cm + q_u + 1 - c0]
+    print_colour = median_u8(mid[t + k_v : b - k_v].reshape(-1, 3), axis=0)
+    rows = np.asarray(median_u8(mid, axis=1), np.float32)
+    below = rows[b + RING_SKIP :]
+    ring = median_of(below[:2], axis=0)
+    if norm(ring - print_colour) < MARGIN_VS_PRINT:
+        return None
+    down = _ring_run(below, ring, below.shape[0])
+    new_bottom = bottom + RING_SKIP + down
+    if down < 1 or not foot_rows[0] <= new_bottom <= foot_rows[1]:
+        return None
+    # along the lower margin, out past the found sides
+    strip = np.asarray(median_u8(lab[b + RING_SKIP : b + RING_SKIP + down], axis=0), np.float32)
+    out = []
+    for profile in (strip[lf::-1], strip[rt:]):
+        run = _ring_run(profile, ring, reach_u + 1)
+        if run < 0:
+            return None  # the colour runs on along the foot: a floor's band, no frame
+        out.append(run)
+    if min(out) < 2:
+        return None  # no margin past the print on both sides: the face's own foot
+    new_left, new_right = left - out[0], right + out[1]
+    # up the frame's side margins: on each row, somewhere between the face's edge and the
+    # found side (the print's side is not known: the found one may be inside it)
+    tops = []
+    for lo, hi in ((new_left, left), (right + 1, new_right + 1)):
+        part = lab[: new_bottom - r0, lo - c0 : hi - c0].astype(np.float32)
+        near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
+        margin = (near <= FOOT_FRAME_AGREE)[::-1]
+        # the run up ends at the first FOOT_FRAME_GAP rows in a row without the margin
+        miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
+        if not miss.any() or int(np.argmax(miss)) >= reach_up:
+            return None  # the colour runs on up: a wall of it, no frame
+        tops.append(new_bottom - int(np.argmax(miss)))
+    new_top = max(tops)
+    if new_top >= top or abs(tops[0] - tops[1]) > max(2, (bottom - top) // 10):
+        return None  # the frame's top stands above the print's, level across the face
+    return new_bottom, new_top, new_left, new_right
+
+
 #: Half the beam's core sampled for the face's colour at its foot, metres at the face.
 CORE_HALF_M = 0.03
 #: Rows either side of a contact row read for the face (above) and the floor (below).
