@@ -5,6 +5,7 @@ vision/measure.py); the measured size never moves."""
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
@@ -505,6 +506,41 @@ def test_a_print_margin_round_the_face_is_a_doubt_with_no_rig(
     assert with_rig.doubts == [] and with_rig.confidence == before.confidence
     no_rig = Measurer(CAM, None).measure(image, truth["range_m"])
     assert no_rig.detected and FRAMED in no_rig.doubts and (no_rig.confidence or 0.0) < 0.5
+
+
+@pytest.mark.parametrize("beyond", [False, True])
+def test_a_frame_standing_below_the_contact_band_is_no_face_with_a_rig(
+    pitched: tuple, monkeypatch: pytest.MonkeyPatch, beyond: bool
+) -> None:
+    """A margin round the face found whose foot lies below the contact rows the rig
+    predicts (the band's lower edge, vb0 + tol) would stand nearer than the range: the face
+    found on the band is kept (a magenta face on grey floor and wall, room photo/969 on
+    seeds 900-999: the grey round it was taken for its margin, 52 % off). A frame whose
+    foot is within the band is taken."""
+    image, truth, spec = pitched
+    before = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+
+    def frame(_im: Any, v: Any, rb: int, vt: int, ul: int, ur: int, depth: float) -> tuple:
+        vb0 = v.cy + v.fy * spec.rig.camera_height_m / depth
+        tol = 3.0 + (vb0 - v.cy) * (0.03 + 0.01 / depth)
+        foot = math.ceil(vb0 + tol) if beyond else math.floor(vb0 + tol)
+        return (foot, vt - 10, ul - 10, ur + 10)
+
+    monkeypatch.setattr(method_mod, "enclose_by_margin", frame)
+    trims: list[int] = []  # the sides are trimmed to the foot of a face, never of a frame
+    trim = method_mod.trim_to_foot
+
+    def spy(*args: Any, **kwargs: Any) -> tuple[int, int]:
+        trims.append(1)
+        return trim(*args, **kwargs)
+
+    monkeypatch.setattr(method_mod, "trim_to_foot", spy)
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    if beyond:
+        assert trims == [1]
+        assert (res.width_m, res.height_m) == (before.width_m, before.height_m)
+    else:
+        assert trims == []
 
 
 def test_measure_cuts_by_the_result_s_own_pixel_size(
