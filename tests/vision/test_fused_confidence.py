@@ -5,6 +5,7 @@ vision/measure.py); the measured size never moves."""
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
@@ -31,6 +32,7 @@ from obstacle_fusion.vision.fused.confidence import (
     SKEWED_EDGES,
     SMALL_FACE,
     SMALL_FACE_PX,
+    TOP_BAND_UNLIKE_FACE,
     TOP_FROM_SIDES,
     TOP_RUNS_ON,
     TRIAL_RIVAL,
@@ -41,11 +43,13 @@ from obstacle_fusion.vision.fused.confidence import (
     pixel_factor,
     reported_confidence,
     rival_doubts,
+    top_band_doubts,
     top_edge_doubts,
 )
 from obstacle_fusion.vision.fused.scoring import Candidate
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.pitch import PitchEstimate
+from obstacle_fusion.vision.types import Measurement
 
 from tests.vision.rooms import pitched_plain_room
 
@@ -71,6 +75,7 @@ def test_one_doubt_takes_the_surest_face_under_half() -> None:
         FLOOR_IN_FACE,
         FOOT_ABOVE_CONTACT,
         TRIAL_RIVAL,
+        TOP_BAND_UNLIKE_FACE,
     }
     for doubt in DOUBT_FACTORS:
         rig = doubt in RIG_ONLY
@@ -305,6 +310,72 @@ def test_floor_taken_into_the_face_is_a_doubt() -> None:
     assert foot_doubts(grey, LINES) == [FLOOR_IN_FACE]
 
 
+WALL = np.array([120.0, 50.0, 55.0])
+
+
+def _top_image(upper: np.ndarray, above: np.ndarray = WALL) -> np.ndarray:
+    """The face of :func:`_foot_image` on its floor, ``above`` over it (the wall), and its
+    rows 100-140 (the top band and part of the middle) in the colour ``upper``."""
+    img = _foot_image(FLOOR)
+    img[:100] = np.round(above)
+    img[100:140, 150:350] = np.round(upper)
+    return img
+
+
+def test_a_top_band_more_like_the_background_than_the_face_is_a_doubt() -> None:
+    assert (conf_mod.TOP_BAND_MIN_STEP, conf_mod.TOP_BAND_MARGIN) == (10.0, 1.5)
+    # a face of one colour under a wall: no doubt
+    assert top_band_doubts(_top_image(FACE), LINES) == []
+    # a poster on the wall in line with the face's sides, read as the face's upper part:
+    # its colour 1.5 times (and more) nearer the wall's than the face's
+    nearer_wall = WALL + 0.38 * (FACE - WALL)
+    assert top_band_doubts(_top_image(nearer_wall), LINES) == [TOP_BAND_UNLIKE_FACE]
+    # a gloss or a shading: the top band's shade about halfway between the two
+    halfway = WALL + 0.42 * (FACE - WALL)
+    assert top_band_doubts(_top_image(halfway), LINES) == []
+    # the top band like the face's middle (the face's colour changes low down, near its
+    # foot, and the foot is the other colour): no doubt
+    img = _top_image(nearer_wall)
+    img[100:175, 150:350] = np.round(nearer_wall)
+    assert top_band_doubts(img, LINES) == []
+    # a shading gradient (under TOP_BAND_MIN_STEP) against a wall of the face's own shade
+    assert top_band_doubts(_top_image(FACE + 5.0, above=FACE + 1.0), LINES) == []
+    grey = _top_image(nearer_wall)[:, :, 2].copy()  # one channel works alike
+    assert top_band_doubts(grey, LINES) == [TOP_BAND_UNLIKE_FACE]
+
+
+def test_a_poster_in_line_with_the_face_s_sides_takes_it_under_half(level: tuple) -> None:
+    """A poster on the wall whose sides line up with the face's and whose foot the face
+    hides carries the face's top up to the poster's: the doubt is what makes that answer
+    unsure, with a rig and without."""
+    image, truth, spec = level
+    clear = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert clear.box_px is not None and TOP_BAND_UNLIKE_FACE not in clear.doubts
+    x0, y0, x1, _ = (int(round(v)) for v in clear.box_px)
+    img = image.copy()
+    wall = np.median(img[y0 - 30 : y0 - 5, x0:x1].reshape(-1, 3), axis=0)
+    img[y0 - 60 : y0, x0 : x1 + 1] = np.round(0.6 * wall)
+    res = Measurer(CAM, spec.rig).measure(img, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    assert res.height_m > 1.2 * truth["height_m"]  # the poster taken into the face
+    assert TOP_BAND_UNLIKE_FACE in res.doubts and (res.confidence or 0.0) < 0.5
+    # with no rig the face is still reported (the doubt is about its height, not whether
+    # it stands there: measure.REFUSAL_IGNORES)
+    assert TOP_BAND_UNLIKE_FACE in measure_mod.REFUSAL_IGNORES
+    bare = Measurer(CAM, None).measure(img, truth["range_m"])
+    assert bare.detected
+    if bare.height_m is not None and bare.height_m > 1.2 * truth["height_m"]:
+        assert TOP_BAND_UNLIKE_FACE in bare.doubts and (bare.confidence or 0.0) < 0.5
+
+
+def test_the_no_rig_refusal_leaves_out_the_top_band_doubt() -> None:
+    found = Measurement(
+        True, "fused", 1.0, confidence=0.9, doubts=[TOP_BAND_UNLIKE_FACE, SECOND_TOP]
+    )
+    assert measure_mod._doubted(found) == round(0.9 * 0.45 * 0.45, 3)
+    assert measure_mod._doubted(found, measure_mod.REFUSAL_IGNORES) == round(0.9 * 0.45, 3)
+
+
 def test_the_method_records_the_face_s_doubts_and_keeps_its_size(
     pitched: tuple, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -435,6 +506,41 @@ def test_a_print_margin_round_the_face_is_a_doubt_with_no_rig(
     assert with_rig.doubts == [] and with_rig.confidence == before.confidence
     no_rig = Measurer(CAM, None).measure(image, truth["range_m"])
     assert no_rig.detected and FRAMED in no_rig.doubts and (no_rig.confidence or 0.0) < 0.5
+
+
+@pytest.mark.parametrize("beyond", [False, True])
+def test_a_frame_standing_below_the_contact_band_is_no_face_with_a_rig(
+    pitched: tuple, monkeypatch: pytest.MonkeyPatch, beyond: bool
+) -> None:
+    """A margin round the face found whose foot lies below the contact rows the rig
+    predicts (the band's lower edge, vb0 + tol) would stand nearer than the range: the face
+    found on the band is kept (a magenta face on grey floor and wall, room photo/969 on
+    seeds 900-999: the grey round it was taken for its margin, 52 % off). A frame whose
+    foot is within the band is taken."""
+    image, truth, spec = pitched
+    before = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+
+    def frame(_im: Any, v: Any, rb: int, vt: int, ul: int, ur: int, depth: float) -> tuple:
+        vb0 = v.cy + v.fy * spec.rig.camera_height_m / depth
+        tol = 3.0 + (vb0 - v.cy) * (0.03 + 0.01 / depth)
+        foot = math.ceil(vb0 + tol) if beyond else math.floor(vb0 + tol)
+        return (foot, vt - 10, ul - 10, ur + 10)
+
+    monkeypatch.setattr(method_mod, "enclose_by_margin", frame)
+    trims: list[int] = []  # the sides are trimmed to the foot of a face, never of a frame
+    trim = method_mod.trim_to_foot
+
+    def spy(*args: Any, **kwargs: Any) -> tuple[int, int]:
+        trims.append(1)
+        return trim(*args, **kwargs)
+
+    monkeypatch.setattr(method_mod, "trim_to_foot", spy)
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    if beyond:
+        assert trims == [1]
+        assert (res.width_m, res.height_m) == (before.width_m, before.height_m)
+    else:
+        assert trims == []
 
 
 def test_measure_cuts_by_the_result_s_own_pixel_size(

@@ -28,6 +28,7 @@ from obstacle_fusion.vision.fused.confidence import (
     FRAMED,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
+    TOP_BAND_UNLIKE_FACE,
     TRIAL_RIVAL,
     reported_confidence,
 )
@@ -512,7 +513,7 @@ class Measurer:
                 reason=f"no rig given and {found}; "
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
-        if best.detected and _doubted(best) < MIN_DOUBTED_CONFIDENCE:
+        if best.detected and _doubted(best, REFUSAL_IGNORES) < MIN_DOUBTED_CONFIDENCE:
             # every cue against it: the guessed rig stood a face its own outline doubts on
             # every count (a stripe, a print, a wall band read as a face), wrong by a
             # multiple of its size more often than not; no answer is better than that one
@@ -525,7 +526,7 @@ class Measurer:
                 confidence=best.confidence,
                 reason=f"no rig given and the face found is doubted on every count "
                 f"({', '.join(best.doubts)}): its confidence with them is "
-                f"{_doubted(best):.3f}, under {MIN_DOUBTED_CONFIDENCE}; "
+                f"{_doubted(best, REFUSAL_IGNORES):.3f}, under {MIN_DOUBTED_CONFIDENCE}; "
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         return best
@@ -803,6 +804,10 @@ GUESSED_PITCH_SURE = 0.5
 #: (``detected: false``): on the tuning rooms, 4 of the 6 such faces were 67-115 % off,
 #: the others 7 % and 18 %; a rig file's face is never turned down so.
 MIN_DOUBTED_CONFIDENCE = 0.01
+#: ... counting every doubt but these: a doubt about how high the face reaches, not
+#: whether a face stands there (added after the threshold was chosen; counted, a first
+#: version of it turned an 18 %-off face on the tuning rooms into none).
+REFUSAL_IGNORES = frozenset({TOP_BAND_UNLIKE_FACE})
 
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.
@@ -936,10 +941,12 @@ def _spans(
     )
 
 
-def _doubted(found: Measurement) -> float:
-    """A face's confidence with its doubts applied, unfloored, to compare two trials."""
+def _doubted(found: Measurement, ignore: frozenset[str] = frozenset()) -> float:
+    """A face's confidence with its doubts (but those in ``ignore``) applied, unfloored, to
+    compare two trials."""
+    doubts = [d for d in found.doubts if d not in ignore]
     return reported_confidence(
-        found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
+        found.confidence or 0.0, doubts, found.height_px, found.width_px, 0.0, False
     )[0]
 
 

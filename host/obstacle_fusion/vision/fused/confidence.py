@@ -171,6 +171,15 @@ FOOT_OFF_FLOOR = "foot_off_floor"
 #: face (FLOOR_IN_FACE_SHARE): floor taken into the face, the floor contact taken too low
 #: (a seam or a plank's edge on the floor) (:func:`foot_doubts`).
 FLOOR_IN_FACE = "floor_in_face"
+#: The face's top band (just under its top edge) differs in colour from both the face's
+#: middle and its lowest band TOP_BAND_MARGIN times more than from what lies just above
+#: the top edge (and by more than TOP_BAND_MIN_STEP): the upper part of the face found
+#: looks more like the background than like the face standing on the floor. A poster or
+#: an object behind the face, in line with its sides, extends the face upwards; its edge
+#: against the wall passes for the face's top, and the face's real top is a step inside
+#: it (:func:`top_band_doubts`). The face's own print or a lid of another colour looks so
+#: too; either could be the top.
+TOP_BAND_UNLIKE_FACE = "top_band_unlike_face"
 
 #: With a rig, the face's floor-contact row lies above the one the rig and the range
 #: predict by more than FOOT_ABOVE_SHARE of the search band's half-width (the band allows
@@ -195,6 +204,7 @@ DOUBT_FACTORS: dict[str, float] = {
     NEAR_RIVALS: DOUBT_FACTOR,
     FOOT_OFF_FLOOR: DOUBT_FACTOR,
     FLOOR_IN_FACE: DOUBT_FACTOR,
+    TOP_BAND_UNLIKE_FACE: DOUBT_FACTOR,
     FOOT_ABOVE_CONTACT: DOUBT_FACTOR,
     TRIAL_RIVAL: DOUBT_FACTOR,
 }
@@ -247,6 +257,16 @@ FOOT_BAND_GAP = 3.0
 FOOT_INNER_SHARE = 0.2
 FOOT_MIDDLE_ROWS = (0.3, 0.7)
 FOOT_BESIDE_SHARE = 0.5
+#: TOP_BAND_UNLIKE_FACE: the least colour distance (BGR or grey levels) from the top band
+#: to the face's middle and lowest bands that counts as unlike (a gloss's or a shading's
+#: gradient across a face of the background's own shade is no step).
+TOP_BAND_MIN_STEP = 10.0
+#: ... and how many times the top band's distance to what lies above the top edge it must
+#: be: a gloss or a light's fall-off across the face shifts its top band's shade by about
+#: as much as the face differs from the wall (a glossy face on the tuning rooms: 1.04
+#: times); a poster in line with the face's sides is clearly nearer the wall's colour
+#: than the face's (the one sure face found so, 69 % off on seeds 900-999: 2.0 times).
+TOP_BAND_MARGIN = 1.5
 #: Samples per band and axis at most (a band's colour is a median of a strided sample).
 FOOT_SAMPLES_ROWS = 16
 FOOT_SAMPLES_COLUMNS = 32
@@ -364,6 +384,35 @@ def foot_doubts(
     return doubts
 
 
+def top_band_doubts(
+    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
+) -> list[str]:
+    """TOP_BAND_UNLIKE_FACE from the colours round the face's top edge and in its middle
+    and lowest bands, in the input image (``lines`` as in :func:`outline_doubts`; BGR or
+    grey). The bands are those of :func:`foot_doubts`, mirrored at the top edge."""
+    if len(lines) != 4:
+        return []
+    bottom, top = lines[0], lines[1]
+    x0, x1 = max(bottom[0], top[0]), min(bottom[2], top[2])
+    rb, vt = 0.5 * (bottom[1] + bottom[3]), 0.5 * (top[1] + top[3])
+    height, width = rb - vt, x1 - x0
+    if height < 10.0 or width < 10.0:
+        return []
+    c0, c1 = x0 + FOOT_INNER_SHARE * width, x1 - FOOT_INNER_SHARE * width + 1.0
+    k = max(FOOT_BAND_MIN_ROWS, FOOT_BAND_SHARE * height)
+    g = FOOT_BAND_GAP
+    m0, m1 = FOOT_MIDDLE_ROWS
+    above = _band_colour(image, vt - g - k, vt - g, c0, c1)
+    upper = _band_colour(image, vt + g, vt + g + k, c0, c1)
+    middle = _band_colour(image, vt + m0 * height, vt + m1 * height, c0, c1)
+    lowest = _band_colour(image, rb - k - g + 1.0, rb - g + 1.0, c0, c1)
+    if above is None or upper is None or middle is None or lowest is None:
+        return []
+    unlike = min(float(np.linalg.norm(upper - middle)), float(np.linalg.norm(upper - lowest)))
+    step = float(np.linalg.norm(upper - above))
+    return [TOP_BAND_UNLIKE_FACE] if unlike > TOP_BAND_MARGIN * max(TOP_BAND_MIN_STEP, step) else []
+
+
 #: FOOT_ABOVE_CONTACT: the found contact row lies above the predicted one by more than this
 #: share of the search band's half-width (chosen on the tuning rooms with the rig: at
 #: confidence >= 0.5 it took 2 wrong faces and no right one under 0.5 there, 2 wrong and 2
@@ -400,11 +449,13 @@ def face_doubts(
     BGR or grey; the face's working-view rows and columns before the refinement, the
     candidate it came from and its rivals, and its refined outline):
     :func:`top_edge_doubts`, :func:`outline_doubts`, :func:`foot_doubts`,
-    :func:`rival_doubts`. They move the reported confidence only, never the face."""
+    :func:`top_band_doubts`, :func:`rival_doubts`. They move the reported confidence only,
+    never the face."""
     return [
         *top_edge_doubts(ay, rb, ul, ur, int(round(vt))),
         *outline_doubts(camera, lines),
         *foot_doubts(image, lines),
+        *top_band_doubts(image, lines),
         *rival_doubts(best, rivals),
     ]
 

@@ -367,6 +367,11 @@ class FusedMethod:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:
             framed = None
+        if framed is not None and floor_known and framed[0] > vb0 + tol:
+            # a frame whose foot lies below the contact rows the rig predicts would stand
+            # nearer than the range: the print found on those rows is the face, and what
+            # surrounds it (floor and wall of one shade) is no margin of it
+            framed = None
         if framed is not None:
             rb, vt, ul, ur = framed
         # a background line crossing the face is not its top: the face's colour runs on
