@@ -1176,6 +1176,88 @@ def test_with_no_rig_a_band_along_the_wall_is_no_face(
     assert measure.BAND_MAX_ASPECT * 200.0 > 8.0
 
 
+@pytest.mark.parametrize(
+    "sure_box, expected",
+    [
+        ((260.0, -60.0, 420.0, -8.0), 0.30),  # foot inside the band's rows: on the wall
+        ((260.0, -60.0, 420.0, 0.0), 0.15),  # foot at the band's lower edge: kept
+        ((260.0, -90.0, 420.0, -30.0), 0.15),  # band wholly below (a floor line): kept
+        ((455.0, -60.0, 495.0, -8.0), 0.15),  # beside the band (no columns shared): kept
+        ((150.0, -60.0, 350.0, -8.0), 0.15),  # band centred under it (its shadow): kept
+    ],
+)
+def test_with_no_rig_a_face_standing_in_a_wall_band_is_no_face(
+    sure_box: tuple[float, float, float, float],
+    expected: float,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With no rig, a row lower down stands a band along the wall (the wall's foot, a
+    skirting board): a sure face found on a higher row whose foot ends inside the band's
+    rows, over its columns, stands on the wall behind the obstacle (a poster, a print) and
+    is no face; the lowest row's unsure face is measured instead. A face whose foot reaches
+    the band's lower edge, or lies above a band wholly below it (a floor line, a contact
+    shadow as photo/304 hard), or stands beside the band, or over a band under its whole
+    width and centred on it (its contact shadow), is kept."""
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.15, 0.20, 0.30)}
+    band_foot = float(row_at[0.20])
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in row_at:
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        foot = float(row_at[height])
+        if height == 0.30:  # the obstacle's own foot: a face, unsure
+            return fake_face(truth, True, 0.1, box_px=(220.0, foot - 50.0, 280.0, foot))
+        if height == 0.20:  # a band along the wall, 16 px tall and 400 wide
+            return fake_face(truth, True, 0.8, box_px=(50.0, foot - 16.0, 450.0, foot))
+        x0, y0, x1, y1 = sure_box  # a sure face, rows relative to the band's foot
+        return fake_face(truth, True, 0.8, box_px=(x0, band_foot + y0, x1, band_foot + y1))
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(
+        measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20], row_at[0.15]]
+    )
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+def test_with_no_rig_a_poster_above_the_walls_foot_is_not_measured() -> None:
+    """Room procedural/910 (hard): with no rig, a row above the poster-faced box's foot
+    stood a face on the wall behind it, its foot in the wall's band (width +412 %); as a
+    face standing in the band it stands no face, and the box's own face is measured within
+    25 %."""
+    image, truth, _ = render_room("procedural", 910, True, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.25)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.25)
+
+
+def test_with_no_rig_a_contact_shadow_below_the_face_does_not_hide_it() -> None:
+    """Room photo/304 (hard): with no rig, a row below the planked face stands a band
+    (its contact shadow on the floor, rows wholly below the face's foot); the face above it
+    is no wall face standing in a band, and is measured within 5 %."""
+    image, truth, _ = render_room("photo", 304, True, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+
+
+def test_with_no_rig_a_shadow_band_under_the_face_does_not_hide_it() -> None:
+    """Room photo/969 (ordinary): with no rig, a row just below the panelled face stands a
+    band (its contact shadow, under the whole face and centred on it) whose top reaches a
+    pixel above the face's foot; the face is no wall face standing in a band, and is
+    measured within 5 %."""
+    image, truth, _ = render_room("photo", 969, False, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+
+
 def test_with_no_rig_a_skirting_band_is_passed_over_for_the_face_below(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

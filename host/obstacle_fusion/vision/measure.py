@@ -207,6 +207,8 @@ class Measurer:
             finally:
                 method.view = base
             if _wall_band(result):
+                if result.box_px is not None:
+                    bands.append(result.box_px)
                 log.debug(
                     "no rig: row %.0f: a band along the wall, box %s, h %s, w %s, conf %.2f",
                     row if row is not None else -1.0,
@@ -223,6 +225,27 @@ class Measurer:
                     range_m,
                     confidence=result.confidence,
                     reason="a band along the wall, not a face",
+                )
+            elif result.detected and _in_wall_band(result.box_px, bands):
+                log.debug(
+                    "no rig: row %.0f: a face standing in a band along the wall, box %s, "
+                    "h %s, w %s, conf %.2f",
+                    row if row is not None else -1.0,
+                    result.box_px,
+                    result.height_m,
+                    result.width_m,
+                    result.confidence or 0.0,
+                )
+                # the face's foot ends inside a band along the wall another row stood
+                # (the wall's foot, a skirting board): the face is on the wall behind the
+                # obstacle (a poster, a print, a box farther back), not on the floor
+                # before it where the sonar's obstacle stands
+                result = Measurement(
+                    False,
+                    result.method,
+                    range_m,
+                    confidence=result.confidence,
+                    reason="a face standing in a band along the wall, not an obstacle's",
                 )
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
@@ -262,6 +285,7 @@ class Measurer:
         unstood = 0  # faces found on rows they did not stand on
         unsure: Measurement | None = None  # the surest near-horizon face, not accepted
         sure_trials: list[Measurement] = []  # every trial's face of at least ESTIMATE_ACCEPT
+        bands: list[tuple[float, float, float, float]] = []  # wall bands the trials found
         try:
             last = self._last_rig
             if last is not None:
@@ -871,6 +895,20 @@ SPANNED_NEARER_ACCEPT = 0.08
 #: not taken (the flattest faces of the tuning rooms stand 0.13 as tall as wide; the bands
 #: taken for faces on wrong rows 0.04-0.09).
 BAND_MAX_ASPECT = 0.1
+#: With no rig, a face whose foot lies more than this many pixels above the lower edge of
+#: a band along the wall found by another trial, and not more than this above its upper
+#: edge ...
+BAND_FOOT_MARGIN_PX = 2.0
+#: ... sharing at least this share of the narrower one's columns is on the wall, not taken.
+BAND_SHARED_WIDTH = 0.5
+#: ... unless the band is the face's contact shadow: under this share of the face's
+#: columns or more ...
+SHADOW_COVER = 0.9
+#: ... its centre within this share of the face's width from the face's (a shadow lies
+#: under the face; a wall's foot or skirting runs on regardless of it: on the fresh rooms
+#: the shadow taken for a band lay 0.08 face widths off centre, the skirting a poster
+#: stood on 0.38).
+SHADOW_CENTRE_SHARE = 0.25
 #: The order ``clipped`` lists the cut sides in.
 SIDES = ("left", "right", "top", "bottom")
 #: With no rig, after a last-resort pitch sweep that found no face, this many frames of a
@@ -917,6 +955,41 @@ def _wall_band(found: Measurement) -> bool:
         return False
     x0, y0, x1, y1 = found.box_px
     return x1 > x0 and (y1 - y0) < BAND_MAX_ASPECT * (x1 - x0)
+
+
+def _in_wall_band(
+    box: tuple[float, float, float, float] | None,
+    bands: list[tuple[float, float, float, float]],
+) -> bool:
+    """Whether a face found with no rig stands in a band along the wall another trial
+    found (``bands``, input pixel boxes): its foot inside the band's rows (over
+    BAND_FOOT_MARGIN_PX above the band's lower edge, and not above its upper edge by more
+    than that), and the two sharing at least BAND_SHARED_WIDTH of the narrower one's
+    columns. A wall's foot or skirting band lies farther than the obstacle the sonar sees,
+    so higher in the image than that obstacle's foot: a face whose foot ends inside it
+    is on the wall (a poster, a print, something farther back standing on it), and its
+    size taken at the sonar's range is several times too large. A band wholly below the
+    face's foot (a floor line before it), or one under the whole face and centred on it
+    (its contact shadow: covering SHADOW_COVER of the face's columns, its centre within
+    SHADOW_CENTRE_SHARE of the face's width from the face's), says nothing of it."""
+    if box is None:
+        return False
+    for band in bands:
+        width = box[2] - box[0]
+        narrower = min(width, band[2] - band[0])
+        shared = min(box[2], band[2]) - max(box[0], band[0])
+        shadow = (
+            shared >= SHADOW_COVER * width
+            and abs((band[0] + band[2]) - (box[0] + box[2])) / 2.0 <= SHADOW_CENTRE_SHARE * width
+        )
+        if (
+            narrower > 0
+            and not shadow
+            and shared >= BAND_SHARED_WIDTH * narrower
+            and band[1] - BAND_FOOT_MARGIN_PX <= box[3] < band[3] - BAND_FOOT_MARGIN_PX
+        ):
+            return True
+    return False
 
 
 def accepted_face(result: Measurement) -> bool:
