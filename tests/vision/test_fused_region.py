@@ -1036,7 +1036,9 @@ def test_the_side_walk_share_and_the_clear_step_decide(
 ) -> None:
     """Above the band the wall is nearer the face's colour: its step is 60 % of the
     one along the face's foot (Lab 41 against 68): a side at SIDE_WALK_SHARE 0.5, and at
-    any share while CLEAR_SIDE_STEP (24) is under 41."""
+    any share while CLEAR_SIDE_STEP (24) is under 41. (The share holds where the strip's
+    colour only drifts: HELD_COLOUR_SIDE off, as the face's colour is held here.)"""
+    monkeypatch.setattr(region, "HELD_COLOUR_SIDE", False)
     monkeypatch.setattr(region, "SIDE_WALK_SHARE", share)
     monkeypatch.setattr(region, "CLEAR_SIDE_STEP", clear)
     img = taped_scene(wall_above=(110, 60, 160))
@@ -1053,10 +1055,46 @@ def test_a_side_stepping_a_third_of_its_foots_step_still_stands(
 ) -> None:
     """A wall above the band nearer still the face's colour: a step of Lab 24 against
     the foot's 68 (35 %) is a side at SIDE_WALK_SHARE 0.3 (not at 0.4); one of 18 (26 %)
-    is not (it would be at 0.2). CLEAR_SIDE_STEP is put out of reach."""
+    is not (it would be at 0.2). CLEAR_SIDE_STEP is put out of reach, and
+    HELD_COLOUR_SIDE turned off (the share is for a strip whose colour drifts)."""
+    monkeypatch.setattr(region, "HELD_COLOUR_SIDE", False)
     monkeypatch.setattr(region, "CLEAR_SIDE_STEP", 100.0)
     top = raise_by_sides(taped_scene(wall_above=wall), TAPE_LOW)
     assert (abs(top - FACE_TOP) <= 2) if raised else top == TAPE_LOW
+
+
+SKIRTING_TOP = 120  # a bright skirting beside the face's foot, rows SKIRTING_TOP..150
+
+
+def skirted_scene(wall_distance: float) -> npt.NDArray[np.uint8]:
+    """A plain red face (no band across it) whose foot stands beside a bright yellow
+    skirting and whose upper part stands before a wall ``wall_distance`` (Lab) from the
+    face's red: a glossy face against a wall of nearly its own shade (photo/938)."""
+    face = (40, 40, 170)
+    img = wall_scene().astype(np.float64)
+    img[:SKIRTING_TOP] = colour_at_distance(face, wall_distance)
+    img[SKIRTING_TOP:150] = (40, 220, 240)
+    img[FACE_TOP:BOTTOM, LEFT:RIGHT] = face
+    img[:150] += np.random.default_rng(3).normal(0, 4.0, img[:150].shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize(
+    "wall_distance, held, raised",
+    [(18.0, True, True), (18.0, False, False), (8.0, True, False)],
+)
+def test_a_side_keeping_the_faces_colour_stands_at_any_clear_step(
+    wall_distance: float, held: bool, raised: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Found at the skirting's top, the face's sides step some 150 (Lab) against the
+    skirting and 17 against the wall above it: by the share of the foot's step alone
+    (capped at CLEAR_SIDE_STEP, 24) the sides' walk stopped at the skirting (the top a
+    third of the face short). Where the
+    strip keeps the face's own colour, a step of MIN_BESIDE_STEP is a side
+    (HELD_COLOUR_SIDE): the top is the face's. A wall 8 from the face is no clear step."""
+    monkeypatch.setattr(region, "HELD_COLOUR_SIDE", held)
+    top = raise_by_sides(skirted_scene(wall_distance), SKIRTING_TOP)
+    assert (abs(top - FACE_TOP) <= 2) if raised else top >= SKIRTING_TOP - 3
 
 
 @pytest.mark.parametrize("reach_m, reaches_top", [(1.0, True), (0.0, False)])
@@ -1087,6 +1125,28 @@ def test_a_wide_face_reaching_the_images_border_is_measured_whole(seed: int) -> 
     assert res.detected, res.reason
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
+
+
+@pytest.mark.parametrize("family, seed, hard", [("photo", 938, False), ("procedural", 965, True)])
+def test_a_face_before_a_wall_of_nearly_its_shade_keeps_its_top(
+    family: str, seed: int, hard: bool
+) -> None:
+    """Rooms photo/938 (a blue gloss before a blue wall, a red skirting beside its foot)
+    and procedural/965 hard (a plain face), with the rig: the sides step little against
+    the wall above the skirting, far less than against the skirting, and the sides' walk
+    stopped there (47 % and 56 % short). The strips keep the face's colour up to its top
+    (region.HELD_COLOUR_SIDE)."""
+    from obstacle_fusion.sim.room_scene import TextureMissing, render_room
+    from obstacle_fusion.vision.measure import Measurer
+
+    try:
+        image, truth, spec = render_room(family, seed, hard)
+    except TextureMissing as exc:
+        pytest.skip(str(exc))
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
 
 
 # -- where the face's colour ends: a top the sides ran on past stays (ends_in_colour,

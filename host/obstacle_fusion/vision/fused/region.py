@@ -637,6 +637,9 @@ CLEAR_SIDE_STEP = 24.0
 #: Rows where a side shows no colour step that the walk up crosses (a tape, a label's
 #: band in the background's shade), metres at the face.
 SIDE_WALK_GAP_M = 0.05
+#: In the sides' walk, a row whose strip keeps the face's own colour is a side at any clear
+#: step (MIN_BESIDE_STEP), whatever the side's step along the foot.
+HELD_COLOUR_SIDE = True
 #: Rows over which the sides' walk compares a strip's colour with the rows below it.
 DRIFT_ROWS = 3
 #: How far up the sides' walk may go at least, metres at the face.
@@ -718,13 +721,21 @@ def _sides_walk(
         level = float(median_of(step[k + 2 :]))
         if level < MIN_BESIDE_STEP:
             return None
-        on &= step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
+        stands = step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
         # and the face's own colour there: a background edge in line with a side (a
         # pole, a shadow) parts two background colours, not the face from one
         d_strip = row_norms(strip - median_of(strip[k + 2 :], axis=0))
         limit = clamp(
             SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
         )
+        if HELD_COLOUR_SIDE:
+            # the background beside the face changes going up (a bright skirting beside
+            # its foot, a wall of nearly the face's shade above it): the side's step along
+            # the foot says nothing of the wall's; where the strip keeps the face's own
+            # colour (within its spread, no drift) any clear step (MIN_BESIDE_STEP) is a
+            # side, while above the top both the colour and the step go at once
+            stands |= (step >= MIN_BESIDE_STEP) & (d_strip <= limit)
+        on &= stands
         # light falling off along a face (a lamp's gradient, vignetting) moves its colour
         # slowly away from what it is below the top: a row within the face's spread of the
         # row DRIFT_ROWS under it (and within MAX_FACE_DISTANCE of the colour below the
