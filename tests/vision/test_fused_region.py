@@ -1815,3 +1815,41 @@ def test_the_frame_agreement_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert from_foot(framed_scene()) is not None
     monkeypatch.setattr(region, "FOOT_FRAME_AGREE", 0.0)
     assert from_foot(framed_scene()) is None
+
+
+def penumbra_scene(shadow: int) -> npt.NDArray[np.uint8]:
+    """A mauve face about the floor's shade in grey, on a floor that runs on behind it, a
+    shadow on that floor ``shadow`` columns wide just left of the face, darkening softly
+    (its penumbra) towards the face."""
+    img = scene(beyond=FLOOR).astype(np.float64)
+    rng = np.random.default_rng(1)
+    img[TOP:BOTTOM, LEFT:RIGHT] = (130, 100, 135)  # BGR: mauve, near the floor's grey
+    for i in range(shadow):  # from the floor's 120 down to 96 at the face
+        img[TOP:BOTTOM, LEFT - shadow + i] = 120 - 24 * (i + 1) / shadow
+    img[TOP:BOTTOM, LEFT - shadow : RIGHT] += rng.normal(
+        0, 6.0, (BOTTOM - TOP, RIGHT - LEFT + shadow, 3)
+    )
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_rescue_side_out_on_the_faces_shadow_snaps_to_the_face() -> None:
+    img = penumbra_scene(8)
+    left, right = region.snap_sides_to_steps(
+        img, level_view(), BOTTOM, TOP, LEFT - 8, RIGHT + 3, DEPTH
+    )
+    assert abs(left - LEFT) <= 1 and abs(right - RIGHT) <= 1
+
+
+def test_a_side_on_a_colour_step_stays_beside_stronger_joints() -> None:
+    # dark joints just inside the face (bricks) are stronger steps than its side: a side
+    # that already stands on a step is not moved onto them
+    img = scene(seams=(LEFT + 5,), seam_colour=(0, 0, 0))
+    left, right = region.snap_sides_to_steps(img, level_view(), BOTTOM, TOP, LEFT, RIGHT, DEPTH)
+    assert (left, right) == (LEFT, RIGHT)
+
+
+def test_a_side_out_beyond_the_snap_reach_stays(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "SNAP_SIDE_M", 0.01)  # 3 columns here
+    img = penumbra_scene(8)
+    left, _ = region.snap_sides_to_steps(img, level_view(), BOTTOM, TOP, LEFT - 8, RIGHT, DEPTH)
+    assert left == LEFT - 8

@@ -54,6 +54,7 @@ from obstacle_fusion.vision.fused.region import (
     raise_top_by_colour,
     raise_top_by_sides,
     side_agreement,
+    snap_sides_to_steps,
     stops_at_colour_top,
     top_agreement,
     trim_to_foot,
@@ -138,6 +139,9 @@ TEXTURE_MAX_CONFIDENCE = 0.3
 #: A face found by its colour has its sides walked again from its top (read-only in
 #: use: a switch for the tests).
 RESCUE_WIDEN_AT_TOP = True
+#: The colour rescue's sides are snapped to strong colour steps next to them first
+#: (read-only in use: a switch for the tests).
+RESCUE_SNAP_SIDES = True
 #: The face found by its texture walks its sides up too (:meth:`FusedMethod._by_texture`):
 #: a print's texture stops the texture's walk at the print's top or inside it, while the
 #: face's margin at both sides parts it from what is beside it up to its real top.
@@ -608,6 +612,12 @@ class FusedMethod:
         rb, vt, ul, ur, evidence = found
         if evidence < self.min_confidence or rb >= ay.shape[0] - 3:
             return None
+        if RESCUE_SNAP_SIDES:
+            # the foot's colour run may end on the face's shadow beside it (a face of the
+            # floor's shade in grey): its sides to the strong colour steps next to them
+            snapped = snap_sides_to_steps(seen, self.view, rb, vt, ul, ur, depth)
+            log.debug("rescue: sides %d-%d snapped to %d-%d", ul, ur, *snapped)
+            ul, ur = snapped
         # the sides, in the gradients, may run on above where the colour walk stopped (a
         # joint or a label across the face): the face's top is where they end
         raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)

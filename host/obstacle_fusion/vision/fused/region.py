@@ -1556,6 +1556,60 @@ def face_from_colour(
     return contact, top, left, right, evidence
 
 
+#: How far (metres at the face) the colour rescue's sides may move to the strongest
+#: vertical colour step near them (:func:`snap_sides_to_steps`).
+SNAP_SIDE_M = 0.03
+#: ... and at least this colour step (Lab, across SNAP_SPAN columns) there.
+SNAP_MIN_STEP = 15.0
+#: Columns either side of a column over which its vertical colour step is read.
+SNAP_SPAN = 2
+
+
+def snap_sides_to_steps(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int]:
+    """The colour rescue's sides moved to the strongest vertical colour step within
+    SNAP_SIDE_M of each (left, right).
+
+    The foot's colour run ends where the colour stops being the face's by a share of the
+    way to the floor's: a face of about the floor's shade in grey casts a shadow on the
+    floor beside it, darker than the floor, that the run takes in, so a side lies a few
+    pixels out, on the floor. The strip just inside it is then floor, and the sides' walk
+    up (:func:`raise_top_by_sides`) finds no side at once. The face's real side is the
+    colour step nearby, stronger than the shadow's soft edge."""
+    if image is None or image.ndim != 3 or bottom - top < 4:
+        return left, right
+    w = view.out.shape[1]
+    reach = max(2, int(round(view.fx * SNAP_SIDE_M / depth_m)))
+    reach = min(reach, (right - left) // 4)
+    c0, c1 = left - reach - SNAP_SPAN, right + reach + SNAP_SPAN + 1
+    if reach < 1 or c0 < 0 or c1 > w:
+        return left, right
+    r1 = bottom - 2
+    r0 = max(top, r1 - max(8, (bottom - top) // 2))
+    prof = median_u8(_lab8(image, view, r0, r1, c0, c1), axis=0).astype(np.float32)
+    step = np.zeros(prof.shape[0], np.float32)
+    step[SNAP_SPAN:-SNAP_SPAN] = row_norms(prof[2 * SNAP_SPAN :] - prof[: -2 * SNAP_SPAN])
+    out = []
+    for side in (left, right):
+        i = side - c0
+        window = step[i - reach : i + reach + 1]
+        j = int(np.argmax(window))
+        # a side on a step already stays (a brick's joints beside it are steps too)
+        weak = float(step[i - 1 : i + 2].max()) < SNAP_MIN_STEP
+        out.append(side - reach + j if weak and float(window[j]) >= SNAP_MIN_STEP else side)
+    nl, nr = out
+    if nr - nl < 2 * SIDE_SKIP + 6:
+        return left, right
+    return nl, nr
+
+
 def _side_step(
     image: npt.NDArray[Any], view: View, bottom: int, top: int, left: int, right: int
 ) -> float:
