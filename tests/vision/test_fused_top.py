@@ -159,3 +159,34 @@ def test_a_top_edge_running_on_past_the_sides_is_the_backgrounds(
     _, dy, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
     row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
     assert abs(row - expected) <= 1
+
+
+def top_face_box(back: int, front: int) -> npt.NDArray[np.uint8]:
+    """Wall above, floor below; a top face from its back edge on row ``back`` down to its
+    front edge on row ``front`` (its sides receding towards the principal point as a
+    top face's do), then the front face from ``front`` down to BOTTOM."""
+    rng = np.random.default_rng(5)
+    img = np.full((H, W), 90.0)
+    img[BOTTOM:] = 60.0
+    cx = W / 2
+    for r in range(back, front):
+        scale = (r - CY) / (front - CY)
+        img[r, int(round(cx + (LEFT - cx) * scale)) : int(round(cx + (RIGHT - cx) * scale))] = 130.0
+    img[front:BOTTOM, LEFT:RIGHT] = 170.0
+    img += rng.normal(0, 1.5, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("from_back, found", [(True, True), (False, False)])
+def test_a_top_raised_to_the_back_edge_reaches_the_front_edge(from_back: bool, found: bool) -> None:
+    """From a top raised up to a top face's back edge, the front edge lies further below
+    it than from a top near the front edge (by 2 m / D, not 2 m / (D + 2 m), of the rows
+    under the horizon): a top face 30 rows deep at 3 m is found only from the back."""
+    back, front, depth = 80, 110, 3.0
+    _, dy, noise = gradients(top_face_box(back, front))
+    row, _ = top.front_top(
+        high_view(), depth, dy, BOTTOM, LEFT, RIGHT, back, noise, from_back=from_back
+    )
+    assert (abs(row - front) <= 1) is found
+    if not found:
+        assert row < front - 3

@@ -537,7 +537,9 @@ class FusedMethod:
         vt = raise_top_by_colour(seen, v, ay, rb, start, ul, ur, depth)
         vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
         found_top = vt
-        vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+        # the raises read the face's columns as they are now, up to a top face's back
+        # edge or past it: its front edge is sought as far below as from a back edge
+        vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise, from_back=True)
         if (
             colour_top
             and vt != found_top

@@ -25,14 +25,27 @@ from obstacle_fusion.vision.types import View
 
 log = logging.getLogger(__name__)
 
+#: The longest top face sought behind a face's front top edge (metres).
+TOP_FACE_LENGTH_M = 2.0
+
 
 def front_top(
-    view: View, depth: float, dy: I16, rb: int, ul: int, ur: int, vt: int, noise: float
+    view: View,
+    depth: float,
+    dy: I16,
+    rb: int,
+    ul: int,
+    ur: int,
+    vt: int,
+    noise: float,
+    from_back: bool = False,
 ) -> tuple[int, float]:
     """A box lower than the lens shows its top face: prefer the face's front edge.
 
     The top face's back edge sits above the front one by at most
-    (vt - cy) * (1 - D / (D + 2 m)) rows (a box up to 2 m long). In the signed vertical
+    (vt - cy) * (1 - D / (D + 2 m)) rows (a box up to 2 m long) when ``vt`` is near the
+    front edge; ``from_back``: ``vt`` is a top raised up to the back edge (or past it),
+    and the front lies below it by up to (vt - cy) * 2 m / D rows. In the signed vertical
     gradient the two edges stay apart even when only a pixel or two apart (the top
     face is lit differently from the wall and from the front face); the lowest
     significant extremum in that reach, within the upper 30 % of the face, is the
@@ -43,7 +56,8 @@ def front_top(
     below_horizon = vt - v.cy
     if v.horizon_slack_px > 0.0:
         below_horizon = max(below_horizon, min(below_horizon, 0.0) + v.horizon_slack_px)
-    reach = int(min(below_horizon * 2.0 / (depth + 2.0), 0.3 * (rb - vt)))
+    share = TOP_FACE_LENGTH_M / (depth if from_back else depth + TOP_FACE_LENGTH_M)
+    reach = int(min(below_horizon * share, 0.3 * (rb - vt)))
     if below_horizon <= 1.0 or reach < 1:
         return vt, (1.0 if int(dy[vt, ul + m : ur - m].sum()) >= 0 else -1.0)
     # the row means only where the scan reads them (rows vt..last), as Python floats;
