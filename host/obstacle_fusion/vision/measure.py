@@ -209,43 +209,19 @@ class Measurer:
             if _wall_band(result):
                 if result.box_px is not None:
                     bands.append(result.box_px)
-                log.debug(
-                    "no rig: row %.0f: a band along the wall, box %s, h %s, w %s, conf %.2f",
-                    row if row is not None else -1.0,
-                    result.box_px,
-                    result.height_m,
-                    result.width_m,
-                    result.confidence or 0.0,
-                )
                 # a band along the wall (its foot, a skirting board) on a row taken for the
                 # floor contact: no obstacle's face; the rows go on as if it found none
-                result = Measurement(
-                    False,
-                    result.method,
-                    range_m,
-                    confidence=result.confidence,
-                    reason="a band along the wall, not a face",
-                )
+                result = _refused(result, range_m, row, "a band along the wall, not a face")
             elif result.detected and _in_wall_band(result.box_px, bands):
-                log.debug(
-                    "no rig: row %.0f: a face standing in a band along the wall, box %s, "
-                    "h %s, w %s, conf %.2f",
-                    row if row is not None else -1.0,
-                    result.box_px,
-                    result.height_m,
-                    result.width_m,
-                    result.confidence or 0.0,
-                )
                 # the face's foot ends inside a band along the wall another row stood
                 # (the wall's foot, a skirting board): the face is on the wall behind the
                 # obstacle (a poster, a print, a box farther back), not on the floor
                 # before it where the sonar's obstacle stands
-                result = Measurement(
-                    False,
-                    result.method,
+                result = _refused(
+                    result,
                     range_m,
-                    confidence=result.confidence,
-                    reason="a face standing in a band along the wall, not an obstacle's",
+                    row,
+                    "a face standing in a band along the wall, not an obstacle's",
                 )
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
@@ -944,6 +920,20 @@ def _beside(
     narrower = min(box[2] - box[0], other[2] - other[0])
     shared = min(box[2], other[2]) - max(box[0], other[0])
     return narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower
+
+
+def _refused(result: Measurement, range_m: float, row: float | None, reason: str) -> Measurement:
+    """A no-rig trial's face refused for ``reason``: logged, and no face for the search."""
+    log.debug(
+        "no rig: row %.0f: %s, box %s, h %s, w %s, conf %.2f",
+        row if row is not None else -1.0,
+        reason,
+        result.box_px,
+        result.height_m,
+        result.width_m,
+        result.confidence or 0.0,
+    )
+    return Measurement(False, result.method, range_m, confidence=result.confidence, reason=reason)
 
 
 def _wall_band(found: Measurement) -> bool:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -341,24 +342,56 @@ def _band_colour(
     return np.partition(sample, mid, axis=0)[mid].astype(np.float32)
 
 
-def foot_doubts(
-    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
-) -> list[str]:
-    """FOOT_OFF_FLOOR and FLOOR_IN_FACE from the colours round the face's bottom edge in
-    the input image (``lines`` as in :func:`outline_doubts`; BGR or grey)."""
+@dataclass(frozen=True)
+class _FaceBands:
+    """Where the colour doubts read a face's bands: its columns inside the sides, its top
+    and bottom rows, the band height and the gap kept from an edge's blur."""
+
+    x0: float
+    x1: float
+    c0: float
+    c1: float
+    vt: float
+    rb: float
+    height: float
+    width: float
+    k: float
+    g: float
+
+    @property
+    def middle_rows(self) -> tuple[float, float]:
+        m0, m1 = FOOT_MIDDLE_ROWS
+        return self.vt + m0 * self.height, self.vt + m1 * self.height
+
+
+def _face_bands(lines: Sequence[tuple[float, float, float, float]]) -> _FaceBands | None:
+    """The bands of a face's outline (``lines`` as in :func:`outline_doubts`); None for a
+    face too small to read."""
     if len(lines) != 4:
-        return []
+        return None
     bottom, top = lines[0], lines[1]
     x0, x1 = max(bottom[0], top[0]), min(bottom[2], top[2])
     rb, vt = 0.5 * (bottom[1] + bottom[3]), 0.5 * (top[1] + top[3])
     height, width = rb - vt, x1 - x0
     if height < 10.0 or width < 10.0:
-        return []
+        return None
     c0, c1 = x0 + FOOT_INNER_SHARE * width, x1 - FOOT_INNER_SHARE * width + 1.0
     k = max(FOOT_BAND_MIN_ROWS, FOOT_BAND_SHARE * height)
-    g = FOOT_BAND_GAP
-    m0, m1 = FOOT_MIDDLE_ROWS
-    middle = _band_colour(image, vt + m0 * height, vt + m1 * height, c0, c1)
+    return _FaceBands(x0, x1, c0, c1, vt, rb, height, width, k, FOOT_BAND_GAP)
+
+
+def foot_doubts(
+    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
+) -> list[str]:
+    """FOOT_OFF_FLOOR and FLOOR_IN_FACE from the colours round the face's bottom edge in
+    the input image (``lines`` as in :func:`outline_doubts`; BGR or grey)."""
+    bands = _face_bands(lines)
+    if bands is None:
+        return []
+    x0, x1, c0, c1 = bands.x0, bands.x1, bands.c0, bands.c1
+    rb, width, k, g = bands.rb, bands.width, bands.k, bands.g
+    m_lo, m_hi = bands.middle_rows
+    middle = _band_colour(image, m_lo, m_hi, c0, c1)
     lowest = _band_colour(image, rb - k - g + 1.0, rb - g + 1.0, c0, c1)
     under = _band_colour(image, rb + g, rb + g + k, c0, c1)
     if middle is None or under is None:
@@ -390,21 +423,14 @@ def top_band_doubts(
     """TOP_BAND_UNLIKE_FACE from the colours round the face's top edge and in its middle
     and lowest bands, in the input image (``lines`` as in :func:`outline_doubts`; BGR or
     grey). The bands are those of :func:`foot_doubts`, mirrored at the top edge."""
-    if len(lines) != 4:
+    bands = _face_bands(lines)
+    if bands is None:
         return []
-    bottom, top = lines[0], lines[1]
-    x0, x1 = max(bottom[0], top[0]), min(bottom[2], top[2])
-    rb, vt = 0.5 * (bottom[1] + bottom[3]), 0.5 * (top[1] + top[3])
-    height, width = rb - vt, x1 - x0
-    if height < 10.0 or width < 10.0:
-        return []
-    c0, c1 = x0 + FOOT_INNER_SHARE * width, x1 - FOOT_INNER_SHARE * width + 1.0
-    k = max(FOOT_BAND_MIN_ROWS, FOOT_BAND_SHARE * height)
-    g = FOOT_BAND_GAP
-    m0, m1 = FOOT_MIDDLE_ROWS
+    c0, c1, vt, rb, k, g = bands.c0, bands.c1, bands.vt, bands.rb, bands.k, bands.g
+    m_lo, m_hi = bands.middle_rows
     above = _band_colour(image, vt - g - k, vt - g, c0, c1)
     upper = _band_colour(image, vt + g, vt + g + k, c0, c1)
-    middle = _band_colour(image, vt + m0 * height, vt + m1 * height, c0, c1)
+    middle = _band_colour(image, m_lo, m_hi, c0, c1)
     lowest = _band_colour(image, rb - k - g + 1.0, rb - g + 1.0, c0, c1)
     if above is None or upper is None or middle is None or lowest is None:
         return []
