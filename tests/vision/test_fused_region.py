@@ -731,6 +731,64 @@ def test_a_strip_of_the_floors_own_colour_beside_a_tape_is_no_foot() -> None:
     assert abs(left - 140) <= 3 and abs(right - 180) <= 3
 
 
+FAINT_WALL = (90, 130, 80)  # BGR: a green wall, Lab about (128, 102, 144)
+FAINT_FACE = (98, 140, 92)  # a face of nearly the wall's colour: 10 Lab apart
+OTHER_SURFACE = (80, 125, 100)  # another surface, as faintly apart from the wall
+PINK_TAPE = (190, 120, 210)
+BROWN_FLOOR = (120, 110, 100)
+
+
+def taped_faint_face(
+    right_of_tape: tuple[int, int, int] = FAINT_FACE, top: int = TOP
+) -> npt.NDArray[np.uint8]:
+    """A face of nearly the wall's colour (its top a step of 10 Lab, under MIN_FLOOR_STEP)
+    with a pink tape from its top to its foot down its middle (columns 140-180; room
+    procedural/1020): the tape's edges are the strong ones. ``right_of_tape``: the
+    surface right of the tape (the face's own colour, or another)."""
+    rng = np.random.default_rng(5)
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = FAINT_WALL
+    img[BOTTOM:] = BROWN_FLOOR
+    img[top:BOTTOM, LEFT:160] = FAINT_FACE
+    img[top:BOTTOM, 160:RIGHT] = right_of_tape
+    img[top:BOTTOM, 140:180] = PINK_TAPE
+    img += rng.normal(0, 3.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_tape_down_a_face_of_nearly_the_walls_colour_is_widened_to_the_face() -> None:
+    """Beside the tape the face parts from the wall above it by a faint step only; it is
+    one surface from that top to its foot, the same on both sides of the tape: the
+    outline runs on over the faint step to the face's sides (it was the tape, -79 %)."""
+    left, right = widen(taped_faint_face(), 140, 180)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_the_faint_top_step_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(region, "OUTLINE_TOP_STEP", region.MIN_FLOOR_STEP)
+    assert widen(taped_faint_face(), 140, 180) == (140, 180)
+
+
+def test_a_faint_top_step_needs_the_same_surface_on_both_sides_of_the_strip() -> None:
+    """Another surface right of the strip (a post, a shadow, another box), as faintly
+    apart from the wall: the strip is no tape down one face, the faint steps no top."""
+    assert widen(taped_faint_face(right_of_tape=OTHER_SURFACE), 140, 180) == (140, 180)
+
+
+def test_a_faint_top_step_needs_a_face_tall_enough_to_read(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """On a low strip the bands under the top and at the foot are one band: no test of one
+    surface from top to foot, so no faint step counts."""
+    low = BOTTOM - 25
+    img = taped_faint_face(top=low)
+    view, ax = level_view(), side_strength(img)
+    assert widen_by_colour(img, view, ax, BOTTOM, low, 140, 180, DEPTH) == (140, 180)
+    monkeypatch.setattr(region, "OUTLINE_SURFACE_ROWS", 10)
+    left, right = widen_by_colour(img, view, ax, BOTTOM, low, 140, 180, DEPTH)
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
 WALL_GREEN = (100, 125, 100)  # a wall little darker in grey than the green face
 
 

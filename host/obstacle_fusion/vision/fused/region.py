@@ -228,7 +228,12 @@ def widen_by_colour(
             # the first change; its outline runs on: a foot on the floor and a top
             # against what is behind, where beside the face there is neither
             if outline is None:
-                top_step = _top_step_columns(image, view, top)
+                # a faint top step counts on a face tall enough to tell its top's
+                # colour from its foot's apart (a low strip's are one band's)
+                tall = bottom - top >= OUTLINE_SURFACE_ROWS
+                top_step = _top_step_columns(
+                    image, view, top, foot if tall else None, (left, right)
+                )
                 # a foot stands out from the floor in lightness, or (where the chroma
                 # tells the face from the floor) in chroma: a dark strip of tape on a dark
                 # floor differs from it only in hue
@@ -486,11 +491,33 @@ OUTLINE_UPPER_SHARE = 0.4
 #: Along the outline a foot not of the floor's chroma stands on the floor even where its
 #: lightness matches the floor's (a switch for the tests).
 OUTLINE_CHROMA_FOOT = True
+#: A strip down a face (a tape, a plank of another colour) found as the face: the face
+#: beside it may part from the wall above it only faintly (a face nearly the wall's
+#: colour). Its top is then a step of OUTLINE_TOP_STEP (Lab) where the column under the top
+#: has its foot's colour (within OUTLINE_SAME_SURFACE: one surface down to the floor) and
+#: that surface is the same just outside both of the strip's sides (the face on either
+#: side of the strip; a post or a shadow beside one side is not), on a face at least
+#: OUTLINE_SURFACE_ROWS tall (a low strip's top and foot bands are one band).
+OUTLINE_TOP_STEP = 8.0
+OUTLINE_SAME_SURFACE = 12.0
+OUTLINE_SURFACE_ROWS = 3 * MIN_COLOUR_FACE_ROWS
+#: Columns outside each side where the surface beside a strip is read (past the side's
+#: blur and the smoothing).
+OUTLINE_PROBE = SNAP_COLUMNS + SMOOTH_COLUMNS // 2 + 1
+OUTLINE_PROBE_WIDTH = 8
 
 
-def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[bool]:
+def _top_step_columns(
+    image: npt.NDArray[Any],
+    view: View,
+    top: int,
+    foot: npt.NDArray[Any] | None = None,
+    sides: tuple[int, int] | None = None,
+) -> list[bool]:
     """Per column: the face's top row is a colour step (the rows just above it against
-    those just below)."""
+    those just below) of MIN_FLOOR_STEP; with the ``foot``'s colour per column (W x 3 Lab)
+    and the found face's ``sides``, also a fainter one of OUTLINE_TOP_STEP on the surface
+    that stands beside both sides from its top to its foot (see OUTLINE_TOP_STEP)."""
     r0, r1 = top - TOP_STEP_ROWS[1] - 1, top + TOP_STEP_ROWS[1] + 2
     if r0 < 0 or r1 > view.out.shape[0]:
         return [False] * view.out.shape[1]
@@ -498,7 +525,28 @@ def _top_step_columns(image: npt.NDArray[Any], view: View, top: int) -> list[boo
     n = TOP_STEP_ROWS[1] - TOP_STEP_ROWS[0] + 1
     above = cv2.blur(median_u8(lab[:n], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     below = cv2.blur(median_u8(lab[-n:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
-    return (row_norms(above - below) >= MIN_FLOOR_STEP).tolist()
+    step = row_norms(above - below)
+    strong = step >= MIN_FLOOR_STEP
+    if foot is None or sides is None:
+        return strong.tolist()
+    cl, cr = sides[0] - OUTLINE_PROBE, sides[1] + OUTLINE_PROBE
+    if cl - OUTLINE_PROBE_WIDTH < 0 or cr + OUTLINE_PROBE_WIDTH > step.shape[0]:
+        return strong.tolist()
+    d_foot = row_norms(below - foot)
+    faint = (step >= OUTLINE_TOP_STEP) & (d_foot <= OUTLINE_SAME_SURFACE)
+    probes = (slice(cl - OUTLINE_PROBE_WIDTH + 1, cl + 1), slice(cr, cr + OUTLINE_PROBE_WIDTH))
+    # the surface beside each side: a faint top step on it, its colour down to its foot
+    if any(
+        float(np.median(step[p])) < OUTLINE_TOP_STEP
+        or float(np.median(d_foot[p])) > OUTLINE_SAME_SURFACE
+        for p in probes
+    ):
+        return strong.tolist()
+    left_c, right_c = (median_of(below[p], axis=0) for p in probes)
+    if float(np.linalg.norm(left_c - right_c)) > OUTLINE_SAME_SURFACE:
+        return strong.tolist()  # another surface on either side: no strip down one face
+    beside = row_norms(below - 0.5 * (left_c + right_c)) <= OUTLINE_SAME_SURFACE
+    return (strong | (faint & beside)).tolist()
 
 
 #: Every SUBSAMPLE-th row or column read where a median runs over a face's whole width or
