@@ -27,6 +27,7 @@ from obstacle_fusion.vision.fused.confidence import (
     NO_RIG_ONLY,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
+    PRINT_OUTLINE,
     RIG_ONLY,
     SECOND_TOP,
     SKEWED_EDGES,
@@ -76,6 +77,7 @@ def test_one_doubt_takes_the_surest_face_under_half() -> None:
         FOOT_ABOVE_CONTACT,
         TRIAL_RIVAL,
         TOP_BAND_UNLIKE_FACE,
+        PRINT_OUTLINE,
     }
     for doubt in DOUBT_FACTORS:
         rig = doubt in RIG_ONLY

@@ -113,6 +113,11 @@ TOP_FROM_SIDES = "top_from_sides"
 #: on the tuning rooms with no rig were 8-25 % small). With a rig the contact row is
 #: predicted from the range: the doubt is recorded but cuts nothing (:data:`NO_RIG_ONLY`).
 FRAMED = "framed_print"
+#: The face chosen lay inside a clean outline on its floor-contact row (a piece of a
+#: print), and the outline was taken as the face
+#: (:func:`~obstacle_fusion.vision.fused.scoring.enclosing_outline`), its top a row that
+#: the outline's pair's own top score did not choose.
+PRINT_OUTLINE = "print_outline"
 #: No rig: the face's sides gave no pitch (too short or too close to read a lean, or a
 #: side with no clear edge), so the face was measured as seen by a level camera, or at a
 #: pitch guessed from a near-horizon contact row. The pitch read from the sides is the one
@@ -196,6 +201,7 @@ DOUBT_FACTOR = 0.45
 DOUBT_FACTORS: dict[str, float] = {
     TOP_FROM_SIDES: DOUBT_FACTOR,
     FRAMED: DOUBT_FACTOR,
+    PRINT_OUTLINE: DOUBT_FACTOR,
     PITCH_UNREAD: DOUBT_FACTOR,
     PITCH_RERUN_DISAGREES: DOUBT_FACTOR,
     SECOND_TOP: DOUBT_FACTOR,

@@ -22,6 +22,7 @@ import numpy.typing as npt
 from obstacle_fusion.vision.fused.confidence import (
     FOOT_ABOVE_SHARE,
     FRAMED,
+    PRINT_OUTLINE,
     TOP_FROM_SIDES,
     confidence,
     contact_doubts,
@@ -61,7 +62,14 @@ from obstacle_fusion.vision.fused.region import (
     widen_along_margin,
     widen_by_colour,
 )
-from obstacle_fusion.vision.fused.scoring import Candidate, score_pairs, verified
+from obstacle_fusion.vision.fused.scoring import (
+    Candidate,
+    edge_cover,
+    enclosing_outline,
+    nested,
+    score_pairs,
+    verified,
+)
 from obstacle_fusion.vision.fused.search import (
     beam_columns,
     bottom_candidates,
@@ -90,17 +98,7 @@ RIVAL_SHARE = 0.5
 def _top_cover(ay: npt.NDArray[np.float32], c: Candidate) -> float:
     """Share of the face's columns where its top edge (its row or one next to it) has at
     least a third of the edge's upper-quartile strength."""
-    if c.ur - c.ul < 8 or c.vt < 1:
-        return 1.0
-    prof = ay[c.vt - 1 : c.vt + 2, c.ul + 2 : c.ur - 1].max(axis=0)
-    # the upper quartile (np.percentile's linear one) by a partition: percentile's own
-    # overhead is most of this per-frame check
-    pos = 0.75 * (prof.size - 1)
-    lo = int(pos)
-    hi = min(lo + 1, prof.size - 1)
-    part = np.partition(prof, (lo, hi))
-    ref = float(part[lo]) + (pos - lo) * (float(part[hi]) - float(part[lo]))
-    return float(np.mean(prof >= 0.3 * ref)) if ref > 0.0 else 0.0
+    return edge_cover(ay, c.vt, c.ul, c.ur)
 
 
 #: The top is decided again between the settled sides when they moved from the search's
@@ -304,6 +302,15 @@ class FusedMethod:
             ]
             if spanning:
                 best = spanning[0]
+        outlined = False
+        if floor_known and best is not None:
+            # a plain piece of a print chosen inside the face's own clean outline (a doubt
+            # when no top score chose the outline's top)
+            enclosed = enclosing_outline(v, ax, ay, best, cands, fits)
+            if enclosed is not None:
+                outer, own_top = enclosed
+                rivals = [outer] + [c for c in rivals if not nested(c, outer)]
+                best, outlined = outer, not own_top
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
 
@@ -359,6 +366,8 @@ class FusedMethod:
             raised = vt
         # what lowers the reported confidence: no top edge's score chose that row
         doubts = [TOP_FROM_SIDES] if raised < vt or closed else []
+        if outlined:
+            doubts.append(PRINT_OUTLINE)
         vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)

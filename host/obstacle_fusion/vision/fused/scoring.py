@@ -11,6 +11,7 @@ rivals for the confidence figure.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass
@@ -98,6 +99,10 @@ class Candidate:
     evidence: float  # 0..1: shape fit and edge strength, before ambiguity
     #: a higher top where the sides end (see :func:`closing_top`), or None
     closing: int | None = None
+    #: the top of a clean outline of this pair (see :func:`outline_tops`), or None,
+    #: with the evidence of that outline alone
+    outline: int | None = None
+    outline_evidence: float = 0.0
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -295,6 +300,7 @@ def score_pairs(
         "face_above": face_above,
     }
     score_t, fit = _top_score(feats)
+    o_ok, o_fit = outline_tops(feats)
     # the bottom edge's strength between the sides (max over +-1 row), per pair
     m3 = np.zeros(w_ay + 1, np.float32)  # exact: integers under 2**24
     np.maximum.reduce(ay[rb - 1 : rb + 2], axis=0).cumsum(out=m3[1:])
@@ -350,7 +356,45 @@ def score_pairs(
         closing = closing_top(feats, tops, s0, s1, i, view.cy)
         if debug and closing is not None:
             log.debug("  pair %d-%d rb %d top %d: closing top %d", ul, ur, rb, vt, closing)
-        cands.append(Candidate(score, rb, ul, ur, vt, clamp(evidence, 0.0, 1.0), closing))
+        outline, o_ev = None, 0.0
+        ok = o_ok[s0:s1].nonzero()[0]
+        if ok.size:
+            k = s0 + int(ok[o_fit[s0 + ok].argmax()])
+            kt = int(tops[k])
+            inv_k = 1.0 / (rb - kt)
+            sl = float(np.float32(csum_s[rb, a] - csum_s[kt, a]) * inv_k) / noise
+            sr = float(np.float32(csum_s[rb, b] - csum_s[kt, b]) * inv_k) / noise
+            hk = min(float(snr_tops[k]), snr_b, 30.0)
+            sk = min(sl, sr, 30.0)
+            if sk >= OUTLINE_SNR and hk >= OUTLINE_SNR:
+                outline = kt
+                o_ev = (
+                    math.sqrt(min(1.0, 2.0 * float(o_fit[k])))
+                    * (1.0 - math.exp(-min(sk, hk) / 4.0))
+                    * (0.5 + 0.5 * prior_b)
+                )
+                if debug:
+                    log.debug(
+                        "  pair %d-%d rb %d: outline top %d (fit %.2f)",
+                        ul,
+                        ur,
+                        rb,
+                        kt,
+                        float(o_fit[k]),
+                    )
+        cands.append(
+            Candidate(
+                score,
+                rb,
+                ul,
+                ur,
+                vt,
+                clamp(evidence, 0.0, 1.0),
+                closing,
+                outline,
+                clamp(o_ev, 0.0, 1.0),
+            )
+        )
     return cands
 
 
@@ -418,6 +462,42 @@ def closing_top(
             if fit > best_fit:
                 best, best_fit = int(tops[k]), fit
     return best
+
+
+#: A clean outline (:func:`outline_tops`): both sides present over at least this share
+#: of its rows, ...
+OUTLINE_COVERAGE = 0.9
+#: ... the sides ending at its top (stop at least this) ...
+OUTLINE_STOP = 0.9
+#: ... its top edge ending at the sides (contained at least this) ...
+OUTLINE_CONTAINED = 0.7
+#: ... and its edges (top, bottom, both sides) at least this many noise levels strong.
+OUTLINE_SNR = 5.0
+
+
+def outline_tops(
+    f: dict[str, npt.NDArray[Any]],
+) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.float64]]:
+    """Which top candidates close a clean outline, and that outline's fit (0..1).
+
+    A box's face is one surface: its two sides run from the floor up to its top (the
+    coverage; an unbroken run was too strict: a picture's edge fades where its colours
+    meet the background's for a few rows), and its top edge stops at them. A print or a
+    label over the face (a poster, text) fills it with edges and shades of its own,
+    which the face-shade and texture terms of the score count against it, so a plain
+    piece of the print (a margin, a strip along its foot) can outscore the face; the
+    outline does not depend on what is inside it. (``f``: the top candidates' features,
+    as :func:`score_pairs` takes them.)"""
+    ok = (
+        (f["cov"] >= OUTLINE_COVERAGE)
+        & (f["stop"] >= OUTLINE_STOP)
+        & (f["contained"] >= OUTLINE_CONTAINED)
+        & (f["snr"] >= OUTLINE_SNR)
+        & (f["hole_fit"] >= CLOSING_HOLE_FIT)
+        & (f["face_above"] <= CLOSING_FACE_ABOVE)
+    )
+    fit = f["hole_fit"] * f["cov"] ** 2 * f["stop"] ** 2 * (0.3 + 0.7 * f["contained"])
+    return ok, fit
 
 
 def band_ranges(ps: list[tuple[int, int, int, int]]) -> npt.NDArray[np.intp]:
@@ -496,6 +576,110 @@ def _top_score(
     )
     score = np.minimum(np.maximum(f["snr"], 0.5), 20.0) ** 0.25 * fit
     return score, fit
+
+
+#: An outline encloses the face chosen (:func:`enclosing_outline`) when the face lies in
+#: it, their floor-contact rows at most this many rows apart (a piece of the picture
+#: inside it, higher up, is no rival of it: :func:`nested`) ...
+OUTLINE_ROWS = 2
+#: ... its area is at least this many times the face's, one of its sides beyond the
+#: face's (the face's own pair is :func:`closing_top`'s) ...
+OUTLINE_AREA = 1.3
+#: ... and its top and floor-contact edges each run across this share of its columns.
+OUTLINE_EDGE_COVER = 0.8
+#: The outline's top is its pair's own best top within this many rows.
+OUTLINE_OWN_TOP_ROWS = 2
+
+
+def edge_cover(ay: F32, row: int, ul: int, ur: int) -> float:
+    """Share of the columns ul..ur where a horizontal edge on ``row`` (or one next to it)
+    has at least a third of its upper-quartile strength."""
+    if ur - ul < 8 or row < 1:
+        return 1.0
+    prof = ay[row - 1 : row + 2, ul + 2 : ur - 1].max(axis=0)
+    # the upper quartile (np.percentile's linear one) by a partition: percentile's own
+    # overhead is most of this per-frame check
+    pos = 0.75 * (prof.size - 1)
+    lo = int(pos)
+    hi = min(lo + 1, prof.size - 1)
+    part = np.partition(prof, (lo, hi))
+    ref = float(part[lo]) + (pos - lo) * (float(part[hi]) - float(part[lo]))
+    return float(np.mean(prof >= 0.3 * ref)) if ref > 0.0 else 0.0
+
+
+def nested(c: Candidate, outer: Candidate) -> bool:
+    """Whether ``c`` lies inside ``outer`` (to a pixel; its foot to OUTLINE_ROWS): a
+    piece of a print whose lower edge is one inside the picture lies higher up."""
+    return (
+        outer.vt < c.rb <= outer.rb + OUTLINE_ROWS
+        and c.ul >= outer.ul - 1
+        and c.ur <= outer.ur + 1
+        and c.vt >= outer.vt - 1
+    )
+
+
+def enclosing_outline(
+    view: View,
+    ax: I16,
+    ay: F32,
+    best: Candidate,
+    cands: list[Candidate],
+    fits: VerticalFits | None = None,
+) -> tuple[Candidate, bool] | None:
+    """A clean outline (:func:`outline_tops`) round the face chosen, or None; and whether
+    its top is its own pair's best top too (to OUTLINE_OWN_TOP_ROWS): else only the
+    outline chose that row, not the top's score (a doubt).
+
+    The face chosen lying inside a larger rectangle on the same floor-contact row, whose
+    sides run from the floor to its top and whose top stops at them, is a piece
+    of a print over that face (its margin, a plain strip at its foot, a panel of the
+    picture): the face is one surface, and the outline is its edge, its top and foot
+    running across all of it (a box's top edge and a background edge beside it, or a
+    box and what stands behind it, make no such outline). Returned as a candidate with
+    that top, the face's score and the outline's own evidence."""
+    if best.outline is not None:
+        return None  # a clean outline itself: a face, not a piece of a print
+    area = (best.ur - best.ul) * (best.rb - best.vt)
+    found = None
+    for c in cands:
+        if c.outline is None or (c.ul >= best.ul - 1 and c.ur <= best.ur + 1):
+            continue
+        outer = dataclasses.replace(
+            c,
+            vt=c.outline,
+            score=max(c.score, best.score),
+            evidence=c.outline_evidence,
+            closing=None,
+        )
+        if abs(best.rb - outer.rb) > OUTLINE_ROWS or not nested(best, outer):
+            continue
+        if (outer.ur - outer.ul) * (outer.rb - outer.vt) < OUTLINE_AREA * area:
+            continue
+        if found is not None and c.score <= found[0]:
+            continue
+        if (
+            edge_cover(ay, outer.vt, outer.ul, outer.ur) < OUTLINE_EDGE_COVER
+            or edge_cover(ay, outer.rb, outer.ul, outer.ur) < OUTLINE_EDGE_COVER
+        ):
+            continue
+        if not sides_vertical(view, ax, outer, fits):
+            continue
+        found = (c.score, outer, c)
+    if found is None:
+        return None
+    outer = found[1]
+    log.debug(
+        "face %d-%d x %d-%d inside the outline %d-%d x %d-%d",
+        best.ul,
+        best.ur,
+        best.vt,
+        best.rb,
+        outer.ul,
+        outer.ur,
+        outer.vt,
+        outer.rb,
+    )
+    return outer, abs(found[2].vt - outer.vt) <= OUTLINE_OWN_TOP_ROWS
 
 
 def verified(

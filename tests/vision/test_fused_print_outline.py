@@ -1,0 +1,112 @@
+"""The fused method's choice between candidates: a piece of a print inside the face's
+own clean outline is not the face (:func:`scoring.enclosing_outline`)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+import pytest
+from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import scoring
+from obstacle_fusion.vision.fused.scoring import Candidate, enclosing_outline, outline_tops
+from obstacle_fusion.vision.measure import Measurer
+
+#: A clean outline's top: sides present over it all, ending there, its edge ending at them.
+CLEAN = dict(cov=0.95, stop=1.0, contained=0.9, snr=15.0, hole_fit=1.0, face_above=0.0)
+
+
+def _ok(**change: float) -> bool:
+    f: dict[str, Any] = {k: np.array([v], np.float64) for k, v in {**CLEAN, **change}.items()}
+    ok, fit = outline_tops(f)
+    assert 0.0 < float(fit[0]) <= 1.0
+    return bool(ok[0])
+
+
+@pytest.mark.parametrize(
+    "change, clean",
+    [
+        ({}, True),
+        ({"cov": 0.85}, False),  # a side missing over part of it
+        ({"stop": 0.8}, False),  # the sides run on above the top
+        ({"contained": 0.5}, False),  # the top edge runs on past the sides
+        ({"snr": 4.0}, False),  # a faint top edge
+        ({"hole_fit": 0.3}, False),  # no sides under the top
+        ({"face_above": 0.3}, False),  # the face's shade again above: a stripe
+    ],
+)
+def test_a_clean_outline_needs_every_edge(change: dict[str, float], clean: bool) -> None:
+    assert _ok(**change) is clean
+
+
+#: a levelled view whose horizon lies below every row used here: no side is checked for
+#: a lean towards the vanishing point (scoring.sides_vertical)
+VIEW: Any = SimpleNamespace(cx=150.0, cy=1000.0)
+
+
+def _edges(top: int, ul: int, ur: int, rb: int = 90) -> np.ndarray:
+    ay = np.zeros((100, 300), np.float32)
+    ay[top, ul:ur] = 50.0
+    ay[rb, ul:ur] = 50.0
+    return ay
+
+
+def test_a_plain_strip_inside_the_outline_gives_way_to_it() -> None:
+    # the best: a plain strip along the foot of a print (rows 75-90, columns 120-200),
+    # inside the outline of the face (rows 30-90, columns 100-220) on the same floor row
+    strip = Candidate(1.0, 90, 120, 200, 75, 0.9)
+    face = Candidate(0.1, 90, 100, 220, 80, 0.2, outline=30, outline_evidence=0.8)
+    ay = _edges(30, 100, 220)
+    ax = np.zeros((100, 300), np.int16)
+    found = enclosing_outline(VIEW, ax, ay, strip, [strip, face])
+    assert found is not None
+    outer, own_top = found
+    assert (outer.ul, outer.ur, outer.vt, outer.rb) == (100, 220, 30, 90)
+    assert outer.score == 1.0 and outer.evidence == 0.8
+    assert scoring.nested(strip, outer) and not scoring.nested(outer, strip)
+    # the pair's own best top was row 80: only the outline chose row 30 (a doubt)
+    assert not own_top
+    scored = Candidate(0.1, 90, 100, 220, 31, 0.2, outline=30, outline_evidence=0.8)
+    found = enclosing_outline(VIEW, ax, ay, strip, [strip, scored])
+    assert found is not None and found[1]
+    # a piece whose lower edge lies inside the picture, higher up, is in it too
+    assert scoring.nested(Candidate(1.0, 70, 120, 200, 50, 0.9), outer)
+
+
+def test_no_outline_is_taken_where_it_is_no_one_surface() -> None:
+    strip = Candidate(1.0, 90, 120, 200, 75, 0.9)
+    face = Candidate(0.1, 90, 100, 220, 80, 0.2, outline=30, outline_evidence=0.8)
+    ax = np.zeros((100, 300), np.int16)
+    # its top edge spans only the strip's columns (a box's top, a background edge
+    # beside it): no outline of one surface
+    assert enclosing_outline(VIEW, ax, _edges(30, 120, 200), strip, [strip, face]) is None
+    # the face chosen is a clean outline itself (a box beside its shadow): it stands
+    own = Candidate(1.0, 90, 120, 200, 75, 0.9, outline=75)
+    assert enclosing_outline(VIEW, ax, _edges(30, 100, 220), own, [own, face]) is None
+    # the outline standing further away, its foot above the strip's
+    far = Candidate(0.1, 84, 100, 220, 80, 0.2, outline=30, outline_evidence=0.8)
+    assert enclosing_outline(VIEW, ax, _edges(30, 100, 220, 84), strip, [strip, far]) is None
+    # ... or standing nearer, its foot 6 rows below the strip's (a frame before it)
+    high = Candidate(1.0, 84, 120, 200, 70, 0.9)
+    assert enclosing_outline(VIEW, ax, _edges(30, 100, 220), high, [high, face]) is None
+    # the same pair's higher top is closing_top's, not an enclosing outline
+    same = Candidate(0.1, 90, 120, 200, 80, 0.2, outline=30, outline_evidence=0.8)
+    assert enclosing_outline(VIEW, ax, _edges(30, 120, 200), strip, [strip, same]) is None
+
+
+@pytest.mark.parametrize("coverage, within", [(scoring.OUTLINE_COVERAGE, True), (2.0, False)])
+@pytest.mark.parametrize("seed, size", [(1075, "height_m"), (1037, "width_m")])
+def test_a_poster_face_is_measured_by_its_outline(
+    seed: int, size: str, coverage: float, within: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Rooms photo/1075 and photo/1037, hard, a poster over the face (fresh seeds): the
+    best candidate was a plain piece of the picture (a strip along its foot: the height
+    -50 %; the margin beside it: the width -92 %). The face's own outline encloses it."""
+    monkeypatch.setattr(scoring, "OUTLINE_COVERAGE", coverage)
+    image, truth, spec = render_room("photo", seed, True)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and getattr(res, size) is not None
+    error = abs(getattr(res, size) / truth[size] - 1)
+    assert error <= 0.10 if within else error > 0.3
