@@ -1546,3 +1546,84 @@ def test_with_no_rig_a_face_above_the_gravel_steps_is_found(seed: int) -> None:
     assert res.detected, res.reason
     assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+
+
+@pytest.mark.parametrize(
+    "lower_px, expected",
+    [
+        ((15.0, 27.0), 0.20),  # a stone-sized face below (factor 0.25): the face above
+        ((60.0, 80.0), 0.30),  # a face of full size below: the lowest still wins
+    ],
+)
+def test_with_no_rig_a_small_unsure_face_below_settles_no_row(
+    lower_px: tuple[float, float], expected: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room photo/1066 (hard) in small: with no row's face accepted, the lowest row that
+    stood a face was taken, a 13 x 38 px face of a stone on the floor (0.06), not the face
+    above it (0.20). A small face (pixel factor under SMALL_SHARE) settles no row when a
+    face of full size stands above it, as a face that took floor in settles none."""
+
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in row_at or kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        h_px, w_px = lower_px if height == 0.30 else (150.0, 120.0)
+        conf = 0.06 if height == 0.30 else 0.15
+        return fake_face(truth, True, conf, height_px=h_px, width_px=w_px)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+@pytest.mark.parametrize(
+    "weak_px, expected",
+    [
+        ((15.0, 27.0), 0.20),  # a stone-sized face on the weak step: the face above stays
+        ((60.0, 80.0), 0.30),  # a face of full size there: the nearer foot
+    ],
+)
+def test_with_no_rig_a_small_face_on_a_weaker_step_is_no_nearer_foot(
+    weak_px: tuple[float, float], expected: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room photo/1036 (hard) in small: the face on the row that stood out was unsure
+    (0.10, within 2 %); a weaker step below stood a 15 x 27 px face (0.31), a mark on the
+    floor, taken as the nearer foot (height -96 %, then refused). A small face is no
+    nearer foot under a face of full size."""
+
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    foot = {h: float(r) for h, r in row_at.items()}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in row_at or kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        box = (100.0, foot[height] - 50.0, 200.0, foot[height])
+        h_px, w_px = weak_px if height == 0.30 else (150.0, 120.0)
+        conf = 0.31 if height == 0.30 else 0.10
+        return fake_face(truth, True, conf, box_px=box, height_px=h_px, width_px=w_px)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+def test_with_no_rig_photo_1036_the_face_not_a_mark_on_the_floor_below_it() -> None:
+    """Room photo/1036 (hard): a text-printed face, the lens pitched up; a weaker step
+    below its foot stood a face of 15 x 27 px (a mark on the gravel), taken as the nearer
+    foot and then refused (missed). The face is measured, within 5 %."""
+    image, truth, _ = render_room("photo", 1036, True, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)

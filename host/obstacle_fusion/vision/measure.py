@@ -30,6 +30,7 @@ from obstacle_fusion.vision.fused.confidence import (
     PITCH_UNREAD,
     TOP_BAND_UNLIKE_FACE,
     TRIAL_RIVAL,
+    pixel_factor,
     reported_confidence,
 )
 from obstacle_fusion.vision.fused.floor_contact import (
@@ -302,13 +303,16 @@ class Measurer:
                         and FLOOR_IN_FACE in best.doubts
                         and FLOOR_IN_FACE not in result.doubts
                     )
+                    or (result.detected and _small(best) and not _small(result))
                 ):
                     # with no row accepted, the lowest that stands a face: below the face
                     # there is only floor (a surer face higher up stands on a line on it).
                     # A face whose lowest band has the colour under it (FLOOR_IN_FACE)
                     # took floor in, its row below the foot (a floor tile between two
                     # joints, a face's strip run down over its shadow): it settles no row,
-                    # and the lowest face above it without that doubt replaces it
+                    # and the lowest face above it without that doubt replaces it. Nor
+                    # does a small face (a stone, a mark on the floor: _small) under a
+                    # face of full size
                     best, best_row = result, row
                 if accepted(result) and FLOOR_IN_FACE not in result.doubts:
                     best, best_row = result, row
@@ -329,7 +333,7 @@ class Measurer:
                     lower_faces.append((row, result))
             if best is not None and best.detected and best_row is not None and not accepted(best):
                 nearer = self._nearer_weak_contact(
-                    image, view, depth, best_row, set(rows), trial, best.box_px
+                    image, view, depth, best_row, set(rows), trial, best.box_px, _small(best)
                 )
                 if nearer is not None:
                     best, best_row = nearer
@@ -546,6 +550,7 @@ class Measurer:
         tried: set[int],
         trial: Callable[[float, float | None], Measurement],
         upper_box: tuple[float, float, float, float] | None = None,
+        upper_small: bool = True,
     ) -> tuple[Measurement, int] | None:
         """A face on a weaker step of the band below ``row`` (nearer the robot), when the
         face on ``row`` (its box ``upper_box``, input pixels) is not a sure one: the first,
@@ -560,7 +565,9 @@ class Measurer:
         legs at it) standing only an unsure face, with a weak step below it that stands an
         accepted one, is behind that face. So is an unsure face spanning the lower face's
         columns and SPAN_FACTOR times its width or more (a strip along the wall behind
-        it), when the lower face reaches SPANNED_NEARER_ACCEPT."""
+        it), when the lower face reaches SPANNED_NEARER_ACCEPT. A small face (:func:`_small`)
+        under an unsure face of full size (``upper_small`` False) is a stone or a mark on
+        the floor before it, no nearer foot."""
         lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
         for low in weak_contact_rows(image, view, depth):  # lowest first
             if low <= row + MIN_NEARER_DROP_PX:
@@ -577,6 +584,8 @@ class Measurer:
                 and (upper_box is None or result.box_px[3] >= upper_box[3] + MIN_NEARER_DROP_PX)
             ):
                 continue  # no face, or the unsure face again on its own foot's blur
+            if not upper_small and _small(result):
+                continue  # a stone or a mark on the floor before the face, no nearer face
             conf = result.confidence or 0.0
             if (
                 conf >= ESTIMATE_ACCEPT
@@ -841,6 +850,11 @@ SWEPT_PITCH_MARGIN = 0.15
 #: ... nor one over this many times as tall as the level face (on the tuning rooms the
 #: faces taken stood 0.58-1.25 times as tall; a wall print above the box taken in, 2.4).
 SWEPT_MAX_GROWTH = 1.5
+#: With no rig, a trial's face whose pixel factor (:func:`~obstacle_fusion.vision.fused.
+#: confidence.pixel_factor`) is under this is small: a stone or a mark on the floor before
+#: a face of full size settles no floor-contact row (on the fresh rooms the floor's marks
+#: taken stood at about 0.25 and 0.3; a box 0.15 m tall at 2.5 m, 27 px, at 0.69).
+SMALL_SHARE = 0.5
 #: With no rig, the last-resort sweep's face replaces an unsure face (under
 #: ESTIMATE_ACCEPT) only when its sides read the pitch and it reaches this confidence.
 SWEPT_OVER_UNSURE = 0.5
@@ -946,6 +960,12 @@ def _taller(
     if box is None or level is None:
         return False
     return box[3] - box[1] > SWEPT_MAX_GROWTH * (level[3] - level[1])
+
+
+def _small(found: Measurement) -> bool:
+    """Whether a no-rig trial's face is small: its pixel factor (the product of its
+    height and width in pixels, each over SMALL_FACE_PX, at most 1) under SMALL_SHARE."""
+    return found.detected and pixel_factor(found.height_px, found.width_px) < SMALL_SHARE
 
 
 def _swept_over(best: Measurement | None, swept: Measurement, read: bool) -> bool:
