@@ -30,6 +30,7 @@ from obstacle_fusion.vision.fused.confidence import (
     PITCH_UNREAD,
     TOP_BAND_UNLIKE_FACE,
     TRIAL_RIVAL,
+    pixel_factor,
     reported_confidence,
 )
 from obstacle_fusion.vision.fused.floor_contact import (
@@ -175,8 +176,10 @@ class Measurer:
         then show above the guessed horizon, and its back edge would be taken for the top),
         and that face kept unless clearly less sure. When nothing stands a sure face, the
         surest face a pitched view found near the horizon is reported with its low
-        confidence rather than missed; when nothing stands any face, the rows and the
-        band's weaker steps are tried at the swept pitches (:meth:`_pitch_swept_rows`)."""
+        confidence rather than missed; when nothing stands any face, or only an unsure
+        one, the rows and the band's weaker steps are tried at the swept pitches
+        (:meth:`_pitch_swept_rows`; over an unsure face only as :func:`_swept_over`
+        allows)."""
         fused = cast(FusedMethod, impl)
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
@@ -300,13 +303,16 @@ class Measurer:
                         and FLOOR_IN_FACE in best.doubts
                         and FLOOR_IN_FACE not in result.doubts
                     )
+                    or (result.detected and _small(best) and not _small(result))
                 ):
                     # with no row accepted, the lowest that stands a face: below the face
                     # there is only floor (a surer face higher up stands on a line on it).
                     # A face whose lowest band has the colour under it (FLOOR_IN_FACE)
                     # took floor in, its row below the foot (a floor tile between two
                     # joints, a face's strip run down over its shadow): it settles no row,
-                    # and the lowest face above it without that doubt replaces it
+                    # and the lowest face above it without that doubt replaces it. Nor
+                    # does a small face (a stone, a mark on the floor: _small) under a
+                    # face of full size
                     best, best_row = result, row
                 if accepted(result) and FLOOR_IN_FACE not in result.doubts:
                     best, best_row = result, row
@@ -327,7 +333,7 @@ class Measurer:
                     lower_faces.append((row, result))
             if best is not None and best.detected and best_row is not None and not accepted(best):
                 nearer = self._nearer_weak_contact(
-                    image, view, depth, best_row, set(rows), trial, best.box_px
+                    image, view, depth, best_row, set(rows), trial, best.box_px, _small(best)
                 )
                 if nearer is not None:
                     best, best_row = nearer
@@ -365,7 +371,8 @@ class Measurer:
                 # surer than the level view's, the surest is taken (its sides may still
                 # read the pitch below). A level face that sure already is kept, and a
                 # surer face beside it (under half its columns shared) is another face,
-                # not the level face read again: not taken.
+                # not the level face read again: not taken; nor is one over
+                # SWEPT_MAX_GROWTH times as tall (something above the face taken in).
                 level_conf = best.confidence or 0.0
                 level_box = best.box_px
                 for pitch in SWEPT_PITCHES_DEG if level_conf + SWEPT_PITCH_MARGIN < 1.0 else ():
@@ -381,6 +388,8 @@ class Measurer:
                         and sides_reach_foot(image, result.lines)
                         and not _beside(result.box_px, level_box)
                     ):
+                        if _taller(result.box_px, level_box):
+                            continue
                         best, pitch_swept = result, True
             if best is None or not best.detected:
                 # no face stands on any row a level camera allows: a contact this near the
@@ -433,18 +442,19 @@ class Measurer:
                         break
             if (best is None or not best.detected) and fallback is not None:
                 best = fallback  # the last frame's camera height and pitch, not sure here
-            if (best is None or not best.detected) and unsure is None:
-                # still no face: the rows, and weaker steps, at a few pitches; a face whose
-                # sides read the pitch is taken, else the lowest sure one. Up to ~90
-                # trials: in a stream that saw no face in its last sweep (nothing in view,
-                # most likely), the next SWEEP_REST_FRAMES frames go without
+            if (best is None or not accepted(best)) and unsure is None:
+                # still no face, or only an unsure one: the rows, and weaker steps, at a
+                # few pitches; a face whose sides read the pitch is taken, else the lowest
+                # sure one. Up to ~90 trials: in a stream that saw no face in its last
+                # sweep (nothing in view, most likely), the next SWEEP_REST_FRAMES frames
+                # go without
                 if self._sweep_rest > 0:
                     self._sweep_rest -= 1
                 else:
                     swept, read = self._pitch_swept_rows(image, view, depth, rows, trial)
                     timer.lap("pitch_sweep")
                     self._sweep_rest = SWEEP_REST_FRAMES if swept is None else 0
-                    if swept is not None:
+                    if swept is not None and _swept_over(best, swept, read):
                         # a face the sides did not confirm keeps its guessed pitch, doubted
                         # (PITCH_UNREAD) and not carried on to the next frame
                         best, pitch_read, pitch_tried = swept, read, True
@@ -540,6 +550,7 @@ class Measurer:
         tried: set[int],
         trial: Callable[[float, float | None], Measurement],
         upper_box: tuple[float, float, float, float] | None = None,
+        upper_small: bool = True,
     ) -> tuple[Measurement, int] | None:
         """A face on a weaker step of the band below ``row`` (nearer the robot), when the
         face on ``row`` (its box ``upper_box``, input pixels) is not a sure one: the first,
@@ -554,7 +565,9 @@ class Measurer:
         legs at it) standing only an unsure face, with a weak step below it that stands an
         accepted one, is behind that face. So is an unsure face spanning the lower face's
         columns and SPAN_FACTOR times its width or more (a strip along the wall behind
-        it), when the lower face reaches SPANNED_NEARER_ACCEPT."""
+        it), when the lower face reaches SPANNED_NEARER_ACCEPT. A small face (:func:`_small`)
+        under an unsure face of full size (``upper_small`` False) is a stone or a mark on
+        the floor before it, no nearer foot."""
         lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
         for low in weak_contact_rows(image, view, depth):  # lowest first
             if low <= row + MIN_NEARER_DROP_PX:
@@ -571,6 +584,8 @@ class Measurer:
                 and (upper_box is None or result.box_px[3] >= upper_box[3] + MIN_NEARER_DROP_PX)
             ):
                 continue  # no face, or the unsure face again on its own foot's blur
+            if not upper_small and _small(result):
+                continue  # a stone or a mark on the floor before the face, no nearer face
             conf = result.confidence or 0.0
             if (
                 conf >= ESTIMATE_ACCEPT
@@ -828,10 +843,21 @@ RERUN_AGREE = 0.05
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
 PITCH_DECIMALS = 1
 #: With no rig, the pitches (degrees) the chosen floor-contact row is tried at besides 0
-#: (and every row and weak step when nothing stands a face) ...
+#: (and every row and weak step when nothing stands a face, or only an unsure one) ...
 SWEPT_PITCHES_DEG = (-4.0, -2.0, 2.0, 4.0)
 #: ... and how much surer a face found at one of them must be to be taken.
 SWEPT_PITCH_MARGIN = 0.15
+#: ... nor one over this many times as tall as the level face (on the tuning rooms the
+#: faces taken stood 0.58-1.25 times as tall; a wall print above the box taken in, 2.4).
+SWEPT_MAX_GROWTH = 1.5
+#: With no rig, a trial's face whose pixel factor (:func:`~obstacle_fusion.vision.fused.
+#: confidence.pixel_factor`) is under this is small: a stone or a mark on the floor before
+#: a face of full size settles no floor-contact row (on the fresh rooms the floor's marks
+#: taken stood at about 0.25 and 0.3; a box 0.15 m tall at 2.5 m, 27 px, at 0.69).
+SMALL_SHARE = 0.5
+#: With no rig, the last-resort sweep's face replaces an unsure face (under
+#: ESTIMATE_ACCEPT) only when its sides read the pitch and it reaches this confidence.
+SWEPT_OVER_UNSURE = 0.5
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
@@ -920,6 +946,49 @@ def _beside(
     narrower = min(box[2] - box[0], other[2] - other[0])
     shared = min(box[2], other[2]) - max(box[0], other[0])
     return narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower
+
+
+def _taller(
+    box: tuple[float, float, float, float] | None,
+    level: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether a face a swept pitch found (``box``, input pixels) stands over
+    SWEPT_MAX_GROWTH times as tall as the level view's face on the same row (``level``):
+    not that face read again (a guessed pitch shows or hides a box's top face, a band a
+    fraction of the face's height) but the face with something above it taken in (a print
+    or a panel on the wall behind, in line with its sides). False when either is unknown."""
+    if box is None or level is None:
+        return False
+    return box[3] - box[1] > SWEPT_MAX_GROWTH * (level[3] - level[1])
+
+
+def _small(found: Measurement) -> bool:
+    """Whether a no-rig trial's face is small: its pixel factor (the product of its
+    height and width in pixels, each over SMALL_FACE_PX, at most 1) under SMALL_SHARE."""
+    return found.detected and pixel_factor(found.height_px, found.width_px) < SMALL_SHARE
+
+
+def _swept_over(best: Measurement | None, swept: Measurement, read: bool) -> bool:
+    """Whether the last-resort sweep's face ``swept`` (its sides reading the pitch:
+    ``read``) is taken over ``best``, the search's face so far. With no face, any; over an
+    unsure face (under ESTIMATE_ACCEPT), only another face above it (the unsure face's
+    box wholly below the swept face's foot) whose own sides read the pitch, of at least
+    SWEPT_OVER_UNSURE. On a coarse floor (gravel near the lens) the band's lowest steps
+    are the floor's texture and the unsure face one of its stones in front of the
+    obstacle, while the obstacle's foot, farther up, was never among the rows tried (a
+    lens pitched up puts it above them); a face sure there, whose sides agree on a pitch,
+    is the obstacle. The same face read at a swept pitch, or a weaker or unconfirmed
+    sweep's face, is no better than the unsure one (on the tuning rooms most unsure faces
+    were within 10 %, and the sweep's faces over them worse)."""
+    if best is None or not best.detected:
+        return True
+    return (
+        read
+        and (swept.confidence or 0.0) >= SWEPT_OVER_UNSURE
+        and best.box_px is not None
+        and swept.box_px is not None
+        and best.box_px[1] >= swept.box_px[3]
+    )
 
 
 def _refused(result: Measurement, range_m: float, row: float | None, reason: str) -> Measurement:
