@@ -191,7 +191,7 @@ def test_median_u8_in_c_is_numpy_s_median(
         assert np.array_equal(got, np.median(arr.astype(np.float32), axis=axis))
 
 
-@pytest.mark.parametrize("n", [NETWORK_LANES + 1, 18, 41, 100, 256, 257, 1500])
+@pytest.mark.parametrize("n", [NETWORK_LANES + 1, 18, 41, 100, 256, 257, 1500, 65535, 65536])
 def test_median_u8_of_long_lanes_counted_in_c_is_numpy_s_median(
     n: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:

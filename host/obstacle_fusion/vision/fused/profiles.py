@@ -95,7 +95,7 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     """``median_of(a.astype(np.float32), axis)`` of an 8-bit array, without the float copy:
     the middle values of each lane (by a selection network, in C when the optional
     accelerator is built, or by sorting the lanes; lanes longer than a network, in C, by
-    selection up to 256 values and by counting beyond), taken
+    counting their values), taken
     to float32, the two middle ones averaged there (8-bit values are exact in float32: the
     same result)."""
     n = a.size if axis is None else a.shape[axis]
@@ -118,7 +118,7 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     elif axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
         lo, hi = _middle_by_network(a, axis, n)
     elif n >= 2 and _c_middle_u8 is not None and a.dtype == np.uint8:
-        # longer lanes: selected (or, past 256 values, counted) in C (an empty network),
+        # longer lanes: their values counted in C (an empty network),
         # not sorted as 16-bit copies
         lanes = a.reshape(-1) if axis is None else lanes_last(a, axis)
         lo = np.empty(lanes.shape[:-1], np.uint8)  # (0-d for one lane: as the sort's)
