@@ -109,11 +109,18 @@ class TableRemap:
         return table
 
     def colour_block(
-        self, src: npt.NDArray[Any], r0: int, r1: int, c0: int, c1: int
+        self,
+        src: npt.NDArray[Any],
+        r0: int,
+        r1: int,
+        c0: int,
+        c1: int,
+        out: npt.NDArray[np.uint8] | None = None,
     ) -> npt.NDArray[np.uint8] | None:
         """The view block rows r0..r1-1, columns c0..c1-1 of the packed BGR frame ``src``,
         remapped as OpenCV's bilinear remap does it (the same integers, channel by
-        channel), by the table of the camera's width; None where the C accelerator, that
+        channel), by the table of the camera's width, into ``out`` (rows x columns x 3
+        uint8, packed pixels; None: a new array); None where the C accelerator, that
         table or such a frame is missing (the caller remaps with OpenCV)."""
         w, h = self.view.camera.size
         table = self._tables.get(w)
@@ -129,7 +136,7 @@ class TableRemap:
             return None
         if self._weights3 is None:
             self._weights3 = pair_weights(table)
-        dst = np.empty((r1 - r0, c1 - c0, 3), np.uint8)
+        dst = np.empty((r1 - r0, c1 - c0, 3), np.uint8) if out is None else out
         try:
             _c_remap_table3(src, table[0], *self._weights3, r0, c0, dst)
         except ValueError:  # pragma: no cover - a table not of this frame's view
