@@ -614,3 +614,31 @@ def test_a_face_of_panels_is_not_refused_for_its_panels(
     assert res.detected and res.height_m is not None
     error = abs(res.height_m / truth["height_m"] - 1)
     assert error <= 0.05 if within else error > 0.3
+
+
+def test_band_colours_counted_in_c_are_numpy_s_upper_medians(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A band's colour (the upper median of its strided sample, per channel) from the C
+    accelerator's counts is np.partition's: colour and grey frames, odd and even sample
+    counts, ties, bands cut by the image's borders."""
+    from obstacle_fusion.vision.fused import profiles
+
+    assert profiles._c_middle_u8 is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(31)
+    colour = rng.integers(0, 256, (120, 160, 3), np.uint8)
+    colour[40:80] = rng.integers(100, 103, (40, 160, 3))  # many ties
+    images = [colour, colour[..., 1].copy(), np.ascontiguousarray(colour[::-1, ::2])]
+    for image in images:
+        for _ in range(60):
+            r0, c0 = float(rng.uniform(-5, 110)), float(rng.uniform(-5, 150))
+            band = (r0, r0 + float(rng.uniform(1, 60)), c0, c0 + float(rng.uniform(2, 90)))
+            got = conf_mod._band_colour(image, *band)
+            with monkeypatch.context() as m:
+                m.setattr(profiles, "_c_middle_u8", None)
+                want = conf_mod._band_colour(image, *band)
+            if want is None:
+                assert got is None
+                continue
+            assert got is not None and got.dtype == np.float32
+            assert np.array_equal(got, want), band

@@ -179,19 +179,22 @@ def test_median_u8_in_c_is_numpy_s_median(
     a = rng.integers(0, 256, (n, lanes, 3), np.uint8)
     a[:, : lanes // 2] = rng.integers(100, 103, (n, lanes // 2, 3))  # many ties
     cases = [(a, 0), (a.transpose(1, 0, 2), 1), (np.ascontiguousarray(a.T), 2), (a[:, ::-2], 0)]
-    cases += [(a[:, 0, 0], 0), (a[::-1, :, 1], 0)]
+    cases += [(a[:, 0, 0], 0), (a[::-1, :, 1], 0), (a.transpose(1, 2, 0), -1), (a, -3)]
     for arr, axis in cases:
         got = median_u8(arr, axis)
         with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_median_f32", None)  # the C middles, then numpy's steps
+            two_steps = median_u8(arr, axis)
             m.setattr(profiles, "_c_middle_u8", None)
             want = median_u8(arr, axis)
+        assert type(got) is type(two_steps) and np.array_equal(got, two_steps)
         assert type(got) is type(want)
         assert np.asarray(got).dtype == np.float32
         assert np.array_equal(got, want)
         assert np.array_equal(got, np.median(arr.astype(np.float32), axis=axis))
 
 
-@pytest.mark.parametrize("n", [NETWORK_LANES + 1, 18, 41, 100, 256, 257, 1500])
+@pytest.mark.parametrize("n", [NETWORK_LANES + 1, 18, 41, 100, 256, 257, 1500, 65535, 65536])
 def test_median_u8_of_long_lanes_counted_in_c_is_numpy_s_median(
     n: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -201,12 +204,12 @@ def test_median_u8_of_long_lanes_counted_in_c_is_numpy_s_median(
     from obstacle_fusion.vision.fused import profiles
 
     calls: list[bytes] = []
-    c_middle = profiles._c_middle_u8
-    assert c_middle is not None, "the C accelerator is not built (make setup)"
+    c_median = profiles._c_median_f32
+    assert c_median is not None, "the C accelerator is not built (make setup)"
 
-    def spied(src: object, network: bytes, lo: object, hi: object) -> None:
+    def spied(src: object, axis: int, network: bytes, out: object) -> None:
         calls.append(network)
-        c_middle(src, network, lo, hi)
+        c_median(src, axis, network, out)
 
     rng = np.random.default_rng(n)
     a = rng.integers(0, 256, (n, 7, 3), np.uint8)
@@ -219,11 +222,14 @@ def test_median_u8_of_long_lanes_counted_in_c_is_numpy_s_median(
     ]  # fmt: skip
     for arr, axis in cases:
         calls.clear()
-        monkeypatch.setattr(profiles, "_c_middle_u8", spied)
+        monkeypatch.setattr(profiles, "_c_median_f32", spied)
         got = median_u8(arr, axis)
         assert calls == [b""], (arr.shape, axis)
-        monkeypatch.setattr(profiles, "_c_middle_u8", None)
-        want = median_u8(arr, axis)
+        with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_median_f32", None)  # the C middles, then numpy's steps
+            assert np.array_equal(median_u8(arr, axis), got), (arr.shape, axis)
+            m.setattr(profiles, "_c_middle_u8", None)
+            want = median_u8(arr, axis)
         assert type(got) is type(want)
         assert np.asarray(got).dtype == np.float32
         assert np.array_equal(got, want), (arr.shape, axis)
@@ -261,6 +267,21 @@ def test_the_median_accelerator_refuses_what_it_cannot_read() -> None:
         _cmiddle.middle_u8(a, _NETWORK_BYTES[3], lo[:3], hi)  # an entry short
     with pytest.raises(ValueError):
         _cmiddle.middle_u8(a[:, :1], b"", lo, hi)  # lanes of one value
+    out = np.empty(4, np.float32)
+    _cmiddle.median_f32(a, 1, _NETWORK_BYTES[3], out)  # lanes of 3 along the last axis
+    _cmiddle.median_f32(a.T, 0, b"", out)  # ... along the first, counted
+    with pytest.raises(TypeError):
+        _cmiddle.median_f32(a, 1, _NETWORK_BYTES[3], out.astype(np.float64))
+    with pytest.raises(TypeError):
+        _cmiddle.median_f32(a.astype(np.int16), 1, b"", out)
+    with pytest.raises(ValueError):
+        _cmiddle.median_f32(a, 2, b"", out)  # no such axis
+    with pytest.raises(ValueError):
+        _cmiddle.median_f32(a, 1, _NETWORK_BYTES[4], out)  # a comparator past the lane
+    with pytest.raises(ValueError):
+        _cmiddle.median_f32(a, 1, b"", out[:3])  # an entry short
+    with pytest.raises(ValueError):
+        _cmiddle.median_f32(a[:, :1], 1, b"", out)  # lanes of one value
 
 
 def test_walk_on_in_c_is_the_python_walk(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -269,6 +269,12 @@ def test_the_colour_block_remap_in_c_is_opencvs(kind: str, pitch: float) -> None
             got = remap.colour_block(image, r0, r1, c0, c1)
             assert got is not None
             assert np.array_equal(got, want.reshape(got.shape))
+            # into a block of a larger buffer (the held frame's Lab buffer), in place
+            buf = np.zeros((h + 2, w + 4, 3), np.uint8)
+            out = buf[1 : 1 + r1 - r0, 2 : 2 + c1 - c0]
+            assert remap.colour_block(image, r0, r1, c0, c1, out) is out
+            assert np.array_equal(buf[1 : 1 + r1 - r0, 2 : 2 + c1 - c0], got)
+            assert not buf[0].any() and not buf[:, :2].any()  # nothing outside it
 
 
 def test_the_colour_block_remap_leaves_what_it_cannot_read_to_opencv() -> None:
@@ -323,3 +329,10 @@ def test_lab_blocks_by_the_c_colour_remap_are_opencvs(monkeypatch: pytest.Monkey
     n = len(blocks)
     for held, fresh in zip(with_c[:n], with_c[n:], strict=True):  # the cache's: its own
         assert np.array_equal(held, fresh)
+    # a frame that is not packed 8-bit BGR is not held (its blocks: OpenCV's, one by one)
+    bgra = cv2.cvtColor(image, cv2.COLOR_BGR2BGRA)
+    view.hold_colour(bgra)
+    assert view._held is None
+    for b, want in zip(blocks, plain[n:], strict=True):
+        assert np.array_equal(view.lab(bgra, *b), want)
+    view.hold_colour(None)

@@ -86,12 +86,15 @@ def test_a_grey_frame_holds_nothing() -> None:
 
 
 def test_a_reused_block_cannot_be_written_into_the_frames_cache() -> None:
-    """A block taken from an earlier one is a view of the frame's cache: read-only, so a
-    stage writing into it fails loudly instead of spoiling later blocks."""
+    """A block of a held frame is a view of the frame's cache, converted in place there
+    (the first one too) or taken from an earlier one: read-only, so a stage writing into
+    it fails loudly instead of spoiling later blocks."""
     view, img = pitched_view(), frame(11)
     view.hold_colour(img)
     first = view.lab(img, 100, 140)
-    first[:] = 0  # the first conversion is the stage's own array (the cache has a copy)
+    assert not first.flags.writeable
+    with pytest.raises(ValueError):
+        first[:] = 0
     inside = view.lab(img, 110, 120, 200, 260)
     assert not inside.flags.writeable
     with pytest.raises(ValueError):
@@ -119,14 +122,15 @@ def test_an_overlapping_block_converts_only_what_no_block_before_covered(
     and every block read is still the block converted alone."""
     view, img = pitched_view(), frame(21)
     pixels: list[int] = []
-    to_lab = view._to_lab
+    lab_into = view._lab_into  # a held frame's pieces are converted in its buffer
 
-    def counted(image: npt.NDArray[np.uint8], rows: slice, cols: slice) -> npt.NDArray[np.uint8]:
-        out = to_lab(image, rows, cols)
+    def counted(
+        image: npt.NDArray[np.uint8], out: npt.NDArray[np.uint8], *box: int
+    ) -> None:
+        lab_into(image, out, *box)
         pixels.append(out.shape[0] * out.shape[1])
-        return out
 
-    monkeypatch.setattr(view, "_to_lab", counted)
+    monkeypatch.setattr(view, "_lab_into", counted)
     view.hold_colour(img)
     seen = np.zeros(view.out.shape, bool)  # the view pixels read so far
     for r0, r1, c0, c1 in OVERLAPS:

@@ -20,8 +20,24 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 
 FloatArray = npt.NDArray[np.float64]
-#: A colour block's remap (:meth:`View.use_colour_remap`): image, r0, r1, c0, c1.
-ColourRemap = Callable[[npt.NDArray[Any], int, int, int, int], "npt.NDArray[np.uint8] | None"]
+
+
+class ColourRemap(Protocol):
+    """A colour block's remap (:meth:`View.use_colour_remap`): image, r0, r1, c0, c1, and
+    the block's destination ``out`` (None: a new array)."""
+
+    def __call__(
+        self,
+        image: npt.NDArray[Any],
+        r0: int,
+        r1: int,
+        c0: int,
+        c1: int,
+        out: npt.NDArray[np.uint8] | None = None,
+        /,
+    ) -> npt.NDArray[np.uint8] | None: ...
+
+
 Box = tuple[float, float, float, float]
 Line = tuple[float, float, float, float]
 
@@ -176,8 +192,15 @@ class View:
         inside one read before (the top's rows across the image, then the top's rows
         between the sides; a side's strips, then the middle rows of those): such a block
         is taken from the one read before, not converted again. The frame must not change
-        while it is held."""
-        self._held = image if image is not None and image.ndim == 3 else None
+        while it is held. (Held: packed 8-bit BGR frames, whose blocks are remapped and
+        converted in the held buffer; others are converted block by block.)"""
+        packed = (
+            image is not None
+            and image.ndim == 3
+            and image.shape[2] == 3
+            and image.dtype == np.uint8
+        )
+        self._held = image if packed else None
         self._lab_boxes = []
         if self._held is not None and self._lab is None:
             self._lab = np.empty((*self.out.shape, 3), np.uint8)
@@ -195,9 +218,9 @@ class View:
         the view) of the BGR ``image`` in CIE Lab, 8-bit: only the pixels read are
         undistorted and converted.
 
-        Of a held frame (:meth:`hold_colour`), a block overlapping blocks converted before
-        is a view of the frame's Lab pixels, to be read only, of which only the parts those
-        blocks did not cover are converted: each pixel is the bilinear remap and the
+        Of a held frame (:meth:`hold_colour`), a block is a view of the frame's Lab pixels,
+        to be read only, of which only the parts blocks before did not cover are converted
+        (in place there): each pixel is the bilinear remap and the
         conversion of its own map entry, whatever block it is converted in, so the values
         are the same either way."""
         rows, cols = slice(r0, r1, step), slice(c0, c1, step)
@@ -236,18 +259,38 @@ class View:
             pieces = rest
             if not pieces:
                 break
-        if pieces == [box]:  # nothing converted before: the block itself
-            block = self._to_lab(image, rows, cols)
-            lab[ra:rb, ca:cb] = block
-            self._lab_boxes.append(box)
-            return block
+        # each piece remapped and converted in place in the frame's Lab buffer (no block
+        # of its own to copy in: the same values)
         for p0, p1, q0, q1 in pieces:
-            lab[p0:p1, q0:q1] = self._to_lab(image, slice(p0, p1), slice(q0, q1))
+            self._lab_into(image, lab[p0:p1, q0:q1], p0, p1, q0, q1)
         if pieces:
             self._lab_boxes.append(box)  # whole now: a later block inside it is one test
         held = lab[ra:rb, ca:cb]
         held.flags.writeable = False  # the frame's cache: a write would spoil it
         return held
+
+    def _lab_into(
+        self,
+        image: npt.NDArray[Any],
+        out: npt.NDArray[np.uint8],
+        r0: int,
+        r1: int,
+        c0: int,
+        c1: int,
+    ) -> None:
+        """:meth:`_to_lab` of the non-empty view block r0..r1-1, c0..c1-1 into ``out`` (a
+        view of its shape, rows of packed pixels): remapped into it, converted in place
+        (Lab of a pixel is its own BGR's: in place or not, the same values)."""
+        if self._colour_remap is None or self._colour_remap(image, r0, r1, c0, c1, out) is None:
+            cv2.remap(
+                image,
+                self.map1[r0:r1, c0:c1],
+                self.map2[r0:r1, c0:c1],
+                cv2.INTER_LINEAR,
+                dst=out,
+                borderMode=cv2.BORDER_REPLICATE,
+            )
+        cv2.cvtColor(out, cv2.COLOR_BGR2LAB, dst=out)
 
     def _to_lab(self, image: npt.NDArray[Any], rows: slice, cols: slice) -> npt.NDArray[np.uint8]:
         """The view block (rows, cols) of the BGR ``image``, undistorted and in CIE Lab."""

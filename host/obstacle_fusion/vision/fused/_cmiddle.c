@@ -52,38 +52,166 @@ static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssi
     }
 }
 
-/* Lanes of up to this many values are selected in a copy; longer ones counted. */
-#define SELECT_LANE 256
-
-/* The k-th smallest of a[0..n-1] (0 <= k < n), by Hoare's selection in place: on return
- * a[k] is that value and every a[i], i < k, is at most it. */
-static unsigned char select_kth(unsigned char *a, Py_ssize_t n, Py_ssize_t k)
+/* The values at sorted positions k - 1 and k (1 <= k < n) of a lane of n bytes ``step``
+ * apart, read off counts of its values: one pass over the lane, one over the counts up to
+ * the k-th. Counts in 16 bits for lanes of up to 65535 values (a 512-byte table to clear),
+ * else in Py_ssize_t. Exact, as a sort's. */
+static void middles_by_count(const char *from, Py_ssize_t step, Py_ssize_t n, Py_ssize_t k,
+                             unsigned char *lo, unsigned char *hi)
 {
-    Py_ssize_t lo = 0, hi = n - 1;
-    while (lo < hi) {
-        unsigned char pivot = a[lo + (hi - lo) / 2];
-        Py_ssize_t i = lo, j = hi;
-        while (i <= j) {
-            while (a[i] < pivot)
-                i++;
-            while (a[j] > pivot)
-                j--;
-            if (i <= j) {
-                unsigned char t = a[i];
-                a[i] = a[j];
-                a[j] = t;
-                i++;
-                j--;
+    int v = 0, first = -1;
+    if (n <= 65535) {
+        /* two tables, alternate values: runs of one value (a lane of one colour) do not
+         * wait on their own increments */
+        unsigned short count[2][256];
+        memset(count, 0, sizeof count);
+        Py_ssize_t i = 0;
+        for (; i + 1 < n; i += 2) {
+            count[0][(unsigned char)from[i * step]]++;
+            count[1][(unsigned char)from[(i + 1) * step]]++;
+        }
+        if (i < n)
+            count[0][(unsigned char)from[i * step]]++;
+        /* the 16-value block holding the (k-1)-th, then value by value from there */
+        Py_ssize_t below = 0;
+        for (; v < 240; v += 16) {
+            int block = 0;
+            for (int j = 0; j < 16; j++)
+                block += count[0][v + j] + count[1][v + j];
+            if (below + block > k - 1)
+                break;
+            below += block;
+        }
+        for (; v < 256; v++) {
+            below += count[0][v] + count[1][v];
+            if (first < 0 && below > k - 1)
+                first = v;
+            if (below > k)
+                break;
+        }
+    } else {
+        Py_ssize_t count[256];
+        memset(count, 0, sizeof count);
+        for (Py_ssize_t i = 0; i < n; i++)
+            count[(unsigned char)from[i * step]]++;
+        Py_ssize_t below = 0;
+        for (; v < 256; v++) {
+            below += count[v];
+            if (first < 0 && below > k - 1)
+                first = v;
+            if (below > k)
+                break;
+        }
+    }
+    *lo = (unsigned char)first;
+    *hi = (unsigned char)v;
+}
+
+/* The two middles of every lane of src along its axis ``axis`` (n = src.shape[axis]
+ * values, any strides), lanes in C order of src's other axes, by the comparator network
+ * ``net`` (net_len bytes, checked by the caller) or, for an empty one, by counts: into lo
+ * and hi (one byte per lane each) when ``mid`` is NULL, else into mid their float32 median
+ * (hi for an odd n, (lo + hi) / 2 for an even one: 8-bit values and their half sums are
+ * exact in float32, numpy's float median of the lane). 0, or -1 with an error set. */
+static int middles(const Py_buffer *src, int axis, const unsigned char *net, Py_ssize_t net_len,
+                   unsigned char *lo, unsigned char *hi, float *mid)
+{
+    int nd = src->ndim;
+    Py_ssize_t n = src->shape[axis], lanes = 1;
+    for (int d = 0; d < nd; d++)
+        lanes *= d == axis ? 1 : src->shape[d];
+    if (lanes == 0)
+        return 0;
+    unsigned char *rows = net_len ? PyMem_Malloc((size_t)(n * lanes)) : NULL;
+    Py_ssize_t *offsets = PyMem_Malloc((size_t)lanes * sizeof *offsets);
+    if ((net_len && rows == NULL) || offsets == NULL) {
+        PyMem_Free(offsets);
+        PyMem_Free(rows);
+        PyErr_NoMemory();
+        return -1;
+    }
+    /* each lane's first value: an odometer over the other axes, last fastest (lanes next
+     * to each other in memory, as a row of values, are copied a row at a time) */
+    Py_ssize_t index[MAX_DIMS] = {0}, at = 0;
+    int adjacent = 1;
+    for (Py_ssize_t lane = 0; lane < lanes; lane++) {
+        offsets[lane] = at;
+        adjacent &= at == lane;
+        for (int d = nd - 1; d >= 0; d--) {
+            if (d == axis)
+                continue;
+            at += src->strides[d];
+            if (++index[d] < src->shape[d])
+                break;
+            at -= src->strides[d] * src->shape[d];
+            index[d] = 0;
+        }
+    }
+    const char *base = (const char *)src->buf;
+    Py_ssize_t step = src->strides[axis];
+    Py_ssize_t k = n / 2;
+    int odd = (int)(n % 2);
+    if (net_len == 0) {
+        /* no network: each lane's middles read off counts of its values (long lanes,
+         * where a network would be long and numpy sorts a 16-bit copy; a selection in a
+         * copy of the lane mispredicts a branch per value, ~9x the counts' time) */
+        for (Py_ssize_t lane = 0; lane < lanes; lane++) {
+            unsigned char l, h;
+            middles_by_count(base + offsets[lane], step, n, k, &l, &h);
+            if (mid != NULL) {
+                mid[lane] = odd ? (float)h : ((float)l + (float)h) / 2.0f;
+            } else {
+                lo[lane] = l;
+                hi[lane] = h;
             }
         }
-        if (k <= j)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            break; /* between the parts: equal to the pivot */
+        PyMem_Free(offsets);
+        return 0;
     }
-    return a[k];
+    for (Py_ssize_t i = 0; i < n; i++) {
+        unsigned char *row = rows + i * lanes;
+        const char *from = base + i * step;
+        if (adjacent) {
+            memcpy(row, from, (size_t)lanes);
+            continue;
+        }
+        for (Py_ssize_t lane = 0; lane < lanes; lane++)
+            row[lane] = (unsigned char)from[offsets[lane]];
+    }
+    for (Py_ssize_t c = 0; c < net_len; c += 3)
+        compare(rows + net[c] * lanes, rows + net[c + 1] * lanes, lanes, net[c + 2]);
+    const unsigned char *low = rows + (k - 1) * lanes, *high = rows + k * lanes;
+    if (mid == NULL) {
+        memcpy(lo, low, (size_t)lanes);
+        memcpy(hi, high, (size_t)lanes);
+    } else if (odd) {
+        for (Py_ssize_t lane = 0; lane < lanes; lane++)
+            mid[lane] = (float)high[lane];
+    } else {
+        for (Py_ssize_t lane = 0; lane < lanes; lane++)
+            mid[lane] = ((float)low[lane] + (float)high[lane]) / 2.0f;
+    }
+    PyMem_Free(offsets);
+    PyMem_Free(rows);
+    return 0;
+}
+
+/* The network's checks: whole comparators inside lanes of n values. 0, or -1 with an
+ * error set. */
+static int check_network(const unsigned char *net, Py_ssize_t net_len, Py_ssize_t n,
+                         const char *name)
+{
+    if (net_len % 3 != 0) {
+        PyErr_Format(PyExc_ValueError, "%s: lanes of at least two values", name);
+        return -1;
+    }
+    for (Py_ssize_t c = 0; c < net_len; c += 3) {
+        if (net[c] >= n || net[c + 1] >= n || net[c] == net[c + 1] || net[c + 2] > 3) {
+            PyErr_Format(PyExc_ValueError, "%s: a comparator outside the lanes", name);
+            return -1;
+        }
+    }
+    return 0;
 }
 
 /* middle_u8(src, network, lo, hi): for every lane along src's last axis (uint8, any
@@ -93,7 +221,7 @@ static unsigned char select_kth(unsigned char *a, Py_ssize_t n, Py_ssize_t k)
  * bit 0), their maximum to j (bit 1); the caller's network leaves the middles at n // 2 - 1
  * and n // 2. The lanes are gathered into n rows of all lanes, so that each comparator is
  * one pass of byte minima and maxima over contiguous rows. An empty network: each lane's
- * middles are selected in a copy of it, or read off counts of its values (any length). */
+ * middles are read off counts of its values (any length). */
 static PyObject *middle_u8(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -115,8 +243,6 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
         return NULL;
     }
     PyObject *result = NULL;
-    unsigned char *rows = NULL;
-    Py_ssize_t *offsets = NULL;
     int nd = src.ndim;
     if (!is_u8(&src) || !is_u8(&lo) || !is_u8(&hi)) {
         PyErr_SetString(PyExc_TypeError, "middle_u8: uint8 arrays only");
@@ -126,102 +252,73 @@ static PyObject *middle_u8(PyObject *self, PyObject *args)
         PyErr_SetString(PyExc_ValueError, "middle_u8: lanes of at least two values");
         goto done;
     }
-    Py_ssize_t n = src.shape[nd - 1], lanes = 1;
+    Py_ssize_t lanes = 1;
     for (int d = 0; d < nd - 1; d++)
         lanes *= src.shape[d];
     if (lo.len != lanes || hi.len != lanes) {
         PyErr_SetString(PyExc_ValueError, "middle_u8: one output entry per lane");
         goto done;
     }
-    for (Py_ssize_t c = 0; c < net_len; c += 3) {
-        if (net[c] >= n || net[c + 1] >= n || net[c] == net[c + 1] || net[c + 2] > 3) {
-            PyErr_SetString(PyExc_ValueError, "middle_u8: a comparator outside the lanes");
-            goto done;
-        }
-    }
-    rows = net_len ? PyMem_Malloc((size_t)(n * lanes)) : NULL;
-    offsets = PyMem_Malloc((size_t)lanes * sizeof *offsets);
-    if ((net_len && rows == NULL) || offsets == NULL) {
-        PyErr_NoMemory();
+    if (check_network(net, net_len, src.shape[nd - 1], "middle_u8") < 0)
         goto done;
-    }
-    /* each lane's first value: an odometer over the other axes, last fastest (lanes next
-     * to each other in memory, as a row of values, are copied a row at a time) */
-    Py_ssize_t index[MAX_DIMS] = {0}, at = 0;
-    int adjacent = 1;
-    for (Py_ssize_t lane = 0; lane < lanes; lane++) {
-        offsets[lane] = at;
-        adjacent &= at == lane;
-        for (int d = nd - 2; d >= 0; d--) {
-            at += src.strides[d];
-            if (++index[d] < src.shape[d])
-                break;
-            at -= src.strides[d] * src.shape[d];
-            index[d] = 0;
-        }
-    }
-    const char *base = (const char *)src.buf;
-    Py_ssize_t step = src.strides[nd - 1];
-    Py_ssize_t k = n / 2;
-    if (net_len == 0) {
-        /* no network: each lane's middles selected in a copy (lanes up to SELECT_LANE
-         * values), or read off counts of its values (longer ones): long lanes, where a
-         * network would be long and numpy sorts a 16-bit copy */
-        unsigned char *lo_out = lo.buf, *hi_out = hi.buf;
-        Py_ssize_t count[256];
-        unsigned char copy[SELECT_LANE];
-        for (Py_ssize_t lane = 0; lane < lanes; lane++) {
-            const char *from = base + offsets[lane];
-            if (n <= SELECT_LANE) {
-                for (Py_ssize_t i = 0; i < n; i++)
-                    copy[i] = (unsigned char)from[i * step];
-                hi_out[lane] = select_kth(copy, n, k);
-                unsigned char below_max = copy[0]; /* values before k: none above the kth */
-                for (Py_ssize_t i = 1; i < k; i++)
-                    below_max = copy[i] > below_max ? copy[i] : below_max;
-                lo_out[lane] = below_max;
-                continue;
-            }
-            memset(count, 0, sizeof count);
-            for (Py_ssize_t i = 0; i < n; i++)
-                count[(unsigned char)from[i * step]]++;
-            Py_ssize_t below = 0;
-            int v = 0, first = -1;
-            for (; v < 256; v++) {
-                below += count[v];
-                if (first < 0 && below > k - 1)
-                    first = v;
-                if (below > k)
-                    break;
-            }
-            lo_out[lane] = (unsigned char)first;
-            hi_out[lane] = (unsigned char)v;
-        }
-        Py_INCREF(Py_None);
-        result = Py_None;
+    if (middles(&src, nd - 1, net, net_len, lo.buf, hi.buf, NULL) < 0)
         goto done;
-    }
-    for (Py_ssize_t i = 0; i < n; i++) {
-        unsigned char *row = rows + i * lanes;
-        const char *from = base + i * step;
-        if (adjacent) {
-            memcpy(row, from, (size_t)lanes);
-            continue;
-        }
-        for (Py_ssize_t lane = 0; lane < lanes; lane++)
-            row[lane] = (unsigned char)from[offsets[lane]];
-    }
-    for (Py_ssize_t c = 0; c < net_len; c += 3)
-        compare(rows + net[c] * lanes, rows + net[c + 1] * lanes, lanes, net[c + 2]);
-    memcpy(lo.buf, rows + (k - 1) * lanes, (size_t)lanes);
-    memcpy(hi.buf, rows + k * lanes, (size_t)lanes);
     Py_INCREF(Py_None);
     result = Py_None;
 done:
-    PyMem_Free(offsets);
-    PyMem_Free(rows);
     PyBuffer_Release(&hi);
     PyBuffer_Release(&lo);
+    PyBuffer_Release(&src);
+    return result;
+}
+
+/* median_f32(src, axis, network, out): the float32 median of every lane of src (uint8,
+ * any strides, n >= 2 values) along ``axis`` into out (C-contiguous float32, one entry per
+ * lane in C order of src's other axes): middle_u8's middles (the same network, or an
+ * empty one: counts), the upper one for an odd n, the two averaged in float32 for an even
+ * one; numpy's float32 median of the lane (profiles.median_u8 without its numpy steps). */
+static PyObject *median_f32(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *src_obj, *out_obj;
+    int axis;
+    const unsigned char *net;
+    Py_ssize_t net_len;
+    if (!PyArg_ParseTuple(args, "Oiy#O:median_f32", &src_obj, &axis, &net, &net_len, &out_obj))
+        return NULL;
+    Py_buffer src, out;
+    if (PyObject_GetBuffer(src_obj, &src, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) <
+        0) {
+        PyBuffer_Release(&src);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    int nd = src.ndim;
+    if (!is_u8(&src) || out.itemsize != 4 || out.format == NULL || strcmp(out.format, "f") != 0) {
+        PyErr_SetString(PyExc_TypeError, "median_f32: uint8 source, float32 output");
+        goto done;
+    }
+    if (nd < 1 || nd > MAX_DIMS || axis < 0 || axis >= nd || src.shape[axis] < 2) {
+        PyErr_SetString(PyExc_ValueError, "median_f32: lanes of at least two values");
+        goto done;
+    }
+    Py_ssize_t lanes = 1;
+    for (int d = 0; d < nd; d++)
+        lanes *= d == axis ? 1 : src.shape[d];
+    if (out.len != lanes * 4) {
+        PyErr_SetString(PyExc_ValueError, "median_f32: one output entry per lane");
+        goto done;
+    }
+    if (check_network(net, net_len, src.shape[axis], "median_f32") < 0)
+        goto done;
+    if (middles(&src, axis, net, net_len, NULL, NULL, (float *)out.buf) < 0)
+        goto done;
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
     PyBuffer_Release(&src);
     return result;
 }
@@ -670,6 +767,8 @@ static PyMethodDef methods[] = {
      "walk_on(on, start, step, max_gap): profiles.walk_on's walk (None: walk in Python)."},
     {"middle_u8", middle_u8, METH_VARARGS,
      "middle_u8(src, network, lo, hi): the two middle values of every last-axis lane."},
+    {"median_f32", median_f32, METH_VARARGS,
+     "median_f32(src, axis, network, out): the float32 median of every lane along axis."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -20,6 +20,7 @@ _c_middle_u8: Callable[[Any, bytes, Any, Any], None] | None
 _c_walk_on: Callable[[Any, int, int, int], int | None] | None
 _c_first_gap: Callable[[Any, Any], None] | None
 _c_next_true: Callable[[Any, int, Any], None] | None
+_c_median_f32: Callable[[Any, int, bytes, Any], None] | None
 try:  # the optional C accelerator (setup.py); without it numpy selects the middles
     import obstacle_fusion.vision.fused._cmiddle as _cmiddle
 
@@ -27,6 +28,10 @@ try:  # the optional C accelerator (setup.py); without it numpy selects the midd
     _c_first_gap, _c_next_true = _cmiddle.first_gap, _cmiddle.next_true
 except ImportError:  # pragma: no cover - only where the extension did not build
     _c_middle_u8 = _c_walk_on = _c_first_gap = _c_next_true = None
+try:  # (apart: an accelerator built before it still takes the middles)
+    from obstacle_fusion.vision.fused._cmiddle import median_f32 as _c_median_f32
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_median_f32 = None
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 I16 = npt.NDArray[np.int16]  # int16 gradient images
@@ -95,13 +100,32 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     """``median_of(a.astype(np.float32), axis)`` of an 8-bit array, without the float copy:
     the middle values of each lane (by a selection network, in C when the optional
     accelerator is built, or by sorting the lanes; lanes longer than a network, in C, by
-    selection up to 256 values and by counting beyond), taken
+    counting their values), taken
     to float32, the two middle ones averaged there (8-bit values are exact in float32: the
     same result)."""
     n = a.size if axis is None else a.shape[axis]
     if a.size == 0:  # numpy's answer for empty lanes (OpenCV's sort would crash on them)
         return np.median(a.astype(np.float32), axis=axis)
     k = n // 2
+    if (
+        n >= 2
+        and _c_median_f32 is not None
+        and _c_middle_u8 is not None  # (the tests take it away to compare numpy's paths)
+        and a.dtype == np.uint8
+        and (axis is None or -a.ndim <= axis < a.ndim)
+    ):
+        # the middles and their float32 median in one C call (the network for short
+        # lanes, counts for longer ones): the values of the two-step path below
+        if axis is None:
+            src, ax, shape = a.reshape(-1), 0, ()
+        else:
+            src, ax = a, axis % a.ndim
+            shape = a.shape[:ax] + a.shape[ax + 1 :]
+        network = _NETWORK_BYTES[n] if n <= NETWORK_LANES and axis is not None else b""
+        out = np.empty(shape, np.float32)
+        _c_median_f32(src, ax, network, out)
+        # (the two-step path's types: a 0-d array, or for an even count its mean, a scalar)
+        return out[()] if not shape and n % 2 == 0 else out
     lo: npt.NDArray[Any]
     hi: npt.NDArray[Any]
     if (
@@ -118,7 +142,7 @@ def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
     elif axis is not None and 2 <= n <= NETWORK_LANES and a.size >= NETWORK_MIN_VALUES * n:
         lo, hi = _middle_by_network(a, axis, n)
     elif n >= 2 and _c_middle_u8 is not None and a.dtype == np.uint8:
-        # longer lanes: selected (or, past 256 values, counted) in C (an empty network),
+        # longer lanes: their values counted in C (an empty network),
         # not sorted as 16-bit copies
         lanes = a.reshape(-1) if axis is None else lanes_last(a, axis)
         lo = np.empty(lanes.shape[:-1], np.uint8)  # (0-d for one lane: as the sort's)

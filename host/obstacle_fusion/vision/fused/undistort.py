@@ -90,6 +90,10 @@ class TableRemap:
         self._seen: set[int] = set()  # strides remapped once by OpenCV, no table yet
         # the camera width's table's weights as the colour remap takes them (pair_weights)
         self._weights3: tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]] | None = None
+        # the last frame colour_block remapped (it is a packed BGR frame of the camera's
+        # size: the next block of it skips the checks) and its table's offsets
+        self._packed: npt.NDArray[Any] | None = None
+        self._offsets3: npt.NDArray[np.int32] | None = None
         if _c_remap_table is not None and eager:
             self._tables[view.camera.width] = remap_table(view, view.camera.width)
 
@@ -109,12 +113,28 @@ class TableRemap:
         return table
 
     def colour_block(
-        self, src: npt.NDArray[Any], r0: int, r1: int, c0: int, c1: int
+        self,
+        src: npt.NDArray[Any],
+        r0: int,
+        r1: int,
+        c0: int,
+        c1: int,
+        out: npt.NDArray[np.uint8] | None = None,
     ) -> npt.NDArray[np.uint8] | None:
         """The view block rows r0..r1-1, columns c0..c1-1 of the packed BGR frame ``src``,
         remapped as OpenCV's bilinear remap does it (the same integers, channel by
-        channel), by the table of the camera's width; None where the C accelerator, that
+        channel), by the table of the camera's width, into ``out`` (rows x columns x 3
+        uint8, packed pixels; None: a new array); None where the C accelerator, that
         table or such a frame is missing (the caller remaps with OpenCV)."""
+        if src is self._packed and self._weights3 is not None and _c_remap_table3 is not None:
+            # the frame checked at the last call (the colour stages' dozens of blocks of
+            # one held frame): straight to the C remap
+            dst = np.empty((r1 - r0, c1 - c0, 3), np.uint8) if out is None else out
+            try:
+                _c_remap_table3(src, self._offsets3, *self._weights3, r0, c0, dst)
+            except ValueError:  # pragma: no cover - a table not of this frame's view
+                return None
+            return dst
         w, h = self.view.camera.size
         table = self._tables.get(w)
         if (
@@ -129,11 +149,12 @@ class TableRemap:
             return None
         if self._weights3 is None:
             self._weights3 = pair_weights(table)
-        dst = np.empty((r1 - r0, c1 - c0, 3), np.uint8)
+        dst = np.empty((r1 - r0, c1 - c0, 3), np.uint8) if out is None else out
         try:
             _c_remap_table3(src, table[0], *self._weights3, r0, c0, dst)
         except ValueError:  # pragma: no cover - a table not of this frame's view
             return None
+        self._packed, self._offsets3 = src, table[0]
         return dst
 
     def __call__(self, src: npt.NDArray[Any], dst: npt.NDArray[np.uint8]) -> None:
