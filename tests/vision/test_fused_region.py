@@ -84,6 +84,37 @@ def test_a_seam_within_the_gap_limit_is_crossed() -> None:
     assert abs(left - LEFT) <= 2
 
 
+def test_a_gap_showing_the_floor_ends_the_face_however_narrow() -> None:
+    """Two boxes of one colour 3 cm apart (9 columns, within the seam limit), the floor seen
+    between their feet: a seam is a line of its own colour, the floor between two feet is a
+    gap between two objects (procedural 1015: a text box beside a cylinder of its print's
+    colour). The face ends there."""
+    img = scene(seams=(150,), seam_width=9, seam_colour=FLOOR)
+    left, right = widen(img, 170, 240)
+    assert left >= 156 and abs(right - RIGHT) <= 2
+
+
+def test_a_gap_of_the_floors_lightness_alone_ends_the_face() -> None:
+    """The same with a grey face on the grey floor (the chroma tells nothing): the floor's
+    own colour at the foot ends the face's run; with FLOOR_THROUGH_STEP off it is crossed."""
+    grey = scene(seams=(150,), seam_width=9, seam_colour=FLOOR).astype(np.float64)
+    grey[TOP:BOTTOM] = grey[TOP:BOTTOM].mean(axis=2, keepdims=True) - 45.0
+    grey[TOP:BOTTOM, 150:159] = scene(seams=(150,), seam_width=9, seam_colour=FLOOR)[
+        TOP:BOTTOM, 150:159
+    ]
+    img = np.clip(grey, 0, 255).astype(np.uint8)
+    assert widen(img, 170, 240)[0] >= 156
+
+
+def test_without_the_floor_stop_the_narrow_gap_is_crossed(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The rule above decides: a walk over the face's colour alone crosses the gap."""
+    monkeypatch.setattr(region, "_up_to_floor", lambda on, through, start, step: on)
+    img = scene(seams=(150,), seam_width=9, seam_colour=FLOOR)
+    assert abs(widen(img, 170, 240)[0] - LEFT) <= 2
+
+
 def test_the_face_colour_beyond_its_foot_without_a_floor_step_is_not_the_face() -> None:
     """Above the contact row beyond the sides the colour matches the face's, but so does the
     floor below (a green floor running back): no foot there, so no widening."""

@@ -106,6 +106,9 @@ FLOOR_CHROMA_NEAR_SHARE = 0.2
 FLOOR_CHROMA_FAR = 12.0
 #: ... and while at most this share of the face's own foot looks like floor.
 MAX_FLOORLIKE_FOOT = 0.5
+#: A foot within this Lab distance of the floor below it is the floor itself running on
+#: above the contact row (a seam between planks or bricks is a line of its own colour).
+FLOOR_THROUGH_STEP = 0.5 * MIN_FLOOR_STEP
 
 
 def _band(
@@ -163,8 +166,10 @@ def widen_by_colour(
     """The face's sides, moved out to where its colour along its foot ends.
 
     ``chroma``: no side moves out over a foot showing the floor's own chroma (see
-    :func:`floor_chroma`); off where the sides are a core a few centimetres wide in the
-    beam, whose colour may be a tape's or a label's on a face of the floor's chroma.
+    :func:`floor_chroma`), nor past a foot of the floor's own colour (a gap between two
+    objects, however narrow, is no seam); off where the sides are a core a few centimetres
+    wide in the beam, whose colour may be a tape's or a label's on a face of the floor's
+    chroma (or a print's, its dark lines at the foot of a dark floor's colour).
 
     A face lower than MIN_COLOUR_FACE_ROWS is not widened (its foot's colour is any band's
     along that row), only brought in over columns with no foot."""
@@ -221,8 +226,22 @@ def widen_by_colour(
     # floor runs on behind and the side may still come in
     outwards = bottom - top >= MIN_COLOUR_FACE_ROWS
     new = []
+    # where the floor itself shows at the foot (its own colour: a dark seam's chroma may
+    # be the floor's, its lightness is not) nothing stands: a gap between two objects side
+    # by side, never a seam of one face. The colour run outwards stops there, however
+    # narrow the gap.
+    through = ((d_foot_floor < FLOOR_THROUGH_STEP) & ~on & chroma).tolist()
     for side, step in ((left, -1), (right, 1)):
-        end = walk_on(on_both, side - step * 2, step, max_gap) if outwards else side
+        end = (
+            walk_on(
+                _up_to_floor(on_both, through, side - step * 2, step),
+                side - step * 2,
+                step,
+                max_gap,
+            )
+            if outwards
+            else side
+        )
         if outwards and (end - side) * step <= min_move:
             # a face of several colours (planks, tape, a print) ends its colour run at
             # the first change; its outline runs on: a foot on the floor and a top
@@ -273,6 +292,22 @@ def widen_by_colour(
                 continue
         new.append(_snap_side(ax, top, bottom, end)[0])
     return new[0], new[1]
+
+
+def _up_to_floor(on: list[bool], through: list[bool], start: int, step: int) -> list[bool]:
+    """``on`` with every column from the first ``through`` one (from ``start`` towards
+    ``step``) onwards turned off: a walk over ``on`` ends before the floor shows."""
+    col, n = start, len(on)
+    while 0 <= col < n and not through[col]:
+        col += step
+    if not 0 <= col < n:
+        return on
+    out = list(on)
+    if step > 0:
+        out[col:] = [False] * (n - col)
+    else:
+        out[: col + 1] = [False] * (col + 1)
+    return out
 
 
 #: A pair is trimmed to its foot only when the face kept stands on a foot over this share
