@@ -20,7 +20,7 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import profiles
+from obstacle_fusion.vision.fused.profiles import upper_middles_u8
 from obstacle_fusion.vision.fused.scoring import Candidate
 
 log = logging.getLogger(__name__)
@@ -345,15 +345,7 @@ def _band_colour(
     sy, sx = max(1, (b - a) // FOOT_SAMPLES_ROWS), max(1, (d - c) // FOOT_SAMPLES_COLUMNS)
     channels = image.shape[2] if image.ndim == 3 else 1
     sample = image[a:b:sy, c:d:sx].reshape(-1, channels)
-    mid = sample.shape[0] // 2  # the upper median (np.median's own overhead is most of it)
-    c_middle = profiles._c_middle_u8
-    if c_middle is not None and sample.dtype == np.uint8 and sample.shape[0] >= 2:
-        # the same value counted in C: the middles of each channel's lane, the upper one
-        # at sorted position n // 2 = mid (np.partition's wrapper costs more than the work)
-        lo, hi = np.empty(channels, np.uint8), np.empty(channels, np.uint8)
-        c_middle(sample.T, b"", lo, hi)
-        return hi.astype(np.float32)
-    return np.partition(sample, mid, axis=0)[mid].astype(np.float32)
+    return upper_middles_u8(sample)
 
 
 @dataclass(frozen=True)
