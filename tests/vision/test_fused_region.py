@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
@@ -534,6 +535,99 @@ def test_a_strip_at_a_faces_foot_is_no_print_in_a_frame() -> None:
     img[TOP : strip_top - 1, left:right] = FLOOR
     found = region.enclose_by_margin(img, level_view(), BOTTOM, strip_top, left, right, DEPTH)
     assert found is not None
+
+
+SHADOW_FLOOR = (90, 130, 170)  # BGR: a tan floor
+SHADOW_REACH = 8  # pixels of the face's shadow on the floor beside and below the face
+#: a low box's face (a margin's reach round it stays inside the frame)
+BOX_TOP, BOX_BOTTOM, BOX_LEFT, BOX_RIGHT = 150, 190, 120, 200
+
+
+def shadowed_face_scene(shade: float) -> npt.NDArray[np.uint8]:
+    """A plain green face on a tan floor (a pale wall behind), with its shadow round its
+    foot: the floor's own colour times ``shade`` (lit less), beside the face (a low box
+    casts it up its whole height in view) and SHADOW_REACH rows below its foot, fading out
+    at its lower end."""
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOX_BOTTOM] = (200, 200, 200)
+    img[BOX_BOTTOM:] = SHADOW_FLOOR
+    r = SHADOW_REACH
+    shadow = np.array(SHADOW_FLOOR, np.float64) * shade
+    img[BOX_TOP : BOX_BOTTOM + r, BOX_LEFT - r : BOX_RIGHT + r] = shadow
+    for i in range(3):  # the shadow's soft lower end
+        k = (i + 1) / 4
+        img[BOX_BOTTOM + r + i, BOX_LEFT - r : BOX_RIGHT + r] = (1 - k) * shadow + k * np.array(
+            SHADOW_FLOOR
+        )
+    img[BOX_TOP:BOX_BOTTOM, BOX_LEFT:BOX_RIGHT] = FACE
+    img += np.random.default_rng(0).normal(0, 3.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def enclose_box(img: npt.NDArray[np.uint8]) -> tuple[int, int, int, int] | None:
+    return region.enclose_by_margin(
+        img, level_view(), BOX_BOTTOM, BOX_TOP, BOX_LEFT, BOX_RIGHT, DEPTH
+    )
+
+
+def test_a_faces_shadow_round_its_foot_is_no_frame(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Beside and below a plain face, its shadow on the floor: one colour all round that
+    ends within a margin's reach, as a frame's margin would. It is the floor's own colour,
+    darker (its chroma dimmed in proportion), so no frame: the face keeps its sides and
+    foot. The same ring in a colour of its own (a margin of paint) is a frame."""
+    img = shadowed_face_scene(0.7)
+    assert enclose_box(img) is None
+    with monkeypatch.context() as m:  # the shadow taken for no shadow: a "frame"
+        m.setattr(region, "_shadow_of", lambda colour, floor: False)
+        assert enclose_box(img) is not None
+    # a ring of another hue, as dark: the face's own margin round a print
+    r = SHADOW_REACH
+    img[BOX_TOP : BOX_BOTTOM + r, BOX_LEFT - r : BOX_RIGHT + r] = (40, 60, 140)
+    img[BOX_TOP:BOX_BOTTOM, BOX_LEFT:BOX_RIGHT] = FACE
+    assert enclose_box(img) is not None
+
+
+def test_a_shadow_is_the_floors_colour_dimmed() -> None:
+    lab = cv2.cvtColor(
+        np.array([[SHADOW_FLOOR, [int(c * 0.7) for c in SHADOW_FLOOR], (40, 60, 140)]], np.uint8),
+        cv2.COLOR_BGR2LAB,
+    )[0].astype(np.float32)
+    floor, shadow, paint = lab
+    assert region._shadow_of(shadow, floor)
+    assert not region._shadow_of(paint, floor)  # another hue
+    assert not region._shadow_of(floor, floor)  # not darker
+    assert not region._shadow_of(floor, shadow)  # lighter
+
+
+def lab_scene(shadow_right: int) -> npt.NDArray[np.uint8]:
+    """In 8-bit Lab, made BGR: a pale wall, a tan floor below row BOTTOM, a brownish face
+    whose chroma is within FACE_CHROMA_STEP of the floor's (its darker shade of it is no
+    shadow's: another hue), and the face's shadow on the floor beside its right side,
+    ``shadow_right`` columns wide: the floor's colour lit less, its chroma dimmed with it."""
+    floor = np.array((146.0, 138.0, 155.0))
+    k = 104.0 / 146.0
+    shadow = np.array((104.0, *(128.0 + k * (floor[1:] - 128.0))))
+    lab = np.empty((H, W, 3), np.float64)
+    lab[:BOTTOM] = (220.0, 128.0, 128.0)
+    lab[BOTTOM:] = floor
+    lab[TOP:BOTTOM, RIGHT : RIGHT + shadow_right] = shadow
+    lab[TOP:BOTTOM, LEFT:RIGHT] = (110.0, 142.0, 150.0)
+    lab += np.random.default_rng(0).normal(0, 1.5, lab.shape)
+    img = cv2.cvtColor(np.clip(lab, 0, 255).astype(np.uint8), cv2.COLOR_LAB2BGR)
+    return np.asarray(img, np.uint8)
+
+
+def test_a_face_does_not_widen_into_its_shadow(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The floor in the face's shadow beside it is near the face's colour and steps from
+    the lit floor below, as a foot would; its chroma is the floor's dimmed with its light,
+    so it is floor, and the side stays (the face's chroma is too near the floor's for the
+    FACE_CHROMA_STEP rule to tell)."""
+    img = lab_scene(40)
+    _, right = widen(img, LEFT, RIGHT)
+    assert right <= RIGHT + 3
+    monkeypatch.setattr(region, "SHADOW_FOOT", False)
+    _, right = widen(img, LEFT, RIGHT)
+    assert right >= RIGHT + 30
 
 
 # -- a face by its colour alone --------------------------------------------------------

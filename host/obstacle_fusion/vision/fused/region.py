@@ -478,6 +478,11 @@ def floor_chroma(
     out: npt.NDArray[np.bool_] = ((foot_step < FLOOR_CHROMA) | near) & (
         face_step >= FACE_CHROMA_STEP
     )
+    # the floor in the face's shadow, its chroma dimmed with its light, is floor too
+    # where the face's own colour is no such shade of it (a face near the floor's chroma)
+    if SHADOW_FOOT:
+        shade = shadow_columns(foot, floor)
+        out |= shade & ~shadow_columns(np.broadcast_to(ref[None], floor.shape), floor)
     return out
 
 
@@ -1282,6 +1287,36 @@ MARGIN_AGREE = 15.0
 MARGIN_VS_PRINT = 20.0
 #: A frame's margin is at most this share of the print's width (and height) wide.
 MAX_MARGIN_SHARE = 0.35
+#: A "margin" of the floor's chroma (within FLOOR_CHROMA) at least this much darker (Lab
+#: lightness, 8-bit) than the floor just past its end below is the face's shadow on the
+#: floor, not a frame of the face's own colour.
+SHADOW_DARKER = 6.0
+#: ... on a floor of at least this chroma (a grey floor's shade has no hue to tell it by:
+#: a grey margin round a print on it is as dark).
+SHADOW_FLOOR_CHROMA = 10.0
+#: Whether a foot in the floor's shadow counts as floor when a face's sides move.
+SHADOW_FOOT = True
+
+
+def shadow_columns(colour: npt.NDArray[Any], floor: npt.NDArray[Any]) -> npt.NDArray[np.bool_]:
+    """Per entry (N x 3, 8-bit Lab): ``colour`` looks like the ``floor``'s in shadow,
+    SHADOW_DARKER or more darker, its chroma the floor's scaled by the lightness ratio
+    within FLOOR_CHROMA (less light off the same surface dims its chroma in proportion;
+    its hue stays), on a floor of SHADOW_FLOOR_CHROMA or more."""
+    c = np.asarray(colour, np.float32).reshape(-1, 3)
+    f = np.asarray(floor, np.float32).reshape(-1, 3)
+    lc, lf = c[:, 0], f[:, 0]
+    k = (lc / np.maximum(lf, 1.0))[:, None]
+    off = row_norms((c[:, 1:] - 128.0) - k * (f[:, 1:] - 128.0))
+    hued = row_norms(f[:, 1:] - 128.0) >= SHADOW_FLOOR_CHROMA
+    out: npt.NDArray[np.bool_] = (lf - lc >= SHADOW_DARKER) & (off <= FLOOR_CHROMA) & hued
+    return out
+
+
+def _shadow_of(colour: npt.NDArray[Any], floor: npt.NDArray[Any]) -> bool:
+    """Whether one colour (8-bit Lab) looks like the ``floor``'s in shadow
+    (:func:`shadow_columns`)."""
+    return bool(shadow_columns(colour, floor)[0])
 
 
 def _run_length(colour: npt.NDArray[np.float32], ref: npt.NDArray[np.float32], limit: float) -> int:
@@ -1351,6 +1386,13 @@ def enclose_by_margin(
     out_below = _run_length(below_rows[bottom + 2 - r0 :][:reach_v], margin, MARGIN_AGREE)
     if min(out_left, out_right, out_below) < 2 or max(
         out_left >= reach_u, out_right >= reach_u, out_below >= reach_v
+    ):
+        return None
+    # a face's shadow round its foot is no margin: the floor past where it ends below,
+    # darker, its chroma scaled down with its lightness (a margin is the face's own paint)
+    past = bottom + 2 + out_below - r0
+    if past < below_rows.shape[0] and _shadow_of(
+        margin, median_u8(below_rows[past : past + m], axis=0)
     ):
         return None
     above = median_u8(below_rows[max(0, top - 2 - m - r0) : top - 2 - r0 + 1], axis=0)
