@@ -58,6 +58,7 @@ from obstacle_fusion.vision.fused.region import (
     snap_sides_to_steps,
     stops_at_colour_top,
     top_agreement,
+    top_face_above,
     trim_to_foot,
     widen_along_margin,
     widen_by_colour,
@@ -388,11 +389,17 @@ class FusedMethod:
         if framed is not None:
             rb, vt, ul, ur = framed
         # a background line crossing the face is not its top: the face's colour runs on
+        # (a frame's top margin is the front top edge of a low box's top face seen above
+        # it: a short way up to where that face's back edge ends the colour is no face)
         coloured = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
-        if face_under_raised_top(seen, v, rb, vt, coloured, ul, ur):
+        if face_under_raised_top(seen, v, rb, vt, coloured, ul, ur) and not (
+            framed is not None and top_face_above(seen, v, rb, vt, coloured, ul, ur)
+        ):
             vt = coloured
         walked = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
-        if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True):
+        if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True) and not (
+            framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
+        ):
             vt = walked
 
         # confidence

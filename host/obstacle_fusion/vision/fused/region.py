@@ -955,6 +955,53 @@ def face_under_raised_top(
     return any(strips) if one_strip else all(strips)
 
 
+#: Rows of the face sampled just under its top (past the top edge's blur) when a short
+#: way up is judged for a top face: a frame's top margin is at least this thick.
+UNDER_TOP_ROWS = (2, 5)
+
+
+def top_face_above(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    raised: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether the rows between ``raised`` and ``top`` (a short way up, under
+    RETURN_MIN_RAISE of the face) are a box's top face seen from above, ``top`` its front
+    top edge.
+
+    Below the horizon the lens looks down on a low box's top face: it is the box's own
+    material in another light, so its colour differs from the face's just under the front
+    top edge (MIN_BESIDE_STEP), and its sides run towards the vanishing point, so in its
+    upper (farther) half the strips just inside the front face's sides show the floor
+    behind, not the top face's colour, at both sides. A colour that runs on past a
+    frame's top margin and fills the face's width up there is the face's own."""
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS) + 4:
+        return False
+    way, found = top - raised, bottom - top
+    u0, u1 = UNDER_TOP_ROWS
+    if way < MIN_TOP_FACE_ROWS or way >= RETURN_MIN_RAISE * found or found <= u1 + 2:
+        return False
+    if top <= view.cy + view.horizon_slack_px:
+        return False  # a top face shows only below the horizon: the lens above the box
+    lab = _lab8(image, view, raised, top + u1, left + SIDE_SKIP, right - SIDE_SKIP + 1)
+    b = BESIDE_COLUMNS
+    mid = lab[:, 2 * b : -2 * b]
+    half = way // 2
+    near_face = median_u8(mid[half : way - 1].reshape(-1, 3), axis=0)
+    under = median_u8(mid[way + u0 : way + u1].reshape(-1, 3), axis=0)
+    if norm(near_face - under) < MIN_BESIDE_STEP:
+        return False
+    far_face = median_u8(mid[2:half].reshape(-1, 3), axis=0)
+    for strip in (lab[2:half, :b], lab[2:half, -b:]):
+        if norm(median_u8(strip.reshape(-1, 3), axis=0) - far_face) < MIN_BESIDE_STEP:
+            return False
+    return True
+
+
 #: Above the face's top the strip just inside each side is within this (Lab, 8-bit) of
 #: the strip just outside it: the background seen past the face on both sides of its side.
 BACKGROUND_MATCH = 10.0
