@@ -23,6 +23,15 @@ from tests.vision.rooms import plain_room
 CAM = CameraModel.paper(500, 375)
 
 
+def _assert_measured_without_rig(family: str, seed: int, hard: bool, rel: float) -> None:
+    """The room measured with no rig file: detected, height and width within ``rel``."""
+    image, truth, _ = render_room(family, seed, hard, CAM)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.height_m == pytest.approx(truth["height_m"], rel=rel)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=rel)
+
+
 def clean_room(seed: int, **changes: object) -> RoomSpec:
     return plain_room(seed, **changes)
 
@@ -752,11 +761,7 @@ def test_with_no_rig_photo_102_the_box_not_the_print_beside_it() -> None:
     """Room photo/102 (hard): with no rig the level view finds the gloss box (within 5 %);
     at +4 degrees a wall print beside it stood a surer face (width +103 %). The box is
     measured: within 10 % in both."""
-    image, truth, _ = render_room("photo", 102, True, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.10)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.10)
+    _assert_measured_without_rig("photo", 102, True, rel=0.10)
 
 
 def test_with_no_rig_the_surest_of_the_swept_pitches_wins_in_any_order(
@@ -1228,22 +1233,14 @@ def test_with_no_rig_a_poster_above_the_walls_foot_is_not_measured() -> None:
     stood a face on the wall behind it, its foot in the wall's band (width +412 %); as a
     face standing in the band it stands no face, and the box's own face is measured within
     25 %."""
-    image, truth, _ = render_room("procedural", 910, True, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.25)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.25)
+    _assert_measured_without_rig("procedural", 910, True, rel=0.25)
 
 
 def test_with_no_rig_a_contact_shadow_below_the_face_does_not_hide_it() -> None:
     """Room photo/304 (hard): with no rig, a row below the planked face stands a band
     (its contact shadow on the floor, rows wholly below the face's foot); the face above it
     is no wall face standing in a band, and is measured within 5 %."""
-    image, truth, _ = render_room("photo", 304, True, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    _assert_measured_without_rig("photo", 304, True, rel=0.05)
 
 
 def test_with_no_rig_a_shadow_band_under_the_face_does_not_hide_it() -> None:
@@ -1251,11 +1248,7 @@ def test_with_no_rig_a_shadow_band_under_the_face_does_not_hide_it() -> None:
     band (its contact shadow, under the whole face and centred on it) whose top reaches a
     pixel above the face's foot; the face is no wall face standing in a band, and is
     measured within 5 %."""
-    image, truth, _ = render_room("photo", 969, False, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    _assert_measured_without_rig("photo", 969, False, rel=0.05)
 
 
 def test_with_no_rig_a_skirting_band_is_passed_over_for_the_face_below(
@@ -1391,11 +1384,7 @@ def test_with_no_rig_rooms_whose_lowest_face_took_floor_in(
 ) -> None:
     """Ordinary rooms whose lowest standing face, taken before, had floor in it (``was``):
     the face above it is measured within 3 %."""
-    image, truth, _ = render_room(family, seed, False, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
+    _assert_measured_without_rig(family, seed, False, rel=0.03)
 
 
 def test_with_no_rig_a_framed_print_stands_on_the_box_foot_below_it() -> None:
@@ -1403,11 +1392,7 @@ def test_with_no_rig_a_framed_print_stands_on_the_box_foot_below_it() -> None:
     row is the print's lower edge, where the print is a sure face (0.92, framed_print),
     and the box's foot is a weak step 8 rows below (the frame's colour between them):
     there the whole box stands, measured within 3 % (the print was 13-16 % small)."""
-    image, truth, _ = render_room("procedural", 143, False, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
+    _assert_measured_without_rig("procedural", 143, False, rel=0.03)
 
 
 @pytest.mark.parametrize(("doubts", "detected"), [(3, True), (4, False)])
@@ -1501,11 +1486,7 @@ def test_with_no_rig_photo_1065_the_box_not_the_print_above_it() -> None:
     """Room photo/1065 (ordinary): with no rig a swept pitch stood the planked box and the
     yellow print on the wall above it as one face (height +144 % at confidence 0.95); the
     box is measured, within 5 %."""
-    image, truth, _ = render_room("photo", 1065, False, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    _assert_measured_without_rig("photo", 1065, False, rel=0.05)
 
 
 def _face_box(
@@ -1541,11 +1522,7 @@ def test_with_no_rig_a_face_above_the_gravel_steps_is_found(seed: int) -> None:
     unsure face (height -77 %, -65 %), which ended the search. The last-resort sweep now
     runs over an unsure face, and its sure face above, whose sides read the pitch, is
     measured within 5 %."""
-    image, truth, _ = render_room("photo", seed, False, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    _assert_measured_without_rig("photo", seed, False, rel=0.05)
 
 
 @pytest.mark.parametrize(
@@ -1622,8 +1599,4 @@ def test_with_no_rig_photo_1036_the_face_not_a_mark_on_the_floor_below_it() -> N
     """Room photo/1036 (hard): a text-printed face, the lens pitched up; a weaker step
     below its foot stood a face of 15 x 27 px (a mark on the gravel), taken as the nearer
     foot and then refused (missed). The face is measured, within 5 %."""
-    image, truth, _ = render_room("photo", 1036, True, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected, res.reason
-    assert res.height_m == pytest.approx(truth["height_m"], rel=0.05)
-    assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
+    _assert_measured_without_rig("photo", 1036, True, rel=0.05)
