@@ -102,3 +102,55 @@ def test_a_print_with_a_margin_is_enclosed_by_the_face(margin: int) -> None:
 def test_a_face_standing_alone_is_not_enclosed_by_the_background() -> None:
     ay, ax3, noise = gradients(room([]))
     assert enclose_inner_frame(ay, ax3, BOTTOM, TOP, LEFT, RIGHT, noise) == (LEFT, RIGHT, TOP)
+
+
+def two_shade_face(beside: str = "plain") -> npt.NDArray[np.uint8]:
+    """A face of two planks: a light one the search finds, and a dark one whose top and
+    foot edges are dim against the wall and floor (a fifth of the light one's), one seam
+    between; ``beside`` "texture" fills the wall and floor beside the face with horizontal
+    detail on every row (a textured floor or wall, no line of its own)."""
+    rng = np.random.default_rng(3)
+    img = np.full((H, W), 120.0)
+    img[130:] = 100
+    img[TOP:BOTTOM, LEFT:160] = 112  # the dark plank: 8 from the wall, 12 from the floor
+    img[TOP:BOTTOM, 160:RIGHT] = 175  # the light plank
+    img[TOP:BOTTOM, 158:160] = 60  # the seam
+    img[TOP:BOTTOM, LEFT - 2 : LEFT] = 40  # the face's dark outer side
+    if beside == "texture":
+        stripes = 14.0 * ((np.arange(H) // 2) % 2)[:, None]
+        outside = np.ones((H, W), bool)
+        outside[TOP:BOTTOM, LEFT:RIGHT] = False
+        img += np.where(outside, stripes, 0.0)
+    img += rng.normal(0, 1.5, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_planks_of_another_shade_are_crossed_where_the_edges_stay_on_their_rows() -> None:
+    """One surface at the sonar's depth: its top and foot are one row each across a plank
+    of another shade, however dim they get there (photo/941: a face of dark and light
+    planks measured as its light plank, -51 %)."""
+    ay, ax3, noise = gradients(two_shade_face())
+    left, right = widen_across_seams(ay, ax3, BOTTOM, TOP, 160, RIGHT, noise)
+    assert abs(left - LEFT) <= 3 and right == RIGHT
+
+
+def test_dim_edges_are_not_crossed_without_the_same_row_rule(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(extent, "SAME_ROW_EDGES", False)
+    ay, ax3, noise = gradients(two_shade_face())
+    left, _ = widen_across_seams(ay, ax3, BOTTOM, TOP, 160, RIGHT, noise)
+    assert left >= 155
+
+
+def test_detail_on_every_row_is_no_edge_on_the_faces_row() -> None:
+    """Horizontal detail filling the rows above and below (a textured floor or wall) is
+    as strong at the face's rows as a dim edge, but it is no line there."""
+    ay, _, noise = gradients(two_shade_face("texture"))
+    beside = slice(5, LEFT - 8)
+    assert not extent._line_on_row(ay, BOTTOM, noise)[beside].any()
+    assert not extent._line_on_row(ay, TOP, noise)[beside].any()
+    ay, _, noise = gradients(two_shade_face())  # the dim plank's own edges are lines
+    face = slice(LEFT + 5, 150)
+    assert extent._line_on_row(ay, BOTTOM, noise)[face].mean() > 0.9
+    assert extent._line_on_row(ay, TOP, noise)[face].mean() > 0.9

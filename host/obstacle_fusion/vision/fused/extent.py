@@ -55,6 +55,15 @@ MIN_EDGE_SNR = 3.0
 TOP_ALONE_SNR = 10.0
 #: ... and runs on while at this share of its strength along the face.
 TOP_ALONE_SHARE = 0.5
+#: A plank or brick of another shade dims the face's top and foot edges, but both stay
+#: edges on their rows (:func:`_line_on_row`): at least MIN_EDGE_SNR noise levels and this
+#: many times the weaker of the |d/dy| a few rows above and below (a textured floor or
+#: wall has its detail on every row, a face's edge only on its own) ...
+LINE_CONTRAST = 2.0
+#: ... read over these rows either side of the edge's row (clear of the edge's blur).
+LINE_SIDE_ROWS = (3, 5)
+#: The widening walks on where both edges stand on their rows (a switch for the tests).
+SAME_ROW_EDGES = True
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -68,6 +77,22 @@ def _edge_profile(ay: npt.NDArray[np.float32], row: int) -> npt.NDArray[np.float
     r0 = max(0, row - EDGE_ROWS)
     r1 = min(ay.shape[0], row + EDGE_ROWS + 1)
     return np.asarray(ay[r0:r1].max(axis=0), np.float32)
+
+
+def _line_on_row(ay: npt.NDArray[np.float32], row: int, noise: float) -> npt.NDArray[np.bool_]:
+    """Per column, whether a horizontal edge stands on ``row`` (within EDGE_ROWS): at least
+    MIN_EDGE_SNR noise levels and LINE_CONTRAST times the weaker of the mean |d/dy| over
+    the rows LINE_SIDE_ROWS above and below it (a step between two surfaces, whatever its
+    contrast; texture that fills every row is no line)."""
+    h = ay.shape[0]
+    a, b = LINE_SIDE_ROWS
+    if row - b < 0 or row + b + 1 > h:
+        return np.zeros(ay.shape[1], bool)
+    edge = _edge_profile(ay, row)
+    above = np.asarray(ay[row - b : row - a + 1].mean(axis=0), np.float32)
+    below = np.asarray(ay[row + a : row + b + 1].mean(axis=0), np.float32)
+    beside = np.minimum(above, below)
+    return (edge >= MIN_EDGE_SNR * noise) & (edge >= LINE_CONTRAST * beside)
 
 
 def _stands(present: npt.NDArray[np.bool_]) -> bool:
@@ -132,6 +157,10 @@ def widen_across_seams(
         # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
         sb = np.convolve(gb, kernel, mode="same") / ref_b
         runs_on = ((sb + st) >= 2.0 * CONTINUE_SHARE) & (np.minimum(sb, st) >= EDGE_FLOOR_SHARE)
+        if SAME_ROW_EDGES:
+            # one surface at the sonar's depth, square to the beam: its top and foot are
+            # one row each across planks or bricks of other shades, dimmer or not
+            runs_on |= _line_on_row(ay, bottom, noise) & _line_on_row(ay, top, noise)
     sides = column_means(ax[top : bottom + 1])
     # a side stands as a vertical edge at least this strong (the chosen seams' weaker half)
     need = max(
