@@ -25,6 +25,7 @@ from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.channel import face_floor_grey
 from obstacle_fusion.vision.fused.confidence import (
     FLOOR_IN_FACE,
+    FOOT_OFF_FLOOR,
     FRAMED,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
@@ -228,6 +229,8 @@ class Measurer:
                 )
             result.camera_height_m = float(height)
             result.camera_pitch_deg = pitch
+            if result.detected:
+                readings.append(result)
             if accepted(result):
                 sure_trials.append(result)
             if log.isEnabledFor(logging.DEBUG):  # up to ~20 trials a frame: format only if read
@@ -264,6 +267,7 @@ class Measurer:
         unstood = 0  # faces found on rows they did not stand on
         unsure: Measurement | None = None  # the surest near-horizon face, not accepted
         sure_trials: list[Measurement] = []  # every trial's face of at least ESTIMATE_ACCEPT
+        readings: list[Measurement] = []  # every trial's face
         bands: list[tuple[float, float, float, float]] = []  # wall bands the trials found
         try:
             last = self._last_rig
@@ -524,6 +528,15 @@ class Measurer:
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
         if best.detected and _doubted(best, REFUSAL_IGNORES) < MIN_DOUBTED_CONFIDENCE:
+            # the same face read by another trial without some of the doubts: those belong
+            # to that reading (a guessed pitch or row), not to the face
+            reread = _less_doubted_reading(
+                best, readings, lambda r: sides_reach_foot(image, r.lines)
+            )
+            if reread is not None:
+                self._last_rig = None
+                self._last_pitch_doubts = []
+                return reread
             # every cue against it: the guessed rig stood a face its own outline doubts on
             # every count (a stripe, a print, a wall band read as a face), wrong by a
             # multiple of its size more often than not; no answer is better than that one
@@ -823,6 +836,16 @@ MIN_DOUBTED_CONFIDENCE = 0.01
 #: whether a face stands there (added after the threshold was chosen; counted, a first
 #: version of it turned an 18 %-off face on the tuning rooms into none).
 REFUSAL_IGNORES = frozenset({TOP_BAND_UNLIKE_FACE})
+#: The doubts the no-rig search adds to the face it reports (about the rig it guessed), as
+#: against those read off the face as measured.
+SEARCH_DOUBTS = frozenset({PITCH_UNREAD, PITCH_RERUN_DISAGREES, TRIAL_RIVAL})
+#: Two no-rig trials' face boxes overlapping by this much (intersection over union) are
+#: the same face read twice (on the fresh rooms the same face's readings overlapped by
+#: 0.93-1.0, a face widened over its neighbour by 0.75).
+SAME_FACE_IOU = 0.9
+#: ... and such a reading still doubting the foot is no reading of a face on the floor (on
+#: the tuning scenes 92-100 % of the faces carrying one were off by more than 5 %).
+FOOT_DOUBTS = frozenset({FOOT_OFF_FLOOR, FLOOR_IN_FACE})
 
 #: With no rig, the lowest floor-contact row whose face reaches this confidence is taken;
 #: when none does, the most confident of the rows tried.
@@ -931,6 +954,65 @@ def _rival_trial(
         other is not best and _beside(best.box_px, other.box_px) and stands(other)
         for other in trials
     )
+
+
+def _less_doubted_reading(
+    best: Measurement,
+    readings: list[Measurement],
+    stands: Callable[[Measurement], bool],
+) -> Measurement | None:
+    """Another no-rig trial's reading of ``best``'s face (:func:`_same_face`: the same face
+    on the same foot, seen with another guessed camera height or pitch) whose face doubts
+    are a strict subset of ``best``'s and none of FOOT_DOUBTS (the foot is the same in
+    every reading), standing on its foot (``stands``): the surest such reading, its doubted
+    confidence (``best``'s doubts about the rig search added: PITCH_UNREAD, TRIAL_RIVAL,
+    PITCH_RERUN_DISAGREES) at least MIN_DOUBTED_CONFIDENCE; else None. The doubts the
+    other reading lacks come from the guess of the rig, not from the face, so the face is
+    not doubted on every count."""
+    search = [d for d in best.doubts if d in SEARCH_DOUBTS]
+    face = {d for d in best.doubts if d not in SEARCH_DOUBTS}
+    chosen: Measurement | None = None
+    chosen_conf = MIN_DOUBTED_CONFIDENCE
+    for other in readings:
+        if other is best or not other.detected or not _same_face(best.box_px, other.box_px):
+            continue
+        own = set(other.doubts)
+        if not own < face or own & FOOT_DOUBTS:
+            continue
+        again = dataclasses.replace(other, doubts=[*other.doubts, *search])
+        conf = _doubted(again, REFUSAL_IGNORES)
+        if conf >= chosen_conf and stands(other):
+            chosen, chosen_conf = again, conf
+    return chosen
+
+
+def _same_face(
+    box: tuple[float, float, float, float] | None,
+    other: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether two no-rig trials' face boxes (input pixels) are one face on one foot: they
+    overlap by SAME_FACE_IOU or more and their feet lie within ROW_JITTER_PX rows (another
+    guess of the pitch on the same floor-contact row, not a face standing on another)."""
+    return (
+        box is not None
+        and other is not None
+        and _iou(box, other) >= SAME_FACE_IOU
+        and abs(box[3] - other[3]) <= ROW_JITTER_PX
+    )
+
+
+def _iou(
+    box: tuple[float, float, float, float] | None,
+    other: tuple[float, float, float, float] | None,
+) -> float:
+    """Intersection over union of two boxes (x0, y0, x1, y1); 0 when either is unknown."""
+    if box is None or other is None:
+        return 0.0
+    wide = min(box[2], other[2]) - max(box[0], other[0])
+    tall = min(box[3], other[3]) - max(box[1], other[1])
+    inter = max(0.0, wide) * max(0.0, tall)
+    union = (box[2] - box[0]) * (box[3] - box[1]) + (other[2] - other[0]) * (other[3] - other[1])
+    return inter / (union - inter) if union - inter > 0 else 0.0
 
 
 def _beside(
