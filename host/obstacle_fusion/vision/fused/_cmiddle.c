@@ -10,7 +10,8 @@
  * Also profiles.walk_on's walk along a row of flags (a Python loop of a few hundred steps,
  * a dozen walks a frame), profiles.first_gap's search down each column of flags and
  * profiles.next_true's running minimum up them, and search.ramp_columns' gradient walks
- * round the candidate side columns (ramp_spans), and profiles.row_norms' norms of colours.
+ * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours, and
+ * View.lab's held-block bookkeeping (uncovered).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -974,7 +975,124 @@ done:
     return result;
 }
 
+/* A growing array of blocks (r0, r1, c0, c1). */
+typedef struct {
+    Py_ssize_t (*at)[4];
+    Py_ssize_t n, cap;
+} Blocks;
+
+static int blocks_add(Blocks *b, Py_ssize_t r0, Py_ssize_t r1, Py_ssize_t c0, Py_ssize_t c1)
+{
+    if (b->n == b->cap) {
+        Py_ssize_t cap = b->cap ? 2 * b->cap : 16;
+        void *grown = PyMem_Realloc(b->at, (size_t)cap * sizeof *b->at);
+        if (grown == NULL) {
+            PyErr_NoMemory();
+            return -1;
+        }
+        b->at = grown;
+        b->cap = cap;
+    }
+    b->at[b->n][0] = r0;
+    b->at[b->n][1] = r1;
+    b->at[b->n][2] = c0;
+    b->at[b->n][3] = c1;
+    b->n++;
+    return 0;
+}
+
+/* uncovered(boxes, r0, r1, c0, c1): View.lab's bookkeeping of a held frame's Lab blocks
+ * (types.uncovered_pieces, the same steps): None when the block rows r0..r1-1, columns
+ * c0..c1-1 lies inside one of ``boxes`` (a list of (r0, r1, c0, c1) tuples, the blocks
+ * converted before); else the rectangles of it no box covers, as a list of such tuples
+ * in the Python loop's order (the block less each box in turn: up to four pieces around
+ * it). ~17 blocks a frame against up to a dozen boxes: the loop's interpreter steps cost
+ * more than the test. The two piece lists are reused across boxes (one allocation each,
+ * grown when needed). */
+static PyObject *uncovered(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *boxes_obj;
+    Py_ssize_t r0, r1, c0, c1;
+    if (!PyArg_ParseTuple(args, "Onnnn:uncovered", &boxes_obj, &r0, &r1, &c0, &c1))
+        return NULL;
+    PyObject *boxes = PySequence_Fast(boxes_obj, "uncovered: boxes must be a sequence");
+    if (boxes == NULL)
+        return NULL;
+    PyObject *result = NULL;
+    const Py_ssize_t n = PySequence_Fast_GET_SIZE(boxes);
+    PyObject **items = PySequence_Fast_ITEMS(boxes);
+    Blocks have = {NULL, 0, 0}, rest = {NULL, 0, 0}, box = {NULL, 0, 0};
+    for (Py_ssize_t i = 0; i < n; i++) {
+        Py_ssize_t a, b, c, d;
+        if (!PyTuple_Check(items[i])) {
+            PyErr_SetString(PyExc_TypeError, "uncovered: each box a tuple (r0, r1, c0, c1)");
+            goto done;
+        }
+        if (!PyArg_ParseTuple(items[i], "nnnn:uncovered", &a, &b, &c, &d) ||
+            blocks_add(&box, a, b, c, d) < 0)
+            goto done;
+    }
+    for (Py_ssize_t i = n - 1; i >= 0; i--) { /* inside one block before: the latest first */
+        const Py_ssize_t *q = box.at[i];
+        if (q[0] <= r0 && r1 <= q[1] && q[2] <= c0 && c1 <= q[3]) {
+            Py_INCREF(Py_None);
+            result = Py_None;
+            goto done;
+        }
+    }
+    if (blocks_add(&have, r0, r1, c0, c1) < 0)
+        goto done;
+    for (Py_ssize_t i = 0; i < n && have.n > 0; i++) {
+        const Py_ssize_t a = box.at[i][0], b = box.at[i][1], c = box.at[i][2], d = box.at[i][3];
+        rest.n = 0;
+        for (Py_ssize_t k = 0; k < have.n; k++) {
+            const Py_ssize_t p0 = have.at[k][0], p1 = have.at[k][1];
+            const Py_ssize_t q0 = have.at[k][2], q1 = have.at[k][3];
+            int failed = 0;
+            if (a >= p1 || b <= p0 || c >= q1 || d <= q0) {
+                failed |= blocks_add(&rest, p0, p1, q0, q1);
+            } else {
+                const Py_ssize_t m0 = p0 > a ? p0 : a, m1 = p1 < b ? p1 : b;
+                if (p0 < a)
+                    failed |= blocks_add(&rest, p0, a, q0, q1);
+                if (b < p1)
+                    failed |= blocks_add(&rest, b, p1, q0, q1);
+                if (q0 < c)
+                    failed |= blocks_add(&rest, m0, m1, q0, c);
+                if (d < q1)
+                    failed |= blocks_add(&rest, m0, m1, d, q1);
+            }
+            if (failed)
+                goto done;
+        }
+        Blocks swap = have;
+        have = rest;
+        rest = swap;
+    }
+    result = PyList_New(have.n);
+    if (result == NULL)
+        goto done;
+    for (Py_ssize_t k = 0; k < have.n; k++) {
+        PyObject *piece = Py_BuildValue("(nnnn)", have.at[k][0], have.at[k][1], have.at[k][2],
+                                        have.at[k][3]);
+        if (piece == NULL) {
+            Py_CLEAR(result);
+            goto done;
+        }
+        PyList_SET_ITEM(result, k, piece);
+    }
+done:
+    PyMem_Free(have.at);
+    PyMem_Free(rest.at);
+    PyMem_Free(box.at);
+    Py_DECREF(boxes);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"uncovered", uncovered, METH_VARARGS,
+     "uncovered(boxes, r0, r1, c0, c1): None inside a box, else the block's uncovered pieces."},
     {"row_norms", row_norms, METH_VARARGS,
      "row_norms(x, out): the Euclidean norm of each row of 1-7 floats (profiles.row_norms)."},
     {"ramp_spans", ramp_spans, METH_VARARGS,
