@@ -105,6 +105,7 @@ CMIDDLE = Extension(
     sources=["host/obstacle_fusion/vision/fused/_cmiddle.c"],
     # -O3: its byte minima and maxima over rows of lanes vectorise
     extra_compile_args=["-std=c99", "-O3", "-Wall", "-Wextra", "-Werror"],
+    libraries=["m"],  # row_norms' square roots
     optional=True,
 )
 

@@ -358,3 +358,51 @@ def test_next_true_in_c_is_numpy_s(monkeypatch: pytest.MonkeyPatch) -> None:
             assert np.array_equal(got, np.minimum.accumulate(idx[::-1], axis=0)[::-1])
     with pytest.raises(ValueError):
         next_true(np.zeros((4, 3), bool), 5)
+
+
+@pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")  # numpy's, on the 1e30s
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_row_norms_in_c_are_numpy_s(dtype: type, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The accelerator's norms are numpy's bit for bit: rows of 1 to 7 values (squares
+    added from the left, as numpy's reduce under 8 values), no rows and one, strided and
+    reversed views, zeros, huge and tiny values, inf and NaN; 8 values and more, other
+    types and other shapes are numpy's own (the same function, another path)."""
+    from obstacle_fusion.vision.fused import _cmiddle, profiles
+
+    assert profiles._c_row_norms is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(21)
+    scales = [1e-30, 1e-3, 1.0, 255.0, 1e4, 1e30]
+    for n in (0, 1, 2, 5, 300):
+        for k in range(1, 10):
+            a = rng.standard_normal((n, k + 2)) * rng.choice(scales, (n, k + 2))
+            a = a.astype(dtype)
+            if n:
+                a[0, 1] = np.inf if k % 2 else np.nan
+                a[-1] = 0.0
+            for x in (a[:, 1 : 1 + k], a[::-1, :k], a[::2, -k:], np.ascontiguousarray(a[:, :k])):
+                got = row_norms(x)
+                with monkeypatch.context() as m:
+                    m.setattr(profiles, "_c_row_norms", None)
+                    want = row_norms(x)
+                assert got.dtype == want.dtype and got.shape == want.shape
+                assert np.array_equal(got, want, equal_nan=True)
+                assert np.array_equal(got, np.linalg.norm(x, axis=1), equal_nan=True) or k >= 8
+    for other in (np.ones((4, 3), np.float16), np.ones((4, 3), np.int32), np.ones((2, 4, 3))):
+        with monkeypatch.context() as m:
+            m.setattr(profiles, "_c_row_norms", None)
+            want = row_norms(other)
+        got = row_norms(other)
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+    out = np.empty(4, np.float32)
+    _cmiddle.row_norms(np.ones((4, 3), np.float32), out)
+    assert np.array_equal(out, np.full(4, np.sqrt(np.float32(3.0))))
+    with pytest.raises(TypeError):
+        _cmiddle.row_norms(np.ones((4, 3), np.float32), np.empty(4, np.float64))  # its type
+    with pytest.raises(TypeError):
+        _cmiddle.row_norms(np.ones((4, 3), np.float32), out[:3])  # an entry short
+    with pytest.raises(TypeError):
+        _cmiddle.row_norms(np.ones((4, 8), np.float32), out)  # 8 values: numpy's pairwise sum
+    with pytest.raises(TypeError):
+        _cmiddle.row_norms(np.ones((4, 0), np.float32), out)  # none
+    with pytest.raises(TypeError):
+        _cmiddle.row_norms(np.ones(4, np.float32), out)  # 1-D

@@ -16,7 +16,7 @@ from obstacle_fusion.vision.fused.confidence import PITCH_UNREAD
 from obstacle_fusion.vision.fused.floor_contact import contact_rows, weak_contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import UNSEEN_MARGIN_PX, Measurement, View
+from obstacle_fusion.vision.types import SIDE_SAMPLES, UNSEEN_MARGIN_PX, Measurement, View
 
 from tests.vision.rooms import plain_room
 
@@ -253,6 +253,57 @@ def test_a_side_near_where_the_view_maps_outside_the_image_is_unseen() -> None:
     right = last_seen - m
     assert "right" not in view.unseen_sides(_face(400, right, top, bottom), m)
     assert "right" in view.unseen_sides(_face(400, right + 1, top, bottom), m)
+
+
+def _unseen_side_by_side(view: View, corners: np.ndarray, margin: float) -> list[str]:
+    """View.unseen_sides as it was, one side at a time (the reference for the one pass)."""
+    c = np.asarray(corners, dtype=np.float64).reshape(4, 2)
+    if not np.isfinite(c).all():
+        return []
+    bl, br, tr, tl = c
+    t = np.linspace(0.0, 1.0, SIDE_SAMPLES)[:, None]
+    outward = {
+        "left": (bl + t * (tl - bl)) - (margin, 0.0),
+        "right": (br + t * (tr - br)) + (margin, 0.0),
+        "top": (tl + t * (tr - tl)) - (0.0, margin),
+        "bottom": (bl + t * (br - bl)) + (0.0, margin),
+    }
+    h, w = view.map1.shape[:2]
+    w_in, h_in = view.camera.size
+    sides = []
+    for side, pts in outward.items():
+        u = np.floor(pts[:, 0]).astype(np.int64)
+        v = np.floor(pts[:, 1]).astype(np.int64)
+        inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
+        if not inside.all():
+            sides.append(side)
+            continue
+        src = view.map1[v, u].astype(np.int64)
+        seen = (src[:, 0] >= 0) & (src[:, 0] < w_in) & (src[:, 1] >= 0) & (src[:, 1] < h_in)
+        if not seen.all():
+            sides.append(side)
+    return sides
+
+
+def test_unseen_sides_in_one_pass_are_the_side_by_side_answers() -> None:
+    """The four sides' samples checked in one pass name the sides the per-side loop named:
+    faces inside, across and past every border, on the edges exactly, slanted and
+    upside-down outlines, pitched views that map outside the input; no outline (NaN)."""
+    rng = np.random.default_rng(51)
+    w, h = CAM.size
+    for pitch in (0.0, 8.0, -6.0):
+        view = View(CAM, Rig(camera_pitch_deg=pitch), "level")
+        for margin in (UNSEEN_MARGIN_PX, 0.0, 2.5):
+            for _ in range(400):
+                pts = rng.uniform([-30, -30], [w + 30, h + 30], (4, 2))
+                if rng.random() < 0.3:
+                    pts = np.rint(pts)  # on pixel edges exactly
+                assert view.unseen_sides(pts, margin) == _unseen_side_by_side(view, pts, margin)
+            face = _face(margin, w - 1 - margin, margin, h - 1 - margin)
+            assert view.unseen_sides(face, margin) == _unseen_side_by_side(view, face, margin)
+    nan = _face(100, 400, 100, 300).astype(float)
+    nan[2, 1] = np.nan
+    assert view.unseen_sides(nan) == [] == _unseen_side_by_side(view, nan, UNSEEN_MARGIN_PX)
 
 
 def test_a_face_running_off_the_image_short_of_its_border_in_the_view_is_flagged() -> None:

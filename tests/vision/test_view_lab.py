@@ -140,3 +140,48 @@ def test_an_overlapping_block_converts_only_what_no_block_before_covered(
         seen[r0:r1, c0:c1] = True
         np.testing.assert_array_equal(got, converted(view, img, r0, r1, c0, c1))
     view.hold_colour(None)
+
+
+def test_the_held_blocks_bookkeeping_in_c_is_the_python_one() -> None:
+    """The accelerator's uncovered() gives uncovered_pieces' answers, pieces in the same
+    order: no boxes, a block inside one box (the first, the last) or across several, on
+    their edges exactly, beside them, covered whole by boxes together (no pieces), empty
+    boxes; many boxes (its piece lists grow). Boxes that are not 4-tuples are its error."""
+    from obstacle_fusion.vision.fused import _cmiddle
+    from obstacle_fusion.vision.fused.method import _c_uncovered
+    from obstacle_fusion.vision.types import uncovered_pieces
+
+    assert _c_uncovered is not None, "the C accelerator is not built (make setup)"
+    rng = np.random.default_rng(61)
+    for _ in range(4000):
+        boxes = []
+        for _ in range(int(rng.integers(0, 40 if rng.random() < 0.1 else 12))):
+            a, c = int(rng.integers(0, 60)), int(rng.integers(0, 80))
+            boxes.append((a, int(rng.integers(a, 61)), c, int(rng.integers(c, 81))))
+        ra, ca = int(rng.integers(0, 60)), int(rng.integers(0, 80))
+        block = (ra, int(rng.integers(ra + 1, 61)), ca, int(rng.integers(ca + 1, 81)))
+        assert _cmiddle.uncovered(boxes, *block) == uncovered_pieces(boxes, *block)
+    halves = [(0, 10, 0, 5), (0, 10, 5, 10)]
+    assert _cmiddle.uncovered(halves, 0, 10, 0, 10) == [] == uncovered_pieces(halves, 0, 10, 0, 10)
+    assert _cmiddle.uncovered([], 1, 3, 2, 4) == [(1, 3, 2, 4)]
+    assert _cmiddle.uncovered([(0, 9, 0, 9), (5, 6, 5, 6)], 1, 3, 2, 4) is None
+    assert _cmiddle.uncovered([(0, 2, 0, 9)], 1, 3, 2, 4) == [(2, 3, 2, 4)]
+    with pytest.raises(TypeError):
+        _cmiddle.uncovered([[0, 2, 0, 9]], 1, 3, 2, 4)
+    with pytest.raises(TypeError):
+        _cmiddle.uncovered([(0, 2, 0)], 1, 3, 2, 4)
+
+
+def test_a_view_with_the_c_bookkeeping_converts_the_same_blocks() -> None:
+    """A view using the accelerator's bookkeeping gives each block a view of the frame's
+    Lab pixels equal to the block converted alone, as the Python bookkeeping does."""
+    from obstacle_fusion.vision.fused.method import _c_uncovered
+
+    img = frame(3)
+    for uncovered in (_c_uncovered, None):
+        view = pitched_view()
+        view.use_uncovered(uncovered)
+        view.hold_colour(img)
+        for block in BLOCKS:
+            assert np.array_equal(view.lab(img, *block), converted(view, img, *block)), block
+        view.hold_colour(None)

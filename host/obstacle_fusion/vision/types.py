@@ -97,6 +97,46 @@ SIDE_SAMPLES = 5
 #: A face side this close (view px) to what the view does not see may run on out there:
 #: the methods stop a side's search a few columns short of the view's edge.
 UNSEEN_MARGIN_PX = 4.0
+#: The samples' places along a side (0 to 1), and the sides in the order
+#: :meth:`View.unseen_sides` names them.
+_SIDE_T = np.linspace(0.0, 1.0, SIDE_SAMPLES)[:, None]
+_SIDE_NAMES = ("left", "right", "top", "bottom")
+
+
+Block = tuple[int, int, int, int]  # a view block's rows r0..r1-1, columns c0..c1-1
+Uncovered = Callable[[list[Block], int, int, int, int], list[Block] | None]
+
+
+def uncovered_pieces(
+    boxes: list[Block], ra: int, rb: int, ca: int, cb: int
+) -> list[Block] | None:
+    """None when the block (ra, rb, ca, cb) lies inside one of ``boxes`` (the blocks of a
+    held frame converted before, :meth:`View.lab`); else its parts no box covers:
+    rectangles (the block less each box in turn: up to four pieces around it), in order.
+    (The fused method's C accelerator, ``_cmiddle.uncovered``, takes the same steps.)"""
+    for a, b, c, d in reversed(boxes):
+        if a <= ra and rb <= b and c <= ca and cb <= d:  # inside one block before
+            return None
+    pieces = [(ra, rb, ca, cb)]
+    for a, b, c, d in boxes:
+        rest = []
+        for p0, p1, q0, q1 in pieces:
+            if a >= p1 or b <= p0 or c >= q1 or d <= q0:
+                rest.append((p0, p1, q0, q1))
+                continue
+            if p0 < a:
+                rest.append((p0, a, q0, q1))
+            if b < p1:
+                rest.append((b, p1, q0, q1))
+            m0, m1 = max(p0, a), min(p1, b)
+            if q0 < c:
+                rest.append((m0, m1, q0, c))
+            if d < q1:
+                rest.append((m0, m1, d, q1))
+        pieces = rest
+        if not pieces:
+            break
+    return pieces
 
 
 class View:
@@ -138,15 +178,23 @@ class View:
         # so far, in one buffer (made on the first hold), and their (r0, r1, c0, c1)
         self._held: npt.NDArray[Any] | None = None
         self._lab: npt.NDArray[np.uint8] | None = None
-        self._lab_boxes: list[tuple[int, int, int, int]] = []
+        self._lab_boxes: list[Block] = []
         # a method's faster remap of a colour block (:meth:`use_colour_remap`)
         self._colour_remap: ColourRemap | None = None
+        # the held blocks' bookkeeping (:func:`uncovered_pieces`, or a method's faster one)
+        self._uncovered: Uncovered = uncovered_pieces
 
     def use_colour_remap(self, remap: ColourRemap | None) -> None:
         """``remap(image, r0, r1, c0, c1)``: the view block rows r0..r1-1, columns c0..c1-1
         of the BGR ``image`` with OpenCV's bilinear remap's values (or None: OpenCV remaps
         it), for :meth:`lab`'s blocks (the fused method's table remap)."""
         self._colour_remap = remap
+
+    def use_uncovered(self, uncovered: Uncovered | None) -> None:
+        """``uncovered(boxes, r0, r1, c0, c1)``: :func:`uncovered_pieces`' answers, faster
+        (the fused method's C accelerator), for :meth:`lab`'s held blocks (None: the Python
+        function)."""
+        self._uncovered = uncovered if uncovered is not None else uncovered_pieces
 
     def input_rows(self, rows: int) -> int:
         """How many of the input image's top rows the view's first ``rows`` rows read."""
@@ -232,39 +280,17 @@ class View:
         ca, cb, _ = cols.indices(w)
         if ra >= rb or ca >= cb:
             return self._to_lab(image, rows, cols)  # OpenCV's answer to an empty block
-        for a, b, c, d in reversed(self._lab_boxes):
-            if a <= ra and rb <= b and c <= ca and cb <= d:  # inside one block before
-                held = lab[ra:rb, ca:cb]
-                held.flags.writeable = False
-                return held
-        # the block's parts no block before converted: rectangles (the block less each
-        # earlier box in turn: up to four pieces around it)
-        box = (ra, rb, ca, cb)
-        pieces = [box]
-        for a, b, c, d in self._lab_boxes:
-            rest = []
-            for p0, p1, q0, q1 in pieces:
-                if a >= p1 or b <= p0 or c >= q1 or d <= q0:
-                    rest.append((p0, p1, q0, q1))
-                    continue
-                if p0 < a:
-                    rest.append((p0, a, q0, q1))
-                if b < p1:
-                    rest.append((b, p1, q0, q1))
-                m0, m1 = max(p0, a), min(p1, b)
-                if q0 < c:
-                    rest.append((m0, m1, q0, c))
-                if d < q1:
-                    rest.append((m0, m1, d, q1))
-            pieces = rest
-            if not pieces:
-                break
+        pieces = self._uncovered(self._lab_boxes, ra, rb, ca, cb)
+        if pieces is None:  # inside one block before
+            held = lab[ra:rb, ca:cb]
+            held.flags.writeable = False
+            return held
         # each piece remapped and converted in place in the frame's Lab buffer (no block
         # of its own to copy in: the same values)
         for p0, p1, q0, q1 in pieces:
             self._lab_into(image, lab[p0:p1, q0:q1], p0, p1, q0, q1)
         if pieces:
-            self._lab_boxes.append(box)  # whole now: a later block inside it is one test
+            self._lab_boxes.append((ra, rb, ca, cb))  # whole now: a block inside it is one test
         held = lab[ra:rb, ca:cb]
         held.flags.writeable = False  # the frame's cache: a write would spoil it
         return held
@@ -322,29 +348,24 @@ class View:
         if not np.isfinite(c).all():
             return []  # no outline to place (the refinement's fits failed)
         bl, br, tr, tl = c
-        t = np.linspace(0.0, 1.0, SIDE_SAMPLES)[:, None]
-        outward = {
-            "left": (bl + t * (tl - bl)) - (margin, 0.0),
-            "right": (br + t * (tr - br)) + (margin, 0.0),
-            "top": (tl + t * (tr - tl)) - (0.0, margin),
-            "bottom": (bl + t * (br - bl)) + (0.0, margin),
-        }
+        # the four sides' samples in one array (left, right, top, bottom x SIDE_SAMPLES x 2:
+        # each point the expression a side at a time would give), moved out by the margin
+        start = np.stack([bl, br, tl, bl])
+        end = np.stack([tl, tr, tr, br])
+        pts = start[:, None] + _SIDE_T * (end - start)[:, None]
+        pts += np.array([(-margin, 0.0), (margin, 0.0), (0.0, -margin), (0.0, margin)])[:, None]
         h, w = self.map1.shape[:2]
         w_in, h_in = self.camera.size
-        sides = []
-        for side, pts in outward.items():
-            # the pixel each point lies in: a margin of exactly ``margin`` either way
-            u = np.floor(pts[:, 0]).astype(np.int64)
-            v = np.floor(pts[:, 1]).astype(np.int64)
-            inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
-            if not inside.all():
-                sides.append(side)
-                continue
-            src = self.map1[v, u].astype(np.int64)  # input pixel (integer part) each reads
-            seen = (src[:, 0] >= 0) & (src[:, 0] < w_in) & (src[:, 1] >= 0) & (src[:, 1] < h_in)
-            if not seen.all():
-                sides.append(side)
-        return sides
+        # the pixel each point lies in: a margin of exactly ``margin`` either way
+        u = np.floor(pts[..., 0]).astype(np.int64)
+        v = np.floor(pts[..., 1]).astype(np.int64)
+        inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
+        # the input pixel (integer part) each point inside reads (those outside read the
+        # view's pixel 0, 0: their side is unseen whatever it gives)
+        src = self.map1[np.where(inside, v, 0), np.where(inside, u, 0)].astype(np.int64)
+        seen = (src[..., 0] >= 0) & (src[..., 0] < w_in) & (src[..., 1] >= 0) & (src[..., 1] < h_in)
+        unseen = ~(inside & seen).all(axis=1)
+        return [side for side, out in zip(_SIDE_NAMES, unseen.tolist(), strict=True) if out]
 
     def to_input(self, pts: npt.ArrayLike) -> FloatArray:
         """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""

@@ -9,11 +9,14 @@
  * without it, profiles.py does the same in numpy). Reads any strided buffer (numpy views).
  * Also profiles.walk_on's walk along a row of flags (a Python loop of a few hundred steps,
  * a dozen walks a frame), profiles.first_gap's search down each column of flags and
- * profiles.next_true's running minimum up them.
+ * profiles.next_true's running minimum up them, and search.ramp_columns' gradient walks
+ * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours, and
+ * View.lab's held-block bookkeeping (uncovered).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #include <limits.h>
+#include <math.h>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -754,7 +757,346 @@ done:
     return result;
 }
 
+/* Twice the median over the rows of strip[r, x + 1] - strip[r, x - 1] (1 <= x <= w - 2):
+ * the middle value doubled for an odd count, the sum of the two middle ones for an even
+ * one; np.median's float64 value of the int16 differences times two, always an integer
+ * (search.ramp_columns reads it as float32: multiples of 0.5 under 256, exact). Short
+ * lanes by insertion sort on the stack, longer ones by counting the 511 possible
+ * differences; both exact. */
+#define RAMP_SORT_MAX 64
+static long ramp_twice_median(const char *base, Py_ssize_t rows, Py_ssize_t rs, Py_ssize_t cs,
+                              Py_ssize_t x)
+{
+    const char *right = base + (x + 1) * cs, *left = base + (x - 1) * cs;
+    Py_ssize_t k = rows / 2;
+    if (rows <= RAMP_SORT_MAX) {
+        int v[RAMP_SORT_MAX];
+        for (Py_ssize_t r = 0; r < rows; r++) {
+            int d = (int)((const unsigned char *)right)[r * rs] -
+                    (int)((const unsigned char *)left)[r * rs];
+            Py_ssize_t i = r;
+            while (i > 0 && v[i - 1] > d) {
+                v[i] = v[i - 1];
+                i--;
+            }
+            v[i] = d;
+        }
+        return rows % 2 ? 2L * v[k] : (long)v[k - 1] + v[k];
+    }
+    Py_ssize_t count[511];
+    memset(count, 0, sizeof count);
+    for (Py_ssize_t r = 0; r < rows; r++)
+        count[255 + (int)((const unsigned char *)right)[r * rs] -
+              (int)((const unsigned char *)left)[r * rs]]++;
+    /* the values at sorted positions k - 1 and k */
+    Py_ssize_t seen = 0;
+    int lo = -256, hi = -256;
+    for (int d = 0; d < 511; d++) {
+        seen += count[d];
+        if (lo < -255 && seen > k - 1)
+            lo = d - 255;
+        if (seen > k) {
+            hi = d - 255;
+            break;
+        }
+    }
+    return rows % 2 ? 2L * hi : (long)lo + hi;
+}
+
+/* ramp_spans(strip, cols, min_cols, beside): search.ramp_columns' walk for each column of
+ * ``cols`` over a 2-D uint8 strip (n >= 1 rows, any strides): the column's gradient g
+ * (each column's median of the differences across it, 0 at both ends), its peak within
+ * one column (the first of the largest |g|), the run of columns either side holding half
+ * of it with its sign; a list of (column, first, last) for each column whose run is
+ * ``min_cols`` wide or more with ``beside`` columns left beyond both ends, in the order of
+ * ``cols`` (duplicates kept). Columns outside 0..w-1: ValueError (the caller walks those
+ * in numpy). Gradients are taken only where read, each once (doubled, as integers:
+ * comparisons exact; the numpy path takes all w medians of a few rows, a dozen calls). */
+static PyObject *ramp_spans(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *strip_obj, *cols_obj;
+    Py_ssize_t min_cols, beside;
+    if (!PyArg_ParseTuple(args, "OOnn:ramp_spans", &strip_obj, &cols_obj, &min_cols, &beside))
+        return NULL;
+    PyObject *cols = PySequence_Fast(cols_obj, "ramp_spans: cols must be a sequence");
+    if (cols == NULL)
+        return NULL;
+    Py_buffer strip;
+    if (PyObject_GetBuffer(strip_obj, &strip, PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
+        Py_DECREF(cols);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    long *grad = NULL;      /* twice g per column, where known */
+    unsigned char *known = NULL;
+    if (strip.ndim != 2 || !is_u8(&strip) || strip.shape[0] < 1) {
+        PyErr_SetString(PyExc_TypeError, "ramp_spans: a 2-D uint8 strip of one row or more");
+        goto done;
+    }
+    const Py_ssize_t rows = strip.shape[0], w = strip.shape[1];
+    const Py_ssize_t rs = strip.strides[0], cs = strip.strides[1];
+    const char *base = (const char *)strip.buf;
+    const Py_ssize_t n_cols = PySequence_Fast_GET_SIZE(cols);
+    PyObject **items = PySequence_Fast_ITEMS(cols);
+    /* one allocation a call (w entries each), not one per column */
+    grad = PyMem_Malloc((size_t)(w > 0 ? w : 1) * sizeof *grad);
+    known = PyMem_Calloc((size_t)(w > 0 ? w : 1), 1);
+    if (grad == NULL || known == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    result = PyList_New(0);
+    if (result == NULL)
+        goto done;
+/* twice g at column x (0 <= x < w), computed on first use */
+#define G(x)                                                                                   \
+    (known[x] ? grad[x]                                                                        \
+              : (known[x] = 1,                                                                 \
+                 grad[x] = ((x) >= 1 && (x) + 1 < w)                                          \
+                               ? ramp_twice_median(base, rows, rs, cs, (x))                    \
+                               : 0L))
+    for (Py_ssize_t i = 0; i < n_cols; i++) {
+        Py_ssize_t c = PyLong_AsSsize_t(items[i]);
+        if (c == -1 && PyErr_Occurred())
+            goto fail;
+        if (c < 0 || c >= w) {
+            PyErr_SetString(PyExc_ValueError, "ramp_spans: a column outside the strip");
+            goto fail;
+        }
+        Py_ssize_t lo = c - 1 > 0 ? c - 1 : 0, hi = c + 2 < w ? c + 2 : w;
+        /* np.argmax of |g[lo:hi]|: the first of the largest */
+        Py_ssize_t k = lo;
+        long best = labs(G(lo));
+        for (Py_ssize_t x = lo + 1; x < hi; x++) {
+            long m = labs(G(x));
+            if (m > best) {
+                best = m;
+                k = x;
+            }
+        }
+        if (best == 0)
+            continue;
+        /* sg * g >= |peak| / 2, in doubled units: 2 * sg * G >= |G[k]| */
+        const long sg = G(k) > 0 ? 1 : -1;
+        Py_ssize_t a = k, b = k;
+        while (a - 1 >= 0 && 2 * sg * G(a - 1) >= best)
+            a--;
+        while (b + 1 < w && 2 * sg * G(b + 1) >= best)
+            b++;
+        if (b - a + 1 < min_cols || a - beside < 0 || b + beside >= w)
+            continue;
+        PyObject *span = Py_BuildValue("(nnn)", c, a, b);
+        if (span == NULL || PyList_Append(result, span) < 0) {
+            Py_XDECREF(span);
+            goto fail;
+        }
+        Py_DECREF(span);
+    }
+#undef G
+    goto done;
+fail:
+    Py_CLEAR(result);
+done:
+    PyMem_Free(grad);
+    PyMem_Free(known);
+    PyBuffer_Release(&strip);
+    Py_DECREF(cols);
+    return result;
+}
+
+/* row_norms(x, out): profiles.row_norms (np.sqrt(np.add.reduce(x * x, axis=1))) of a 2-D
+ * float32 or float64 array of rows of 1 to 7 values (any strides) into out (C-contiguous,
+ * one value of x's type per row). Each square rounded to x's type, the squares added from
+ * the left in it (numpy's reduce over fewer than 8 values adds them in order; its pairwise
+ * sum starts at 8) and the root taken in it (IEEE square roots: correctly rounded, as
+ * numpy's). ISO C99 (setup.py's -std=c99) contracts no multiply-add into an FMA. The
+ * colour stages take ~50 norms of a few hundred Lab colours a frame: three numpy calls
+ * each, here one. */
+#define ROW_NORM_MAX 7
+static PyObject *row_norms(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *x_obj, *out_obj;
+    if (!PyArg_ParseTuple(args, "OO:row_norms", &x_obj, &out_obj))
+        return NULL;
+    Py_buffer x, out;
+    if (PyObject_GetBuffer(x_obj, &x, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&x);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    const int f32 = x.format != NULL && strcmp(x.format, "f") == 0 && x.itemsize == 4;
+    const int f64 = x.format != NULL && strcmp(x.format, "d") == 0 && x.itemsize == 8;
+    if (x.ndim != 2 || !(f32 || f64) || x.shape[1] < 1 || x.shape[1] > ROW_NORM_MAX ||
+        out.format == NULL || strcmp(out.format, x.format) != 0 || out.itemsize != x.itemsize ||
+        out.len != x.shape[0] * out.itemsize) {
+        PyErr_SetString(PyExc_TypeError,
+                        "row_norms: a 2-D float32/float64 array of 1-7 columns, out of its type");
+        goto done;
+    }
+    const Py_ssize_t rows = x.shape[0], cols = x.shape[1];
+    const Py_ssize_t rs = x.strides[0], cs = x.strides[1];
+    const char *base = (const char *)x.buf;
+    if (f32) {
+        float *o = (float *)out.buf;
+        for (Py_ssize_t r = 0; r < rows; r++) {
+            const char *p = base + r * rs;
+            float v = *(const float *)p;
+            float acc = v * v;
+            for (Py_ssize_t c = 1; c < cols; c++) {
+                v = *(const float *)(p + c * cs);
+                float sq = v * v;
+                acc = acc + sq;
+            }
+            o[r] = sqrtf(acc);
+        }
+    } else {
+        double *o = (double *)out.buf;
+        for (Py_ssize_t r = 0; r < rows; r++) {
+            const char *p = base + r * rs;
+            double v = *(const double *)p;
+            double acc = v * v;
+            for (Py_ssize_t c = 1; c < cols; c++) {
+                v = *(const double *)(p + c * cs);
+                double sq = v * v;
+                acc = acc + sq;
+            }
+            o[r] = sqrt(acc);
+        }
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&x);
+    return result;
+}
+
+/* A growing array of blocks (r0, r1, c0, c1). */
+typedef struct {
+    Py_ssize_t (*at)[4];
+    Py_ssize_t n, cap;
+} Blocks;
+
+static int blocks_add(Blocks *b, Py_ssize_t r0, Py_ssize_t r1, Py_ssize_t c0, Py_ssize_t c1)
+{
+    if (b->n == b->cap) {
+        Py_ssize_t cap = b->cap ? 2 * b->cap : 16;
+        void *grown = PyMem_Realloc(b->at, (size_t)cap * sizeof *b->at);
+        if (grown == NULL) {
+            PyErr_NoMemory();
+            return -1;
+        }
+        b->at = grown;
+        b->cap = cap;
+    }
+    b->at[b->n][0] = r0;
+    b->at[b->n][1] = r1;
+    b->at[b->n][2] = c0;
+    b->at[b->n][3] = c1;
+    b->n++;
+    return 0;
+}
+
+/* uncovered(boxes, r0, r1, c0, c1): View.lab's bookkeeping of a held frame's Lab blocks
+ * (types.uncovered_pieces, the same steps): None when the block rows r0..r1-1, columns
+ * c0..c1-1 lies inside one of ``boxes`` (a list of (r0, r1, c0, c1) tuples, the blocks
+ * converted before); else the rectangles of it no box covers, as a list of such tuples
+ * in the Python loop's order (the block less each box in turn: up to four pieces around
+ * it). ~17 blocks a frame against up to a dozen boxes: the loop's interpreter steps cost
+ * more than the test. The two piece lists are reused across boxes (one allocation each,
+ * grown when needed). */
+static PyObject *uncovered(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *boxes_obj;
+    Py_ssize_t r0, r1, c0, c1;
+    if (!PyArg_ParseTuple(args, "Onnnn:uncovered", &boxes_obj, &r0, &r1, &c0, &c1))
+        return NULL;
+    PyObject *boxes = PySequence_Fast(boxes_obj, "uncovered: boxes must be a sequence");
+    if (boxes == NULL)
+        return NULL;
+    PyObject *result = NULL;
+    const Py_ssize_t n = PySequence_Fast_GET_SIZE(boxes);
+    PyObject **items = PySequence_Fast_ITEMS(boxes);
+    Blocks have = {NULL, 0, 0}, rest = {NULL, 0, 0}, box = {NULL, 0, 0};
+    for (Py_ssize_t i = 0; i < n; i++) {
+        Py_ssize_t a, b, c, d;
+        if (!PyTuple_Check(items[i])) {
+            PyErr_SetString(PyExc_TypeError, "uncovered: each box a tuple (r0, r1, c0, c1)");
+            goto done;
+        }
+        if (!PyArg_ParseTuple(items[i], "nnnn:uncovered", &a, &b, &c, &d) ||
+            blocks_add(&box, a, b, c, d) < 0)
+            goto done;
+    }
+    for (Py_ssize_t i = n - 1; i >= 0; i--) { /* inside one block before: the latest first */
+        const Py_ssize_t *q = box.at[i];
+        if (q[0] <= r0 && r1 <= q[1] && q[2] <= c0 && c1 <= q[3]) {
+            Py_INCREF(Py_None);
+            result = Py_None;
+            goto done;
+        }
+    }
+    if (blocks_add(&have, r0, r1, c0, c1) < 0)
+        goto done;
+    for (Py_ssize_t i = 0; i < n && have.n > 0; i++) {
+        const Py_ssize_t a = box.at[i][0], b = box.at[i][1], c = box.at[i][2], d = box.at[i][3];
+        rest.n = 0;
+        for (Py_ssize_t k = 0; k < have.n; k++) {
+            const Py_ssize_t p0 = have.at[k][0], p1 = have.at[k][1];
+            const Py_ssize_t q0 = have.at[k][2], q1 = have.at[k][3];
+            int failed = 0;
+            if (a >= p1 || b <= p0 || c >= q1 || d <= q0) {
+                failed |= blocks_add(&rest, p0, p1, q0, q1);
+            } else {
+                const Py_ssize_t m0 = p0 > a ? p0 : a, m1 = p1 < b ? p1 : b;
+                if (p0 < a)
+                    failed |= blocks_add(&rest, p0, a, q0, q1);
+                if (b < p1)
+                    failed |= blocks_add(&rest, b, p1, q0, q1);
+                if (q0 < c)
+                    failed |= blocks_add(&rest, m0, m1, q0, c);
+                if (d < q1)
+                    failed |= blocks_add(&rest, m0, m1, d, q1);
+            }
+            if (failed)
+                goto done;
+        }
+        Blocks swap = have;
+        have = rest;
+        rest = swap;
+    }
+    result = PyList_New(have.n);
+    if (result == NULL)
+        goto done;
+    for (Py_ssize_t k = 0; k < have.n; k++) {
+        PyObject *piece = Py_BuildValue("(nnnn)", have.at[k][0], have.at[k][1], have.at[k][2],
+                                        have.at[k][3]);
+        if (piece == NULL) {
+            Py_CLEAR(result);
+            goto done;
+        }
+        PyList_SET_ITEM(result, k, piece);
+    }
+done:
+    PyMem_Free(have.at);
+    PyMem_Free(rest.at);
+    PyMem_Free(box.at);
+    Py_DECREF(boxes);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"uncovered", uncovered, METH_VARARGS,
+     "uncovered(boxes, r0, r1, c0, c1): None inside a box, else the block's uncovered pieces."},
+    {"row_norms", row_norms, METH_VARARGS,
+     "row_norms(x, out): the Euclidean norm of each row of 1-7 floats (profiles.row_norms)."},
+    {"ramp_spans", ramp_spans, METH_VARARGS,
+     "ramp_spans(strip, cols, min_cols, beside): search.ramp_columns' ramps (column, first, last)."},
     {"remap_table", remap_table, METH_VARARGS,
      "remap_table(src, stride, offsets, fx, fy, dst): OpenCV's bilinear remap by a view's table."},
     {"remap_table3", remap_table3, METH_VARARGS,

@@ -81,7 +81,13 @@ from obstacle_fusion.vision.fused.texture import face_from_texture
 from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.fused.undistort import TableRemap
-from obstacle_fusion.vision.types import Measurement, Timer, View
+from obstacle_fusion.vision.types import Measurement, Timer, Uncovered, View
+
+_c_uncovered: Uncovered | None
+try:  # the optional C accelerator (setup.py): View.lab's held blocks' bookkeeping
+    from obstacle_fusion.vision.fused._cmiddle import uncovered as _c_uncovered
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_uncovered = None
 
 log = logging.getLogger(__name__)
 
@@ -175,6 +181,8 @@ class FusedMethod:
         self._remap = TableRemap(view, eager_tables)  # OpenCV's remap, from a table
         # the colour stages' Lab blocks remapped by the same table (OpenCV's values)
         view.use_colour_remap(self._remap.colour_block)
+        # ... and their bookkeeping (which parts of a block are new) in C, when built
+        view.use_uncovered(_c_uncovered)
         self._h, self._w = h, w
         # gradient buffers reused every frame: fresh large arrays cost more in page faults
         # than the filters themselves

@@ -43,6 +43,12 @@ from obstacle_fusion.vision.types import View
 
 log = logging.getLogger(__name__)
 
+_c_ramp_spans: Callable[[Any, list[int], int, int], list[tuple[int, int, int]]] | None
+try:  # the optional C accelerator (setup.py): ramp_columns' walks; else numpy's
+    from obstacle_fusion.vision.fused._cmiddle import ramp_spans as _c_ramp_spans
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_ramp_spans = None
+
 
 def beam_columns(view: View, range_m: float, depth: float, w_img: int) -> tuple[int, int]:
     """The columns the sonar's beam covers at the face's depth (at least 4 apart)."""
@@ -178,14 +184,44 @@ def ramp_columns(
     function giving them (called only once a ramp is seen; None for a grey frame)."""
     if strip.shape[0] == 0 or not cols:
         return set()
+    w = strip.shape[1]
+    if (
+        _c_ramp_spans is not None
+        and strip.ndim == 2
+        and strip.dtype == np.uint8
+        and all(0 <= c < w for c in cols)
+    ):
+        # the gradient walks in C (only the columns walked over get their median)
+        spans = _c_ramp_spans(strip, cols, RAMP_COLUMNS, RAMP_BESIDE)
+    else:
+        spans = _ramp_spans(strip, cols)
     chroma: npt.NDArray[np.float32] | None = None
+    out = set()
+    for c, a, b in spans:
+        if chroma is None:
+            block = lab() if callable(lab) else lab
+            if block is None or block.shape[:2] != strip.shape:
+                return set()  # a grey frame: no chroma to tell a shadow by
+            chroma = median_u8(block[:, :, 1:], axis=0).astype(np.float32)  # W x 2
+        before = np.median(chroma[a - RAMP_BESIDE : a], axis=0)
+        after = np.median(chroma[b + 1 : b + 1 + RAMP_BESIDE], axis=0)
+        if float(np.hypot(*(before - after))) < RAMP_SAME_CHROMA:
+            out.add(c)
+    return out
+
+
+def _ramp_spans(strip: npt.NDArray[np.uint8], cols: list[int]) -> list[tuple[int, int, int]]:
+    """:func:`ramp_columns`' walks in numpy (the C accelerator's ``ramp_spans`` takes the
+    same): (column, first, last) of each of ``cols`` (in order) whose gradient holds half
+    its peak, with its sign, over RAMP_COLUMNS or more, RAMP_BESIDE columns left beyond
+    both ends. ``strip``: at least one row."""
     # per row, then the median over the rows: a line slanting across the strip (a floor
     # seam) is a step in a few rows at each column, a penumbra a ramp in every row
     d = strip[:, 2:].astype(np.int16) - strip[:, :-2].astype(np.int16)
     g = np.zeros(strip.shape[1], np.float32)
     g[1:-1] = np.median(d, axis=0)
     w = g.size
-    out = set()
+    spans = []
     for c in cols:
         lo, hi = max(c - 1, 0), min(c + 2, w)
         k = lo + int(np.argmax(np.abs(g[lo:hi])))
@@ -202,16 +238,8 @@ def ramp_columns(
             b += 1
         if b - a + 1 < RAMP_COLUMNS or a - RAMP_BESIDE < 0 or b + RAMP_BESIDE >= w:
             continue
-        if chroma is None:
-            block = lab() if callable(lab) else lab
-            if block is None or block.shape[:2] != strip.shape:
-                return set()  # a grey frame: no chroma to tell a shadow by
-            chroma = median_u8(block[:, :, 1:], axis=0).astype(np.float32)  # W x 2
-        before = np.median(chroma[a - RAMP_BESIDE : a], axis=0)
-        after = np.median(chroma[b + 1 : b + 1 + RAMP_BESIDE], axis=0)
-        if float(np.hypot(*(before - after))) < RAMP_SAME_CHROMA:
-            out.add(c)
-    return out
+        spans.append((c, a, b))
+    return spans
 
 
 def min_width_px(view: View, depth: float) -> float:
