@@ -132,7 +132,7 @@ def test_a_face_found_by_colour_walks_its_sides_up_to_its_top(seed: int) -> None
 def test_without_the_sides_walk_the_rescue_stops_short(
     seed: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(method_mod, "raise_top_by_sides", lambda *a: int(a[4]))
+    monkeypatch.setattr(method_mod, "raise_top_by_sides", lambda *a, **k: int(a[4]))
     assert height_error("photo", seed, hard=True) > 0.25
 
 

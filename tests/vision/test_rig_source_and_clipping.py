@@ -10,7 +10,8 @@ import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec, render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import FusedMethod, floor_contact
+from obstacle_fusion.vision.fused import FusedMethod, floor_contact, region
+from obstacle_fusion.vision.fused import method as fused_method
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
 from obstacle_fusion.vision.fused.confidence import PITCH_UNREAD
 from obstacle_fusion.vision.fused.floor_contact import contact_rows, weak_contact_rows
@@ -1713,3 +1714,51 @@ def test_with_no_rig_photo_1036_the_face_not_a_mark_on_the_floor_below_it() -> N
     below its foot stood a face of 15 x 27 px (a mark on the gravel), taken as the nearer
     foot and then refused (missed). The face is measured, within 5 %."""
     _assert_measured_without_rig("photo", 1036, True, rel=0.05)
+
+
+@pytest.mark.parametrize("face_x_m, side", [(0.45, "right"), (-0.45, "left")])
+@pytest.mark.parametrize("with_rig", [True, False])
+def test_a_face_running_off_the_images_side_is_found_by_colour_and_flagged(
+    monkeypatch: pytest.MonkeyPatch, face_x_m: float, side: str, with_rig: bool
+) -> None:
+    """A plain face 1.4 m wide running off one side: the edges give one side only, the
+    colour rescue's top walk reads the other side's background alone
+    (region.CLIPPED_COLOUR_WALK); the width comes back a flagged lower bound, never a
+    confident one."""
+    spec = clean_room(4003, width_m=1.4, face_x_m=face_x_m)
+    image, truth = RoomRenderer(CAM).render(spec)
+    assert truth["clipped"] == [side]
+    rig = spec.rig if with_rig else None
+    res = Measurer(CAM, rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.clipped == [side]
+    assert res.to_dict()["width_is_lower_bound"] is True
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.03)
+    assert res.width_m is not None and res.width_m < truth["width_m"]
+    assert (res.confidence or 0.0) < 0.5
+    monkeypatch.setattr(region, "CLIPPED_COLOUR_WALK", False)
+    assert not Measurer(CAM, rig).measure(image, truth["range_m"]).detected
+
+
+def test_with_the_rig_a_face_whose_foot_lies_below_the_image_is_measured_from_its_top(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The rig puts the floor-contact row below the image: the face's colour at the view's
+    foot in the beam's core, walked out to its sides and up to its top; the height from
+    the predicted contact row (method.PAST_FOOT_FACE), the foot flagged clipped."""
+    spec = clean_room(4003, range_m=0.6, height_m=0.4, width_m=0.3)
+    spec = dataclasses.replace(
+        spec, rig=dataclasses.replace(spec.rig, camera_height_m=0.45, camera_pitch_deg=0.0)
+    )
+    image, truth = RoomRenderer(CAM).render(spec)
+    assert truth["clipped"] == ["bottom"]
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert res.detected, res.reason
+    assert res.clipped == ["bottom"]
+    assert res.to_dict()["height_is_lower_bound"] is True
+    assert res.height_m == pytest.approx(truth["height_m"], rel=0.02)
+    assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
+    assert (res.confidence or 0.0) < 0.5
+    monkeypatch.setattr(fused_method, "PAST_FOOT_FACE", False)
+    missed = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert not missed.detected and "outside the image" in missed.reason

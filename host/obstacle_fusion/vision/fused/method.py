@@ -48,6 +48,7 @@ from obstacle_fusion.vision.fused.region import (
     enclose_from_foot,
     ends_in_colour,
     face_from_colour,
+    face_past_foot,
     face_under_raised_top,
     looks_like_top_face,
     lower_top_past_top_face,
@@ -138,6 +139,10 @@ OFF_AXIS_SHARE = 0.6
 #: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
 #: detection: on textured rooms its height was often short of the face's).
 RESCUE_MAX_CONFIDENCE = 0.4
+#: With the rig, a face whose floor-contact row lies below the image is sought by its
+#: colour from the view's foot up (:func:`.region.face_past_foot`), at most as sure as
+#: the colour rescue's (a switch for the tests).
+PAST_FOOT_FACE = True
 #: The highest confidence a face found by its texture alone gets: its sides and top are
 #: where a smoothed texture changes, known to half a window.
 TEXTURE_MAX_CONFIDENCE = 0.3
@@ -244,6 +249,12 @@ class FusedMethod:
         r0b, r1b = int(math.floor(vb0 - tol)), int(math.ceil(vb0 + tol))
         r0b, r1b = max(r0b, 4), min(r1b, h_img - 4)
         if r0b > r1b:
+            if PAST_FOOT_FACE and rescue and floor_known and rig_known and vb0 > h_img:
+                # the rig puts the face's foot below the image: the face by its colour
+                # from the view's foot up (its height from the predicted contact row)
+                past = self._past_foot(image, colour, range_m, depth, vb0, timer)
+                if past is not None:
+                    return past
             fail.reason = (
                 f"the floor-contact row predicted from the range ({vb0:.0f}) is outside the "
                 "image; check the rig's camera height and pitch"
@@ -654,7 +665,7 @@ class FusedMethod:
             vt = raised
         # ... and where they do not show in the gradients (a face of the background's
         # shade in grey), its colour parts it from what is beside it up to its top
-        vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
+        vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth, one_side=True)
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
         if conf < self.min_confidence:
@@ -708,6 +719,68 @@ class FusedMethod:
         if framed is not None:
             rb, vt, ul, ur = framed
         return rb, vt, ul, ur, conf
+
+    def _past_foot(
+        self,
+        image: npt.NDArray[Any],
+        colour: npt.NDArray[Any] | None,
+        range_m: float,
+        depth: float,
+        vb0: float,
+        timer: Timer,
+    ) -> Measurement | None:
+        """A face whose floor-contact row the rig puts below the image
+        (:func:`.region.face_past_foot`): its top and sides from its colour, its height
+        from the contact row predicted, its foot flagged clipped. None if no face so."""
+        v = self.view
+        seen = colour if colour is not None else image
+        h_img = self._h
+        roi = v.warp(image, h_img, self._remap)
+        n = roi.shape[0]
+        ay = self._buf[0, :n]
+        dy = self._dy[:n]
+        cv2.spatialGradient(roi, self._adx[0, :n], dy)
+        np.abs(dy, out=ay)
+        found = face_past_foot(seen, v, ay, depth)
+        timer.lap("past_foot")
+        if found is None:
+            return None
+        bottom, top, left, right, evidence = found
+        conf = RESCUE_MAX_CONFIDENCE * evidence
+        log.debug("past foot: face %d-%d from row %d, evidence %.2f", left, right, top, evidence)
+        if conf < self.min_confidence:
+            return None
+        h_px, w_px = vb0 - top, float(right - left)
+        height_m, width_m = h_px * depth / v.fy, w_px * depth / v.fx
+        if min(height_m, width_m) < MIN_SIZE_M:
+            return None
+        corners = np.array([[left, vb0], [right, vb0], [right, top], [left, top]], float)
+        pix = v.to_input(corners)
+        w_img = self._w
+        x0, x1 = (
+            clamp(float(pix[:, 0].min()), 0.0, w_img - 1.0),
+            clamp(float(pix[:, 0].max()), 0.0, w_img - 1.0),
+        )
+        y0, y1 = (
+            clamp(float(pix[:, 1].min()), 0.0, h_img - 1.0),
+            clamp(float(pix[:, 1].max()), 0.0, h_img - 1.0),
+        )
+        # the sides as far down as the view sees them, and the foot below it
+        seen_part = np.array([[left, bottom], [right, bottom], [right, top], [left, top]], float)
+        cut = {*v.unseen_sides(seen_part), "bottom"}
+        return Measurement(
+            detected=True,
+            method=self.name,
+            range_m=range_m,
+            distance_m=range_m,
+            height_m=float(height_m),
+            width_m=float(width_m),
+            box_px=(x0, y0, x1, y1),
+            confidence=round(conf, 3),
+            height_px=float(h_px),
+            width_px=w_px,
+            clipped=[s for s in ("left", "right", "top", "bottom") if s in cut],
+        )
 
     def _refine(
         self,

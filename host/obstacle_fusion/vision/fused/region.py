@@ -611,6 +611,11 @@ MIN_TOP_DISTANCE = 6.0
 SNAP_ROWS = 3
 
 
+#: A face running off the view's side (nothing beside one side to read) has its top
+#: walked up by its colour against the other side's background alone.
+CLIPPED_COLOUR_WALK = True
+
+
 def raise_top_by_colour(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -621,9 +626,12 @@ def raise_top_by_colour(
     right: int,
     depth_m: float,
     reach: int | None = None,
+    one_side: bool = False,
 ) -> int:
     """The face's top row, moved up while the rows above it show the face's colour
-    (at most ``reach`` rows up; default twice the face's height as found).
+    (at most ``reach`` rows up; default twice the face's height as found). ``one_side``:
+    a face running off the view is walked against its other side's background alone
+    (CLIPPED_COLOUR_WALK; the colour rescues', whose face no edges found).
 
     A background line crossing the face (the wall's foot, a shelf) is a horizontal edge
     between the face's sides; the search takes it for the face's top when the face's sides
@@ -633,7 +641,12 @@ def raise_top_by_colour(
         return top
     w_view = view.out.shape[1]
     c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
-    if c0 < 0 or c1 > w_view or top < 3:
+    # a face running off the view (CLIPPED_COLOUR_WALK): the side at the view's border has
+    # nothing beside it to read; the other side alone tells the face from the background
+    read = (c0 >= 0, c1 <= w_view)
+    if not (read[0] and read[1]) and not (one_side and CLIPPED_COLOUR_WALK and any(read)):
+        return top
+    if top < 3:
         return top
     band = max(3, int(TOP_BAND_SHARE * (bottom - top)))
     r1 = min(bottom, top + band + 1)
@@ -641,10 +654,10 @@ def raise_top_by_colour(
     # first only the rows a first step up reads: most tops do not move, and the tall band
     # (up to twice the face's height) costs the stage's time
     short = max(0, top - max_gap - STEP_ROWS - SNAP_ROWS - 2)
-    r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap)
+    r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap, read)
     if short > 0 and end <= max_gap + STEP_ROWS:  # it may run on above the short band
         r0 = max(0, top - (2 * (bottom - top) if reach is None else reach))
-        r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap)
+        r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap, read)
     if k - end <= SNAP_ROWS:
         return top
     lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
@@ -661,11 +674,17 @@ def _colour_walk_up(
     c0: int,
     c1: int,
     gap: int,
+    read: tuple[bool, bool] = (True, True),
 ) -> tuple[int, int, int]:
     """The walk of :func:`raise_top_by_colour` over the view's rows r0..r1-1 (columns
     c0..c1-1: the face and BESIDE_COLUMNS either side): (r0, the band row it reached,
-    the band row of ``top``)."""
-    lab = _lab8(image, view, r0, r1, c0, c1)
+    the band row of ``top``). ``read``: whether the (left, right) side has columns beside
+    it in the view (one past the view's border is not read: its columns are the border's
+    repeated)."""
+    w_view = view.out.shape[1]
+    lab = _lab8(image, view, r0, r1, max(c0, 0), min(c1, w_view))
+    if c0 < 0 or c1 > w_view:
+        lab = np.pad(lab, ((0, 0), (max(0, -c0), max(0, c1 - w_view)), (0, 0)), mode="edge")
     inner = median_u8(
         lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP) : SUBSAMPLE],
         axis=1,
@@ -680,10 +699,12 @@ def _colour_walk_up(
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = d_face <= MAX_FACE_DISTANCE
     edges: list[int] = []  # how far the strip just inside each side runs up
-    for near, out in (
-        (lab[:, s : s + BESIDE_COLUMNS], left_out),
-        (lab[:, -s - BESIDE_COLUMNS : -s], right_out),
+    for seen_beside, near, out in (
+        (read[0], lab[:, s : s + BESIDE_COLUMNS], left_out),
+        (read[1], lab[:, -s - BESIDE_COLUMNS : -s], right_out),
     ):
+        if not seen_beside:
+            continue
         beside = row_norms(inner - out)
         if float(median_of(beside[k + 2 :])) < MIN_BESIDE_STEP:
             # the face's colour runs on past this side below the top too: the side is a
@@ -743,9 +764,10 @@ def raise_top_by_sides(
     left: int,
     right: int,
     depth_m: float,
+    one_side: bool = False,
 ) -> int:
     """The face's top row, moved up while both its sides still part the face from what
-    stands beside it.
+    stands beside it (``one_side``: as :func:`raise_top_by_colour`'s).
 
     A band across the whole face (a tape, a label strip, a gloss) changes the face's
     colour in its middle and just inside its sides alike, so the colour walks stop there;
@@ -760,15 +782,19 @@ def raise_top_by_sides(
     # strip only: a frame's lower margin under a print)
     reach = max(bottom - top, int(round(view.fy * SIDE_WALK_REACH_M / depth_m)))
     r0 = max(0, top - reach)
-    if c0 < 0 or c1 > w_view or top - r0 < 4:
+    # a face running off the view: the side with columns beside it walks alone
+    read = (c0 >= 0, c1 <= w_view)
+    if not (read[0] and read[1]) and not (one_side and CLIPPED_COLOUR_WALK and any(read)):
+        return top
+    if top - r0 < 4:
         return top
     gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
     # first only the rows a first step up reads: most tops do not move, and the whole
     # reach (up to 1 m of rows) would cost most of the stage's time
     short = max(r0, top - gap - SNAP_ROWS - 2)
-    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap)
+    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap, read)
     if end is not None and short > r0 and end <= gap + 1:  # it may run on above
-        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap)
+        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap, read)
         short = r0
     if end is None:
         return top  # a side that does not part the face from its surroundings
@@ -791,19 +817,23 @@ def _sides_walk(
     c0: int,
     c1: int,
     gap: int,
+    read: tuple[bool, bool] = (True, True),
 ) -> int | None:
     """The walk of :func:`raise_top_by_sides` over the view's rows r0..bottom-1: the band
     row it reached (``top - r0`` if none above), or None when a side does not part the
-    face from its surroundings along the face."""
+    face from its surroundings along the face. ``read``: the (left, right) sides walked
+    (one at the view's border has nothing beside it)."""
     k = top - r0
     on = np.ones(bottom - r0, bool)
     span = 2 * (BESIDE_COLUMNS + SIDE_SKIP)  # what is beside a side, its blur, the face
-    left_band = _lab8(image, view, r0, bottom, c0, c0 + span)
-    right_band = _lab8(image, view, r0, bottom, c1 - span, c1)
-    for inside, outside in (
-        (left_band[:, span - BESIDE_COLUMNS :], left_band[:, :BESIDE_COLUMNS]),
-        (right_band[:, :BESIDE_COLUMNS], right_band[:, -BESIDE_COLUMNS:]),
-    ):
+    bands = []
+    if read[0]:
+        band = _lab8(image, view, r0, bottom, c0, c0 + span)
+        bands.append((band[:, span - BESIDE_COLUMNS :], band[:, :BESIDE_COLUMNS]))
+    if read[1]:
+        band = _lab8(image, view, r0, bottom, c1 - span, c1)
+        bands.append((band[:, :BESIDE_COLUMNS], band[:, -BESIDE_COLUMNS:]))
+    for inside, outside in bands:
         strip = median_u8(inside, axis=1)
         step = row_norms(strip - median_u8(outside, axis=1))
         level = float(median_of(step[k + 2 :]))
@@ -1720,7 +1750,9 @@ def face_from_colour(
     if right - left < 2 * SIDE_SKIP + 6:
         return None
     start = contact - SEED_ROWS
-    top = raise_top_by_colour(image, view, ay, contact, start, left, right, depth_m, start)
+    top = raise_top_by_colour(
+        image, view, ay, contact, start, left, right, depth_m, start, one_side=True
+    )
     if top >= start:
         return None  # the face's colour does not run up: no face shape
     side_step = _side_step(image, view, contact, top, left, right)
@@ -1894,3 +1926,58 @@ def widen_along_margin(
     if thin and not followed:
         return None
     return new[0], new[1]
+
+
+#: Rows at the view's foot read for the colour of a face whose foot lies below the view.
+PAST_FOOT_ROWS = 8
+#: ... starting this many rows above the view's last row (its last rows repeat the
+#: image's border where the levelled view reads past it).
+PAST_FOOT_SKIP = 3
+
+
+def face_past_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    depth_m: float,
+) -> tuple[int, int, int, int, float] | None:
+    """A face whose foot lies below the view (the rig puts its floor-contact row there):
+    (bottom row read, top row, left, right, evidence 0..1) in the levelled view, or None.
+
+    Between the face's top and the view's foot nothing nearer than the face shows in the
+    beam's core (the floor there lies behind the face), so the rows at the view's foot in
+    the core are the face. Its sides are where that colour along the view's foot ends (a
+    side may run off the view); its top where :func:`raise_top_by_colour` and
+    :func:`raise_top_by_sides` end it. The evidence is the sides' colour step (those with
+    room beside them in the view) times the top's agreement."""
+    if image is None or image.ndim != 3:
+        return None
+    h, w = view.out.shape
+    bottom = min(h, ay.shape[0]) - PAST_FOOT_SKIP
+    r0 = bottom - PAST_FOOT_ROWS
+    core = max(2, int(round(view.fx * CORE_HALF_M / depth_m)))
+    c0, c1 = int(view.cx) - core, int(view.cx) + core + 1
+    if r0 - SEED_ROWS < 3 or c0 < 0 or c1 > w:
+        return None
+    lab = _lab8(image, view, r0, bottom)
+    cols = cv2.blur(median_u8(lab, axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    ref = median_of(cols[c0:c1], axis=0)
+    d_face = row_norms(cols - ref)
+    spread = float(median_of(d_face[c0:c1]))
+    limit = float(clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
+    on = (d_face <= limit).tolist()
+    max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
+    centre = (c0 + c1) // 2
+    left, right = walk_on(on, centre, -1, max_gap), walk_on(on, centre, 1, max_gap)
+    if right - left < 2 * SIDE_SKIP + 6:
+        return None
+    start = r0 - SEED_ROWS
+    top = raise_top_by_colour(
+        image, view, ay, bottom, start, left, right, depth_m, start, one_side=True
+    )
+    if top >= start:
+        return None  # the colour does not run up: no face shape
+    top = raise_top_by_sides(image, view, ay, bottom, top, left, right, depth_m, one_side=True)
+    side_step = _side_step(image, view, bottom, top, left, right)
+    evidence = min(1.0, side_step / FULL_SIDE_STEP) * top_agreement(image, view, top, left, right)
+    return bottom, top, left, right, evidence
