@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import scoring
+from obstacle_fusion.vision.fused import method, scoring
 from obstacle_fusion.vision.fused.confidence import TOP_FROM_SIDES
 from obstacle_fusion.vision.fused.scoring import closing_top
 from obstacle_fusion.vision.measure import Measurer
@@ -146,6 +146,24 @@ def test_a_print_over_the_whole_face_ends_at_its_top(
     (the background above it plain): that is the top, however textured the rows under it."""
     monkeypatch.setattr(scoring, "PRINT_ENDS_TEXTURE", plain_above)
     image, truth, spec = render_room("photo", 1192, True)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    error = abs(res.height_m / truth["height_m"] - 1)
+    assert error <= 0.05 if within else error > 0.3
+
+
+@pytest.mark.parametrize("kept, within", [(True, True), (False, False)])
+def test_a_closed_top_is_not_lowered_onto_the_print(
+    kept: bool, within: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room photo/346, hard, with the rig (a tuning room): a poster of coins in a green
+    margin; its closing top (row 187, where the print's texture ends) is right, but the
+    margin beside the right side matches the grey floor beyond it under the coins' lowest
+    row, which read as the background seen past the face (the height -71 %). The sides
+    stop at the closing top and the print's texture ends there: under it is the print,
+    not the background (method.CLOSED_TOP_KEPT)."""
+    monkeypatch.setattr(method, "CLOSED_TOP_KEPT", kept)
+    image, truth, spec = render_room("photo", 346, True)
     res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None
     error = abs(res.height_m / truth["height_m"] - 1)

@@ -103,6 +103,9 @@ class Candidate:
     #: with the evidence of that outline alone
     outline: int | None = None
     outline_evidence: float = 0.0
+    #: the closing top passed the texture condition only because the texture ends at it
+    #: (PRINT_ENDS_TEXTURE: a print over the face up to its top)
+    print_top: bool = False
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -357,6 +360,10 @@ def score_pairs(
             * (0.5 + 0.5 * prior_b)
         )
         closing = closing_top(feats, tops, s0, s1, i, view.cy)
+        print_top = False
+        if closing is not None:
+            kc = s0 + int(np.flatnonzero(tops[s0:s1] == closing)[0])
+            print_top = bool(textured[kc] > textured[i] + TEXTURE_MARGIN)
         if debug and closing is not None:
             log.debug("  pair %d-%d rb %d top %d: closing top %d", ul, ur, rb, vt, closing)
         outline, o_ev = None, 0.0
@@ -396,6 +403,7 @@ def score_pairs(
                 closing,
                 outline,
                 clamp(o_ev, 0.0, 1.0),
+                print_top,
             )
         )
     return cands
