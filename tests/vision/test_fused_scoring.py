@@ -9,18 +9,34 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import scoring
+from obstacle_fusion.vision.fused import method, scoring
 from obstacle_fusion.vision.fused.confidence import TOP_FROM_SIDES
 from obstacle_fusion.vision.fused.scoring import closing_top
 from obstacle_fusion.vision.measure import Measurer
 
 #: The chosen top (row 100: a print's edge, the sides running on above it) and a higher
 #: candidate (row 50: where they stop), as score_pairs lists them (rows ascending).
+#: (``tex_above``: the share of textured rows just above a top; the higher one's is
+#: textured, as a shelf's books or a brick pattern above a joint would be)
 CHOSEN = dict(
-    stop=0.5, cov=0.9, snr=10.0, contained=0.8, hole_fit=1.0, textured=0.1, face_above=0.0
+    stop=0.5,
+    cov=0.9,
+    snr=10.0,
+    contained=0.8,
+    hole_fit=1.0,
+    textured=0.1,
+    tex_above=0.5,
+    face_above=0.0,
 )
 HIGHER = dict(
-    stop=0.95, cov=0.8, snr=6.0, contained=0.8, hole_fit=0.9, textured=0.2, face_above=0.1
+    stop=0.95,
+    cov=0.8,
+    snr=6.0,
+    contained=0.8,
+    hole_fit=0.9,
+    textured=0.2,
+    tex_above=0.5,
+    face_above=0.1,
 )
 
 
@@ -82,6 +98,10 @@ def test_of_two_higher_tops_the_better_edge_is_taken() -> None:
         # not much more textured than the face (TEXTURE_MARGIN 0.3): books behind a box
         ({"textured": 0.39}, {"textured": 0.1}, True),
         ({"textured": 0.41}, {"textured": 0.1}, False),
+        # ... unless the texture ends at it (PRINT_ENDS_TEXTURE 0.1): a print over the
+        # face up to its top, the background above it plain
+        ({"textured": 0.9, "tex_above": 0.1}, {"textured": 0.1}, True),
+        ({"textured": 0.9, "tex_above": 0.11}, {"textured": 0.1}, False),
         # the face's shade not back above it (CLOSING_FACE_ABOVE 0.2): a frame behind it
         ({"face_above": 0.2}, {}, True),
         ({"face_above": 0.21}, {}, False),
@@ -114,3 +134,37 @@ def test_a_gloss_band_across_a_tall_face_is_not_its_top(
     error = abs(res.height_m / truth["height_m"] - 1)
     assert error <= 0.05 if within else error > 0.3
     assert (TOP_FROM_SIDES in res.doubts) is within
+
+
+@pytest.mark.parametrize("plain_above, within", [(scoring.PRINT_ENDS_TEXTURE, True), (-1.0, False)])
+def test_a_print_over_the_whole_face_ends_at_its_top(
+    plain_above: float, within: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room photo/1192, hard, with the rig (a fresh seed): a poster of coins over the whole
+    face; the search took a plain strip along its foot (the height -82 %). The sides run on
+    to the face's top, an edge that ends at them, and the poster's texture ends there too
+    (the background above it plain): that is the top, however textured the rows under it."""
+    monkeypatch.setattr(scoring, "PRINT_ENDS_TEXTURE", plain_above)
+    image, truth, spec = render_room("photo", 1192, True)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    error = abs(res.height_m / truth["height_m"] - 1)
+    assert error <= 0.05 if within else error > 0.3
+
+
+@pytest.mark.parametrize("kept, within", [(True, True), (False, False)])
+def test_a_closed_top_is_not_lowered_onto_the_print(
+    kept: bool, within: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room photo/346, hard, with the rig (a tuning room): a poster of coins in a green
+    margin; its closing top (row 187, where the print's texture ends) is right, but the
+    margin beside the right side matches the grey floor beyond it under the coins' lowest
+    row, which read as the background seen past the face (the height -71 %). The sides
+    stop at the closing top and the print's texture ends there: under it is the print,
+    not the background (method.CLOSED_TOP_KEPT)."""
+    monkeypatch.setattr(method, "CLOSED_TOP_KEPT", kept)
+    image, truth, spec = render_room("photo", 346, True)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    error = abs(res.height_m / truth["height_m"] - 1)
+    assert error <= 0.05 if within else error > 0.3

@@ -126,9 +126,12 @@ def test_a_print_found_by_its_texture_has_its_top_walked_up_by_the_sides(
     the frame read from the foot, region.enclose_from_foot, which encloses the print on
     its own) the height is under 60 % of the face's."""
     from obstacle_fusion.sim.room_scene import TextureMissing, render_room
-    from obstacle_fusion.vision.fused import method
+    from obstacle_fusion.vision.fused import method, scoring
     from obstacle_fusion.vision.measure import Measurer
 
+    # the edges find this face since the closing top where the print's texture ends
+    # (scoring.PRINT_ENDS_TEXTURE): off here, so the texture path is the one measuring it
+    monkeypatch.setattr(scoring, "PRINT_ENDS_TEXTURE", -1.0)
     try:
         image, truth, spec = render_room("photo", 346, True)
     except TextureMissing as exc:

@@ -152,6 +152,11 @@ RESCUE_WIDEN_AT_TOP = True
 #: The colour rescue's sides are snapped to strong colour steps next to them first
 #: (read-only in use: a switch for the tests).
 RESCUE_SNAP_SIDES = True
+#: A top where the face's sides stop and a print's texture ends (scoring.closing_top
+#: with scoring.PRINT_ENDS_TEXTURE) is not lowered to where the background seems to show
+#: past a side below it (region.lower_top_to_background): under it is the print, and a
+#: print's margin beside a side can match the background beyond (a switch for the tests).
+CLOSED_TOP_KEPT = True
 #: The face found by its texture walks its sides up too (:meth:`FusedMethod._by_texture`):
 #: a print's texture stops the texture's walk at the print's top or inside it, while the
 #: face's margin at both sides parts it from what is beside it up to its real top.
@@ -375,6 +380,7 @@ class FusedMethod:
         # candidate where they stop (scoring.closing_top), else where they end
         rb, ul, ur, vt = best.rb, best.ul, best.ur, best.vt
         closed = best.closing is not None
+        print_top = closed and best.print_top and CLOSED_TOP_KEPT
         if best.closing is not None:
             vt = best.closing
         raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
@@ -476,7 +482,7 @@ class FusedMethod:
             # an object behind the face in line with its sides: the face's top is where
             # the background beside it shows past it
             lowered = lower_top_to_background(seen, v, rb, int(round(vt)), ul, ur)
-            if lowered > vt:
+            if lowered > vt and not print_top:
                 vt, top_row = lowered, None
                 sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
             else:

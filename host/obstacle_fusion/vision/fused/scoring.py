@@ -103,6 +103,9 @@ class Candidate:
     #: with the evidence of that outline alone
     outline: int | None = None
     outline_evidence: float = 0.0
+    #: the closing top passed the texture condition only because the texture ends at it
+    #: (PRINT_ENDS_TEXTURE: a print over the face up to its top)
+    print_top: bool = False
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -253,7 +256,7 @@ def score_pairs(
     contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
     # texture inside the face (books on a shelf behind a box's top) is not the face
     # (rows from the highest top candidate down: counts are exact whatever the start)
-    t0 = int(tops.min())
+    t0 = int(above_start.min())
     tex = range_sums(ax3[t0:rb], ranges) * inv_n
     flags = np.zeros((rb, 2 * n_p), bool)  # face shade (below) and texture per row
     flags[t0:, n_p:] = tex > 3.0 * noise
@@ -275,6 +278,8 @@ def score_pairs(
     counts = running_counts(flags)  # rows in 0..r-1 (exact counts)
     match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
     textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
+    # the same share over the rows just above each top (as many as ``above`` reads)
+    tex_above = (tex_upto[tops, pp] - tex_upto[above_start, pp]) / n_above
     match_t = match_upto[tops, pp]
     face_frac = _shade_share(match_upto, _first_match(match_b, rb), tops, pp, rb, h_t)
     # ...and the face's shade coming back above a band of another shade right above
@@ -296,6 +301,7 @@ def score_pairs(
         "stop": stop,
         "contained": contained,
         "textured": textured,
+        "tex_above": tex_above,
         "face": face_frac,
         "face_above": face_above,
     }
@@ -354,6 +360,10 @@ def score_pairs(
             * (0.5 + 0.5 * prior_b)
         )
         closing = closing_top(feats, tops, s0, s1, i, view.cy)
+        print_top = False
+        if closing is not None:
+            kc = s0 + int(np.flatnonzero(tops[s0:s1] == closing)[0])
+            print_top = bool(textured[kc] > textured[i] + TEXTURE_MARGIN)
         if debug and closing is not None:
             log.debug("  pair %d-%d rb %d top %d: closing top %d", ul, ur, rb, vt, closing)
         outline, o_ev = None, 0.0
@@ -393,6 +403,7 @@ def score_pairs(
                 closing,
                 outline,
                 clamp(o_ev, 0.0, 1.0),
+                print_top,
             )
         )
     return cands
@@ -413,8 +424,13 @@ CLOSING_SNR_SHARE = 0.4
 CONTAINED_MARGIN = 0.1
 #: ... with the sides present under it (a hole's fit at least this) ...
 CLOSING_HOLE_FIT = 0.5
-#: ... its rows at most this much more textured than the chosen face's ...
+#: ... its rows at most this much more textured than the chosen face's (unless the
+#: texture ends at it: PRINT_ENDS_TEXTURE) ...
 TEXTURE_MARGIN = 0.3
+#: ... or the rows just above it at most this share textured: a print over the face
+#: (texture inside) ends at the face's top, the background above it is plain (a brick
+#: pattern's joint or a shelf's books have the same texture above it as below) ...
+PRINT_ENDS_TEXTURE = 0.1
 #: ... and the face's shade coming back above it over at most this share of the rows.
 CLOSING_FACE_ABOVE = 0.2
 
@@ -448,7 +464,10 @@ def closing_top(
             and f["snr"][k] >= max(CLOSING_SNR, CLOSING_SNR_SHARE * f["snr"][i])
             and f["contained"][k] >= f["contained"][i] - CONTAINED_MARGIN
             and f["hole_fit"][k] >= CLOSING_HOLE_FIT
-            and f["textured"][k] <= f["textured"][i] + TEXTURE_MARGIN
+            and (
+                f["textured"][k] <= f["textured"][i] + TEXTURE_MARGIN
+                or f["tex_above"][k] <= PRINT_ENDS_TEXTURE
+            )
             and f["face_above"][k] <= CLOSING_FACE_ABOVE
         ):
             # the top's own score without the face-shade terms (a print fails those)
