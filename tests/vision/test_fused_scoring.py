@@ -168,3 +168,61 @@ def test_a_closed_top_is_not_lowered_onto_the_print(
     assert res.detected and res.height_m is not None
     error = abs(res.height_m / truth["height_m"] - 1)
     assert error <= 0.05 if within else error > 0.3
+
+
+def _closing_reference(
+    f: dict[str, Any], tops: Any, s0: int, s1: int, i: int, horizon: float
+) -> int | None:
+    """closing_top as it read before its rows were taken as Python ints (numpy scalars)."""
+    best, best_fit = None, 0.0
+    for k in range(s0, s1):
+        if tops[k] >= tops[i] or tops[k] > horizon:
+            continue
+        if (
+            f["stop"][k] >= scoring.CLOSED_STOP
+            and f["stop"][i] <= f["stop"][k] - scoring.STOP_MARGIN
+            and f["cov"][k] >= scoring.CLOSING_COVERAGE
+            and f["snr"][k] >= max(scoring.CLOSING_SNR, scoring.CLOSING_SNR_SHARE * f["snr"][i])
+            and f["contained"][k] >= f["contained"][i] - scoring.CONTAINED_MARGIN
+            and f["hole_fit"][k] >= scoring.CLOSING_HOLE_FIT
+            and (
+                f["textured"][k] <= f["textured"][i] + scoring.TEXTURE_MARGIN
+                or f["tex_above"][k] <= scoring.PRINT_ENDS_TEXTURE
+            )
+            and f["face_above"][k] <= scoring.CLOSING_FACE_ABOVE
+        ):
+            fit = (
+                min(max(float(f["snr"][k]), 0.5), 20.0) ** 0.25
+                * float(f["cov"][k]) ** 2
+                * float(f["stop"][k]) ** 2
+                * (0.3 + 0.7 * float(f["contained"][k]))
+                * float(f["hole_fit"][k])
+            )
+            if fit > best_fit:
+                best, best_fit = int(tops[k]), fit
+    return best
+
+
+def test_closing_top_matches_its_reference_on_random_segments() -> None:
+    rng = np.random.default_rng(15)
+    for _ in range(400):
+        n = int(rng.integers(1, 30))
+        # pairs' segments: rows ascending within a segment, repeats across segments
+        tops = np.sort(rng.integers(1, 120, n)).astype(np.intp)
+        tops = np.concatenate([np.sort(rng.integers(1, 120, 5)).astype(np.intp), tops])
+        s0, s1 = 5, 5 + n
+        i = int(rng.integers(s0, s1))
+        feats: dict[str, Any] = {
+            "stop": rng.choice([0.3, 0.5, 0.85, 0.9, 0.95, 1.0], n + 5),
+            "cov": rng.uniform(0.6, 1.0, n + 5),
+            "snr": rng.uniform(0.0, 25.0, n + 5),
+            "contained": rng.uniform(0.0, 1.0, n + 5),
+            "hole_fit": rng.uniform(0.3, 1.0, n + 5),
+            "textured": rng.uniform(0.0, 0.6, n + 5),
+            "tex_above": rng.uniform(0.0, 0.3, n + 5),
+            "face_above": rng.uniform(0.0, 0.3, n + 5),
+        }
+        horizon = float(rng.uniform(0.0, 130.0))
+        got = closing_top(feats, tops, s0, s1, i, horizon)
+        assert got == _closing_reference(feats, tops, s0, s1, i, horizon)
+        assert got is None or type(got) is int

@@ -454,8 +454,11 @@ def closing_top(
     face shows, its edges nearly columns near the image's centre, and its back edge is
     such a line too. (``f``: the top candidates' features, ``s0:s1`` the pair's.)"""
     best, best_fit = None, 0.0
-    for k in range(s0, s1):
-        if tops[k] >= tops[i] or tops[k] > horizon:
+    # (the rows as Python ints: one call, not two numpy scalars a candidate)
+    rows = tops[s0:s1].tolist()
+    top_i = int(tops[i])
+    for k, row in enumerate(rows, s0):
+        if row >= top_i or row > horizon:
             continue
         if (
             f["stop"][k] >= CLOSED_STOP
@@ -479,7 +482,7 @@ def closing_top(
                 * float(f["hole_fit"][k])
             )
             if fit > best_fit:
-                best, best_fit = int(tops[k]), fit
+                best, best_fit = row, fit
     return best
 
 
