@@ -15,6 +15,7 @@ from obstacle_fusion.vision import measure as measure_mod
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import confidence as conf_mod
 from obstacle_fusion.vision.fused import method as method_mod
+from obstacle_fusion.vision.fused import search as search_mod
 from obstacle_fusion.vision.fused.confidence import (
     DOUBT_FACTOR,
     DOUBT_FACTORS,
@@ -605,10 +606,12 @@ def test_a_face_of_panels_is_not_refused_for_its_panels(
     the face found whole in height was refused for the run of panels beside it (ambiguity
     0.95), and the luminance run took the joint between the rows for the top (-52 %).
     (With this rule off, the top decided again between the settled sides finds the face's
-    top anyway, at a low confidence: that is switched off as well, to see this rule alone.)"""
+    top anyway, at a low confidence: that is switched off as well, to see this rule alone;
+    so are the candidates beside the joints, search.LINE_SIDES, which find the face whole.)"""
     monkeypatch.setattr(conf_mod, "SAME_FACE_ROWS", rows)
     if not within:
         monkeypatch.setattr(method_mod, "SETTLED_MOVE_SHARE", 10.0)
+        monkeypatch.setattr(search_mod, "LINE_SIDES", False)
     image, truth, spec = render_room("procedural", 345, False)
     res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None

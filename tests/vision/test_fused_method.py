@@ -14,6 +14,7 @@ from obstacle_fusion.vision.fused import extent as extent_mod
 from obstacle_fusion.vision.fused import method as method_mod
 from obstacle_fusion.vision.fused import region
 from obstacle_fusion.vision.fused import scoring as scoring_mod
+from obstacle_fusion.vision.fused import search as search_mod
 from obstacle_fusion.vision.fused import top as top_mod
 from obstacle_fusion.vision.measure import Measurer
 
@@ -365,6 +366,8 @@ def test_without_the_top_edge_alone_the_panelled_face_is_missed(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(extent_mod, "TOP_ALONE_SNR", 1e9)
+    # (the candidates beside the panels' joints, search.LINE_SIDES, find it too: off)
+    monkeypatch.setattr(search_mod, "LINE_SIDES", False)
     cam = CameraModel.paper(500, 375)
     image, truth, spec = render_room("procedural", 116, False, cam)
     assert not Measurer(cam, spec.rig).measure(image, truth["range_m"]).detected

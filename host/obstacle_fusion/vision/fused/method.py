@@ -301,7 +301,9 @@ class FusedMethod:
             return v.lab(seen_early, r0, r1, 0, None, 1)
 
         for rb, pb in bottoms:
-            found = side_candidates(v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows)
+            found = side_candidates(
+                v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows, rig_known
+            )
             if found is None:
                 continue
             sides, pairs = found

@@ -106,12 +106,15 @@ def side_candidates(
     min_w: float,
     grey: npt.NDArray[np.uint8] | None = None,
     lab: Callable[[int, int], npt.NDArray[np.uint8] | None] | None = None,
+    rig_known: bool = True,
 ) -> tuple[Sides, list[tuple[int, int]]] | None:
     """The side columns at floor-contact row ``rb``: their presence tables and the
     (left, right) pairs at least ``min_w`` apart, or None when no side stands there.
     ``grey``: the working view the gradients were taken of, ``lab``: its rows r0..r1-1 in
     8-bit Lab; with both, a column whose edge near the floor is a shading ramp between two
-    shades of one colour (:func:`ramp_columns`) is no side."""
+    shades of one colour (:func:`ramp_columns`) is no side; with ``rig_known`` (the camera's
+    height and pitch given, not tried), where thin lines (:func:`line_columns`) took every
+    ranked place of a side, the strongest other columns are its candidates too."""
     v = view
     k = int(clamp(round(v.fy * 0.05 / depth), 3, 25))
     top_strip = max(0, rb - 1 - k)
@@ -140,6 +143,33 @@ def side_candidates(
         noise,
         rb - 1 - tall,
     )
+    if grey is not None and LINE_SIDES and rig_known and (set(left) | set(right)):
+        # seams or joints on the face may take every ranked place of a side: the strongest
+        # columns that are no such line are that side's candidates too (the seams stay:
+        # widen_across_seams runs a seam pair's top out to the face's sides)
+        lines = line_columns(grey[top_strip : rb - 1], [*left, *right])
+        all_lines = [bool(cs) and all(c in lines for c in cs) for cs in (left, right)]
+        if any(all_lines):
+            lines |= line_columns(grey[top_strip : rb - 1], peaks.tolist())
+        if any(all_lines) and len(lines) <= LINE_MOST:
+            # (a pattern of joints, bricks' or planks', is edges everywhere: not this)
+            rest = peaks[~np.isin(peaks, sorted(lines))]
+            more = _rank_sides(
+                ax3,
+                prof_v,
+                prof_short,
+                [rest[rest <= u_hi], rest[rest >= u_lo]],
+                rb,
+                noise,
+                rb - 1 - tall,
+            )
+            log.debug(
+                "bottom %d: lines %s on one shade, sides beside them %s", rb, sorted(lines), more
+            )
+            if all_lines[0]:
+                left = [*left, *(c for c in more[0] if c not in left)]
+            if all_lines[1]:
+                right = [*right, *(c for c in more[1] if c not in right)]
     if grey is not None and lab is not None and RAMP_SIDES:
         ramps = ramp_columns(
             grey[top_strip : rb - 1], lambda: lab(top_strip, rb - 1), [*left, *right]
@@ -155,6 +185,43 @@ def side_candidates(
     sides = Sides(ax3, cols, _presence(prof_short[cols].astype(np.float64), noise), rb)
     pairs = [(ul, ur) for ul in left for ur in right if ur - ul >= min_w]
     return sides, pairs
+
+
+#: A side column is an edge of a thin line (a seam, a panel joint, a strip of tape running
+#: up the face) when the shade LINE_BESIDE columns beyond it on both sides is one shade:
+#: the two sides differ by at most LINE_SAME of the line's own contrast to them (and by no
+#: more than LINE_SAME_MAX grey levels), the line's contrast at least LINE_CONTRAST.
+LINE_SIDES = True
+LINE_BESIDE = 4
+LINE_SAME = 0.25
+LINE_SAME_MAX = 8.0
+LINE_CONTRAST = 12.0
+#: ... and only where at most this many of the peaks are such lines' edges (two seams)
+LINE_MOST = 8
+
+
+def line_columns(strip: npt.NDArray[np.uint8], cols: list[int]) -> set[int]:
+    """Of ``cols``, the edges of a thin vertical line on one shade in ``strip`` (the rows
+    just above the floor): a face's side parts two shades (the face's and what is beside
+    it), a seam or joint on the face is the same shade either side of it."""
+    if strip.shape[0] == 0 or not cols:
+        return set()
+    prof = strip.astype(np.float32).mean(axis=0)
+    w = prof.size
+    d = LINE_BESIDE
+    out: set[int] = set()
+    for c in cols:
+        if c - d - 2 < 0 or c + d + 3 > w:
+            continue
+        left = float(np.median(prof[c - d - 2 : c - d + 1]))
+        right = float(np.median(prof[c + d : c + d + 3]))
+        mid = 0.5 * (left + right)
+        core = prof[c - d + 2 : c + d - 1]
+        contrast = float(np.max(np.abs(core - mid)))
+        same = abs(left - right)
+        if contrast >= LINE_CONTRAST and same <= min(LINE_SAME * contrast, LINE_SAME_MAX):
+            out.add(c)
+    return out
 
 
 #: A side's edge across the rows just above the floor falls to half its peak within this
@@ -196,7 +263,7 @@ def ramp_columns(
     else:
         spans = _ramp_spans(strip, cols)
     chroma: npt.NDArray[np.float32] | None = None
-    out = set()
+    out: set[int] = set()
     for c, a, b in spans:
         if chroma is None:
             block = lab() if callable(lab) else lab
