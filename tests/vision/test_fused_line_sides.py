@@ -65,3 +65,42 @@ def test_without_the_rule_the_seams_are_the_sides(
 ) -> None:
     monkeypatch.setattr(search, "LINE_SIDES", False)
     assert _error(fam, seed) > 0.25
+
+
+def _line_columns_reference(strip: np.ndarray, cols: list[int]) -> set[int]:
+    """line_columns as first written, one column at a time (numpy scalars)."""
+    if strip.shape[0] == 0 or not cols:
+        return set()
+    prof = strip.astype(np.float32).mean(axis=0)
+    d = search.LINE_BESIDE
+    out: set[int] = set()
+    for c in cols:
+        if c - d - 2 < 0 or c + d + 3 > prof.size:
+            continue
+        left = float(np.median(prof[c - d - 2 : c - d + 1]))
+        right = float(np.median(prof[c + d : c + d + 3]))
+        mid = 0.5 * (left + right)
+        contrast = float(np.max(np.abs(prof[c - d + 2 : c + d - 1] - mid)))
+        if contrast >= search.LINE_CONTRAST and abs(left - right) <= min(
+            search.LINE_SAME * contrast, search.LINE_SAME_MAX
+        ):
+            out.add(c)
+    return out
+
+
+def test_line_columns_matches_its_column_by_column_reference() -> None:
+    rng = np.random.default_rng(27)
+    found = 0
+    for _ in range(300):
+        w = int(rng.integers(1, 80))
+        rows = int(rng.integers(0, 9))
+        base = rng.integers(0, 256, w)
+        # thin lines on one shade and steps, with noise, so both answers occur
+        for c in rng.integers(0, w, 3):
+            base[c : c + 3] = rng.integers(0, 256)
+        strip = np.clip(base + rng.integers(-6, 7, (rows, w)), 0, 255).astype(np.uint8)
+        cols = rng.integers(-3, w + 3, int(rng.integers(0, 12))).tolist()
+        got = line_columns(strip, cols)
+        assert got == _line_columns_reference(strip, cols)
+        found += len(got)
+    assert found > 20  # the random strips do hold lines
