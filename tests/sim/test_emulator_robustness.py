@@ -225,10 +225,13 @@ def hang_and_reboot(emu: Emulator, port: FirmwarePort, interrupts_off: bool) -> 
 
 
 def hang_briefly(emu: Emulator, seconds: float) -> None:
-    """Hang the main program for `seconds` (simulated), and wait until it has gone on."""
-    t0 = emu.control.sim_time()
+    """Hang the main program for `seconds` (simulated), and wait until it has gone on.
+    The time is read after the command is answered (the hang has begun by then): read
+    before it, a loaded host let the simulation run on past 0.1 s between the reading and
+    the hang, and the wait ended while the main program still hung."""
     emu.control.hang(seconds=seconds)
-    assert wait_for(lambda: emu.control.sim_time() > t0 + seconds + 0.1, 10.0)
+    t_hung = emu.control.sim_time()
+    assert wait_for(lambda: emu.control.sim_time() > t_hung + seconds + 0.1, 10.0)
 
 
 def test_hang_is_reported_through_optiboot_4_4(
