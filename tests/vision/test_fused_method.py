@@ -177,8 +177,18 @@ def test_a_top_on_a_cup_behind_comes_down_past_one_side() -> None:
 
 
 def test_without_one_side_the_cups_rim_is_taken(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Both rules that bring the top down off the cup's rim switched off: the one side,
+    and the frame's margin closing under it (region.frame_top_by_margin)."""
     monkeypatch.setattr(region, "ONE_SIDE_ROWS", 10_000)
+    monkeypatch.setattr(method_mod, "frame_top_by_margin", lambda *a: None)
     assert height_error("photo", 310) > 0.3
+
+
+def test_the_frames_margin_closes_under_the_cups_rim(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without the one side, the print's frame alone brings the top down: its margin runs
+    up both sides and closes above the print, below the cup's rim (the outline's top)."""
+    monkeypatch.setattr(region, "ONE_SIDE_ROWS", 10_000)
+    assert height_error("photo", 310) < 0.05
 
 
 def no_rig_answer(family: str, seed: int, hard: bool) -> tuple[float, float, float]:

@@ -2039,3 +2039,82 @@ def test_a_side_out_beyond_the_snap_reach_stays(monkeypatch: pytest.MonkeyPatch)
     img = penumbra_scene(8)
     left, _ = region.snap_sides_to_steps(img, level_view(), BOTTOM, TOP, LEFT - 8, RIGHT, DEPTH)
     assert left == LEFT - 8
+
+
+# -- a print reaching the face's foot: its frame read beside it -----------------------------
+
+#: The print's found rectangle when the found foot is the face's own: the print runs down
+#: to the foot (no margin under it), its found top and sides inside it.
+AT_FOOT = (BOTTOM, TOP + 40, LEFT + 30, RIGHT - 30)
+
+
+def footed_print(margin: int = MARGIN) -> npt.NDArray[np.uint8]:
+    img = scene()
+    img[TOP + margin : BOTTOM, LEFT + margin : RIGHT - margin] = PRINT
+    return img
+
+
+def beside_foot(img: npt.NDArray[np.uint8]) -> tuple[int, int, int, int] | None:
+    return region.enclose_beside_foot(img, level_view(), *AT_FOOT, FOOT_ROWS)
+
+
+def test_a_print_down_to_the_foot_is_enclosed_by_the_margin_beside_it() -> None:
+    """No margin under the print (the colour under the found foot is the floor's), so the
+    frame read from the foot finds none; the margin beside the print's lower half and up
+    the face's edges gives the face (photo/1145, 1184: brick prints in a blue or pink
+    frame on grey paving, found by their texture 30 % narrow)."""
+    img = footed_print()
+    assert region.enclose_from_foot(img, level_view(), *AT_FOOT, FOOT_ROWS) is None
+    found = beside_foot(img)
+    assert found is not None
+    bottom, top, left, right = found
+    assert bottom == BOTTOM and abs(top - TOP) <= 2
+    assert abs(left - LEFT) <= 2 and abs(right - RIGHT) <= 2
+
+
+def test_a_print_covering_the_face_has_no_frame_beside_it() -> None:
+    """The print is the whole face: beside it is the room's grey, which runs on (no margin
+    that ends), and is the floor's colour too."""
+    assert beside_foot(footed_print(margin=0)) is None
+
+
+def test_a_margin_on_one_side_only_is_no_frame_beside_the_print() -> None:
+    """The margin's colour beside one side, the room's beside the other: no one colour
+    frames the print."""
+    img = footed_print()
+    img[TOP:BOTTOM, RIGHT - MARGIN : RIGHT] = PRINT
+    assert beside_foot(img) is None
+
+
+# -- a frame's top: where its margin closes, under sides running on into the background -----
+
+#: The search's top, far up the background: the face's sides (edges against the room) run
+#: on above the face there (photo/1299: a framed brick print before a plate, +34 %).
+HIGH_TOP = TOP - 50
+
+
+def frame_top(img: npt.NDArray[np.uint8]) -> int | None:
+    return region.frame_top_by_margin(
+        img, level_view(), BOTTOM - MARGIN, BOTTOM, HIGH_TOP, LEFT, RIGHT
+    )
+
+
+def test_a_frame_closes_at_its_margins_top() -> None:
+    found = frame_top(framed_scene())
+    assert found is not None and abs(found - TOP) <= 2
+
+
+def test_a_print_up_to_the_faces_top_closes_no_frame() -> None:
+    """The margin runs up both sides but not across the top (the print reaches the face's
+    top): no frame's top to take."""
+    img = framed_scene()
+    img[TOP : BOTTOM - MARGIN, LEFT + MARGIN : RIGHT - MARGIN] = PRINT
+    assert frame_top(img) is None
+
+
+def test_a_background_of_the_margins_colour_is_no_frame_top() -> None:
+    """Above the face the room has the margin's colour: the colour runs on up to the top
+    found, no frame ends below it."""
+    img = framed_scene()
+    img[:TOP, :] = FACE
+    assert frame_top(img) is None

@@ -43,6 +43,7 @@ from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     MIN_TOP_FACE_ROWS,
     TOP_COLOUR_STEP,
+    enclose_beside_foot,
     enclose_by_margin,
     enclose_by_ring,
     enclose_from_foot,
@@ -50,6 +51,7 @@ from obstacle_fusion.vision.fused.region import (
     face_from_colour,
     face_past_foot,
     face_under_raised_top,
+    frame_top_by_margin,
     looks_like_top_face,
     lower_top_past_top_face,
     lower_top_to_background,
@@ -634,8 +636,14 @@ class FusedMethod:
         nt = raise_top_past_inner_edges(ay, ax3, nb, vt, nl, nr, noise)
         nt = raise_top_by_colour(seen, v, ay, nb, nt, nl, nr, depth)
         nt = raise_top_by_sides(seen, v, ay, nb, nt, nl, nr, depth)
+        nt = min(nt, vt)
+        # the sides ran on up into the background: the frame closes where the margin does
+        framed_top = frame_top_by_margin(seen, v, rb, nb, nt, nl, nr)
+        if framed_top is not None and framed_top > nt:
+            log.debug("outline: the frame's margin closes at %d, not %d", framed_top, nt)
+            nt = framed_top
         log.debug("outline round a print standing at %d: %d-%d x %d-%d", rb, nl, nr, nt, nb)
-        return nb, min(nt, vt), nl, nr
+        return nb, nt, nl, nr
 
     def _by_colour(
         self,
@@ -724,6 +732,10 @@ class FusedMethod:
         # the texture found a print whose margin is not textured: the face is the
         # margin's frame, read from the foot the rig gives up its sides
         framed = enclose_from_foot(seen, self.view, rb, vt, ul, ur, rows)
+        if framed is None:
+            # ... or, its found foot the face's own, up the margin beside the print
+            framed = enclose_beside_foot(seen, self.view, rb, vt, ul, ur, rows)
+            log.debug("texture: frame beside the print %s", framed)
         if framed is not None:
             rb, vt, ul, ur = framed
         return rb, vt, ul, ur, conf

@@ -1686,6 +1686,161 @@ def enclose_from_foot(
     return new_bottom, new_top, new_left, new_right
 
 
+#: Rows of a print's lower half read for the margin beside it (a share of its height).
+BESIDE_ROWS_SHARE = 0.5
+
+
+def enclose_beside_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    foot_rows: tuple[int, int],
+) -> tuple[int, int, int, int] | None:
+    """A print found instead of the face, its found foot the face's own (no margin shows
+    under it: a margin of a pixel or two, or none), its sides and top inside the print.
+
+    With the rig the face's foot is known: the found foot in the band of floor-contact
+    rows ``foot_rows``, the floor under it. The face is one surface standing there: beside
+    the print's lower half, on both sides, a margin of one colour (unlike the print's and
+    the floor's) runs out from the found sides to the face's edges (ending within a
+    margin's reach: the room at another depth beyond), and up the face's edges, just
+    inside them, the same colour runs up past the found top to the face's top (the frame's
+    side margins, as in :func:`enclose_from_foot`). Returns the frame (bottom, top, left,
+    right) or None."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 10:
+        return None
+    if not foot_rows[0] <= bottom <= foot_rows[1]:
+        return None
+    h, w = view.out.shape
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + RING_SKIP + 3
+    reach_up = int((1.0 + FOOT_FRAME_REACH) * (bottom - top))
+    r0, r1 = top - int(FOOT_FRAME_REACH * (bottom - top)) - 4, min(h, bottom + 6)
+    c0, c1 = left - reach_u - 1, right + reach_u + 2
+    if r0 < 0 or c0 < 0 or c1 > w or r1 <= bottom + 4:
+        return None
+    q_u = max(2, (right - left) // 10)
+    cm = (left + right) // 2
+    k_v = max(1, (bottom - top) // 5)
+    lab = _lab8(image, view, r0, r1, c0, c1)
+    t, b, lf, rt = top - r0, bottom - r0, left - c0, right - c0
+    mid = lab[:, cm - q_u - c0 : cm + q_u + 1 - c0]
+    print_colour = np.asarray(median_u8(mid[t + k_v : b - k_v].reshape(-1, 3), axis=0), np.float32)
+    floor = np.asarray(median_u8(mid[b + 2 : b + 5].reshape(-1, 3), axis=0), np.float32)
+    # the colours beside the print, over its lower half (above the foot's blur)
+    lo = b - max(2, int(BESIDE_ROWS_SHARE * (bottom - top)))
+    strip = np.asarray(median_u8(lab[lo : b - 1], axis=0), np.float32)
+    # outward from each found side: the print's colour may run on a way (a texture walk
+    # stopped short of a fainter end of it), then the margin's
+    profiles = (strip[lf - RING_SKIP :: -1], strip[rt + RING_SKIP :])
+    starts, seeds = [], []
+    for profile in profiles:
+        off = row_norms(profile[: (right - left) // 2] - print_colour) > MARGIN_VS_PRINT
+        if not off.any():
+            return None
+        p = int(np.argmax(off))
+        starts.append(p)
+        seeds.append(profile[min(p + 1, profile.shape[0] - 1)])
+    if norm(seeds[0] - seeds[1]) > RING_AGREE:
+        return None  # no one colour beside the print on both sides
+    ring = (seeds[0] + seeds[1]) / 2.0
+    if norm(ring - print_colour) < MARGIN_VS_PRINT or norm(ring - floor) < MARGIN_VS_PRINT:
+        return None  # the print's own colour, or the floor's beside it: no margin
+    out = []
+    for profile, p in zip(profiles, starts, strict=True):
+        run = _ring_run(profile[p:], ring, reach_u + 1)
+        if run < 2:
+            return None  # the colour runs on (a wall of it), or no margin past the side
+        out.append(p + run)
+    new_left, new_right = left - RING_SKIP - out[0], right + RING_SKIP + out[1]
+    # up the frame's side margins, as enclose_from_foot reads them
+    tops = []
+    for c_lo, c_hi in ((new_left, left), (right + 1, new_right + 1)):
+        part = lab[:b, c_lo - c0 : c_hi - c0].astype(np.float32)
+        near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
+        margin = (near <= FOOT_FRAME_AGREE)[::-1]
+        miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
+        if not miss.any() or int(np.argmax(miss)) >= reach_up:
+            return None  # the colour runs on up: a wall of it, no frame
+        tops.append(bottom - int(np.argmax(miss)))
+    new_top = max(tops)
+    if new_top >= top + k_v or abs(tops[0] - tops[1]) > max(2, (bottom - top) // 10):
+        return None  # the frame's top level across the face, not far under the print's
+    return bottom, min(new_top, top), new_left, new_right
+
+
+#: A frame's side margin read this share of the face's width in from each of its sides.
+FRAME_SIDE_SHARE = 0.1
+#: ... and runs up the sides from the print's lower edge at least this share of the height
+#: between the face's foot and the top found above the frame.
+FRAME_MIN_SHARE = 0.3
+
+
+def frame_top_by_margin(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    print_bottom: int,
+    foot: int,
+    top: int,
+    left: int,
+    right: int,
+) -> int | None:
+    """The top of a frame round a print, the face (``left``..``right``, its foot
+    ``foot``) found round a print whose lower edge is ``print_bottom``, its top ``top``
+    found above the frame's (the sides run on up past the face into the background).
+
+    The margin under the print has the face's own colour; it runs up both sides just
+    inside the face's edges (the frame's side margins) to the face's top, and closes
+    across it above the print: the face's top is where that colour ends going up both
+    sides, level across the face, with the same colour just under it in the face's middle
+    columns. Returns that row, or None (no frame closing there)."""
+    if image is None or image.ndim != 3 or right - left < 10:
+        return None
+    h, w = view.out.shape
+    r0, r1 = print_bottom + EDGE_SKIP, foot - 1
+    if r1 - r0 < MARGIN_MIN_ROWS or top < 0 or foot - top < 10 or r1 > h:
+        return None
+    lab = _lab8(image, view, top, foot, left, right + 1)
+    q = max(3, int(FRAME_SIDE_SHARE * (right - left)))
+    ring = np.asarray(
+        median_u8(lab[r0 - top : r1 - top, q : right - left - q].reshape(-1, 3), axis=0),
+        np.float32,
+    )
+    reach = foot - top
+    tops = []
+    far_in = right - left - RING_SKIP
+    for lo, hi in ((RING_SKIP, q + RING_SKIP), (far_in - q, far_in)):
+        part = lab[: r1 - top, lo:hi].astype(np.float32)
+        near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
+        margin = (near <= FOOT_FRAME_AGREE)[::-1]
+        miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
+        if not miss.any() or int(np.argmax(miss)) >= reach - FOOT_FRAME_GAP:
+            return None  # the colour runs on up to the top found: no frame's top below it
+        tops.append(r1 - int(np.argmax(miss)))
+    new_top = max(tops)
+    if abs(tops[0] - tops[1]) > max(2, (foot - top) // 20):
+        return None  # not level across the face
+    if print_bottom - new_top < max(10, FRAME_MIN_SHARE * (foot - top)):
+        return None  # a band along the foot (a plinth, a shadow), no margin up the sides
+    # inside the frame a print of another colour (a face of the margin's own colour with a
+    # stripe across it is no frame: its top is no stripe's lower edge)
+    cm = (right - left) // 2
+    k = (print_bottom - new_top) // 4
+    inside = lab[new_top - top + k : print_bottom - top - k, cm - q : cm + q + 1]
+    print_colour = np.asarray(median_u8(inside.reshape(-1, 3), axis=0), np.float32)
+    if norm(print_colour - ring) < MARGIN_VS_PRINT:
+        return None
+    # the frame closes above the print: the margin's colour across the middle under it
+    under = lab[new_top - top + 1 : new_top - top + 1 + MARGIN_MIN_ROWS, cm - q : cm + q + 1]
+    if under.size == 0:
+        return None
+    if norm(np.asarray(median_u8(under.reshape(-1, 3), axis=0), np.float32) - ring) > RING_AGREE:
+        return None
+    return new_top
+
+
 #: Half the beam's core sampled for the face's colour at its foot, metres at the face.
 CORE_HALF_M = 0.03
 #: Rows either side of a contact row read for the face (above) and the floor (below).
