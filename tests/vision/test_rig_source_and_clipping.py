@@ -13,7 +13,7 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod, floor_contact, region
 from obstacle_fusion.vision.fused import method as fused_method
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
-from obstacle_fusion.vision.fused.confidence import PITCH_UNREAD
+from obstacle_fusion.vision.fused.confidence import FOOT_OFF_FLOOR, PITCH_UNREAD
 from obstacle_fusion.vision.fused.floor_contact import contact_rows, weak_contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
@@ -521,6 +521,61 @@ def test_with_no_rig_a_weaker_step_below_an_unsure_face_is_the_nearer_foot(
     assert res.camera_height_m == pytest.approx(expected, abs=0.01)
 
 
+@pytest.mark.parametrize(
+    "upper_doubts, weak_doubts, expected",
+    [
+        ([FOOT_OFF_FLOOR], [], 0.30),  # the sure face's foot is off the floor: the nearer one
+        ([], [], 0.20),  # a sure face on the floor keeps its row
+        ([FOOT_OFF_FLOOR], [FOOT_OFF_FLOOR], 0.20),  # the weak step's face is off it too
+    ],
+)
+def test_with_no_rig_a_weaker_step_below_a_sure_face_off_the_floor_is_the_nearer_foot(
+    upper_doubts: list[str],
+    weak_doubts: list[str],
+    expected: float,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A face accepted on a row whose own outline finds its foot off the floor
+    (FOOT_OFF_FLOOR: a band on the wall, a print, the face's upper part) stands on no floor
+    contact: a weaker step below it whose face stands on the floor is the foot (photo 1188:
+    a bricked face of nearly the floor's colour, its foot a step under the noise bar)."""
+
+    image, truth, view, depth = no_rig_room(4001)
+    row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
+    outcome = {0.20: (0.5, upper_doubts), 0.30: (0.3, weak_doubts)}
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in outcome or kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        conf, doubts = outcome[height]
+        box = (100.0, row_at[height] - 50.0, 200.0, float(row_at[height]))
+        return fake_face(truth, True, conf, height_m=0.3, box_px=box, doubts=list(doubts))
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.camera_height_m == pytest.approx(expected, abs=0.01)
+
+
+def test_weak_contact_rows_reach_past_a_coarse_floors_steps_to_the_foot() -> None:
+    """On gravel near the lens the band's rows step as much as a face's foot does, a dozen
+    times under a far face: the weak steps still reach its foot (photo 1181 ordinary, a
+    panelled face 3 m away, its foot the 15th step from the bottom)."""
+    image, truth, spec = render_room("photo", 1181, False, CAM)
+    view = View(CAM, Rig(), "level")
+    depth = Rig().face_depth(truth["range_m"])
+    rig = spec.rig
+    # the foot in the level view: the true rig's contact row
+    foot = view.cy + view.fy * np.tan(
+        np.arctan(rig.camera_height_m / depth) - np.radians(rig.camera_pitch_deg)
+    )
+    rows = weak_contact_rows(image, view, depth)
+    assert any(abs(r - foot) <= 3 for r in rows)
+
+
 def boxed(x0: float, x1: float, conf: float = 0.6) -> Measurement:
     """A detected face spanning columns x0..x1 (rows 100..200)."""
     return Measurement(
@@ -1023,11 +1078,13 @@ def test_with_no_rig_an_unsure_face_near_the_horizon_is_reported_rather_than_mis
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.03)
 
 
-def test_weak_contact_rows_take_the_steps_no_bar_lets_through() -> None:
+def test_weak_contact_rows_take_the_steps_no_bar_lets_through(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """A floor stepping darker every 12 rows, 15 times: each step is as strong as the
     band's and the floor's own texture, so no row stands out of :func:`contact_rows`; the
-    weak steps are every one of them, lowest first, the lowest 12
-    (floor_contact.MAX_WEAK_CANDIDATES)."""
+    weak steps are every one of them, lowest first, up to
+    floor_contact.MAX_WEAK_CANDIDATES (all 15 at its 24; the lowest 12 under a cap of 12)."""
     h, w = 375, 500
     img = np.full((h, w, 3), 200, np.uint8)
     edges = list(range(200, 370, 12))
@@ -1037,6 +1094,10 @@ def test_weak_contact_rows_take_the_steps_no_bar_lets_through() -> None:
     view = View(CAM, Rig(), "level")
     flat = View(CameraModel(view.k.copy(), np.zeros(5), w, h), Rig(), "level")
     assert contact_rows(img, flat, depth_m=1.5) == []
+    weak = weak_contact_rows(img, flat, depth_m=1.5)
+    assert len(weak) == 15
+    assert all(abs(r - e) <= 1 for r, e in zip(weak, edges[::-1], strict=True)), weak
+    monkeypatch.setattr(floor_contact, "MAX_WEAK_CANDIDATES", 12)
     weak = weak_contact_rows(img, flat, depth_m=1.5)
     assert len(weak) == 12
     assert all(abs(r - e) <= 1 for r, e in zip(weak, edges[::-1], strict=False)), weak

@@ -335,9 +335,26 @@ class Measurer:
                     break
                 if result.detected:
                     lower_faces.append((row, result))
-            if best is not None and best.detected and best_row is not None and not accepted(best):
+            off_floor = best is not None and FOOT_OFF_FLOOR in best.doubts
+            if (
+                best is not None
+                and best.detected
+                and best_row is not None
+                and (not accepted(best) or off_floor)
+            ):
+                # an accepted face whose foot its own outline finds off the floor
+                # (FOOT_OFF_FLOOR) stands on no floor contact either: a weak step below
+                # it may be the foot, when the face standing there is on the floor
                 nearer = self._nearer_weak_contact(
-                    image, view, depth, best_row, set(rows), trial, best.box_px, _small(best)
+                    image,
+                    view,
+                    depth,
+                    best_row,
+                    set(rows),
+                    trial,
+                    best.box_px,
+                    _small(best),
+                    on_floor=off_floor and accepted(best),
                 )
                 if nearer is not None:
                     best, best_row = nearer
@@ -564,6 +581,7 @@ class Measurer:
         trial: Callable[[float, float | None], Measurement],
         upper_box: tuple[float, float, float, float] | None = None,
         upper_small: bool = True,
+        on_floor: bool = False,
     ) -> tuple[Measurement, int] | None:
         """A face on a weaker step of the band below ``row`` (nearer the robot), when the
         face on ``row`` (its box ``upper_box``, input pixels) is not a sure one: the first,
@@ -580,7 +598,9 @@ class Measurer:
         columns and SPAN_FACTOR times its width or more (a strip along the wall behind
         it), when the lower face reaches SPANNED_NEARER_ACCEPT. A small face (:func:`_small`)
         under an unsure face of full size (``upper_small`` False) is a stone or a mark on
-        the floor before it, no nearer foot."""
+        the floor before it, no nearer foot. With ``on_floor`` (the face on ``row`` was
+        accepted but its foot is off the floor: FOOT_OFF_FLOOR) only a face without
+        FOOT_DOUBTS is the nearer foot."""
         lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
         for low in weak_contact_rows(image, view, depth):  # lowest first
             if low <= row + MIN_NEARER_DROP_PX:
@@ -599,6 +619,8 @@ class Measurer:
                 continue  # no face, or the unsure face again on its own foot's blur
             if not upper_small and _small(result):
                 continue  # a stone or a mark on the floor before the face, no nearer face
+            if on_floor and FOOT_DOUBTS & set(result.doubts):
+                continue  # its foot off the floor too: no nearer foot
             conf = result.confidence or 0.0
             if (
                 conf >= ESTIMATE_ACCEPT

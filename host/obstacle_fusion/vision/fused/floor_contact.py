@@ -23,7 +23,9 @@ STEP_ROWS = 5  # rows averaged on each side of a candidate step
 MIN_STEP_GREY = 10.0  # a step smaller than this (colour distance, 8-bit) is floor texture
 NOISE_FACTOR = 5.0  # a step must stand this many median steps above the floor's own
 MAX_CANDIDATES = 8
-MAX_WEAK_CANDIDATES = 12  # steps under the noise bars tried when no candidate stands a face
+# steps under the noise bars tried when no candidate stands a face (gravel near the lens
+# steps a dozen times under a far face's foot: 12 stopped short of photo 1181's)
+MAX_WEAK_CANDIDATES = 24
 FLOOR_NOISE_ROWS = 20  # rows below a step whose own steps give the floor's texture
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
 
