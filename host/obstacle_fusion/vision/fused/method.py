@@ -130,6 +130,11 @@ def _front_ends_colour(
     return ends_in_colour(seen, v, rb, front, ul, ur, step)
 
 
+#: The colour rescue's face has its top raised to where its sides end only where the
+#: face's colour is back under that row (region.face_under_raised_top), with the rig.
+RESCUE_RAISE_BY_COLOUR = True
+
+
 def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
     """Whether the width stages moved the sides far from the search's pair ``found``."""
     move = abs(settled[0] - found[0]) + abs(settled[1] - found[1])
@@ -677,7 +682,19 @@ class FusedMethod:
         # ... unless the face's colour ends at its top a short way under where they end:
         # those are the edges of what stands behind it in line (as in the edge search)
         # (with the rig only, as the front top edge in rescue_by_colour)
-        if not (floor_known and stops_at_colour_top(seen, self.view, rb, vt, raised, ul, ur)):
+        # ... or where the face's colour is not back under where they end (as in the edge
+        # search): sides that run on through another colour up to there are the edges of
+        # what stands behind the face in line with it (a frame, a rail)
+        if not (
+            floor_known
+            and (
+                stops_at_colour_top(seen, self.view, rb, vt, raised, ul, ur)
+                or (
+                    RESCUE_RAISE_BY_COLOUR
+                    and not face_under_raised_top(seen, self.view, rb, vt, raised, ul, ur)
+                )
+            )
+        ):
             vt = raised
         # ... and where they do not show in the gradients (a face of the background's
         # shade in grey), its colour parts it from what is beside it up to its top

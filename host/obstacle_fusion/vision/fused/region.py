@@ -749,6 +749,14 @@ SIDE_WALK_GAP_M = 0.05
 #: In the sides' walk, a row whose strip keeps the face's own colour is a side at any clear
 #: step (MIN_BESIDE_STEP), whatever the side's step along the foot.
 HELD_COLOUR_SIDE = True
+#: In the sides' walk, a chromatic face's strip (CHROMATIC_FACE) of a hue apart from what
+#: is beside it (HUE_APART_FROM_FLOOR) is held to its own colour with its lightness weighed
+#: SHADE_WEIGHT: a gloss's highlight or the light's fall-off lightens a coloured face
+#: without changing its hue (a tall glossy face's walk stopped under its highlight).
+SHADED_SIDE_WALK = True
+#: ... and a row of its strip is the face's only within this hue distance (a, b) of the
+#: face's colour below the top: a gloss changes the lightness, not the hue.
+SHADED_HUE_STEP = 6.0
 #: Rows over which the sides' walk compares a strip's colour with the rows below it.
 DRIFT_ROWS = 3
 #: How far up the sides' walk may go at least, metres at the face.
@@ -808,6 +816,23 @@ def raise_top_by_sides(
     return int(r0 + lo + np.argmax(rows))
 
 
+def _held(
+    strip: npt.NDArray[Any],
+    own: npt.NDArray[Any],
+    dist: npt.NDArray[Any],
+    limit: float,
+    weights: npt.NDArray[np.float32],
+) -> npt.NDArray[np.bool_]:
+    """The rows of a side's ``strip`` holding the face's colour ``own`` in the sides' walk:
+    within ``limit`` of it (``dist``: each row's distance from it), or within
+    MAX_FACE_DISTANCE of it and ``limit`` of the row DRIFT_ROWS under it (a slow drift), the
+    colour differences weighed by ``weights`` (L, a, b)."""
+    drift = np.zeros_like(dist)
+    drift[:-DRIFT_ROWS] = row_norms((strip[:-DRIFT_ROWS] - strip[DRIFT_ROWS:]) * weights)
+    held: npt.NDArray[np.bool_] = (dist <= limit) | ((dist <= MAX_FACE_DISTANCE) & (drift <= limit))
+    return held
+
+
 def _sides_walk(
     image: npt.NDArray[Any],
     view: View,
@@ -835,14 +860,16 @@ def _sides_walk(
         bands.append((band[:, :BESIDE_COLUMNS], band[:, -BESIDE_COLUMNS:]))
     for inside, outside in bands:
         strip = median_u8(inside, axis=1)
-        step = row_norms(strip - median_u8(outside, axis=1))
+        beside = median_u8(outside, axis=1)
+        step = row_norms(strip - beside)
         level = float(median_of(step[k + 2 :]))
         if level < MIN_BESIDE_STEP:
             return None
         stands = step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
         # and the face's own colour there: a background edge in line with a side (a
         # pole, a shadow) parts two background colours, not the face from one
-        d_strip = row_norms(strip - median_of(strip[k + 2 :], axis=0))
+        own = median_of(strip[k + 2 :], axis=0)
+        d_strip = row_norms(strip - own)
         limit = clamp(
             SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
         )
@@ -858,9 +885,23 @@ def _sides_walk(
         # slowly away from what it is below the top: a row within the face's spread of the
         # row DRIFT_ROWS under it (and within MAX_FACE_DISTANCE of the colour below the
         # top) is taken as the face's still, while the background starts with a step
-        drift = np.zeros_like(d_strip)
-        drift[:-DRIFT_ROWS] = row_norms(strip[:-DRIFT_ROWS] - strip[DRIFT_ROWS:])
-        on &= (d_strip <= limit) | ((d_strip <= MAX_FACE_DISTANCE) & (drift <= limit))
+        held = _held(strip, own, d_strip, limit, np.ones(3, np.float32))
+        weights = _face_colour_weights(own, median_of(beside[k + 2 :], axis=0))
+        if SHADED_SIDE_WALK and weights[0] < 1.0:
+            # a gloss's highlight or the light's fall-off changes a coloured face's
+            # lightness, not its hue (SHADE_WEIGHT, as along the foot, for a hue apart from
+            # what is beside it): a row of the face's hue (SHADED_HUE_STEP) is the face's
+            # also where its lightness alone left the face's spread
+            d_shaded = row_norms((strip - own) * weights)
+            limit_shaded = clamp(
+                SPREAD_FACTOR * float(median_of(d_shaded[k + 2 :])),
+                MIN_TOP_DISTANCE,
+                MAX_FACE_DISTANCE,
+            )
+            held |= _held(strip, own, d_shaded, limit_shaded, weights) & (
+                row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
+            )
+        on &= held
     return walk_on(on.tolist(), k, -1, gap)
 
 
