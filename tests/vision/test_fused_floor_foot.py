@@ -7,7 +7,11 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
-from obstacle_fusion.vision.fused.floor_contact import face_runs_below, sides_reach_foot
+from obstacle_fusion.vision.fused.floor_contact import (
+    face_runs_below,
+    sides_reach_foot,
+    sides_run_up,
+)
 
 FLOOR = 100  # grey level of the floor
 FOOT_ROW = 200  # where the face meets the floor
@@ -156,3 +160,76 @@ def test_the_foot_is_read_over_the_lowest_fifth_of_the_sides(below: int, stands:
     """A row ``below`` px under the face's foot: the lowest fifth of the sides (~28-30 px
     here) still shows the face's step over most of its rows at 14 px, not at 17 px."""
     assert sides_reach_foot(scene(DARK), outline(FOOT_ROW + below)) is stands
+
+
+# --- a taller reading's sides run on above a shorter reading's top (sides_run_up)
+
+SHORT_TOP = 130.0  # the shorter reading's top row
+
+
+def taped(tape: int = 230) -> np.ndarray:
+    """The dark face of :func:`scene` (rows 60-199) with a light tape across it on rows
+    115-129: a level reading can take the tape's lower edge, row 130, for the face's top."""
+    img = scene(DARK)
+    img[115:130, 100:200] = tape
+    return img
+
+
+def test_a_face_whose_sides_run_on_above_a_tape_is_the_taller_face() -> None:
+    assert sides_run_up(taped(), outline(FOOT_ROW), SHORT_TOP)
+
+
+def test_a_print_on_the_wall_above_a_box_off_its_columns_does_not_run_on() -> None:
+    """A box (rows 130-199) under a print on the wall (rows 40-129, columns 120-219): the
+    tall reading's sides at the box's columns 100 and 199 have wall on both sides above
+    the box's top (the print's own sides lie 20 px off) and do not run on."""
+    img = np.full((300, 300, 3), 180, np.uint8)
+    img[150:] = FLOOR
+    img[130:FOOT_ROW, 100:200] = DARK
+    img[40:130, 120:220] = 60
+    lines = outline(FOOT_ROW)
+    lines[1] = (100, 40, 199, 40)
+    lines[2] = (100, FOOT_ROW, 100, 40)
+    lines[3] = (199, FOOT_ROW, 199, 40)
+    assert not sides_run_up(img, lines, SHORT_TOP)
+
+
+def test_the_sides_must_step_on_most_rows_between_the_tops() -> None:
+    """RUN_UP_SHARE = 0.8 of the rows between the tops (3 px left out next to each): the
+    wall beside the face of the face's own grey on a share of them takes the step away.
+    Rows 63-127 are read (65 rows); the wall matching the face on 10 of them (85 % left)
+    keeps the run, on 16 of them (75 % left) breaks it."""
+    for rows, runs in ((10, True), (16, False)):
+        img = taped()
+        img[70 : 70 + rows, 90:100] = DARK  # beside the left side
+        assert sides_run_up(img, outline(FOOT_ROW), SHORT_TOP) is runs
+
+
+def test_a_side_at_the_border_is_left_to_the_other_and_none_read_is_no_run() -> None:
+    img = taped()
+    lines = outline(FOOT_ROW)
+    lines[2] = (1.0, FOOT_ROW, 1.0, 60)
+    assert sides_run_up(img, lines, SHORT_TOP)  # the right side runs on
+    lines[3] = (298.0, FOOT_ROW, 298.0, 60)
+    assert not sides_run_up(img, lines, SHORT_TOP)  # no side read
+
+
+def test_a_print_on_the_wall_in_line_with_the_box_has_another_colour_above_it() -> None:
+    """The same box under a print exactly as wide (columns 100-199, rows 40-129): the
+    sides step on every row, but the colour inside them above the box's top (the print,
+    light yellow) is not the box's below it: no run."""
+    img = np.full((300, 300, 3), 180, np.uint8)
+    img[150:] = FLOOR
+    img[130:FOOT_ROW, 100:200] = DARK
+    img[40:130, 100:200] = (90, 220, 230)
+    lines = outline(FOOT_ROW)
+    lines[1] = (100, 40, 199, 40)
+    lines[2] = (100, FOOT_ROW, 100, 40)
+    lines[3] = (199, FOOT_ROW, 199, 40)
+    assert not sides_run_up(img, lines, SHORT_TOP)
+    img[40:130, 100:110] = DARK  # the box's colour runs on up its left side: it runs up
+    assert sides_run_up(img, lines, SHORT_TOP)
+
+
+def test_a_grey_image_tells_no_colour_and_gives_no_run() -> None:
+    assert not sides_run_up(taped()[:, :, 0].copy(), outline(FOOT_ROW), SHORT_TOP)

@@ -38,6 +38,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     contact_rows,
     face_runs_below,
     sides_reach_foot,
+    sides_run_up,
     weak_contact_rows,
 )
 from obstacle_fusion.vision.paper import PaperMethod
@@ -393,7 +394,9 @@ class Measurer:
                 # read the pitch below). A level face that sure already is kept, and a
                 # surer face beside it (under half its columns shared) is another face,
                 # not the level face read again: not taken; nor is one over
-                # SWEPT_MAX_GROWTH times as tall (something above the face taken in).
+                # SWEPT_MAX_GROWTH times as tall (something above the face taken in),
+                # unless its sides run on above the level face's top (sides_run_up)
+                level = best
                 level_conf = best.confidence or 0.0
                 level_box = best.box_px
                 for pitch in SWEPT_PITCHES_DEG if level_conf + SWEPT_PITCH_MARGIN < 1.0 else ():
@@ -402,15 +405,32 @@ class Measurer:
                         continue
                     result = trial(height, None, pitch)
                     conf = result.confidence or 0.0
-                    if (
+                    if not (
                         result.detected
-                        and conf > level_conf + SWEPT_PITCH_MARGIN
-                        and conf > (best.confidence or 0.0)
                         and sides_reach_foot(image, result.lines)
                         and not _beside(result.box_px, level_box)
                     ):
-                        if _taller(result.box_px, level_box):
-                            continue
+                        continue
+                    if _taller(result.box_px, level_box):
+                        # the level face's top a line on the face (a print's edge, a tape,
+                        # the wall's line behind a face of nearly its colour) when the
+                        # taller face's sides run on above it, at their own columns, to
+                        # its top: that face as sure is the face
+                        if (
+                            conf >= level_conf
+                            and (conf > (best.confidence or 0.0) or best is level)
+                            and level_box is not None
+                            and sides_run_up(image, result.lines, level_box[1])
+                        ):
+                            best, pitch_swept = result, True
+                        continue
+                    if conf > level_conf + SWEPT_PITCH_MARGIN and conf > (best.confidence or 0.0):
+                        if (
+                            result.box_px is not None
+                            and _taller(level_box, result.box_px)
+                            and sides_run_up(image, level.lines, result.box_px[1])
+                        ):
+                            continue  # a line on the level face, whose sides run on above it
                         best, pitch_swept = result, True
             if best is None or not best.detected:
                 # no face stands on any row a level camera allows: a contact this near the

@@ -185,6 +185,97 @@ def sides_reach_foot(
     return not read or any(read)
 
 
+
+#: A taller reading's side runs on above a shorter reading's top (the short top a line
+#: on the face, a print's edge or the wall's line behind, not the face's top) when the
+#: colour step across it is at least MIN_FOOT_STEP on this share of the rows between
+#: the two tops, on each side not at the image's border.
+RUN_UP_SHARE = 0.8
+#: Rows next to either top left out of that check (the top's own blur), pixels.
+RUN_UP_SKIP_PX = 3
+#: ... and the strip just inside one side (pixels inward, from, to) has the same colour
+#: above the short top as below it, median Lab within RUN_UP_MATCH (the full faces taken
+#: on the fresh photo rooms: 1.0-7.0 on the nearer side; a print on the wall in line with
+#: a planked box's sides, photo 1065: 30.5).
+RUN_UP_COLUMNS = (2, 8)
+RUN_UP_MATCH = 15.0
+
+
+def side_steps(
+    image: npt.NDArray[np.uint8], line: tuple[float, float, float, float], y_lo: float, y_hi: float
+) -> npt.NDArray[np.float32] | None:
+    """The colour step across a side line (x0, y0 at its foot, x1, y1 at its top; input
+    pixels) on each of its rows between image rows ``y_hi`` and ``y_lo`` (``y_hi`` the
+    higher); None when the side lies at the border or no row is left."""
+    x0, y0, x1, y1 = line
+    h, w = image.shape[:2]
+    if abs(y0 - y1) < 1.0 or y_lo - y_hi < 1.0:
+        return None
+    first = int(math.ceil(max(y_hi, min(y0, y1), 0)))
+    ys = np.arange(first, int(min(y_lo, max(y0, y1), h - 1)) + 1)
+    if len(ys) == 0:
+        return None
+    xs = np.round(x0 + (x1 - x0) * (ys - y0) / (y1 - y0)).astype(np.int64)
+    a, b = ACROSS_PX
+    if xs.min() - b < 0 or xs.max() + b >= w:
+        return None
+    pix = image.reshape(h, w, -1).astype(np.float32)
+    left = np.mean([pix[ys, xs - d] for d in range(a, b + 1)], axis=0)
+    right = np.mean([pix[ys, xs + d] for d in range(a, b + 1)], axis=0)
+    return np.linalg.norm(left - right, axis=1).astype(np.float32)
+
+
+def sides_run_up(
+    image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]], short_top: float
+) -> bool:
+    """Whether a face's sides (``lines`` as :class:`Measurement` gives them: bottom, top,
+    left side, right side; input pixels) run on, straight and at their own columns, from a
+    shorter reading's top row ``short_top`` up to the face's own top: on RUN_UP_SHARE of
+    those rows each side not at the border still steps in colour (MIN_FOOT_STEP), and the
+    face's colour just inside a side runs on past that row (:func:`_margin_runs_up`). Then
+    the short top is a line on the face (a print's edge, a tape, a line of the picture),
+    not where the face ends; a box under a print on the wall has none there (the print's
+    sides elsewhere, or its colour above the box's top). False with no side read."""
+    if len(lines) < 4:
+        return False
+    read = 0
+    for side in lines[2:4]:
+        top = min(side[1], side[3])
+        steps = side_steps(image, side, short_top - RUN_UP_SKIP_PX, top + RUN_UP_SKIP_PX)
+        if steps is None:
+            continue
+        if len(steps) < 2 * RUN_UP_SKIP_PX:
+            return False
+        if float(np.mean(steps >= MIN_FOOT_STEP)) < RUN_UP_SHARE:
+            return False
+        read += 1
+    return read > 0 and _margin_runs_up(image, lines, short_top)
+
+
+def _margin_runs_up(
+    image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]], short_top: float
+) -> bool:
+    """Whether the strip just inside one of a face's sides (RUN_UP_COLUMNS) has the same
+    colour (median Lab within RUN_UP_MATCH) above a shorter reading's top ``short_top`` as
+    below it: the face's own colour or margin runs on past that line. A box under a print
+    on the wall in line with its sides has the print's colour above its top on both sides.
+    A grey image tells no colours apart: False."""
+    if image.ndim != 3:
+        return False
+    a, z = RUN_UP_COLUMNS
+    for k, side in enumerate(lines[2:4]):
+        x = 0.5 * (side[0] + side[2])
+        foot, top = max(side[1], side[3]), min(side[1], side[3])
+        x0, x1 = (x + a, x + z) if k == 0 else (x - z, x - a)
+        above = _lab_pixels(image, top + RUN_UP_SKIP_PX, short_top - RUN_UP_SKIP_PX, x0, x1)
+        below = _lab_pixels(image, short_top + RUN_UP_SKIP_PX, foot - RUN_UP_SKIP_PX, x0, x1)
+        if len(above) and len(below):
+            apart = np.linalg.norm(np.median(above, axis=0) - np.median(below, axis=0))
+            if apart <= RUN_UP_MATCH:
+                return True
+    return False
+
+
 #: A face found on a lower row covers one found higher when its sides lie within this
 #: share of the higher face's width outside it (or further out).
 COVER_SHARE = 0.1
