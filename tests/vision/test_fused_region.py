@@ -2118,3 +2118,20 @@ def test_a_background_of_the_margins_colour_is_no_frame_top() -> None:
     img = framed_scene()
     img[:TOP, :] = FACE
     assert frame_top(img) is None
+
+
+@pytest.mark.parametrize(
+    ("distances", "least", "limit"),
+    [
+        ([1.0, 2.0, 3.0], region.MIN_FACE_DISTANCE, 18.0),  # a flat face: the floor of it
+        ([1.0, 2.0, 3.0], region.MIN_TOP_DISTANCE, 6.0),  # the walk up's tighter floor
+        ([4.0, 8.0, 9.0], region.MIN_FACE_DISTANCE, 24.0),  # 3 x the median
+        ([9.0, 11.0, 30.0], region.MIN_FACE_DISTANCE, 33.0),  # the median, not the mean
+        ([20.0, 20.0, 20.0], region.MIN_FACE_DISTANCE, 35.0),  # never past the ceiling
+    ],
+)
+def test_spread_limit_is_three_spreads_within_its_bounds(
+    distances: list[float], least: float, limit: float
+) -> None:
+    """Every colour walk's one tolerance: 3 x the seed's median distance, within bounds."""
+    assert region.spread_limit(np.array(distances, np.float32), least) == pytest.approx(limit)

@@ -111,6 +111,14 @@ MAX_FLOORLIKE_FOOT = 0.5
 FLOOR_THROUGH_STEP = 0.5 * MIN_FLOOR_STEP
 
 
+def spread_limit(seed_distances: npt.NDArray[Any], least: float) -> float:
+    """How far from the face's reference colour a pixel may lie and still be the face's:
+    SPREAD_FACTOR times the seed's own median distance (a textured face spreads wider),
+    never under ``least``, never over MAX_FACE_DISTANCE. One rule for every colour walk
+    (along the foot, up the sides, past the foot, under a raised top)."""
+    return float(clamp(SPREAD_FACTOR * float(median_of(seed_distances)), least, MAX_FACE_DISTANCE))
+
+
 def _band(
     image: npt.NDArray[Any],
     view: View,
@@ -195,8 +203,7 @@ def widen_by_colour(
     ref = median_of(face[seed], axis=0)
     weights = _face_colour_weights(ref, median_of(floor[seed], axis=0))
     d_face = row_norms((face - ref) * weights)
-    spread = float(median_of(d_face[seed]))
-    limit = float(clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
+    limit = spread_limit(d_face[seed], MIN_FACE_DISTANCE)
     d_floor = row_norms(face - floor)
     on = (d_face <= limit) & (d_floor >= MIN_FLOOR_STEP)
     if share(on[seed]) < 0.5:  # (right - left >= 6: not empty)
@@ -694,8 +701,7 @@ def _colour_walk_up(
     k = top - r0  # the current top's row in the band
     ref = median_of(inner[k + 2 :], axis=0)
     d_face = row_norms(inner - ref)
-    spread = float(median_of(d_face[k + 2 :]))
-    limit = float(clamp(SPREAD_FACTOR * spread, MIN_TOP_DISTANCE, MAX_FACE_DISTANCE))
+    limit = spread_limit(d_face[k + 2 :], MIN_TOP_DISTANCE)
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = d_face <= MAX_FACE_DISTANCE
     edges: list[int] = []  # how far the strip just inside each side runs up
@@ -725,9 +731,7 @@ def _colour_walk_up(
         # middle's colour row by row; a margin of the face's own colour along its sides
         # runs on up to the face's top
         d_strip = row_norms(strip - median_of(strip[k + 2 :], axis=0))
-        strip_limit = clamp(
-            SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
-        )
+        strip_limit = spread_limit(d_strip[k + 2 :], MIN_TOP_DISTANCE)
         strip_on &= d_strip <= strip_limit  # the margin keeps its own colour, no drift
         edges.append(_walk_colour(strip, strip_on, k, float(strip_limit), gap))
     if not edges:
@@ -870,9 +874,7 @@ def _sides_walk(
         # pole, a shadow) parts two background colours, not the face from one
         own = median_of(strip[k + 2 :], axis=0)
         d_strip = row_norms(strip - own)
-        limit = clamp(
-            SPREAD_FACTOR * float(median_of(d_strip[k + 2 :])), MIN_TOP_DISTANCE, MAX_FACE_DISTANCE
-        )
+        limit = spread_limit(d_strip[k + 2 :], MIN_TOP_DISTANCE)
         if HELD_COLOUR_SIDE:
             # the background beside the face changes going up (a bright skirting beside
             # its foot, a wall of nearly the face's shade above it): the side's step along
@@ -893,11 +895,7 @@ def _sides_walk(
             # what is beside it): a row of the face's hue (SHADED_HUE_STEP) is the face's
             # also where its lightness alone left the face's spread
             d_shaded = row_norms((strip - own) * weights)
-            limit_shaded = clamp(
-                SPREAD_FACTOR * float(median_of(d_shaded[k + 2 :])),
-                MIN_TOP_DISTANCE,
-                MAX_FACE_DISTANCE,
-            )
+            limit_shaded = spread_limit(d_shaded[k + 2 :], MIN_TOP_DISTANCE)
             held |= _held(strip, own, d_shaded, limit_shaded, weights) & (
                 row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
             )
@@ -1014,8 +1012,7 @@ def face_under_raised_top(
     def back(part: npt.NDArray[np.uint8]) -> bool:
         rows = median_u8(part, axis=1).astype(np.float32)
         ref = median_of(rows[k:], axis=0)
-        spread = float(median_of(row_norms(rows[k:] - ref)))
-        limit = clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE)
+        limit = spread_limit(row_norms(rows[k:] - ref), MIN_FACE_DISTANCE)
         return float(median_of(row_norms(rows[2 : 2 + n] - ref))) <= limit
 
     # the middle, or both strips just inside the sides (a print over the middle, in a
@@ -2159,8 +2156,7 @@ def face_past_foot(
     cols = cv2.blur(median_u8(lab, axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
     ref = median_of(cols[c0:c1], axis=0)
     d_face = row_norms(cols - ref)
-    spread = float(median_of(d_face[c0:c1]))
-    limit = float(clamp(SPREAD_FACTOR * spread, MIN_FACE_DISTANCE, MAX_FACE_DISTANCE))
+    limit = spread_limit(d_face[c0:c1], MIN_FACE_DISTANCE)
     on = (d_face <= limit).tolist()
     max_gap = max(2, int(round(view.fx * MAX_GAP_M / depth_m))) + SMOOTH_COLUMNS - 1
     centre = (c0 + c1) // 2
