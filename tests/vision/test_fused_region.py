@@ -2124,7 +2124,7 @@ def test_a_background_of_the_margins_colour_is_no_frame_top() -> None:
     ("distances", "least", "limit"),
     [
         ([1.0, 2.0, 3.0], region.MIN_FACE_DISTANCE, 18.0),  # a flat face: the floor of it
-        ([1.0, 2.0, 3.0], region.MIN_TOP_DISTANCE, 6.0),  # the walk up's tighter floor
+        ([0.5, 1.0, 1.5], region.MIN_TOP_DISTANCE, 6.0),  # the walk up's tighter floor
         ([4.0, 8.0, 9.0], region.MIN_FACE_DISTANCE, 24.0),  # 3 x the median
         ([9.0, 11.0, 30.0], region.MIN_FACE_DISTANCE, 33.0),  # the median, not the mean
         ([20.0, 20.0, 20.0], region.MIN_FACE_DISTANCE, 35.0),  # never past the ceiling
@@ -2135,3 +2135,24 @@ def test_spread_limit_is_three_spreads_within_its_bounds(
 ) -> None:
     """Every colour walk's one tolerance: 3 x the seed's median distance, within bounds."""
     assert region.spread_limit(np.array(distances, np.float32), least) == pytest.approx(limit)
+
+
+def test_a_wall_of_the_margins_colour_beside_the_print_is_no_frame() -> None:
+    """The margin's colour runs on past the face's edges to the window's ends (a wall of
+    it behind the face): no margin ends within reach, so no frame, wherever the print's
+    own colour first runs on beyond the found sides."""
+    img = footed_print()
+    img[TOP:BOTTOM, : LEFT + MARGIN] = FACE
+    img[TOP:BOTTOM, RIGHT - MARGIN :] = FACE
+    assert beside_foot(img) is None
+
+
+def test_a_margin_colour_running_on_above_the_face_ends_the_frame_where_it_ends() -> None:
+    """The margin's colour goes on up past the face to a few rows under the top found: the
+    frame's top is where that colour ends, never the face's own top under it (a margin
+    running on up is the frame's, read to its end; photo 1161 and 1177 hard, 15 and 8 %
+    -> 2 %, needed it)."""
+    img = framed_scene()
+    img[HIGH_TOP + 4 : TOP, LEFT : RIGHT + 1] = FACE
+    found = frame_top(img)
+    assert found is not None and abs(found - (HIGH_TOP + 4)) <= 2

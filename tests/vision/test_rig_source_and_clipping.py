@@ -1823,3 +1823,57 @@ def test_with_the_rig_a_face_whose_foot_lies_below_the_image_is_measured_from_it
     monkeypatch.setattr(fused_method, "PAST_FOOT_FACE", False)
     missed = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     assert not missed.detected and "outside the image" in missed.reason
+
+
+@pytest.mark.parametrize("runs_up", [True, False])
+def test_with_no_rig_a_taller_swept_face_is_taken_only_where_its_sides_run_up(
+    monkeypatch: pytest.MonkeyPatch, runs_up: bool
+) -> None:
+    """The level reading's top a line on the face (a print's edge): a swept pitch's face
+    three times as tall, as sure, on the same columns, is the face when its sides run on
+    above that top (sides_run_up), and something above the face taken in when not."""
+    image, truth, view, depth = no_rig_room(4001)
+    row = int(round(view.cy + view.fy * 0.20 / depth))
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        if kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        if self.view.rig.camera_pitch_deg == 0:
+            return fake_face(truth, True, 0.4, height_m=0.2, box_px=(100, 150, 200, 200))
+        return fake_face(truth, True, 0.4, height_m=0.6, box_px=(100, 50, 200, 200))
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    monkeypatch.setattr(measure, "sides_run_up", lambda *a: runs_up)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.height_m == pytest.approx(0.6 if runs_up else 0.2)
+
+
+@pytest.mark.parametrize("runs_up", [True, False])
+def test_with_no_rig_a_level_face_whose_sides_run_up_keeps_a_surer_short_face_out(
+    monkeypatch: pytest.MonkeyPatch, runs_up: bool
+) -> None:
+    """A surer swept face a third as tall, its top a line on the level face (a picture's
+    edge inside a framed poster): the level face stays where its sides run on above that
+    line, and gives way to the surer face where they do not."""
+    image, truth, view, depth = no_rig_room(4001)
+    row = int(round(view.cy + view.fy * 0.20 / depth))
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        if kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        if self.view.rig.camera_pitch_deg == 0:
+            return fake_face(truth, True, 0.3, height_m=0.6, box_px=(100, 50, 200, 200))
+        return fake_face(truth, True, 0.7, height_m=0.2, box_px=(100, 150, 200, 200))
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    monkeypatch.setattr(measure, "sides_run_up", lambda *a: runs_up)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected
+    assert res.height_m == pytest.approx(0.6 if runs_up else 0.2)

@@ -355,7 +355,7 @@ class Measurer:
                     trial,
                     best.box_px,
                     _small(best),
-                    on_floor=off_floor and accepted(best),
+                    need_floor_foot=off_floor and accepted(best),
                 )
                 if nearer is not None:
                     best, best_row = nearer
@@ -601,7 +601,7 @@ class Measurer:
         trial: Callable[[float, float | None], Measurement],
         upper_box: tuple[float, float, float, float] | None = None,
         upper_small: bool = True,
-        on_floor: bool = False,
+        need_floor_foot: bool = False,
     ) -> tuple[Measurement, int] | None:
         """A face on a weaker step of the band below ``row`` (nearer the robot), when the
         face on ``row`` (its box ``upper_box``, input pixels) is not a sure one: the first,
@@ -618,7 +618,7 @@ class Measurer:
         columns and SPAN_FACTOR times its width or more (a strip along the wall behind
         it), when the lower face reaches SPANNED_NEARER_ACCEPT. A small face (:func:`_small`)
         under an unsure face of full size (``upper_small`` False) is a stone or a mark on
-        the floor before it, no nearer foot. With ``on_floor`` (the face on ``row`` was
+        the floor before it, no nearer foot. With ``need_floor_foot`` (the face on ``row`` was
         accepted but its foot is off the floor: FOOT_OFF_FLOOR) only a face without
         FOOT_DOUBTS is the nearer foot."""
         lowest = view.cy + view.fy * MIN_ESTIMATED_CAMERA_HEIGHT_M / depth
@@ -639,7 +639,7 @@ class Measurer:
                 continue  # no face, or the unsure face again on its own foot's blur
             if not upper_small and _small(result):
                 continue  # a stone or a mark on the floor before the face, no nearer face
-            if on_floor and FOOT_DOUBTS & set(result.doubts):
+            if need_floor_foot and FOOT_DOUBTS & set(result.doubts):
                 continue  # its foot off the floor too: no nearer foot
             conf = result.confidence or 0.0
             if (

@@ -235,7 +235,9 @@ def sides_run_up(
     face's colour just inside a side runs on past that row (:func:`_margin_runs_up`). Then
     the short top is a line on the face (a print's edge, a tape, a line of the picture),
     not where the face ends; a box under a print on the wall has none there (the print's
-    sides elsewhere, or its colour above the box's top). False with no side read."""
+    sides elsewhere, or its colour above the box's top). False with no side read, and
+    when a side read has under 2 x RUN_UP_SKIP_PX rows between the two tops (too short a
+    way up to tell a line from the face's end)."""
     if len(lines) < 4:
         return False
     read = 0

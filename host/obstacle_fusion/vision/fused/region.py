@@ -822,12 +822,11 @@ def raise_top_by_sides(
 
 def _held(
     strip: npt.NDArray[Any],
-    own: npt.NDArray[Any],
     dist: npt.NDArray[Any],
     limit: float,
     weights: npt.NDArray[np.float32],
 ) -> npt.NDArray[np.bool_]:
-    """The rows of a side's ``strip`` holding the face's colour ``own`` in the sides' walk:
+    """The rows of a side's ``strip`` holding the face's colour in the sides' walk:
     within ``limit`` of it (``dist``: each row's distance from it), or within
     MAX_FACE_DISTANCE of it and ``limit`` of the row DRIFT_ROWS under it (a slow drift), the
     colour differences weighed by ``weights`` (L, a, b)."""
@@ -887,7 +886,7 @@ def _sides_walk(
         # slowly away from what it is below the top: a row within the face's spread of the
         # row DRIFT_ROWS under it (and within MAX_FACE_DISTANCE of the colour below the
         # top) is taken as the face's still, while the background starts with a step
-        held = _held(strip, own, d_strip, limit, np.ones(3, np.float32))
+        held = _held(strip, d_strip, limit, np.ones(3, np.float32))
         weights = _face_colour_weights(own, median_of(beside[k + 2 :], axis=0))
         if SHADED_SIDE_WALK and weights[0] < 1.0:
             # a gloss's highlight or the light's fall-off changes a coloured face's
@@ -896,7 +895,7 @@ def _sides_walk(
             # also where its lightness alone left the face's spread
             d_shaded = row_norms((strip - own) * weights)
             limit_shaded = spread_limit(d_shaded[k + 2 :], MIN_TOP_DISTANCE)
-            held |= _held(strip, own, d_shaded, limit_shaded, weights) & (
+            held |= _held(strip, d_shaded, limit_shaded, weights) & (
                 row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
             )
         on &= held
@@ -1788,7 +1787,8 @@ def enclose_beside_foot(
         return None  # the print's own colour, or the floor's beside it: no margin
     out = []
     for profile, p in zip(profiles, starts, strict=True):
-        run = _ring_run(profile[p:], ring, reach_u + 1)
+        # the margin must end within the window (past it: a wall of that colour)
+        run = _ring_run(profile[p:], ring, min(reach_u + 1, profile.shape[0] - p))
         if run < 2:
             return None  # the colour runs on (a wall of it), or no margin past the side
         out.append(p + run)
@@ -1846,7 +1846,6 @@ def frame_top_by_margin(
         median_u8(lab[r0 - top : r1 - top, q : right - left - q].reshape(-1, 3), axis=0),
         np.float32,
     )
-    reach = foot - top
     tops = []
     far_in = right - left - RING_SKIP
     for lo, hi in ((RING_SKIP, q + RING_SKIP), (far_in - q, far_in)):
@@ -1854,8 +1853,8 @@ def frame_top_by_margin(
         near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
         margin = (near <= FOOT_FRAME_AGREE)[::-1]
         miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
-        if not miss.any() or int(np.argmax(miss)) >= reach - FOOT_FRAME_GAP:
-            return None  # the colour runs on up to the top found: no frame's top below it
+        if not miss.any():
+            return None  # the colour runs on up past the top found: no frame's top below it
         tops.append(r1 - int(np.argmax(miss)))
     new_top = max(tops)
     if abs(tops[0] - tops[1]) > max(2, (foot - top) // 20):
