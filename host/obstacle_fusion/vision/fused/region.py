@@ -1649,6 +1649,18 @@ FOOT_FRAME_GAP = 3
 FOOT_FRAME_AGREE = 10.0
 
 
+def _margin_run_up(part: npt.NDArray[Any], ring: npt.NDArray[np.float32]) -> int | None:
+    """How many rows a frame's side margin of colour ``ring`` runs up ``part`` (rows x
+    columns x Lab, read from its last row up; on each row some pixel within
+    FOOT_FRAME_AGREE): it ends at the first FOOT_FRAME_GAP rows in a row without it. None
+    when it never ends (the colour runs on up past ``part``)."""
+    rows = np.asarray(part, np.float32)
+    near = row_norms((rows - ring).reshape(-1, 3)).reshape(rows.shape[:2]).min(axis=1)
+    margin = (near <= FOOT_FRAME_AGREE)[::-1]
+    miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
+    return int(np.argmax(miss)) if miss.any() else None
+
+
 def enclose_from_foot(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -1709,14 +1721,10 @@ def enclose_from_foot(
     # found side (the print's side is not known: the found one may be inside it)
     tops = []
     for lo, hi in ((new_left, left), (right + 1, new_right + 1)):
-        part = lab[: new_bottom - r0, lo - c0 : hi - c0].astype(np.float32)
-        near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
-        margin = (near <= FOOT_FRAME_AGREE)[::-1]
-        # the run up ends at the first FOOT_FRAME_GAP rows in a row without the margin
-        miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
-        if not miss.any() or int(np.argmax(miss)) >= reach_up:
+        up = _margin_run_up(lab[: new_bottom - r0, lo - c0 : hi - c0], ring)
+        if up is None or up >= reach_up:
             return None  # the colour runs on up: a wall of it, no frame
-        tops.append(new_bottom - int(np.argmax(miss)))
+        tops.append(new_bottom - up)
     new_top = max(tops)
     if new_top >= top or abs(tops[0] - tops[1]) > max(2, (bottom - top) // 10):
         return None  # the frame's top stands above the print's, level across the face
@@ -1796,13 +1804,10 @@ def enclose_beside_foot(
     # up the frame's side margins, as enclose_from_foot reads them
     tops = []
     for c_lo, c_hi in ((new_left, left), (right + 1, new_right + 1)):
-        part = lab[:b, c_lo - c0 : c_hi - c0].astype(np.float32)
-        near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
-        margin = (near <= FOOT_FRAME_AGREE)[::-1]
-        miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
-        if not miss.any() or int(np.argmax(miss)) >= reach_up:
+        up = _margin_run_up(lab[:b, c_lo - c0 : c_hi - c0], ring)
+        if up is None or up >= reach_up:
             return None  # the colour runs on up: a wall of it, no frame
-        tops.append(bottom - int(np.argmax(miss)))
+        tops.append(bottom - up)
     new_top = max(tops)
     if new_top >= top + k_v or abs(tops[0] - tops[1]) > max(2, (bottom - top) // 10):
         return None  # the frame's top level across the face, not far under the print's
@@ -1849,13 +1854,10 @@ def frame_top_by_margin(
     tops = []
     far_in = right - left - RING_SKIP
     for lo, hi in ((RING_SKIP, q + RING_SKIP), (far_in - q, far_in)):
-        part = lab[: r1 - top, lo:hi].astype(np.float32)
-        near = row_norms((part - ring).reshape(-1, 3)).reshape(part.shape[:2]).min(axis=1)
-        margin = (near <= FOOT_FRAME_AGREE)[::-1]
-        miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
-        if not miss.any():
+        up = _margin_run_up(lab[: r1 - top, lo:hi], ring)
+        if up is None:
             return None  # the colour runs on up past the top found: no frame's top below it
-        tops.append(r1 - int(np.argmax(miss)))
+        tops.append(r1 - up)
     new_top = max(tops)
     if abs(tops[0] - tops[1]) > max(2, (foot - top) // 20):
         return None  # not level across the face
