@@ -1825,22 +1825,23 @@ def test_with_the_rig_a_face_whose_foot_lies_below_the_image_is_measured_from_it
     assert not missed.detected and "outside the image" in missed.reason
 
 
-@pytest.mark.parametrize("runs_up", [True, False])
-def test_with_no_rig_a_taller_swept_face_is_taken_only_where_its_sides_run_up(
-    monkeypatch: pytest.MonkeyPatch, runs_up: bool
-) -> None:
-    """The level reading's top a line on the face (a print's edge): a swept pitch's face
-    three times as tall, as sure, on the same columns, is the face when its sides run on
-    above that top (sides_run_up), and something above the face taken in when not."""
+def swept_answer(
+    monkeypatch: pytest.MonkeyPatch,
+    level: tuple[float, float, tuple[float, float, float, float]],
+    swept: tuple[float, float, tuple[float, float, float, float]],
+    runs_up: bool,
+) -> float | None:
+    """The height reported when the level view reads ``level`` and every swept pitch reads
+    ``swept`` (confidence, height, box) on one contact row, with sides_run_up answering
+    ``runs_up``."""
     image, truth, view, depth = no_rig_room(4001)
     row = int(round(view.cy + view.fy * 0.20 / depth))
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
         if kwargs.get("floor_known"):
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
-        if self.view.rig.camera_pitch_deg == 0:
-            return fake_face(truth, True, 0.4, height_m=0.2, box_px=(100, 150, 200, 200))
-        return fake_face(truth, True, 0.4, height_m=0.6, box_px=(100, 50, 200, 200))
+        conf, height, box = level if self.view.rig.camera_pitch_deg == 0 else swept
+        return fake_face(truth, True, conf, height_m=height, box_px=box)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
@@ -1848,8 +1849,23 @@ def test_with_no_rig_a_taller_swept_face_is_taken_only_where_its_sides_run_up(
     monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
     monkeypatch.setattr(measure, "sides_run_up", lambda *a: runs_up)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected
-    assert res.height_m == pytest.approx(0.6 if runs_up else 0.2)
+    return res.height_m if res.detected else None
+
+
+#: A face's box read to a line on it, and the whole face on the same foot and columns.
+SHORT_BOX = (100.0, 150.0, 200.0, 200.0)
+TALL_BOX = (100.0, 50.0, 200.0, 200.0)
+
+
+@pytest.mark.parametrize("runs_up", [True, False])
+def test_with_no_rig_a_taller_swept_face_is_taken_only_where_its_sides_run_up(
+    monkeypatch: pytest.MonkeyPatch, runs_up: bool
+) -> None:
+    """The level reading's top a line on the face (a print's edge): a swept pitch's face
+    three times as tall, as sure, on the same columns, is the face when its sides run on
+    above that top (sides_run_up), and something above the face taken in when not."""
+    got = swept_answer(monkeypatch, (0.4, 0.2, SHORT_BOX), (0.4, 0.6, TALL_BOX), runs_up)
+    assert got == pytest.approx(0.6 if runs_up else 0.2)
 
 
 @pytest.mark.parametrize("runs_up", [True, False])
@@ -1859,21 +1875,5 @@ def test_with_no_rig_a_level_face_whose_sides_run_up_keeps_a_surer_short_face_ou
     """A surer swept face a third as tall, its top a line on the level face (a picture's
     edge inside a framed poster): the level face stays where its sides run on above that
     line, and gives way to the surer face where they do not."""
-    image, truth, view, depth = no_rig_room(4001)
-    row = int(round(view.cy + view.fy * 0.20 / depth))
-
-    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
-        if kwargs.get("floor_known"):
-            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
-        if self.view.rig.camera_pitch_deg == 0:
-            return fake_face(truth, True, 0.3, height_m=0.6, box_px=(100, 50, 200, 200))
-        return fake_face(truth, True, 0.7, height_m=0.2, box_px=(100, 150, 200, 200))
-
-    monkeypatch.setattr(FusedMethod, "run", fake_run)
-    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
-    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
-    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
-    monkeypatch.setattr(measure, "sides_run_up", lambda *a: runs_up)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected
-    assert res.height_m == pytest.approx(0.6 if runs_up else 0.2)
+    got = swept_answer(monkeypatch, (0.3, 0.6, TALL_BOX), (0.7, 0.2, SHORT_BOX), runs_up)
+    assert got == pytest.approx(0.6 if runs_up else 0.2)
