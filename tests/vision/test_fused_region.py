@@ -1197,8 +1197,56 @@ def test_the_sides_carry_the_top_across_a_band_in_the_walls_shade() -> None:
 
 
 def test_a_band_taller_than_the_gap_ends_the_face() -> None:
-    """SIDE_WALK_GAP_M (5 cm: 15 rows here) is the tallest band crossed."""
+    """SIDE_WALK_GAP_M (5 cm: 15 rows here) is the tallest band crossed when the face
+    does not come back above it for as many rows as the band is tall (14 rows of the
+    face over an 18-row band: TAPE_RETURN_SHARE)."""
     assert raise_by_sides(taped_scene(tape_rows=18), TAPE_LOW) == TAPE_LOW
+
+
+TALL_TAPE_LOW = 124  # a taller band's lower edge: 76 rows of the face found under it
+
+
+def tall_taped_scene(tape_rows: int) -> npt.NDArray[np.uint8]:
+    """wall_scene with a band of the wall's shade across the face, rows
+    TALL_TAPE_LOW - tape_rows .. TALL_TAPE_LOW (a tape 6-14 % of a face's height)."""
+    img = wall_scene()
+    img[TALL_TAPE_LOW - tape_rows : TALL_TAPE_LOW, LEFT:RIGHT] = TAPE
+    return img
+
+
+def test_a_band_taller_than_the_gap_is_crossed_where_the_face_comes_back() -> None:
+    """A 20-row band (7 cm at 1 m, over the 15-row gap) with 24 rows of the face above
+    it: a tape across a tall face (photo/1370, 1391, procedural/1394 hard, -57..-72 %).
+    The face comes back above the band, so the walk goes on to the face's own top."""
+    img = tall_taped_scene(20)
+    assert abs(raise_by_sides(img, TALL_TAPE_LOW) - FACE_TOP) <= 2
+
+
+def test_the_tall_band_rule_off_ends_the_face(monkeypatch: pytest.MonkeyPatch) -> None:
+    """TAPE_BAND_SHARE 0: only bands up to the gap are crossed (the walk stops at the
+    band's lower edge)."""
+    monkeypatch.setattr(region, "TAPE_BAND_SHARE", 0.0)
+    assert raise_by_sides(tall_taped_scene(20), TALL_TAPE_LOW) == TALL_TAPE_LOW
+
+
+def test_a_band_taller_than_its_share_of_the_face_ends_the_face(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A band is crossed up to TAPE_BAND_SHARE of the face found under it: at 0.2 (15
+    of the 76 rows, the gap itself) the 20-row band ends the face."""
+    monkeypatch.setattr(region, "TAPE_BAND_SHARE", 0.2)
+    assert raise_by_sides(tall_taped_scene(20), TALL_TAPE_LOW) == TALL_TAPE_LOW
+
+
+def test_cross_bands_needs_the_face_back_for_as_many_rows() -> None:
+    """The walk's flags (True: the face's at both sides) from row 30 up: a 10-row band
+    with the face back over 10 rows above it is crossed; back over 7 rows only (under
+    TAPE_RETURN_SHARE 0.8 of 10), it is not; a band over ``tape`` rows is not."""
+    on = [True] * 10 + [False] * 10 + [True] * 11
+    assert region._cross_bands(on, 20, 3, 12) == 0
+    short = [False] * 3 + [True] * 7 + [False] * 10 + [True] * 11
+    assert region._cross_bands(short, 20, 3, 12) == 20
+    assert region._cross_bands(on, 20, 3, 9) == 20
 
 
 def test_a_background_pole_in_line_with_the_sides_is_not_the_face() -> None:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import method, scoring
+from obstacle_fusion.vision.fused import method, region, scoring
 from obstacle_fusion.vision.fused.confidence import TOP_FROM_SIDES
 from obstacle_fusion.vision.fused.scoring import closing_top
 from obstacle_fusion.vision.measure import Measurer
@@ -126,8 +126,12 @@ def test_a_gloss_band_across_a_tall_face_is_not_its_top(
     """Room procedural/353, ordinary, with the rig (a tuning room): a tall gloss face whose
     lighter upper half differs from its foot's shade; the search took the gloss band's
     edge for the top (-44 %). The sides run on to the real top, a strong edge that ends
-    at them: that is the face's top (the doubt says no score chose it)."""
+    at them: that is the face's top (the doubt says no score chose it). (With the rule
+    off, the sides' walk across a tall band, region.TAPE_BAND_SHARE, would reach the top
+    by itself: it is off too.)"""
     monkeypatch.setattr(scoring, "CLOSED_STOP", closed_stop)
+    if not within:
+        monkeypatch.setattr(region, "TAPE_BAND_SHARE", 0.0)
     image, truth, spec = render_room("procedural", 353, False)
     res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None

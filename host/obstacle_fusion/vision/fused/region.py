@@ -801,12 +801,16 @@ def raise_top_by_sides(
     if top - r0 < 4:
         return top
     gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
+    # a taller band across the face (TAPE_BAND_SHARE of the face found under it) is
+    # crossed where the face comes back above it for as many rows again
+    tape = int(TAPE_BAND_SHARE * (bottom - top))
+    need = max(gap, 2 * tape)
     # first only the rows a first step up reads: most tops do not move, and the whole
     # reach (up to 1 m of rows) would cost most of the stage's time
-    short = max(r0, top - gap - SNAP_ROWS - 2)
-    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap, read)
-    if end is not None and short > r0 and end <= gap + 1:  # it may run on above
-        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap, read)
+    short = max(r0, top - need - SNAP_ROWS - 2)
+    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap, read, tape)
+    if end is not None and short > r0 and end <= need + 1:  # it may run on above
+        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap, read, tape)
         short = r0
     if end is None:
         return top  # a side that does not part the face from its surroundings
@@ -846,11 +850,13 @@ def _sides_walk(
     c1: int,
     gap: int,
     read: tuple[bool, bool] = (True, True),
+    tape: int = 0,
 ) -> int | None:
     """The walk of :func:`raise_top_by_sides` over the view's rows r0..bottom-1: the band
     row it reached (``top - r0`` if none above), or None when a side does not part the
     face from its surroundings along the face. ``read``: the (left, right) sides walked
-    (one at the view's border has nothing beside it)."""
+    (one at the view's border has nothing beside it); ``tape``: the tallest band across
+    the face crossed past ``gap`` (:func:`_cross_bands`)."""
     k = top - r0
     on = np.ones(bottom - r0, bool)
     span = 2 * (BESIDE_COLUMNS + SIDE_SKIP)  # what is beside a side, its blur, the face
@@ -899,7 +905,37 @@ def _sides_walk(
                 row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
             )
         on &= held
-    return walk_on(on.tolist(), k, -1, gap)
+    flags = on.tolist()
+    return _cross_bands(flags, walk_on(flags, k, -1, gap), gap, tape)
+
+
+#: A band across the face taller than SIDE_WALK_GAP_M (a tape, a label strip: in the
+#: generated faces 6-14 % of the face's height, 30-60 % down it) is crossed by the sides'
+#: walk up to this share of the face found under it, when the face comes back above it.
+TAPE_BAND_SHARE = 0.6
+#: ... over at least this share of as many rows above the band as the band is tall.
+TAPE_RETURN_SHARE = 0.8
+
+
+def _cross_bands(on: list[bool], end: int, gap: int, band: int) -> int:
+    """The sides' walk (``on``: per row, the face's at both sides; ``end``: where the walk
+    over gaps of ``gap`` rows stopped) carried on across bands of ``gap`` .. ``band`` rows
+    that are not the face's: a tape across the face stops its colour at both sides, and
+    above it the face comes back, over at least TAPE_RETURN_SHARE of as many rows as the
+    band is tall (the face goes on above a tape; above a real top, a background that
+    matches the face's colour and parts from what is beside both sides for that long is
+    rare)."""
+    while band > gap:
+        j = end - 1
+        while j >= 0 and not on[j]:
+            j -= 1
+        rows = end - 1 - j  # the band's rows
+        if j < 0 or rows > band or j + 1 < rows:
+            break
+        if sum(on[j + 1 - rows : j + 1]) < TAPE_RETURN_SHARE * rows:
+            break
+        end = walk_on(on, j, -1, gap)
+    return end
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
