@@ -36,6 +36,7 @@ from obstacle_fusion.vision.fused.confidence import (
 )
 from obstacle_fusion.vision.fused.floor_contact import (
     contact_rows,
+    face_apart_from_floor,
     face_runs_below,
     sides_reach_foot,
     sides_run_up,
@@ -333,6 +334,20 @@ class Measurer:
                         ):
                             best, best_row = low, low_row
                             break
+                    else:
+                        # a face standing on the top of a wider face found, less surely,
+                        # on a lower row stands on that box (or behind it), not on the
+                        # floor: the lower face is nearer, and the sonar ranges it
+                        for low_row, low in lower_faces:
+                            if (
+                                FLOOR_IN_FACE not in low.doubts
+                                and not _small(low)
+                                and low.box_px is not None
+                                and _stands_on_top(result.box_px, low.box_px)
+                                and face_apart_from_floor(image, low.box_px)
+                            ):
+                                best, best_row = low, low_row
+                                break
                     break
                 if result.detected:
                     lower_faces.append((row, result))
@@ -923,6 +938,14 @@ SMALL_SHARE = 0.5
 #: With no rig, the last-resort sweep's face replaces an unsure face (under
 #: ESTIMATE_ACCEPT) only when its sides read the pitch and it reaches this confidence.
 SWEPT_OVER_UNSURE = 0.5
+#: With no rig, a sure face standing on the top of a lower, unsure one (:func:`_stands_on_top`:
+#: an object on a box or behind it, its foot on the box's top edge) gives way to that
+#: face when it is this many times as wide or more ...
+ON_TOP_WIDER = 1.3
+#: ... the upper face's foot at most this many pixels under the lower face's top ...
+ON_TOP_BELOW_PX = 3.0
+#: ... and at most this share of the lower face's height above it.
+ON_TOP_ABOVE = 0.5
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
@@ -1194,6 +1217,30 @@ def _spans(
         and upper[0] <= lower[0]
         and upper[2] >= lower[2]
         and upper[2] - upper[0] >= SPAN_FACTOR * (lower[2] - lower[0])
+    )
+
+
+def _stands_on_top(
+    upper: tuple[float, float, float, float] | None,
+    lower: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether a face box stands on the top of a lower one (input pixel boxes x0, y0, x1,
+    y1): its foot at most ON_TOP_BELOW_PX under the lower box's top and no more than
+    ON_TOP_ABOVE of the lower box's height above it (the top surface seen from above, the
+    upper thing set back on it or behind it), its columns within the lower box's (to
+    ROW_JITTER_PX), the lower box at least ON_TOP_WIDER times as wide and no strip (at
+    least STRIP_MAX_ASPECT as tall as wide: not a shadow or a floor mark before the
+    upper face, nor its reflection on a glossy floor, as wide as the face)."""
+    if upper is None or lower is None:
+        return False
+    low_w = lower[2] - lower[0]
+    low_h = lower[3] - lower[1]
+    return (
+        low_h >= STRIP_MAX_ASPECT * low_w
+        and low_w >= ON_TOP_WIDER * (upper[2] - upper[0])
+        and upper[0] >= lower[0] - ROW_JITTER_PX
+        and upper[2] <= lower[2] + ROW_JITTER_PX
+        and lower[1] - ON_TOP_ABOVE * low_h <= upper[3] <= lower[1] + ON_TOP_BELOW_PX
     )
 
 

@@ -346,3 +346,36 @@ def face_runs_below(
         and np.linalg.norm(s_m - f_m) >= FLOOR_APART
         and np.linalg.norm(m_m - f_m) >= MARGIN_FLOOR_APART
     )
+
+
+# a face of its own colour, not a patch of the floor before a face: its middle (the middle
+# share FACE_MIDDLE of its box each way) this far (Lab, 8-bit) from the floor under its foot
+# (a gravel patch read as a face stood 6 apart; boxes on the fresh rooms 30-49)
+FACE_FLOOR_APART = 15.0
+FACE_MIDDLE = 0.6
+FLOOR_UNDER_PX = (3, 9)  # the rows under a face's foot read as the floor there
+
+
+def face_apart_from_floor(
+    image: npt.NDArray[np.uint8], box: tuple[float, float, float, float]
+) -> bool:
+    """Whether a face box (input pixels x0, y0, x1, y1) has a colour of its own: the median
+    Lab colour of its middle at least FACE_FLOOR_APART from the floor's just under its foot
+    (the same columns). A patch of the floor taken for a face (a stretch of gravel between
+    a face's foot and a line nearer the lens) has the floor's colour. A grey image, or a
+    foot at the image's lower border: False."""
+    if image.ndim != 3:
+        return False
+    left, top, right, foot = box
+    w, h = right - left, foot - top
+    if w <= 0 or h <= 0:
+        return False
+    m = 0.5 * (1.0 - FACE_MIDDLE)
+    middle = _lab_pixels(image, top + m * h, foot - m * h, left + m * w, right - m * w)
+    a, z = FLOOR_UNDER_PX
+    floor = _lab_pixels(image, foot + a, foot + z, left, right)
+    if not (len(middle) and len(floor)):
+        return False
+    return bool(
+        np.linalg.norm(np.median(middle, axis=0) - np.median(floor, axis=0)) >= FACE_FLOOR_APART
+    )
