@@ -154,9 +154,13 @@ def side_candidates(
             lines |= line_columns(
                 grey[top_strip : rb - 1], [p for p in peaks.tolist() if p not in seen]
             )
-        if any(all_lines) and len(lines) <= LINE_MOST:
-            # (a pattern of joints, bricks' or planks', is edges everywhere: not this)
+        if any(all_lines) and (len(lines) <= LINE_MOST or JOINT_PATTERN_ENDS):
             rest = peaks[~np.isin(peaks, sorted(lines))]
+            if len(lines) > LINE_MOST:
+                # a pattern of joints (a brick or plank print) is lines all over the
+                # face: not the strongest peaks between them (a brick's own edge) but
+                # those beyond its outermost lines, where the pattern ends: its sides
+                rest = rest[(rest < min(lines)) | (rest > max(lines))]
             more = _rank_sides(
                 ax3,
                 prof_v,
@@ -199,8 +203,11 @@ LINE_BESIDE = 4
 LINE_SAME = 0.25
 LINE_SAME_MAX = 8.0
 LINE_CONTRAST = 12.0
-#: ... and only where at most this many of the peaks are such lines' edges (two seams)
+#: ... where at most this many of the peaks are such lines' edges (two seams) ...
 LINE_MOST = 8
+#: ... and, where more are (a pattern of joints: a brick or plank print), the strongest
+#: peaks beyond the pattern's outermost lines (where it ends) are (session 29, `rigphoto`)
+JOINT_PATTERN_ENDS = True
 
 
 def line_columns(strip: npt.NDArray[np.uint8], cols: list[int]) -> set[int]:
