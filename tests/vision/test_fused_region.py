@@ -1240,13 +1240,43 @@ def test_a_band_taller_than_its_share_of_the_face_ends_the_face(
 
 def test_cross_bands_needs_the_face_back_for_as_many_rows() -> None:
     """The walk's flags (True: the face's at both sides) from row 30 up: a 10-row band
-    with the face back over 10 rows above it is crossed; back over 7 rows only (under
-    TAPE_RETURN_SHARE 0.8 of 10), it is not; a band over ``tape`` rows is not."""
+    with the face back over 10 rows above it is crossed; back over 8 rows (TAPE_RETURN_SHARE
+    0.8 of 10) it is still, over 7 rows only it is not; a band of ``tape`` rows is crossed,
+    one over ``tape`` rows is not."""
     on = [True] * 10 + [False] * 10 + [True] * 11
     assert region._cross_bands(on, 20, 3, 12) == 0
+    back8 = [False] * 2 + [True] * 8 + [False] * 10 + [True] * 11
+    assert region._cross_bands(back8, 20, 3, 12) == 2
     short = [False] * 3 + [True] * 7 + [False] * 10 + [True] * 11
     assert region._cross_bands(short, 20, 3, 12) == 20
+    assert region._cross_bands(on, 20, 3, 10) == 0
     assert region._cross_bands(on, 20, 3, 9) == 20
+
+
+LOW_TAPE_LOW = 160  # a band's lower edge with 40 rows of the face found under it
+
+
+@pytest.mark.parametrize("tape_rows, top", [(24, FACE_TOP), (26, LOW_TAPE_LOW)])
+def test_a_band_is_crossed_up_to_its_share_of_the_face_under_it(tape_rows: int, top: int) -> None:
+    """TAPE_BAND_SHARE 0.6 of the 40 rows found under the band: a 24-row band is crossed
+    (the face comes back above it up to its top), a 26-row band is not."""
+    img = wall_scene()
+    img[LOW_TAPE_LOW - tape_rows : LOW_TAPE_LOW, LEFT:RIGHT] = TAPE
+    assert abs(raise_by_sides(img, LOW_TAPE_LOW) - top) <= 1
+
+
+def test_a_band_whose_return_lies_above_the_first_read_is_crossed() -> None:
+    """The sides' walk reads first only the rows just above the top (twice the tallest
+    band crossed); a band whose return runs on above them makes it read the whole reach,
+    so the answer is the full walk's: a face from row 20, found from row 124 down, a
+    20-row band at rows 40..60 and the face back above it."""
+    img = wall_scene()
+    rng = np.random.default_rng(5)
+    rows = FACE_TOP - 20, RIGHT - LEFT, 3
+    face = np.array((40.0, 40.0, 170.0)) + rng.normal(0, 4.0, rows)
+    img[20:FACE_TOP, LEFT:RIGHT] = np.clip(face, 0, 255).astype(np.uint8)
+    img[40:60, LEFT:RIGHT] = TAPE
+    assert abs(raise_by_sides(img, TALL_TAPE_LOW) - 20) <= 2
 
 
 def test_a_background_pole_in_line_with_the_sides_is_not_the_face() -> None:

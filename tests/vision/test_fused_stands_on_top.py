@@ -9,6 +9,7 @@ import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.fused import FusedMethod
+from obstacle_fusion.vision.fused.confidence import FLOOR_IN_FACE
 from obstacle_fusion.vision.fused.floor_contact import FACE_FLOOR_APART, face_apart_from_floor
 from obstacle_fusion.vision.measure import Measurer, _stands_on_top
 from obstacle_fusion.vision.types import Measurement
@@ -19,16 +20,30 @@ LOWER = (100.0, 200.0, 300.0, 280.0)  # a box 200 px wide, 80 tall, its top on r
 UPPER = (170.0, 100.0, 230.0, 195.0)  # a can 60 px wide set back on its top
 
 
-def test_a_narrow_face_set_back_on_a_wider_box_stands_on_it() -> None:
-    assert _stands_on_top(UPPER, LOWER)
+@pytest.mark.parametrize(
+    "upper",
+    [
+        UPPER,
+        (170.0, 100.0, 230.0, 202.0),  # its foot 2 px down the box's top (ON_TOP_BELOW_PX 3)
+        (170.0, 100.0, 230.0, 162.0),  # its foot 38 px above it (ON_TOP_ABOVE: 40 px)
+        (125.0, 100.0, 275.0, 195.0),  # the box 1.33 times as wide (ON_TOP_WIDER 1.3)
+    ],
+)
+def test_a_narrow_face_set_back_on_a_wider_box_stands_on_it(
+    upper: tuple[float, float, float, float],
+) -> None:
+    assert _stands_on_top(upper, LOWER)
 
 
 @pytest.mark.parametrize(
     "upper, lower",
     [
         ((170.0, 100.0, 230.0, 210.0), LOWER),  # its foot 10 px down the lower face
+        ((170.0, 100.0, 230.0, 205.0), LOWER),  # its foot 5 px down it
         ((170.0, 100.0, 230.0, 150.0), LOWER),  # its foot over half the box's height above
+        ((170.0, 100.0, 230.0, 155.0), LOWER),  # its foot 45 px above (half the box: 40)
         ((80.0, 100.0, 140.0, 195.0), LOWER),  # it overhangs the box's left side
+        ((260.0, 100.0, 320.0, 195.0), LOWER),  # it overhangs the box's right side
         ((120.0, 100.0, 280.0, 195.0), LOWER),  # nearly as wide (a reflection, a shadow)
         (UPPER, (100.0, 200.0, 300.0, 230.0)),  # the lower face a strip (a floor mark)
         (UPPER, None),
@@ -52,19 +67,36 @@ def test_a_face_of_its_own_colour_is_apart_from_the_floor() -> None:
     assert face_apart_from_floor(boxed((150, 60, 60), (90, 90, 90)), LOWER)
 
 
+def test_a_face_just_over_the_limit_is_apart() -> None:
+    # grey 108 on grey 90: 18 apart in 8-bit Lab (FACE_FLOOR_APART 15)
+    assert face_apart_from_floor(boxed((108, 108, 108), (90, 90, 90)), LOWER)
+
+
 def test_a_patch_of_the_floor_is_not() -> None:
     # a patch a shade off the floor (a stretch of gravel read as a face): under the limit
     assert FACE_FLOOR_APART > 6.0
     assert not face_apart_from_floor(boxed((94, 94, 94), (90, 90, 90)), LOWER)
+    # grey 102 on grey 90: 12 apart, under FACE_FLOOR_APART still
+    assert not face_apart_from_floor(boxed((102, 102, 102), (90, 90, 90)), LOWER)
     assert not face_apart_from_floor(boxed((150, 60, 60), (90, 90, 90))[:, :, 0], LOWER)
 
 
-@pytest.mark.parametrize("apart, expected", [(True, 0.30), (False, 0.20)])
+@pytest.mark.parametrize(
+    "apart, low_fields, expected",
+    [
+        (True, {}, 0.30),
+        (False, {}, 0.20),
+        # a lower face that took floor in settles no row; a small one is no box
+        (True, {"doubts": [FLOOR_IN_FACE]}, 0.20),
+        (True, {"height_px": 10.0, "width_px": 10.0}, 0.20),
+    ],
+)
 def test_with_no_rig_a_face_on_a_lower_boxs_top_gives_way_to_the_box(
-    apart: bool, expected: float, monkeypatch: pytest.MonkeyPatch
+    apart: bool, low_fields: dict[str, object], expected: float, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The box is found, unsure, on the lower row; a narrower sure face stands on its top
-    edge on the row above: the box is taken when it has a colour of its own."""
+    edge on the row above: the box is taken when it has a colour of its own (and neither
+    took floor in nor is small)."""
 
     image, truth, view, depth = no_rig_room(4005)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.20, 0.30)}
@@ -79,7 +111,8 @@ def test_with_no_rig_a_face_on_a_lower_boxs_top_gives_way_to_the_box(
         height = round(self.view.rig.camera_height_m, 2)
         if self.view.rig.camera_pitch_deg or height not in row_at:  # other pitches, rows
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
-        return fake_face(truth, True, sure[height], height_m=height, box_px=boxes[height])
+        fields = low_fields if height == 0.30 else {}
+        return fake_face(truth, True, sure[height], height_m=height, box_px=boxes[height], **fields)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
@@ -88,6 +121,7 @@ def test_with_no_rig_a_face_on_a_lower_boxs_top_gives_way_to_the_box(
     monkeypatch.setattr(measure, "face_runs_below", lambda *a: False)
     monkeypatch.setattr(measure, "face_apart_from_floor", lambda *a: apart)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected, res.reason
     assert res.camera_height_m == pytest.approx(expected, abs=0.01)
 
 

@@ -919,9 +919,9 @@ TAPE_RETURN_SHARE = 0.8
 
 def _cross_bands(on: list[bool], end: int, gap: int, band: int) -> int:
     """The sides' walk (``on``: per row, the face's at both sides; ``end``: where the walk
-    over gaps of ``gap`` rows stopped) carried on across bands of ``gap`` .. ``band`` rows
-    that are not the face's: a tape across the face stops its colour at both sides, and
-    above it the face comes back, over at least TAPE_RETURN_SHARE of as many rows as the
+    over gaps of ``gap`` rows stopped) carried on across bands of over ``gap`` and up to
+    ``band`` rows that are not the face's: a tape across the face stops its colour at both
+    sides, and above it the face comes back, over at least TAPE_RETURN_SHARE of as many rows as the
     band is tall (the face goes on above a tape; above a real top, a background that
     matches the face's colour and parts from what is beside both sides for that long is
     rare)."""

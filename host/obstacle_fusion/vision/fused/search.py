@@ -114,7 +114,9 @@ def side_candidates(
     8-bit Lab; with both, a column whose edge near the floor is a shading ramp between two
     shades of one colour (:func:`ramp_columns`) is no side; with ``rig_known`` (the camera's
     height and pitch given, not tried), where thin lines (:func:`line_columns`) took every
-    ranked place of a side, the strongest other columns are its candidates too."""
+    ranked place of a side, the strongest other columns are its candidates too (where over
+    LINE_MOST peaks are lines' edges, a pattern of joints, only those beyond its outermost
+    lines: JOINT_PATTERN_ENDS)."""
     v = view
     k = int(clamp(round(v.fy * 0.05 / depth), 3, 25))
     top_strip = max(0, rb - 1 - k)
