@@ -341,6 +341,15 @@ class FusedMethod:
             # a plain piece of a print chosen inside the face's own clean outline (a doubt
             # when no top score chose the outline's top)
             enclosed = enclosing_outline(v, ax, ay, best, cands, fits)
+            if (
+                enclosed is not None
+                and enclosed[0].closing is not None
+                and vb0 - enclosed[0].rb > FOOT_ABOVE_SHARE * tol
+            ):
+                # a pair closed round the piece only where its foot is on the floor the
+                # range predicts: a print standing above it is _outline's (a margin's
+                # foot below it)
+                enclosed = None
             if enclosed is not None:
                 outer, own_top = enclosed
                 rivals = [outer] + [c for c in rivals if not nested(c, outer)]

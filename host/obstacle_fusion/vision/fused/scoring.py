@@ -106,6 +106,9 @@ class Candidate:
     #: the closing top passed the texture condition only because the texture ends at it
     #: (PRINT_ENDS_TEXTURE: a print over the face up to its top)
     print_top: bool = False
+    #: the evidence of the face closed at ``closing`` alone (its shape fit without the
+    #: face-shade terms, as an outline's)
+    closing_evidence: float = 0.0
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -361,9 +364,12 @@ def score_pairs(
         )
         closing = closing_top(feats, tops, s0, s1, i, view.cy)
         print_top = False
+        c_ev = 0.0
         if closing is not None:
             kc = s0 + int(np.flatnonzero(tops[s0:s1] == closing)[0])
             print_top = bool(textured[kc] > textured[i] + TEXTURE_MARGIN)
+            c_ev = _edge_evidence(csum_s, rb, closing, a, b, noise, float(snr_tops[kc]), snr_b)
+            c_ev *= math.sqrt(min(1.0, 2.0 * float(o_fit[kc]))) * (0.5 + 0.5 * prior_b)
         if debug and closing is not None:
             log.debug("  pair %d-%d rb %d top %d: closing top %d", ul, ur, rb, vt, closing)
         outline, o_ev = None, 0.0
@@ -404,9 +410,22 @@ def score_pairs(
                 outline,
                 clamp(o_ev, 0.0, 1.0),
                 print_top,
+                clamp(c_ev, 0.0, 1.0),
             )
         )
     return cands
+
+
+def _edge_evidence(
+    csum_s: Any, rb: int, top: int, a: int, b: int, noise: float, snr_top: float, snr_b: float
+) -> float:
+    """How clearly a face's edges from ``top`` down to ``rb`` stand out (0..1): its weaker
+    side and its weaker horizontal edge, in noise levels (side columns a and b of the
+    side tables' running sums ``csum_s``)."""
+    inv = 1.0 / (rb - top)
+    sl = float(np.float32(csum_s[rb, a] - csum_s[top, a]) * inv) / noise
+    sr = float(np.float32(csum_s[rb, b] - csum_s[top, b]) * inv) / noise
+    return 1.0 - math.exp(-min(sl, sr, snr_top, snr_b, 30.0) / 4.0)
 
 
 #: A higher top candidate closes the face (:func:`closing_top`) where the sides stop:
@@ -611,6 +630,10 @@ OUTLINE_AREA = 1.3
 OUTLINE_EDGE_COVER = 0.8
 #: The outline's top is its pair's own best top within this many rows.
 OUTLINE_OWN_TOP_ROWS = 2
+#: A pair's closing top (:func:`closing_top`) encloses the face chosen as its clean
+#: outline does: the rectangle up to where that pair's sides stop round a piece of a print
+#: (a switch for the tests).
+CLOSING_ENCLOSES = True
 
 
 def edge_cover(ay: F32, row: int, ul: int, ur: int) -> float:
@@ -658,21 +681,37 @@ def enclosing_outline(
     picture): the face is one surface, and the outline is its edge, its top and foot
     running across all of it (a box's top edge and a background edge beside it, or a
     box and what stands behind it, make no such outline). Returned as a candidate with
-    that top, the face's score and the outline's own evidence."""
+    that top, the face's score and the outline's own evidence.
+
+    A wider pair closed where its sides stop (its closing top, CLOSING_ENCLOSES) is such
+    an outline too, its evidence that of the closed face alone: a print's edges inside
+    the face make its best top an edge in the picture, while its sides run on round the
+    piece chosen up to the face's top."""
     if best.outline is not None:
         return None  # a clean outline itself: a face, not a piece of a print
+    if best.closing is not None:
+        best = dataclasses.replace(best, vt=best.closing)  # the face chosen, closed
     area = (best.ur - best.ul) * (best.rb - best.vt)
     found = None
     for c in cands:
-        if c.outline is None or (c.ul >= best.ul - 1 and c.ur <= best.ur + 1):
+        if c.ul >= best.ul - 1 and c.ur <= best.ur + 1:
             continue
-        outer = dataclasses.replace(
-            c,
-            vt=c.outline,
-            score=max(c.score, best.score),
-            evidence=c.outline_evidence,
-            closing=None,
-        )
+        if c.outline is not None:
+            outer = dataclasses.replace(
+                c,
+                vt=c.outline,
+                score=max(c.score, best.score),
+                evidence=c.outline_evidence,
+                closing=None,
+            )
+        elif c.closing is not None and CLOSING_ENCLOSES:
+            # its own closing kept: the top is from the sides (a doubt) as for the face
+            # closed there itself
+            outer = dataclasses.replace(
+                c, vt=c.closing, score=max(c.score, best.score), evidence=c.closing_evidence
+            )
+        else:
+            continue
         if abs(best.rb - outer.rb) > OUTLINE_ROWS or not nested(best, outer):
             continue
         if (outer.ur - outer.ul) * (outer.rb - outer.vt) < OUTLINE_AREA * area:
