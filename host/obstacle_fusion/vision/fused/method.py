@@ -706,13 +706,16 @@ class FusedMethod:
         vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth, one_side=True)
         # ... and past a band's edge behind it (a skirting's) where its sides merely lost
         # the band's contrast against the wall above it
+        # (no surer for it: the confidence is the lesser of the two tops' agreements)
+        agree = top_agreement(seen, self.view, vt, ul, ur)
         if SKIRTING_WALK:
             past = raise_top_past_band(seen, self.view, ay, rb, vt, ul, ur, depth)
             if past < vt:
                 log.debug("rescue: top %d past a band's edge behind the face: %d", vt, past)
                 vt = past
+                agree = min(agree, top_agreement(seen, self.view, vt, ul, ur))
         # without edges to confirm it, a face found by colour alone is never a sure one
-        conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
+        conf = RESCUE_MAX_CONFIDENCE * evidence * agree
         if conf < self.min_confidence:
             return None
         framed = enclose_by_ring(seen, self.view, rb, vt, ul, ur, rows)
