@@ -57,6 +57,7 @@ from obstacle_fusion.vision.fused.region import (
     lower_top_to_background,
     raise_top_by_colour,
     raise_top_by_sides,
+    raise_top_past_band,
     side_agreement,
     snap_sides_to_steps,
     stops_at_colour_top,
@@ -159,6 +160,10 @@ RESCUE_WIDEN_AT_TOP = True
 #: The colour rescue's sides are snapped to strong colour steps next to them first
 #: (read-only in use: a switch for the tests).
 RESCUE_SNAP_SIDES = True
+#: The colour rescue's top is walked on up past a band's edge in the background where
+#: the face's sides merely lost the band's contrast (region.raise_top_past_band; a switch
+#: for the tests).
+SKIRTING_WALK = True
 #: A top where the face's sides stop and a print's texture ends (scoring.closing_top
 #: with scoring.PRINT_ENDS_TEXTURE) is not lowered to where the background seems to show
 #: past a side below it (region.lower_top_to_background): under it is the print, and a
@@ -708,8 +713,18 @@ class FusedMethod:
         # ... and where they do not show in the gradients (a face of the background's
         # shade in grey), its colour parts it from what is beside it up to its top
         vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth, one_side=True)
+        # ... and past a band's edge behind it (a skirting's) where its sides merely lost
+        # the band's contrast against the wall above it
+        # (no surer for it: the confidence is the lesser of the two tops' agreements)
+        agree = top_agreement(seen, self.view, vt, ul, ur)
+        if SKIRTING_WALK:
+            past = raise_top_past_band(seen, self.view, ay, rb, vt, ul, ur, depth)
+            if past < vt:
+                log.debug("rescue: top %d past a band's edge behind the face: %d", vt, past)
+                vt = past
+                agree = min(agree, top_agreement(seen, self.view, vt, ul, ur))
         # without edges to confirm it, a face found by colour alone is never a sure one
-        conf = RESCUE_MAX_CONFIDENCE * evidence * top_agreement(seen, self.view, vt, ul, ur)
+        conf = RESCUE_MAX_CONFIDENCE * evidence * agree
         if conf < self.min_confidence:
             return None
         framed = enclose_by_ring(seen, self.view, rb, vt, ul, ur, rows)

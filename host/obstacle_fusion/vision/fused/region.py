@@ -938,6 +938,69 @@ def _cross_bands(on: list[bool], end: int, gap: int, band: int) -> int:
     return end
 
 
+#: A top where the background beside the face changes at both sides (a skirting's or a
+#: rail's edge behind the face: at least BAND_EDGE_STEP Lab between the rows BAND_EDGE_ROWS
+#: above and below it, beside each side) is walked on up past that edge
+#: (:func:`raise_top_past_band`).
+BAND_EDGE_STEP = 20.0
+BAND_EDGE_ROWS = (2, 6)
+
+
+def raise_top_past_band(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The face's top row, moved up past a band's edge in the background where the face's
+    sides merely lost their contrast.
+
+    A face standing in front of a skirting or a rail band steps far from that band beside
+    its sides, so the walks up hold its sides to that step; above the band the wall beside
+    it may be nearly the face's shade, and they stop at the band's edge, though the face's
+    own colour goes on. Where the background beside both sides changes at the top, the
+    face is walked on up while its colour between the sides holds (within its spread) and
+    differs from what is beside both sides by MIN_TOP_DISTANCE, the least step the colour
+    walk up takes as a change. Above the real top the wall lies between the sides too: no
+    step beside, and another colour than the face's."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    a, b = BAND_EDGE_ROWS
+    # as far up as the sides' walk goes (the face may stand far above the band)
+    r0 = max(0, top - max(bottom - top, int(round(view.fy * SIDE_WALK_REACH_M / depth_m))))
+    if c0 < 0 or c1 > w_view or top - r0 <= b + SNAP_ROWS or bottom - top <= b + 2:
+        return top
+    lab = _lab8(image, view, r0, bottom, c0, c1)
+    k = top - r0
+    outs = [median_u8(lab[:, :BESIDE_COLUMNS], axis=1), median_u8(lab[:, -BESIDE_COLUMNS:], axis=1)]
+    for out in outs:  # the background beside both sides steps at the top: a band's edge
+        above = median_of(out[k - b : k - a + 1], axis=0)
+        below = median_of(out[k + a : k + b + 1], axis=0)
+        if norm(above - below) < BAND_EDGE_STEP:
+            return top
+    inner = median_u8(
+        lab[:, BESIDE_COLUMNS + 2 * SIDE_SKIP : -(BESIDE_COLUMNS + 2 * SIDE_SKIP) : SUBSAMPLE],
+        axis=1,
+    )
+    d_face = row_norms(inner - median_of(inner[k + 2 :], axis=0))
+    on = d_face <= spread_limit(d_face[k + 2 :], MIN_TOP_DISTANCE)
+    for out in outs:
+        on &= row_norms(inner - out) >= MIN_TOP_DISTANCE
+    gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
+    end = walk_on(on.tolist(), k, -1, gap)
+    if k - end <= SNAP_ROWS:
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
+
+
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
 STEP_ROWS = 3
 #: A top face thinner than this (rows) is left to the gradients: its colour is blur.
