@@ -211,3 +211,25 @@ def test_a_closed_face_s_evidence_is_read_as_an_outline_s(
     assert len(both) >= 5 and sum(c.vt != c.outline for c in both) >= 3
     for c in both:
         assert c.closing_evidence == pytest.approx(c.outline_evidence, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    "seed, error",
+    [
+        # its foot 0.04 tol above the row the range predicts: taken (5.5 % without it)
+        (1021, 0.02),
+        # its foot 0.88 tol above (over FOOT_ABOVE_SHARE * tol): not taken (-10 % if it were)
+        (1251, 0.05),
+    ],
+)
+def test_a_pair_closed_round_the_piece_is_taken_with_its_foot_in_the_floor_band(
+    seed: int, error: float
+) -> None:
+    """Rooms procedural/1021 and 1251, hard, with the rig (fresh seeds): a pair closed
+    round the piece chosen encloses it only with its foot at most FOOT_ABOVE_SHARE (half)
+    the floor band's tolerance above the floor-contact row the range predicts."""
+    assert scoring.CLOSING_ENCLOSES
+    image, truth, spec = render_room("procedural", seed, True)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    assert abs(res.height_m / truth["height_m"] - 1) <= error

@@ -164,7 +164,7 @@ def test_a_stripe_across_the_face_is_crossed_up_to_max_row_gap(rows: int, crosse
 def test_a_face_before_a_skirting_is_measured_to_its_top(
     switch: bool, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Room procedural/1113, ordinary, with the rig (tuning seed): the colour rescue's top
+    """Room procedural/1113, ordinary, with the rig (a fresh seed): the colour rescue's top
     stopped at the skirting's edge behind the face (height -43 %); carried past it
     (method.SKIRTING_WALK) the height is within 10 %."""
     monkeypatch.setattr(method_mod, "SKIRTING_WALK", switch)
