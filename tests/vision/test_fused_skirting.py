@@ -99,6 +99,16 @@ def test_the_band_s_edge_steps_at_least_band_edge_step(step: int, carried: bool)
     assert abs(raised - 120) <= 2 if carried else raised == BAND_TOP
 
 
+@pytest.mark.parametrize("offset, carried", [(-2, True), (2, True), (5, False)])
+def test_the_band_s_edge_lies_within_band_edge_rows_of_the_top(offset: int, carried: bool) -> None:
+    """The rows compared beside the sides are BAND_EDGE_ROWS (2-6) above and below the top:
+    a top 2 rows off the band's edge either way is at it, one 5 rows under it (the rows
+    above it half band, half wall) is not."""
+    img = _scene(120)
+    raised = _raised(img, BAND_TOP + offset)
+    assert abs(raised - 120) <= 2 if carried else raised == BAND_TOP + offset
+
+
 def test_a_band_beside_one_side_only_is_no_band_s_edge() -> None:
     """The background must change at the top beside both sides: a step beside one side only
     (a cupboard's foot beside the face) carries nothing."""
