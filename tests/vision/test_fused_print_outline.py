@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import method as method_mod
 from obstacle_fusion.vision.fused import scoring
 from obstacle_fusion.vision.fused.scoring import Candidate, enclosing_outline, outline_tops
 from obstacle_fusion.vision.measure import Measurer
@@ -137,6 +138,13 @@ def test_a_piece_of_a_print_gives_way_to_the_pair_closed_round_it(
     # a strip chosen closed at a higher top already is nested by that top
     closed = Candidate(1.0, 90, 120, 200, 75, 0.9, closing=20)
     assert enclosing_outline(VIEW, ax, _edges(30, 100, 220), closed, [closed, face]) is None
+    # ... and its area is that of the face closed: a strip 110 columns wide closed at row
+    # 35 (6050 px) is nearly all of the pair's 7200 px (under OUTLINE_AREA times it), while
+    # open at row 75 (1650 px) it would be enclosed
+    wide = Candidate(1.0, 90, 105, 215, 75, 0.9)
+    assert enclosing_outline(VIEW, ax, _edges(30, 100, 220), wide, [wide, face]) is not None
+    wide = Candidate(1.0, 90, 105, 215, 75, 0.9, closing=35)
+    assert enclosing_outline(VIEW, ax, _edges(30, 100, 220), wide, [wide, face]) is None
 
 
 @pytest.mark.parametrize("switch", [True, False])
@@ -167,3 +175,61 @@ def test_a_pair_closed_round_a_piece_standing_above_the_floor_is_not_taken() -> 
     assert res.detected and res.width_m is not None and res.height_m is not None
     assert abs(res.width_m / truth["width_m"] - 1) <= 0.10
     assert abs(res.height_m / truth["height_m"] - 1) <= 0.10
+
+
+def test_a_closed_face_s_evidence_is_read_as_an_outline_s(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Candidate.closing_evidence is the evidence of the face closed at its closing top
+    alone, read as a clean outline's (its weaker side and weaker horizontal edge from that
+    top down, the outline's fit at that top, the floor prior): with the closing top made
+    the pair's outline top, and every top candidate an outline's (room photo/1371, hard,
+    with the rig), the two agree on every pair."""
+    for name in ("OUTLINE_COVERAGE", "OUTLINE_STOP", "OUTLINE_CONTAINED", "OUTLINE_SNR"):
+        monkeypatch.setattr(scoring, name, 0.0)
+    monkeypatch.setattr(scoring, "CLOSING_HOLE_FIT", 0.0)
+    monkeypatch.setattr(scoring, "CLOSING_FACE_ABOVE", 1.0)
+
+    def outline_row(f: Any, tops: Any, s0: int, s1: int, i: int, horizon: float) -> Any:
+        ok, fit = outline_tops(f)
+        rows = ok[s0:s1].nonzero()[0]
+        return None if rows.size == 0 else int(tops[s0 + int(rows[fit[s0 + rows].argmax()])])
+
+    monkeypatch.setattr(scoring, "closing_top", outline_row)
+    scored: list[Candidate] = []
+    score_pairs = method_mod.score_pairs
+
+    def spy(*args: Any, **kwargs: Any) -> list[Candidate]:
+        cands = score_pairs(*args, **kwargs)
+        scored.extend(cands)
+        return cands
+
+    monkeypatch.setattr(method_mod, "score_pairs", spy)
+    image, truth, spec = render_room("photo", 1371, True)
+    Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    both = [c for c in scored if c.outline is not None and c.closing == c.outline]
+    assert len(both) >= 5 and sum(c.vt != c.outline for c in both) >= 3
+    for c in both:
+        assert c.closing_evidence == pytest.approx(c.outline_evidence, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    "seed, error",
+    [
+        # its foot 0.04 tol above the row the range predicts: taken (5.5 % without it)
+        (1021, 0.02),
+        # its foot 0.88 tol above (over FOOT_ABOVE_SHARE * tol): not taken (-10 % if it were)
+        (1251, 0.05),
+    ],
+)
+def test_a_pair_closed_round_the_piece_is_taken_with_its_foot_in_the_floor_band(
+    seed: int, error: float
+) -> None:
+    """Rooms procedural/1021 and 1251, hard, with the rig (fresh seeds): a pair closed
+    round the piece chosen encloses it only with its foot at most FOOT_ABOVE_SHARE (half)
+    the floor band's tolerance above the floor-contact row the range predicts."""
+    assert scoring.CLOSING_ENCLOSES
+    image, truth, spec = render_room("procedural", seed, True)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    assert abs(res.height_m / truth["height_m"] - 1) <= error

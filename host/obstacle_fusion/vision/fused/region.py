@@ -966,7 +966,8 @@ def raise_top_past_band(
     face is walked on up while its colour between the sides holds (within its spread) and
     differs from what is beside both sides by MIN_TOP_DISTANCE, the least step the colour
     walk up takes as a change. Above the real top the wall lies between the sides too: no
-    step beside, and another colour than the face's."""
+    step beside, and another colour than the face's. No horizon bounds the walk (unlike
+    :func:`raise_top_by_sides`): the face before a skirting may stand below it."""
     if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
         return top
     w_view = view.out.shape[1]

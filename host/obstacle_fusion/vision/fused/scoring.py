@@ -632,7 +632,9 @@ OUTLINE_EDGE_COVER = 0.8
 OUTLINE_OWN_TOP_ROWS = 2
 #: A pair's closing top (:func:`closing_top`) encloses the face chosen as its clean
 #: outline does: the rectangle up to where that pair's sides stop round a piece of a print
-#: (a switch for the tests).
+#: (a switch for the tests). The method takes such an enclosure only with the pair's foot
+#: at most FOOT_ABOVE_SHARE of the floor band's tolerance above the row the range predicts
+#: (method.py, after :func:`enclosing_outline`).
 CLOSING_ENCLOSES = True
 
 
