@@ -147,6 +147,29 @@ def test_a_piece_of_a_print_gives_way_to_the_pair_closed_round_it(
     assert enclosing_outline(VIEW, ax, _edges(30, 100, 220), wide, [wide, face]) is None
 
 
+def test_a_closed_pair_above_the_floor_row_does_not_hide_a_clean_outline() -> None:
+    """The foot limit is judged pair by pair: a closed pair standing above
+    ``closing_foot_from`` is no enclosure, while a clean outline round the same piece on
+    the floor row still is, though it scores lower."""
+    strip = Candidate(1.0, 90, 120, 200, 75, 0.9)
+    closed = Candidate(0.5, 88, 100, 220, 80, 0.05, closing=30, closing_evidence=0.7)
+    clean = Candidate(0.1, 90, 100, 220, 80, 0.2, outline=30, outline_evidence=0.8)
+    ay = _edges(30, 100, 220)
+    ay[88, 100:220] = 50.0
+    ax = np.zeros((100, 300), np.int16)
+    found = enclosing_outline(VIEW, ax, ay, strip, [strip, closed, clean])
+    assert found is not None and found[0].closing == 30  # the higher score wins
+    for foot_from in (89, 90):
+        found = enclosing_outline(VIEW, ax, ay, strip, [strip, closed, clean], None, foot_from)
+        assert found is not None
+        assert (found[0].rb, found[0].closing, found[0].evidence) == (90, None, 0.8)
+    # at its limit the closed pair is still taken (its foot on the first row allowed)
+    found = enclosing_outline(VIEW, ax, ay, strip, [strip, closed, clean], None, 88)
+    assert found is not None and found[0].closing == 30
+    # with no clean outline, a closed pair above the limit leaves the piece chosen
+    assert enclosing_outline(VIEW, ax, ay, strip, [strip, closed], None, 89) is None
+
+
 @pytest.mark.parametrize("switch", [True, False])
 @pytest.mark.parametrize("seed", [1355, 1371])
 def test_a_poster_face_is_measured_round_the_piece_chosen(

@@ -345,16 +345,11 @@ class FusedMethod:
         if floor_known and best is not None:
             # a plain piece of a print chosen inside the face's own clean outline (a doubt
             # when no top score chose the outline's top)
-            enclosed = enclosing_outline(v, ax, ay, best, cands, fits)
-            if (
-                enclosed is not None
-                and enclosed[0].closing is not None
-                and vb0 - enclosed[0].rb > FOOT_ABOVE_SHARE * tol
-            ):
-                # a pair closed round the piece only where its foot is on the floor the
-                # range predicts: a print standing above it is _outline's (a margin's
-                # foot below it)
-                enclosed = None
+            # a pair closed round the piece only where its foot is on the floor the
+            # range predicts: a print standing above it is _outline's (a margin's foot
+            # below it)
+            foot_from = int(np.ceil(vb0 - FOOT_ABOVE_SHARE * tol))
+            enclosed = enclosing_outline(v, ax, ay, best, cands, fits, foot_from)
             if enclosed is not None:
                 outer, own_top = enclosed
                 rivals = [outer] + [c for c in rivals if not nested(c, outer)]

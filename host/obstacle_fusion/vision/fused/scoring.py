@@ -672,6 +672,7 @@ def enclosing_outline(
     best: Candidate,
     cands: list[Candidate],
     fits: VerticalFits | None = None,
+    closing_foot_from: int | None = None,
 ) -> tuple[Candidate, bool] | None:
     """A clean outline (:func:`outline_tops`) round the face chosen, or None; and whether
     its top is its own pair's best top too (to OUTLINE_OWN_TOP_ROWS): else only the
@@ -688,7 +689,9 @@ def enclosing_outline(
     A wider pair closed where its sides stop (its closing top, CLOSING_ENCLOSES) is such
     an outline too, its evidence that of the closed face alone: a print's edges inside
     the face make its best top an edge in the picture, while its sides run on round the
-    piece chosen up to the face's top."""
+    piece chosen up to the face's top. ``closing_foot_from``: a closed pair whose foot
+    lies above this row is not one (a print standing above the floor the range predicts);
+    judged pair by pair, so it never hides a clean outline round the same face."""
     if best.outline is not None:
         return None  # a clean outline itself: a face, not a piece of a print
     if best.closing is not None:
@@ -706,7 +709,11 @@ def enclosing_outline(
                 evidence=c.outline_evidence,
                 closing=None,
             )
-        elif c.closing is not None and CLOSING_ENCLOSES:
+        elif (
+            c.closing is not None
+            and CLOSING_ENCLOSES
+            and (closing_foot_from is None or c.rb >= closing_foot_from)
+        ):
             # its own closing kept: the top is from the sides (a doubt) as for the face
             # closed there itself
             outer = dataclasses.replace(
