@@ -165,8 +165,10 @@ def test_a_closed_top_is_not_lowered_onto_the_print(
     margin beside the right side matches the grey floor beyond it under the coins' lowest
     row, which read as the background seen past the face (the height -71 %). The sides
     stop at the closing top and the print's texture ends there: under it is the print,
-    not the background (method.CLOSED_TOP_KEPT)."""
+    not the background (method.CLOSED_TOP_KEPT). The thin-strip rule is off: without the
+    switch, the colour's face replaces the strip left under the coins."""
     monkeypatch.setattr(method, "CLOSED_TOP_KEPT", kept)
+    monkeypatch.setattr(method, "THIN_STRIP_MAX_CONFIDENCE", 0.0)
     image, truth, spec = render_room("photo", 346, True)
     res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None

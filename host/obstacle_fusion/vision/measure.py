@@ -42,6 +42,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     sides_run_up,
     weak_contact_rows,
 )
+from obstacle_fusion.vision.fused.method import stands_for_strip, thin_strip
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
@@ -839,6 +840,20 @@ class Measurer:
             if not result.detected and grey is not image:
                 # the colour turn can also fade an edge luminance had: try luminance
                 result = fused.run(image, range_m, timer)
+            elif grey is not image and thin_strip(result):
+                # a thin strip at the foot, barely sure: luminance, with the colour
+                # rescue, may find the face it stands for (taken when surer and taller)
+                again = fused.run(image, range_m, timer)
+                log.debug(
+                    "thin strip %.0f px high at %.3f; luminance: %s %.0f px at %.3f",
+                    result.height_px or 0.0,
+                    result.confidence or 0.0,
+                    again.detected,
+                    again.height_px or 0.0,
+                    again.confidence or 0.0,
+                )
+                if stands_for_strip(again, result):
+                    result = again
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source

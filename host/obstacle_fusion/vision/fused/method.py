@@ -136,6 +136,26 @@ def _front_ends_colour(
 RESCUE_RAISE_BY_COLOUR = True
 
 
+def thin_strip(m: Measurement) -> bool:
+    """Whether a detected face is a thin strip (height under THIN_STRIP_SHARE of its
+    width) found at under THIN_STRIP_MAX_CONFIDENCE."""
+    return (
+        m.detected
+        and (m.confidence or 0.0) < THIN_STRIP_MAX_CONFIDENCE
+        and (m.height_px or 0.0) < THIN_STRIP_SHARE * (m.width_px or 0.0)
+    )
+
+
+def stands_for_strip(face: Measurement, strip: Measurement) -> bool:
+    """Whether ``face`` (found another way) is the face a thin strip stood for: surer,
+    and THIN_STRIP_TALLER times as high."""
+    return (
+        face.detected
+        and (face.confidence or 0.0) > (strip.confidence or 0.0)
+        and (face.height_px or 0.0) >= THIN_STRIP_TALLER * (strip.height_px or 0.0)
+    )
+
+
 def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
     """Whether the width stages moved the sides far from the search's pair ``found``."""
     move = abs(settled[0] - found[0]) + abs(settled[1] - found[1])
@@ -181,6 +201,15 @@ STANDING_BEHIND_RESCUE = True
 #: the same face read with its foot in the band, or the box in front of an outline of
 #: things behind it; a colour face reaching much lower is a print on the face found.
 STANDING_TOP_SHARE = 0.25
+#: With the rig, a face the edges found as a thin strip at its foot (its height under
+#: this share of its width: a floor line or a band's foot taken for its top, a floor-grid
+#: line for a side) at under THIN_STRIP_MAX_CONFIDENCE is weighed against the face its
+#: colour finds (the colour rescue otherwise runs only where the edges refuse); the
+#: colour's face is taken when it is surer and reaches THIN_STRIP_TALLER times as high
+#: (the strip was its foot; a face about as high is the strip's own face read again).
+THIN_STRIP_SHARE = 0.3
+THIN_STRIP_MAX_CONFIDENCE = 0.15
+THIN_STRIP_TALLER = 2.0
 
 
 class FusedMethod:
@@ -570,6 +599,11 @@ class FusedMethod:
         # what the face as measured leaves in doubt (the reported confidence only)
         faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
         measured.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
+        if floor_known and thin_strip(measured):
+            rescued = rescue_by_colour()
+            if rescued is not None and stands_for_strip(rescued, measured):
+                log.debug("a thin strip at the foot: the colour's face, surer")
+                return rescued
         return measured
 
     def _settled_top(
