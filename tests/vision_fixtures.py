@@ -8,8 +8,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.chessboard import BoardRenderer, BoardSpec, default_poses
+from obstacle_fusion.vision.measure import Measurer
 
 REPO = Path(__file__).resolve().parents[1]
 # The project's shared data sits beside the checkout (as CI lays it out); a clone elsewhere
@@ -50,4 +52,17 @@ def rendered_boards(
     poses = default_poses(cam, BOARD, count)
     return tuple(
         renderer.render(p, noise_sigma=noise, blur_sigma=0.5, rng=rng).image for p in poses
+    )
+
+
+def room_size_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
+    """A generated room measured with its rig at the paper's 500x375: (height, width)
+    relative errors, the face found."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room(family, seed, hard, cam)
+    res = Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None and res.width_m is not None
+    return (
+        abs(res.height_m / truth["height_m"] - 1),
+        abs(res.width_m / truth["width_m"] - 1),
     )

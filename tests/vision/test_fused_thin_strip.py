@@ -5,22 +5,9 @@ colour finds when that one is surer and at least twice as high."""
 from __future__ import annotations
 
 import pytest
-from obstacle_fusion.sim.room_scene import render_room
-from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method
-from obstacle_fusion.vision.measure import Measurer
 
-CAM = CameraModel.paper(500, 375)
-
-
-def _errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
-    image, truth, spec = render_room(family, seed, hard, CAM)
-    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None and res.width_m is not None
-    return (
-        abs(res.height_m / truth["height_m"] - 1),
-        abs(res.width_m / truth["width_m"] - 1),
-    )
+from tests.vision_fixtures import room_size_errors as _errors
 
 
 @pytest.mark.parametrize(
