@@ -39,6 +39,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     face_apart_from_floor,
     face_runs_below,
     sides_reach_foot,
+    sides_run_down,
     sides_run_up,
     weak_contact_rows,
 )
@@ -333,6 +334,21 @@ class Measurer:
                             and low.box_px is not None
                             and face_runs_below(image, result.box_px, low.box_px)
                         ):
+                            best, best_row = low, low_row
+                            break
+                        # a line across the face (a panel joint, a label's or a band's
+                        # lower edge) stands the face's upper part on it: that part has
+                        # the face's own top and sides, and the sides run on below it to
+                        # the lower face's foot (_same_outline, sides_run_down)
+                        if (
+                            FLOOR_IN_FACE not in low.doubts
+                            and result.box_px is not None
+                            and _same_outline(result.box_px, low.box_px)
+                            and sides_run_down(image, low.lines, result.box_px[3])
+                        ):
+                            log.debug(
+                                "no rig: row %d's face is the upper part of row %d's", row, low_row
+                            )
                             best, best_row = low, low_row
                             break
                     else:
@@ -961,6 +977,14 @@ ON_TOP_WIDER = 1.3
 ON_TOP_BELOW_PX = 3.0
 #: ... and at most this share of the lower face's height above it.
 ON_TOP_ABOVE = 0.5
+#: With no rig, a sure face whose top and sides match (:func:`_same_outline`) those of an
+#: unsure face found on a lower row, within this share of its width ...
+OUTLINE_MATCH = 0.06
+#: ... or this many pixels, whichever is more ...
+OUTLINE_MATCH_PX = 3.0
+#: ... that lower face's foot at least this many pixels lower (over twice ROW_JITTER_PX:
+#: nearer feet are one edge's blur, the row jitter's business), is that face's upper part.
+OUTLINE_MIN_DROP_PX = 5.0
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
@@ -1256,6 +1280,27 @@ def _stands_on_top(
         and upper[0] >= lower[0] - ROW_JITTER_PX
         and upper[2] <= lower[2] + ROW_JITTER_PX
         and lower[1] - ON_TOP_ABOVE * low_h <= upper[3] <= lower[1] + ON_TOP_BELOW_PX
+    )
+
+
+def _same_outline(
+    upper: tuple[float, float, float, float],
+    lower: tuple[float, float, float, float] | None,
+) -> bool:
+    """Whether a face box found on a higher row is the upper part of one found on a lower
+    row (input pixel boxes x0, y0, x1, y1): its top and both sides within OUTLINE_MATCH of
+    its width (at least OUTLINE_MATCH_PX) of the lower box's, and the lower foot at least
+    OUTLINE_MIN_DROP_PX lower. A face is bounded by its sides and top; a line across it
+    ends neither, while another object standing on the floor nearer or farther would not
+    share all three."""
+    if lower is None:
+        return False
+    tol = max(OUTLINE_MATCH_PX, OUTLINE_MATCH * (upper[2] - upper[0]))
+    return (
+        abs(upper[0] - lower[0]) <= tol
+        and abs(upper[2] - lower[2]) <= tol
+        and abs(upper[1] - lower[1]) <= tol
+        and lower[3] >= upper[3] + OUTLINE_MIN_DROP_PX
     )
 
 

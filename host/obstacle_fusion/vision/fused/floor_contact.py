@@ -254,6 +254,40 @@ def sides_run_up(
     return read > 0 and _margin_runs_up(image, lines, short_top)
 
 
+#: A lower reading's sides run on below a higher reading's foot (that foot a line across
+#: the face: a panel joint, a label's or a band's lower edge, not the floor contact) when
+#: the colour step across each side not at the border is at least MIN_FOOT_STEP on this
+#: share of the rows between the two feet (the rows next to either foot left out:
+#: RUN_UP_SKIP_PX).
+RUN_DOWN_SHARE = 0.8
+
+
+def sides_run_down(
+    image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]], upper_foot: float
+) -> bool:
+    """Whether a face's sides (``lines`` as :class:`Measurement` gives them: bottom, top,
+    left side, right side; input pixels) run on, at their own columns, from a higher
+    reading's foot row ``upper_foot`` down to the face's own foot: on RUN_DOWN_SHARE of
+    those rows each side not at the border still steps in colour (MIN_FOOT_STEP). A face
+    whose sides end at that row (a floor patch or a shadow under it, one colour across
+    the side's column) does not. False with no side read, and when a side read has under
+    2 x RUN_UP_SKIP_PX rows between the two feet."""
+    if len(lines) < 4:
+        return False
+    read = 0
+    for side in lines[2:4]:
+        foot = max(side[1], side[3])
+        steps = side_steps(image, side, foot - RUN_UP_SKIP_PX, upper_foot + RUN_UP_SKIP_PX)
+        if steps is None:
+            continue
+        if len(steps) < 2 * RUN_UP_SKIP_PX:
+            return False
+        if float(np.mean(steps >= MIN_FOOT_STEP)) < RUN_DOWN_SHARE:
+            return False
+        read += 1
+    return read > 0
+
+
 def _margin_runs_up(
     image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]], short_top: float
 ) -> bool:
