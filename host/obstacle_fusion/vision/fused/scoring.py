@@ -307,6 +307,10 @@ def score_pairs(
         "tex_above": tex_above,
         "face": face_frac,
         "face_above": face_above,
+        # each side's edge rows above each top candidate (rows 0..top-1): the rows a side
+        # runs on between two tops (closing_top)
+        "up_l": upto[tops, tl],
+        "up_r": upto[tops, tr],
     }
     score_t, fit = _top_score(feats)
     o_ok, o_fit = outline_tops(feats)
@@ -452,6 +456,19 @@ TEXTURE_MARGIN = 0.3
 PRINT_ENDS_TEXTURE = 0.1
 #: ... and the face's shade coming back above it over at most this share of the rows.
 CLOSING_FACE_ABOVE = 0.2
+#: Each side on its own runs on over at least this share of the rows between the chosen
+#: top and the closing one (the weaker side, not the two sides' mean): a print across the
+#: face leaves both of the face's sides standing above it (a gloss band may fade one of
+#: them over a third of those rows), an object behind the face in line with one side
+#: carries that side's edge only, the other side against the background beside it.
+CLOSING_SIDE_RUN = 0.5
+
+
+def _sides_run_on(f: dict[str, npt.NDArray[Any]], k: int, i: int, rows: int) -> bool:
+    """Both sides run on over CLOSING_SIDE_RUN of the ``rows`` rows between top candidate
+    ``k`` (higher) and ``i``: each side's own edge rows, not their mean."""
+    least = min(int(f["up_l"][i]) - int(f["up_l"][k]), int(f["up_r"][i]) - int(f["up_r"][k]))
+    return least >= CLOSING_SIDE_RUN * rows
 
 
 def closing_top(
@@ -491,6 +508,7 @@ def closing_top(
                 or f["tex_above"][k] <= PRINT_ENDS_TEXTURE
             )
             and f["face_above"][k] <= CLOSING_FACE_ABOVE
+            and _sides_run_on(f, k, i, top_i - row)
         ):
             # the top's own score without the face-shade terms (a print fails those)
             fit = (
