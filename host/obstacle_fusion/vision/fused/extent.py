@@ -358,9 +358,9 @@ def raise_top_along_seams(
 
     A face in the wall's shade shows no sides against it: they end where a band behind it
     (a skirting board, a dado rail) ends beside them, and that row is taken for the top
-    though no edge of the face's crosses it there. The face's panel joints or plank gaps run from its
-    foot to its top and are part of the face: a real top edge ends every one of them at
-    one row, while a background line behind the face cannot cut lines on the face. Seams
+    though no edge of the face's crosses it there. The face's panel joints or plank gaps
+    run from its foot to its top and are part of the face: a real top edge ends every one
+    of them at one row, while a line behind the face cannot cut lines on the face. Seams
     that run on past ``top`` together and end together put the top where they end."""
     # no seam looked for in the side's own blur
     c0, c1 = left + SNAP_COLUMNS // 2, right - SNAP_COLUMNS // 2
