@@ -329,3 +329,81 @@ def foot_in_band(
     if float(foot.max()) < OUTLINE_FOOT_SNR * noise:
         return None
     return r0 + int(foot.argmax())
+
+
+#: Seams (vertical lines inside the face, panel joints, plank gaps) that raise a top:
+#: at least this many, each standing over this share of the face's rows as found.
+MIN_SEAMS = 2
+SEAM_COVERAGE = 0.8
+#: The seams must end within this many rows of one another (a face's top cuts all of
+#: its joints at one row; stickers and prints end wherever they end).
+SEAM_END_SPREAD = 3
+#: Edge peaks this many columns apart or closer are one seam (a thin line's two edges).
+SEAM_WIDTH = 4
+#: No stretch of the face between its sides and the seams running on may be wider than
+#: this share of it.
+SEAM_PART_SHARE = 0.5
+
+
+def raise_top_along_seams(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> int:
+    """The face's top row, moved up to where the face's own seams end.
+
+    A face in the wall's shade shows no sides against it: they end where a band behind it
+    (a skirting board, a dado rail) ends beside them, and that row is taken for the top
+    though no edge of the face's crosses it there. The face's panel joints or plank gaps
+    run from its foot to its top and are part of the face: a real top edge ends every one
+    of them at one row, while a line behind the face cannot cut lines on the face. Seams
+    that run on past ``top`` together and end together put the top where they end."""
+    # no seam looked for in the side's own blur
+    c0, c1 = left + SNAP_COLUMNS // 2, right - SNAP_COLUMNS // 2
+    if c1 - c0 < 3 or bottom - top < 3 or top < 2:
+        return top
+    face = np.asarray(ax[top + 1 : bottom, c0:c1], np.float32)
+    means = face.mean(axis=0)
+    need = MIN_EDGE_SNR * noise
+    peaks: list[int] = []
+    for c in range(1, means.size - 1):
+        if not (means[c] >= need and means[c] >= means[c - 1] and means[c] > means[c + 1]):
+            continue
+        if peaks and c - peaks[-1] <= SEAM_WIDTH:
+            # a thin line's two edges are one seam: its stronger edge stands for it
+            if means[c] > means[peaks[-1]]:
+                peaks[-1] = c
+            continue
+        peaks.append(c)
+    ends: list[tuple[int, int]] = []  # (row where the seam ends, its column)
+    for c in peaks:
+        col = np.asarray(ax[:bottom, c0 + c - 1 : c0 + c + 2].max(axis=1), np.float32)
+        strength = float(median_of(col[top + 1 : bottom]))
+        on = col >= SIDE_SHARE * strength
+        if strength < need or share(on[top + 1 : bottom]) < SEAM_COVERAGE:
+            continue
+        ends.append((walk_on(on, top, -1, MAX_ROW_GAP), c0 + c))
+    # the seams that ran on past the top, ending together; most of the face's seams
+    ran = sorted(e for e in ends if top - e[0] > SNAP_ROWS // 2)
+    best: list[tuple[int, int]] = []
+    for e0, _ in ran:
+        group = [e for e in ran if e0 <= e[0] <= e0 + SEAM_END_SPREAD]
+        if len(group) > len(best):
+            best = group
+    if len(best) < MIN_SEAMS or 2 * len(best) < len(ends):
+        return top
+    # a panelled face's joints part all of it: a stretch of it over SEAM_PART_SHARE with no
+    # seam running on is another surface the pair took in (a box beside the panels)
+    cuts = [left, *sorted(c for _, c in best), right]
+    if int(np.diff(cuts).max()) > SEAM_PART_SHARE * (right - left):
+        return top
+    end = int(np.median([e for e, _ in best]))
+    if end <= SNAP_ROWS:
+        return top  # lines running out of the view: no top seen where they end
+    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
+    rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
+    return int(r0 + rows.argmax())

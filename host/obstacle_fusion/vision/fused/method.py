@@ -35,6 +35,7 @@ from obstacle_fusion.vision.fused.extent import (
     SNAP_COLUMNS,
     enclose_inner_frame,
     foot_in_band,
+    raise_top_along_seams,
     raise_top_past_inner_edges,
     widen_across_seams,
 )
@@ -201,6 +202,10 @@ STANDING_BEHIND_RESCUE = True
 #: the same face read with its foot in the band, or the box in front of an outline of
 #: things behind it; a colour face reaching much lower is a print on the face found.
 STANDING_TOP_SHARE = 0.25
+#: With the rig, a top that the face's own seams (panel joints, plank gaps) run on past
+#: together is a background line across a face in the wall's shade: the top is raised to
+#: where they end (`extent.raise_top_along_seams`).
+SEAMS_RAISE_TOP = True
 #: With the rig, a face the edges found as a thin strip at its foot (its height under
 #: this share of its width: a floor line or a band's foot taken for its top, a floor-grid
 #: line for a side) at under THIN_STRIP_MAX_CONFIDENCE is weighed against the face its
@@ -431,12 +436,17 @@ class FusedMethod:
         if best.closing is not None:
             vt = best.closing
         raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        seam_top = False  # the top where the face's own seams end
+        if SEAMS_RAISE_TOP and rig_known:
+            # a face in the wall's shade: its own seams run on past a background line
+            by_seams = raise_top_along_seams(ay, ax3, rb, raised, ul, ur, noise)
+            seam_top, raised = by_seams < raised, by_seams
         # a short way up past a top where the face's colour ends: a top face or a
         # background band of the face's width, its sides the edges of what is behind;
         # that top is the front top edge already (no top face's front below it)
         colour_top = stops_at_colour_top(seen, v, rb, vt, raised, ul, ur)
         if colour_top or not face_under_raised_top(seen, v, rb, vt, raised, ul, ur):
-            raised = vt
+            raised, seam_top = vt, False
         # what lowers the reported confidence: no top edge's score chose that row
         doubts = [TOP_FROM_SIDES] if raised < vt or closed else []
         if outlined:
@@ -532,7 +542,7 @@ class FusedMethod:
             if lowered > vt and not print_top:
                 vt, top_row = lowered, None
                 sign = 1.0 if int(dy[lowered, ul:ur].sum()) >= 0 else -1.0
-            else:
+            elif not seam_top:
                 # a top face narrower than the front, the background seen past both
                 # sides above its front edge: that edge is found from there
                 past = lower_top_past_top_face(seen, v, rb, int(round(vt)), ul, ur)
