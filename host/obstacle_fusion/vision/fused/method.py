@@ -546,27 +546,6 @@ class FusedMethod:
             return vt, sign, top_row, conf * agree
 
         vt, sign, top_row, face_conf = finish((vt, sign, top_row))
-        if floor_known and rig_known and framed is None and face_conf >= self.min_confidence:
-            # a box lower than the lens with a band across its front (a tape, a frame's
-            # lower bar): the sides' walk stopped under the horizon, where it may run over
-            # a top face; with the rig's horizon a face sure enough to report is walked
-            # on up past the band, its front top edge sought under where the walk ends,
-            # and kept while the face stays reportable, no surer for it
-            # (region.WALK_BELOW_HORIZON)
-            below = raise_top_by_sides(
-                seen, v, ay, rb, int(round(vt)), ul, ur, depth, below_horizon=True
-            )
-            if below < vt and below > v.cy and face_under_raised_top(
-                seen, v, rb, int(round(vt)), below, ul, ur, one_strip=True
-            ):
-                nt, nsign = front_top(v, depth, dy, rb, ul, ur, below, noise)
-                if not looks_like_top_face(seen, v, below, nt, ul, ur):
-                    nt, nsign = below, (1.0 if int(dy[below, ul:ur].sum()) >= 0 else -1.0)
-                again = finish((nt, nsign, None))
-                log.debug("walk below the horizon from %d: %d, front top %d", vt, below, again[0])
-                if again[3] >= self.min_confidence:
-                    vt, sign, top_row = again[:3]
-                    face_conf = min(face_conf, again[3])
         if (
             floor_known
             and framed is None
@@ -579,7 +558,7 @@ class FusedMethod:
             # and the face under it is still one to report (a face this try refused is
             # left to the next try, as before)
             settled = self._settled_top(
-                seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top, rig_known
+                seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top
             )
             again = finish(settled)
             log.debug("top %d between the settled sides, %d as first found", again[0], vt)
@@ -639,7 +618,6 @@ class FusedMethod:
         noise: float,
         start: int,
         colour_top: bool,
-        below_horizon: bool = False,
     ) -> tuple[int, float, float | None]:
         """The face's top decided again between the sides the width stages settled on:
         from ``start`` (the top before its front edge was sought), the colour's and the
@@ -650,7 +628,7 @@ class FusedMethod:
         sign and, from :func:`.top.front_from_back`, a sub-pixel row or None."""
         v = self.view
         vt = raise_top_by_colour(seen, v, ay, rb, start, ul, ur, depth)
-        vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth, below_horizon=below_horizon)
+        vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
         found_top = vt
         # the raises read the face's columns as they are now, up to a top face's back
         # edge or past it: its front edge is sought as far below as from a back edge

@@ -763,10 +763,6 @@ SHADED_SIDE_WALK = True
 SHADED_HUE_STEP = 6.0
 #: Rows over which the sides' walk compares a strip's colour with the rows below it.
 DRIFT_ROWS = 3
-#: With the rig, the sides' walk ends below the horizon too (``below_horizon``): the face's
-#: top is where both sides stop parting the face from what is beside them, or a top
-#: face's back edge, whose front edge the front-top search then finds under it.
-WALK_BELOW_HORIZON = True
 #: How far up the sides' walk may go at least, metres at the face.
 SIDE_WALK_REACH_M = 1.0
 
@@ -781,11 +777,9 @@ def raise_top_by_sides(
     right: int,
     depth_m: float,
     one_side: bool = False,
-    below_horizon: bool = False,
 ) -> int:
     """The face's top row, moved up while both its sides still part the face from what
-    stands beside it (``one_side``: as :func:`raise_top_by_colour`'s; ``below_horizon``:
-    the rig's horizon is known, a walk ending under it is kept, WALK_BELOW_HORIZON).
+    stands beside it (``one_side``: as :func:`raise_top_by_colour`'s).
 
     A band across the whole face (a tape, a label strip, a gloss) changes the face's
     colour in its middle and just inside its sides alike, so the colour walks stop there;
@@ -821,9 +815,7 @@ def raise_top_by_sides(
     if end is None:
         return top  # a side that does not part the face from its surroundings
     r0, k = short, top - short
-    if k - end <= SNAP_ROWS or (
-        r0 + end > view.cy and not (below_horizon and WALK_BELOW_HORIZON)
-    ):
+    if k - end <= SNAP_ROWS or r0 + end > view.cy:
         # below the horizon the lens looks down on the face's top: a top face's colour
         # stands apart from the wall beside it as well, so the walk cannot tell its end
         return top
