@@ -56,6 +56,7 @@ from obstacle_fusion.vision.fused.region import (
     looks_like_top_face,
     lower_top_past_top_face,
     lower_top_to_background,
+    raise_top_along_frame,
     raise_top_by_colour,
     raise_top_by_sides,
     raise_top_past_band,
@@ -206,6 +207,11 @@ STANDING_TOP_SHARE = 0.25
 #: together is a background line across a face in the wall's shade: the top is raised to
 #: where they end (`extent.raise_top_along_seams`).
 SEAMS_RAISE_TOP = True
+#: A thin strip found at the face's foot (under THIN_STRIP_SHARE of its width high) whose
+#: ends carry its colour up as a frame's sides, round a middle of another colour, is the
+#: frame's bottom rail: the top is raised to where the frame's sides end
+#: (`region.raise_top_along_frame`; a switch for the tests).
+FRAME_RAIL_RAISE = True
 #: With the rig, a face the edges found as a thin strip at its foot (its height under
 #: this share of its width: a floor line or a band's foot taken for its top, a floor-grid
 #: line for a side) at under THIN_STRIP_MAX_CONFIDENCE is weighed against the face its
@@ -483,6 +489,9 @@ class FusedMethod:
             framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
         ):
             vt = walked
+        if FRAME_RAIL_RAISE and rb - vt < THIN_STRIP_SHARE * (ur - ul):
+            # a thin strip at the foot: a frame's bottom rail, its sides running on above
+            vt = raise_top_along_frame(seen, v, ay, rb, vt, ul, ur, depth)
 
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)

@@ -909,6 +909,85 @@ def _sides_walk(
     return _cross_bands(flags, walk_on(flags, k, -1, gap), gap, tape)
 
 
+#: A frame's side, next to the face's side, is at most this many columns wide (its own
+#: width with the blur of the edge beside it) ...
+FRAME_SIDE_COLUMNS = 6
+#: ... and holds the rail's colour in at least this many of them in a row of the frame.
+FRAME_SIDE_MIN_COLUMNS = 2
+#: The frame's sides must run on above the rail for at least this many times its height
+#: (a frame is taller than its bottom rail; a box's corner posts are not a frame).
+FRAME_RISE_SHARE = 1.0
+#: Between the frame's sides, above the rail, the middle must be off the rail's colour
+#: in at least this share of the rows (the inner panel: a wall of the rail's colour
+#: behind a low face would hold the middle too), and so must FRAME_SIDE_COLUMNS columns
+#: beside each side (a stripe of that colour running on past the sides is no frame).
+FRAME_INNER_SHARE = 0.8
+
+
+def raise_top_along_frame(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The top of a face found as its frame's bottom rail, moved up to where the frame's
+    sides end.
+
+    A framed face (a panel or a print inside a border of another colour) shows a strong
+    horizontal edge where the inner panel meets the bottom rail; the search can take that
+    strip for the face. The frame's sides are the rail's colour carried up from both its
+    ends, a few columns wide just inside the face's sides, while the middle above the rail
+    is the panel's colour: the face runs on up to where both sides end. The side walk
+    (:func:`raise_top_by_sides`) reads columns past a thin frame's side (the panel) and
+    stops at the rail; a box whose top is the strip's top shows no rail colour above it
+    at its sides, or shows it across the middle too (a background of its colour)."""
+    if image is None or image.ndim != 3:
+        return top
+    rail_rows, n = bottom - top, FRAME_SIDE_COLUMNS
+    if rail_rows < 4 or right - left < 4 * n:
+        return top
+    reach = max(rail_rows, int(round(view.fy * SIDE_WALK_REACH_M / depth_m)))
+    r0 = max(0, top - reach)
+    k = top - r0
+    if k < FRAME_RISE_SHARE * rail_rows:
+        return top
+    c0, c1 = left - n - 2, right + n + 3  # with the columns beside the face
+    if c0 < 0 or c1 > view.out.shape[1]:
+        return top
+    block = _lab8(image, view, r0, bottom, c0, c1).astype(np.float32)
+    lab = block[:, n + 2 : -n - 2]
+    rows, cols = lab.shape[:2]
+    # the rail's colour, clear of the blur of its top edge and its foot
+    seed = lab[k + 2 : rows - 1, 2 : cols - 2].reshape(-1, 3)
+    if seed.shape[0] == 0:
+        return top
+    rail = median_of(seed, axis=0)
+    limit = spread_limit(row_norms(seed - rail), MIN_TOP_DISTANCE)
+    dist = row_norms((lab - rail).reshape(-1, 3)).reshape(rows, cols)
+    held = dist <= limit
+    sides_on = (held[:, 1 : n + 1].sum(axis=1) >= FRAME_SIDE_MIN_COLUMNS) & (
+        held[:, cols - n - 1 : cols - 1].sum(axis=1) >= FRAME_SIDE_MIN_COLUMNS
+    )
+    gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
+    end = walk_on(sides_on.tolist(), k, -1, gap)
+    if k - end < FRAME_RISE_SHARE * rail_rows:
+        return top
+    # the middle is the panel's colour, and beside both sides is no more of the rail's
+    # colour (a band of it running on past the sides: a background stripe, no frame)
+    quarter = cols // 4
+    beside = row_norms((block[end:k] - rail).reshape(-1, 3)).reshape(k - end, -1)
+    for part in (dist[end:k, quarter : cols - quarter], beside[:, :n], beside[:, -n:]):
+        if share(median_of(part, axis=1) > limit) < FRAME_INNER_SHARE:
+            return top
+    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
+    edge = np.asarray(ay[r0 + lo : r0 + hi + 1, left + 1 : right].mean(axis=1))
+    return int(r0 + lo + np.argmax(edge))
+
+
 #: A band across the face taller than SIDE_WALK_GAP_M (a tape, a label strip: in the
 #: generated faces 6-14 % of the face's height, 30-60 % down it) is crossed by the sides'
 #: walk up to this share of the face found under it, when the face comes back above it.
