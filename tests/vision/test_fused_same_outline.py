@@ -49,6 +49,8 @@ def test_a_lower_face_with_the_same_top_and_sides_is_the_whole_face(
         (87.0, 100.0, 300.0, 240.0),  # left side 13 px out
         (100.0, 100.0, 313.0, 240.0),  # right side 13 px out
         (113.0, 100.0, 300.0, 240.0),  # left side 13 px in
+        (100.0, 100.0, 287.0, 240.0),  # right side 13 px in
+        (87.0, 100.0, 313.0, 240.0),  # both 13 px out (the upper face's width sets 12 px)
         (100.0, 87.0, 300.0, 240.0),  # top 13 px higher (something above taken in)
         (100.0, 113.0, 300.0, 240.0),  # top 13 px lower
         (100.0, 100.0, 300.0, 164.0),  # foot 4 px lower: the same edge's blur
@@ -120,6 +122,28 @@ def test_the_sides_must_step_on_most_rows_between_the_feet() -> None:
         assert sides_run_down(img, outline(FOOT_ROW), LINE_FOOT) is runs
 
 
+def test_the_sides_stepping_on_exactly_the_share_of_the_rows_run_down() -> None:
+    """At the limit: 13 of the 65 rows read without the step leave 52, 0.8 exactly (at
+    least RUN_DOWN_SHARE runs on); 14 leave 51 (0.78)."""
+    for rows, runs in ((13, True), (14, False)):
+        img = banded()
+        img[140 : 140 + rows, 90:100] = DARK
+        assert sides_run_down(img, outline(FOOT_ROW), LINE_FOOT) is runs
+
+
+def test_a_side_read_over_too_few_rows_is_no_run_whatever_the_other() -> None:
+    """One side ending 8 rows below the higher foot (3 rows read) tells nothing of a face
+    running down: no run, though the other side steps all the way down."""
+    lines = outline(FOOT_ROW)
+    lines[2] = (100.0, LINE_FOOT + 8.0, 100.0, 60.0)
+    assert not sides_run_down(banded(), lines, LINE_FOOT)
+
+
+def test_no_sides_given_is_no_run() -> None:
+    assert not sides_run_down(banded(), [], LINE_FOOT)
+    assert not sides_run_down(banded(), outline(FOOT_ROW)[:2], LINE_FOOT)
+
+
 def test_a_side_at_the_border_is_left_to_the_other_and_none_read_is_no_run() -> None:
     img = banded()
     lines = outline(FOOT_ROW)
@@ -179,7 +203,12 @@ def test_with_no_rig_the_upper_part_of_a_face_gives_way_to_the_face(
     monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
     monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
     monkeypatch.setattr(measure, "face_runs_below", lambda *a: False)
-    monkeypatch.setattr(measure, "sides_run_down", lambda *a: runs_down)
+    # the sides are read from the upper face's foot down to the lower face's
+    monkeypatch.setattr(
+        measure,
+        "sides_run_down",
+        lambda image, lines, upper_foot: runs_down and abs(upper_foot - row_at[0.20]) < 1.0,
+    )
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert res.detected, res.reason
     assert res.camera_height_m == pytest.approx(expected, abs=0.01)

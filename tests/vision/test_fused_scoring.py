@@ -284,3 +284,22 @@ def test_closing_top_matches_its_reference_on_random_segments() -> None:
         got = closing_top(feats, tops, s0, s1, i, horizon)
         assert got == _closing_reference(feats, tops, s0, s1, i, horizon)
         assert got is None or type(got) is int
+
+
+@pytest.mark.parametrize("side_run, gross", [(scoring.CLOSING_SIDE_RUN, False), (0.0, True)])
+def test_the_mirrored_room_asks_the_other_side(
+    side_run: float, gross: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Room photo/1484 seen in a mirror: the rocket's edge now carries the pair's left
+    side and the side against the sky is the right one, so each side's own feature is
+    read (``up_l`` from the left column, ``up_r`` from the right). Without the rule the
+    rocket's top closes the face (over 30 % off); with it the answer stays under the
+    25 % gross bar."""
+    monkeypatch.setattr(scoring, "CLOSING_SIDE_RUN", side_run)
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("photo", 1484, False, cam)
+    mirrored = np.ascontiguousarray(image[:, ::-1])
+    res = Measurer(cam, spec.rig).measure(mirrored, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    error = abs(res.height_m / truth["height_m"] - 1)
+    assert error > 0.3 if gross else error < 0.25

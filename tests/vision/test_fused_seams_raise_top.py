@@ -7,8 +7,11 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
+from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method
 from obstacle_fusion.vision.fused.extent import raise_top_along_seams
+from obstacle_fusion.vision.measure import Measurer
 
 from tests.vision_fixtures import room_size_errors
 
@@ -85,11 +88,22 @@ def test_a_thin_line_is_one_seam(width: int, moves: bool) -> None:
     assert (top < SKIRTING) is moves
 
 
-@pytest.mark.parametrize(("seams", "moves"), [((100, 150), False), ((100, 165), True)])
+@pytest.mark.parametrize(
+    ("seams", "moves"), [((100, 150), False), ((100, 160), False), ((100, 161), True), ((100, 165), True)]
+)
 def test_the_seams_must_part_the_whole_face(seams: tuple[int, int], moves: bool) -> None:
     """Seams leaving over SEAM_PART_SHARE of the face (200 columns) without one: the pair
-    took in another surface beside the panels (here 110 and 95 columns)."""
+    took in another surface beside the panels. The seam drawn on columns 160-161 has its
+    edge at column 160: 100 columns to the right side, half the face, still parted; one
+    column to the left leaves 101."""
     assert (raised({col: TOP for col in seams}) < SKIRTING) is moves
+
+
+def test_the_parts_are_those_of_the_seams_running_on() -> None:
+    """Three seams running on over the face's left part, two lines ending at the top found
+    on its right part (a surface beside the panels, with lines of its own): 140 columns
+    with no seam running on, though every line together parts the face finely."""
+    assert raised({80: TOP, 100: TOP, 120: TOP, 180: SKIRTING, 230: SKIRTING}) == SKIRTING
 
 
 def test_lines_running_out_of_the_view_raise_nothing() -> None:
@@ -110,16 +124,52 @@ def test_most_of_the_face_lines_must_run_on() -> None:
     assert raised(seams) < SKIRTING
 
 
-@pytest.mark.parametrize(("gap_rows", "moves"), [(4, True), (8, False)])
-def test_a_seam_must_stand_over_most_of_the_face_found(gap_rows: int, moves: bool) -> None:
-    """A line standing over under SEAM_COVERAGE of the face's rows (29 here) is no seam of
-    it: two of three lines broken near the foot leave one seam."""
+def test_half_of_the_face_lines_running_on_is_enough() -> None:
+    """Two lines running on (parting the face in thirds) among three ending at the top
+    found: not most of them; among two: half of them, the top moves."""
+    seams = {100: SKIRTING, 127: TOP, 160: SKIRTING, 193: TOP, 230: SKIRTING}
+    assert raised(seams) == SKIRTING
+    del seams[230]
+    assert raised(seams) < SKIRTING
+
+
+@pytest.mark.parametrize(("end", "moves"), [(167, True), (168, False)])
+def test_seams_must_run_on_past_the_top_beyond_its_blur(end: int, moves: bool) -> None:
+    """Lines ending a row or two above the top found end at it (its edge's blur, SNAP_ROWS
+    // 2): drawn up to row 168 their edges reach row 168, two rows above the top; up to
+    row 167, three."""
+    assert (raised({127: end, 193: end}) < SKIRTING) is moves
+
+
+@pytest.mark.parametrize(("first_row", "moves"), [(4, False), (5, True)])
+def test_seams_ending_within_snap_rows_of_the_view_top_raise_nothing(
+    first_row: int, moves: bool
+) -> None:
+    """Lines whose edges reach SNAP_ROWS (4) rows from the view's top end out of it; one
+    row lower, they end in the view, and the top moves there."""
+    img = wall_shade_face({}).astype(np.int16)
+    for col in (127, 193):
+        img[first_row:BOTTOM, col - 1 : col + 1] = 90
+    ay, ax3, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
+    top = raise_top_along_seams(ay, ax3, BOTTOM, SKIRTING, LEFT, RIGHT, noise)
+    assert (top < SKIRTING) is moves
+
+
+@pytest.mark.parametrize(
+    ("gap_rows", "top", "moves"),
+    [(4, SKIRTING, True), (8, SKIRTING, False), (5, SKIRTING - 1, True), (6, SKIRTING - 1, True), (7, SKIRTING - 1, False)],
+)
+def test_a_seam_must_stand_over_most_of_the_face_found(gap_rows: int, top: int, moves: bool) -> None:
+    """A line standing over under SEAM_COVERAGE of the face's rows is no seam of it: two of
+    three lines broken near the foot leave one seam. With the top found on row 169 the
+    face has 30 rows: a gap drawn 6 rows high leaves 24 (0.8, the limit, a seam), 7 leave
+    23 (0.77); on row 170 (29 rows) 4 leave 25 (0.86), 8 under 0.8."""
     img = wall_shade_face({110: TOP, 160: TOP, 210: TOP}).astype(np.int16)
     img[BOTTOM - gap_rows : BOTTOM, 158:162] = 155
     img[BOTTOM - gap_rows : BOTTOM, 208:212] = 155
     ay, ax3, noise = gradients(np.clip(img, 0, 255).astype(np.uint8))
-    top = raise_top_along_seams(ay, ax3, BOTTOM, SKIRTING, LEFT, RIGHT, noise)
-    assert (top < SKIRTING) is moves
+    found = raise_top_along_seams(ay, ax3, BOTTOM, top, LEFT, RIGHT, noise)
+    assert (found < top) is moves
 
 
 def test_a_dotted_line_is_no_seam() -> None:
@@ -154,3 +204,21 @@ def test_without_the_rule_the_skirting_is_the_top(
 ) -> None:
     monkeypatch.setattr(method, "SEAMS_RAISE_TOP", False)
     assert room_size_errors(fam, seed, hard)[0] > 0.4
+
+
+def test_the_rule_runs_with_the_rig_only(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With no rig the camera's height and pitch are only tried (rig_known False): a seam
+    top found on a guessed row is not reported; the rule is not asked."""
+    calls: list[int] = []
+
+    def spy(*args: object) -> int:
+        calls.append(1)
+        return raise_top_along_seams(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(method, "raise_top_along_seams", spy)
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("procedural", 1461, False, cam)
+    Measurer(cam, None).measure(image, truth["range_m"])
+    assert not calls
+    Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert calls
