@@ -13,7 +13,14 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod, floor_contact, region
 from obstacle_fusion.vision.fused import method as fused_method
 from obstacle_fusion.vision.fused.channel import MIN_COLOUR_STEP, face_floor_grey
-from obstacle_fusion.vision.fused.confidence import FOOT_OFF_FLOOR, PITCH_UNREAD
+from obstacle_fusion.vision.fused.confidence import (
+    FOOT_OFF_FLOOR,
+    NEAR_RIVALS,
+    PITCH_UNREAD,
+    SECOND_TOP,
+    TOP_FROM_SIDES,
+    TOP_RUNS_ON,
+)
 from obstacle_fusion.vision.fused.floor_contact import contact_rows, weak_contact_rows
 from obstacle_fusion.vision.measure import CLIP_MARGIN_PX, Measurer, clipped_sides
 from obstacle_fusion.vision.rig import Rig
@@ -1687,6 +1694,54 @@ def test_the_sweep_replaces_an_unsure_face_only_with_a_sure_confirmed_face_above
     assert measure._swept_over(None, face, False)
     none = Measurement(detected=False, method="fused", range_m=1.0)
     assert measure._swept_over(none, weak, False)
+
+
+def test_the_sweep_reads_again_an_unsure_face_with_a_doubted_top_on_its_foot() -> None:
+    """With no rig, the sweep's face on the unsure face's own foot (feet under
+    MIN_NEARER_DROP_PX, twice the row jitter of 2 px, apart), its sides reading the pitch,
+    sure (ESTIMATE_ACCEPT) and with a clear top, replaces the unsure face when that face's
+    top edge is doubted (SECOND_TOP or TOP_RUNS_ON), though under SWEPT_OVER_UNSURE."""
+    truth = {"range_m": 1.7}
+    level = _face_box(truth, 0.14, (179.0, 167.0, 446.0, 301.3))  # photo/1411 o's level face
+    level.doubts = [SECOND_TOP, TOP_RUNS_ON]
+
+    def swept(conf: float, foot: float, *doubts: str) -> Measurement:
+        face = _face_box(truth, conf, (179.0, 106.0, 445.0, foot))
+        face.doubts = list(doubts)
+        return face
+
+    right = swept(0.47, 301.3, NEAR_RIVALS)  # its top at the box's, its pitch -4.6 degrees
+    assert 0.47 < measure.SWEPT_OVER_UNSURE  # the rule for a face above it would refuse it
+    assert measure._swept_over(level, right, True)
+    assert not measure._swept_over(level, right, False)  # its pitch not read
+    assert measure._swept_over(level, swept(measure.ESTIMATE_ACCEPT, 301.3), True)
+    assert not measure._swept_over(level, swept(measure.ESTIMATE_ACCEPT - 0.01, 301.3), True)
+    # the feet: 3.9 px apart is the same edge (row jitter), 4 px is another foot
+    assert measure._swept_over(level, swept(0.47, 301.3 - 3.9), True)
+    assert not measure._swept_over(level, swept(0.47, 301.3 - 4.0), True)
+    assert measure._swept_over(level, swept(0.47, 301.3 + 3.9), True)
+    assert not measure._swept_over(level, swept(0.47, 301.3 + 4.0), True)
+    # the sweep's top doubted too: no better reading of the top
+    assert not measure._swept_over(level, swept(0.47, 301.3, SECOND_TOP), True)
+    assert not measure._swept_over(level, swept(0.47, 301.3, TOP_RUNS_ON), True)
+    # either top doubt alone on the unsure face is enough; other doubts are not
+    for doubt in (SECOND_TOP, TOP_RUNS_ON):
+        level.doubts = [doubt]
+        assert measure._swept_over(level, right, True)
+    for other in (TOP_FROM_SIDES, NEAR_RIVALS, FOOT_OFF_FLOOR):
+        level.doubts = [other]
+        assert not measure._swept_over(level, right, True)  # a clear top keeps its face
+    level.doubts = []
+    assert not measure._swept_over(level, right, True)
+
+
+def test_with_no_rig_photo_1411_the_swept_reading_of_the_same_foot_gives_the_top() -> None:
+    """Room photo/1411 (ordinary): with no rig the face found with the lens taken as level
+    stopped at a line of the wall running on beside it (height -31 %, doubted:
+    second_top_edge, top_runs_on, confidence 0.14); the sweep at -4.6 degrees, its sides
+    confirming that pitch, read the same foot with the box's own top (0.47), which the rule
+    for a face above refused. It is now measured within 5 %."""
+    _assert_measured_without_rig("photo", 1411, False, rel=0.05)
 
 
 @pytest.mark.parametrize("seed", [1022, 1093])

@@ -29,7 +29,9 @@ from obstacle_fusion.vision.fused.confidence import (
     FRAMED,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
+    SECOND_TOP,
     TOP_BAND_UNLIKE_FACE,
+    TOP_RUNS_ON,
     TRIAL_RIVAL,
     pixel_factor,
     reported_confidence,
@@ -969,6 +971,11 @@ SMALL_SHARE = 0.5
 #: With no rig, the last-resort sweep's face replaces an unsure face (under
 #: ESTIMATE_ACCEPT) only when its sides read the pitch and it reaches this confidence.
 SWEPT_OVER_UNSURE = 0.5
+#: ... or, standing on the unsure face's own foot (the two feet under MIN_NEARER_DROP_PX
+#: apart), when the unsure face's top edge is doubted by one of these (another edge just
+#: under it, or a line running on beside it) and the sweep's face's top by none
+#: (:func:`_swept_top_over`).
+TOP_EDGE_DOUBTS = frozenset({SECOND_TOP, TOP_RUNS_ON})
 #: With no rig, a sure face standing on the top of a lower, unsure one (:func:`_stands_on_top`:
 #: an object on a box or behind it, its foot on the box's top edge) gives way to that
 #: face when it is this many times as wide or more ...
@@ -1168,12 +1175,39 @@ def _swept_over(best: Measurement | None, swept: Measurement, read: bool) -> boo
     were within 10 %, and the sweep's faces over them worse)."""
     if best is None or not best.detected:
         return True
+    if _swept_top_over(best, swept, read):
+        return True
     return (
         read
         and (swept.confidence or 0.0) >= SWEPT_OVER_UNSURE
         and best.box_px is not None
         and swept.box_px is not None
         and best.box_px[1] >= swept.box_px[3]
+    )
+
+
+def _swept_top_over(best: Measurement, swept: Measurement, read: bool) -> bool:
+    """Whether the sweep's face ``swept`` is the unsure face ``best`` read again with its
+    top right: standing on the same foot (feet under MIN_NEARER_DROP_PX apart), its sides
+    reading the pitch it was levelled at (``read``), and sure (ESTIMATE_ACCEPT, as every
+    sweep's face), while ``best``'s top edge carries a doubt of TOP_EDGE_DOUBTS and
+    ``swept``'s none. The foot is the same edge at any pitch; the top is sought above it
+    in the view levelled for the guessed pitch, and a lens pitched a few degrees off level
+    moves where the face's top is sought (the band above the foot the view allows), so the
+    level reading may stop at a line of the background (one running on beside the face)
+    or a band inside the face (an edge just under the top): the outline doubts it itself.
+    The reading whose own sides agree with its pitch, finding a top nothing doubts, is
+    the face seen in its true geometry (photo/1411 o: the level face stopped at a line of
+    the wall, -31 %; the sweep's at -4.6 degrees, its sides confirming, 0.4 %). An unsure
+    face with a clear top keeps it (on the tuning rooms the same face read again by the
+    sweep was worse: procedural/1007 o 0.9 -> 8.8 %, and fresh 1461 o 0.4 -> -55 %)."""
+    if not (read and best.box_px is not None and swept.box_px is not None):
+        return False
+    return (
+        (swept.confidence or 0.0) >= ESTIMATE_ACCEPT
+        and abs(best.box_px[3] - swept.box_px[3]) < MIN_NEARER_DROP_PX
+        and bool(TOP_EDGE_DOUBTS & set(best.doubts))
+        and not TOP_EDGE_DOUBTS & set(swept.doubts)
     )
 
 
