@@ -708,6 +708,7 @@ def test_a_face_the_edges_miss_or_refuse_is_found_by_colour_with_a_modest_confid
     outline, scoring.enclosing_outline, now finds it by its edges, surely and within
     5 %: that rule is off here, for the colour search to be tested.)"""
     from obstacle_fusion.sim.room_scene import render_room
+    from obstacle_fusion.vision import measure as measure_mod
     from obstacle_fusion.vision.fused import method, scoring
     from obstacle_fusion.vision.measure import Measurer
 
@@ -721,6 +722,9 @@ def test_a_face_the_edges_miss_or_refuse_is_found_by_colour_with_a_modest_confid
     assert 0.0 < res.confidence <= method.RESCUE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "face_from_colour", lambda *args: None)
     monkeypatch.setattr(method, "face_from_texture", lambda *args: None)
+    # (and the last try on the face-against-background channel, measure.BACKGROUND_TURN,
+    # which the colour search leaves unreached: off, for the refusal to be seen)
+    monkeypatch.setattr(measure_mod, "BACKGROUND_TURN", False)
     refused = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert not refused.detected and "confidence" in (refused.reason or "")
 

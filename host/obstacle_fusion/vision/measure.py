@@ -22,9 +22,14 @@ import numpy.typing as npt
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
-from obstacle_fusion.vision.fused.channel import face_floor_grey
+from obstacle_fusion.vision.fused.channel import (
+    face_background_grey,
+    face_floor_grey,
+    side_on_seam,
+)
 from obstacle_fusion.vision.fused.confidence import (
     FLOOR_IN_FACE,
+    FOOT_ABOVE_CONTACT,
     FOOT_OFF_FLOOR,
     FRAMED,
     PITCH_RERUN_DISAGREES,
@@ -858,6 +863,28 @@ class Measurer:
             if not result.detected and grey is not image:
                 # the colour turn can also fade an edge luminance had: try luminance
                 result = fused.run(image, range_m, timer)
+            if not result.detected and BACKGROUND_TURN:
+                # a face in the lightness of what stands beside it shows its sides in
+                # hue only: its colour against the background's (a last try: only a miss)
+                turned = face_background_grey(image, view, contact, depth)
+                if turned is not None:
+                    again = fused.run(turned, range_m, timer, image, rescue=False)
+                    seam = (
+                        again.detected
+                        and again.box_px is not None
+                        and side_on_seam(turned, again.box_px, view, depth)
+                    )
+                    # ... and standing on the contact row the rig predicts: a face
+                    # doubting its foot there is some other surface's outline
+                    off = again.detected and bool(LAST_TRY_FOOT_DOUBTS.intersection(again.doubts))
+                    log.debug(
+                        "face against background: %s, on a seam %s, foot off %s",
+                        again.detected,
+                        seam,
+                        off,
+                    )
+                    if again.detected and not seam and not off:
+                        result = again
             elif grey is not image and thin_strip(result):
                 # a thin strip at the foot, barely sure: luminance, with the colour
                 # rescue, may find the face it stands for (taken when surer and taller)
@@ -900,6 +927,15 @@ class Measurer:
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
 
+
+#: With the rig, a frame where neither the face-floor channel nor luminance gives a face is
+#: tried once more on a channel turned towards the face's colour against the background
+#: beside it (:func:`~obstacle_fusion.vision.fused.channel.face_background_grey`; session
+#: 31, branch `photomiss31`). A switch for the tests.
+BACKGROUND_TURN = True
+#: ... whose face is taken only where it stands on that row: none of these doubts (a foot
+#: above the contact row, off the floor, or floor within the face).
+LAST_TRY_FOOT_DOUBTS = frozenset({FOOT_ABOVE_CONTACT, FOOT_OFF_FLOOR, FLOOR_IN_FACE})
 
 #: With no rig, a floor-contact row that would put the lens lower than this above the floor
 #: is not tried: it is a line on the wall or a print's edge far above the floor, not the

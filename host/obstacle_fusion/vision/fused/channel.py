@@ -17,6 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.profiles import norm
+from obstacle_fusion.vision.fused.search import line_columns
 from obstacle_fusion.vision.types import View
 
 #: Share of the face-floor colour direction in the projection (the rest is luminance).
@@ -83,12 +84,83 @@ def face_floor_grey(
     face, floor = _mean_colours(image, pts, 2)
     if face is None or floor is None:
         return image
-    step = face - floor
+    return _turned(image, view, face - floor, contact_row, depth_m)
+
+
+#: Heights above the contact row (metres at the face) of the rows whose median colour,
+#: across the frame, is taken for what stands beside the face: the wall or the floor
+#: farther back, seen past its sides (a face wider than the frame's half is its own median,
+#: and then no direction is added).
+BACKGROUND_ROWS_M = (0.1, 0.2, 0.3)
+
+
+def face_background_grey(
+    image: npt.NDArray[Any], view: View, contact_row: float, depth_m: float
+) -> npt.NDArray[Any] | None:
+    """One channel turned towards the face's colour against what stands beside it, or
+    None where luminance sees that step already (or the frame is grey).
+
+    A face in the lightness of the wall or floor behind it shows its sides in hue only (a
+    grey box against a blue wall), while its seams and prints are luminance lines: the
+    luminance and face-floor channels then find a pair of seams, or no face. The face's
+    colour is the beam's core just above the contact row (as :func:`face_floor_grey`);
+    the background's, the median colour of the rows BACKGROUND_ROWS_M above that row
+    across the frame."""
+    if image.ndim != 3:
+        return None
+    du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
+    centre = np.array([view.cx, contact_row])
+    pts = view.to_input(centre + _OFFSETS * [du, 1.0] * [1.0, -1.0])
+    (face,) = _mean_colours(image, pts, 1)
+    heights = np.array([[view.cx, contact_row - view.fy * m / depth_m] for m in BACKGROUND_ROWS_M])
+    rows = [int(round(r)) for r in view.to_input(heights)[:, 1]]
+    rows = [r for r in rows if 0 <= r < image.shape[0]]
+    if face is None or not rows:
+        return None
+    background = np.median(image[rows].reshape(-1, image.shape[2]), axis=0)
+    turned = _turned(image, view, face - background, contact_row, depth_m)
+    return None if turned is image else turned
+
+
+#: The rows over which a side found on that channel is checked for a seam: this many metres
+#: (at the face) just above its foot, as the side search's short strip ...
+SEAM_STRIP_M = 0.05
+#: ... at the side's column and this many either side of it (the box's sub-pixel side).
+SEAM_SIDE_COLUMNS = 1
+
+
+def side_on_seam(
+    grey: npt.NDArray[Any], box: tuple[float, float, float, float], view: View, depth_m: float
+) -> bool:
+    """Whether a side of the face ``box`` (x0, y0, x1, y1 in ``grey``) found on the
+    background channel is a thin line on one shade just above its foot (see
+    :func:`~obstacle_fusion.vision.fused.search.line_columns`): a seam or joint the face
+    runs on past, not a side. The last try's face is not taken then: its colour against
+    the background shows the face's sides, and a seam's pair is a part of the face."""
+    x0, _, x1, y1 = box
+    foot = int(round(y1))
+    rows = max(3, int(round(view.fy * SEAM_STRIP_M / depth_m)))
+    strip = grey[max(0, foot - 1 - rows) : max(0, foot - 1)]
+    d = SEAM_SIDE_COLUMNS
+    cols = [int(round(x)) + k for x in (x0, x1) for k in range(-d, d + 1)]
+    return bool(line_columns(strip, cols))
+
+
+def _turned(
+    image: npt.NDArray[Any],
+    view: View,
+    step: npt.NDArray[Any],
+    contact_row: float,
+    depth_m: float,
+) -> npt.NDArray[Any]:
+    """``image`` projected half on luminance, half on the colour ``step`` (the face's
+    colour less what it is told from), down to the rows the method reads; ``image``
+    itself where luminance sees that step already."""
     size = norm(step)
     luma_unit = _LUMA_UNIT
     chroma = norm(step - float(step @ luma_unit) * luma_unit)
     if size < MIN_COLOUR_STEP or chroma < MIN_CHROMA_STEP:
-        return image  # luminance sees the face's foot already: nothing to add
+        return image  # luminance sees the step already: nothing to add
     towards = step / size
     if float(towards @ _LUMA) < 0.0:
         towards = -towards
