@@ -479,7 +479,10 @@ class FusedMethod:
         # a background line crossing the face is not its top: the face's colour runs on
         # (a frame's top margin is the front top edge of a low box's top face seen above
         # it: a short way up to where that face's back edge ends the colour is no face)
-        coloured = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
+        # (with the rig, the face's colour must reach the pair's sides: they stand up from
+        # the floor row the range predicts; under a row merely tried a poster face's
+        # strips, unlike its middle, stopped its walk: photo/1490 hard)
+        coloured = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth, edge_sides=rig_known)
         if face_under_raised_top(seen, v, rb, vt, coloured, ul, ur) and not (
             framed is not None and top_face_above(seen, v, rb, vt, coloured, ul, ur)
         ):

@@ -634,11 +634,15 @@ def raise_top_by_colour(
     depth_m: float,
     reach: int | None = None,
     one_side: bool = False,
+    edge_sides: bool = False,
 ) -> int:
     """The face's top row, moved up while the rows above it show the face's colour
     (at most ``reach`` rows up; default twice the face's height as found). ``one_side``:
     a face running off the view is walked against its other side's background alone
     (CLIPPED_COLOUR_WALK; the colour rescues', whose face no edges found).
+    ``edge_sides``: the sides are edges standing up from the floor (the edge search's),
+    so the face's colour must reach them (COLOUR_REACHES_SIDES); a colour rescue's sides
+    end a colour run along the foot and may lie on floor or shadow beside the face.
 
     A background line crossing the face (the wall's foot, a shelf) is a horizontal edge
     between the face's sides; the search takes it for the face's top when the face's sides
@@ -661,10 +665,12 @@ def raise_top_by_colour(
     # first only the rows a first step up reads: most tops do not move, and the tall band
     # (up to twice the face's height) costs the stage's time
     short = max(0, top - max_gap - STEP_ROWS - SNAP_ROWS - 2)
-    r0, end, k = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap, read)
+    r0, end, k, capped = _colour_walk_up(image, view, short, r1, top, c0, c1, max_gap, read)
     if short > 0 and end <= max_gap + STEP_ROWS:  # it may run on above the short band
         r0 = max(0, top - (2 * (bottom - top) if reach is None else reach))
-        r0, end, k = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap, read)
+        r0, end, k, capped = _colour_walk_up(image, view, r0, r1, top, c0, c1, max_gap, read)
+    if edge_sides and COLOUR_REACHES_SIDES:
+        end = capped
     if k - end <= SNAP_ROWS:
         return top
     lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
@@ -682,10 +688,11 @@ def _colour_walk_up(
     c1: int,
     gap: int,
     read: tuple[bool, bool] = (True, True),
-) -> tuple[int, int, int]:
+) -> tuple[int, int, int, int]:
     """The walk of :func:`raise_top_by_colour` over the view's rows r0..r1-1 (columns
     c0..c1-1: the face and BESIDE_COLUMNS either side): (r0, the band row it reached,
-    the band row of ``top``). ``read``: whether the (left, right) side has columns beside
+    the band row of ``top``, the band row reached where the face's colour must reach its
+    sides, COLOUR_REACHES_SIDES). ``read``: whether the (left, right) side has columns beside
     it in the view (one past the view's border is not read: its columns are the border's
     repeated)."""
     w_view = view.out.shape[1]
@@ -705,6 +712,7 @@ def _colour_walk_up(
     s = BESIDE_COLUMNS + SIDE_SKIP
     on = d_face <= MAX_FACE_DISTANCE
     edges: list[int] = []  # how far the strip just inside each side runs up
+    strips: list[npt.NDArray[Any]] = []
     for seen_beside, near, out in (
         (read[0], lab[:, s : s + BESIDE_COLUMNS], left_out),
         (read[1], lab[:, -s - BESIDE_COLUMNS : -s], right_out),
@@ -734,9 +742,42 @@ def _colour_walk_up(
         strip_limit = spread_limit(d_strip[k + 2 :], MIN_TOP_DISTANCE)
         strip_on &= d_strip <= strip_limit  # the margin keeps its own colour, no drift
         edges.append(_walk_colour(strip, strip_on, k, float(strip_limit), gap))
+        strips.append(strip)
     if not edges:
-        return r0, k, k  # no side tells the face from what stands beside it
-    return r0, min(_walk_colour(inner, on, k, limit, gap), max(edges)), k
+        return r0, k, k, k  # no side tells the face from what stands beside it
+    end = capped = min(_walk_colour(inner, on, k, limit, gap), max(edges))
+    if end < min(edges):
+        # the face's colour reaches its sides up to its top: a face square to the beam
+        # is one surface, so just inside each side the middle's colour runs up as far as
+        # in the middle. Where the middle's colour runs on above where every side strip
+        # lost the face's colour, and those strips no longer show the middle's colour
+        # either, what runs on is narrower than the face (an object in line behind it)
+        if all(
+            _parts_from_middle(strip, inner, end, edge)
+            for strip, edge in zip(strips, edges, strict=True)
+        ):
+            capped = min(edges)
+    return r0, end, k, capped
+
+
+#: The colour walk up stops where the face's own colour no longer reaches its sides
+#: (:func:`_colour_walk_up`): a side strip parts from the middle above its own walk's end
+#: when it differs from the middle's colour by MIN_BESIDE_STEP in this share of the rows
+#: the middle's walk climbed past it.
+COLOUR_REACHES_SIDES = True
+SIDE_PARTS_SHARE = 0.8
+
+
+def _parts_from_middle(
+    strip: npt.NDArray[Any], inner: npt.NDArray[Any], end: int, edge: int
+) -> bool:
+    """Whether a side ``strip`` (band rows) differs from the ``inner`` colour over the
+    rows ``end``..``edge``-1 the middle's walk reached above the strip's own walk: the
+    middle's colour does not reach that side there."""
+    if edge <= end:
+        return False  # no rows
+    d = row_norms(strip[end:edge].astype(np.float32) - inner[end:edge].astype(np.float32))
+    return bool(np.mean(d >= MIN_BESIDE_STEP) >= SIDE_PARTS_SHARE)
 
 
 #: A row's side stands when its colour step is at least this share of the side's step
