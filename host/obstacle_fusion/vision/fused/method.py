@@ -537,7 +537,8 @@ class FusedMethod:
         # (a print's frame is a margin's colour run already: its sides are that margin's)
         if framed is None:
             ul, ur = trim_to_foot(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, span)
-        ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
+        # (with the rig: a side moved out rises as the face's, no shadow's at its foot)
+        ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, rises=rig_known)
 
         def finish(
             top: tuple[int, float, float | None],
