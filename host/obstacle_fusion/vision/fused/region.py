@@ -196,8 +196,8 @@ def widen_by_colour(
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
 
-    ``rises`` (with the rig): a side moved out only where the columns it took in rise as
-    the face's (:func:`_rises_as_face`).
+    ``rises``: a side moved out only where the columns it took in rise as the face's
+    under ``top`` (:func:`sides_rising`; the method asks that after settling the top).
 
     ``chroma``: no side moves out over a foot showing the floor's own chroma (see
     :func:`floor_chroma`), nor past a foot of the floor's own colour (a gap between two
@@ -323,13 +323,32 @@ def widen_by_colour(
             ):
                 new.append(side)
                 continue
-        moved_to = _snap_side(ax, top, bottom, end)[0]
-        if rises and RISES_AS_FACE and (moved_to - side) * step > 0:
-            moved_to = _rising_side(
-                image, view, ax, bottom, top, (left, right), side, moved_to, step
-            )
-        new.append(moved_to)
+        new.append(_snap_side(ax, top, bottom, end)[0])
+    if rises:
+        return sides_rising(image, view, ax, bottom, top, (left, right), (new[0], new[1]))
     return new[0], new[1]
+
+
+def sides_rising(
+    image: npt.NDArray[Any],
+    view: View,
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    walked_from: tuple[int, int],
+    walked_to: tuple[int, int],
+) -> tuple[int, int]:
+    """The sides :func:`widen_by_colour` moved from ``walked_from`` to ``walked_to``, each
+    moved out only as far as its strip rises as the face's under ``top`` (the method calls
+    it after the top is settled between the walked sides: RISES_AS_FACE)."""
+    if not RISES_AS_FACE or image is None or image.ndim != 3:
+        return walked_to
+    left, right = walked_to
+    if left < walked_from[0]:
+        left = _rising_side(image, view, ax, bottom, top, walked_from, walked_from[0], left, -1)
+    if right > walked_from[1]:
+        right = _rising_side(image, view, ax, bottom, top, walked_from, walked_from[1], right, 1)
+    return left, right
 
 
 def _rising_side(
