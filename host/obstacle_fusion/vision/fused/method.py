@@ -61,6 +61,7 @@ from obstacle_fusion.vision.fused.region import (
     raise_top_by_sides,
     raise_top_past_band,
     side_agreement,
+    sides_rising,
     snap_sides_to_steps,
     stops_at_colour_top,
     top_agreement,
@@ -540,6 +541,7 @@ class FusedMethod:
         # (a print's frame is a margin's colour run already: its sides are that margin's)
         if framed is None:
             ul, ur = trim_to_foot(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, span)
+        walked_from = (ul, ur)  # the sides before the colour walk along the foot
         ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
 
         def finish(
@@ -589,6 +591,11 @@ class FusedMethod:
                 and again[3] >= self.min_confidence
             ):
                 vt, sign, top_row, face_conf = again
+        if rig_known:
+            # a side the walk moved out rises as the face's up to the top as settled (no
+            # shadow's, no floor's at its foot): read under the top found for the sides the
+            # walk gave (before it, a top found too high read the background up there)
+            ul, ur = sides_rising(seen, v, ax3, rb, int(round(vt)), walked_from, (ul, ur))
         conf = face_conf
         reason = refusal(conf, self.min_confidence)
         if reason is not None:

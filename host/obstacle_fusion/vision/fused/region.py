@@ -31,6 +31,7 @@ to one plank, took a wall line crossing the face for its top and a print for the
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import Any
 
@@ -49,6 +50,8 @@ from obstacle_fusion.vision.fused.profiles import (
     walk_on,
 )
 from obstacle_fusion.vision.types import View
+
+log = logging.getLogger(__name__)
 
 #: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
 EDGE_SKIP = 2
@@ -109,6 +112,25 @@ MAX_FLOORLIKE_FOOT = 0.5
 #: A foot within this Lab distance of the floor below it is the floor itself running on
 #: above the contact row (a seam between planks or bricks is a line of its own colour).
 FLOOR_THROUGH_STEP = 0.5 * MIN_FLOOR_STEP
+#: A side moved out along the foot must rise as the face's (`RISES_AS_FACE`, with the rig):
+#: the face is one surface standing up from its foot to its top, while a shadow or the
+#: floor beyond it lies on the floor and shows only at the foot. In the face's upper rows
+#: (RISE_ROWS_SHARE of its height under the top, past RISE_SKIP rows of the top's blur),
+#: the columns just inside the new side (RISE_BAND columns, RISE_SKIP from it) that match
+#: what lies just beyond it within RISE_NEAR (Lab) while standing RISE_FACE_APART or more
+#: from the face's own colour there are no face, where their foot shows the floor's chroma
+#: (within FLOOR_CHROMA_FAR of the floor just below: the floor's shadow or the floor itself,
+#: farther back; a face of its own colour standing there keeps the walk's side): the side
+#: stays where it was.
+RISES_AS_FACE = True
+RISE_ROWS_SHARE = 0.4
+RISE_SKIP = 2
+RISE_BAND = 7
+RISE_NEAR = 10.0
+RISE_FACE_APART = 25.0
+#: Columns a side that does not rise is brought back by at a time (within SNAP_COLUMNS of
+#: the strongest edge each time).
+RISE_BACK = SNAP_COLUMNS
 
 
 def spread_limit(seed_distances: npt.NDArray[Any], least: float) -> float:
@@ -170,8 +192,12 @@ def widen_by_colour(
     right: int,
     depth_m: float,
     chroma: bool = True,
+    rises: bool = False,
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
+
+    ``rises``: a side moved out only where the columns it took in rise as the face's
+    under ``top`` (:func:`sides_rising`; the method asks that after settling the top).
 
     ``chroma``: no side moves out over a foot showing the floor's own chroma (see
     :func:`floor_chroma`), nor past a foot of the floor's own colour (a gap between two
@@ -298,7 +324,111 @@ def widen_by_colour(
                 new.append(side)
                 continue
         new.append(_snap_side(ax, top, bottom, end)[0])
+    if rises:
+        return sides_rising(image, view, ax, bottom, top, (left, right), (new[0], new[1]))
     return new[0], new[1]
+
+
+def sides_rising(
+    image: npt.NDArray[Any],
+    view: View,
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    walked_from: tuple[int, int],
+    walked_to: tuple[int, int],
+) -> tuple[int, int]:
+    """The sides :func:`widen_by_colour` moved from ``walked_from`` to ``walked_to``, each
+    moved out only as far as its strip rises as the face's under ``top`` (the method calls
+    it after the top is settled between the walked sides: RISES_AS_FACE)."""
+    if not RISES_AS_FACE or image is None or image.ndim != 3:
+        return walked_to
+    left, right = walked_to
+    if left < walked_from[0]:
+        left = _rising_side(image, view, ax, bottom, top, walked_from, walked_from[0], left, -1)
+    if right > walked_from[1]:
+        right = _rising_side(image, view, ax, bottom, top, walked_from, walked_from[1], right, 1)
+    return left, right
+
+
+def _rising_side(
+    image: npt.NDArray[Any],
+    view: View,
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    face_cols: tuple[int, int],
+    side: int,
+    moved_to: int,
+    step: int,
+) -> int:
+    """The side the walk moved from ``side`` out to ``moved_to``, brought back (RISE_BACK
+    columns at a time, snapped to the strongest edge there) to the outermost column whose
+    strip rises as the face's (:func:`_rises_as_face`): a walk through the face and on
+    over its shadow ends at the face's side; ``side`` where none does."""
+    col = moved_to
+    while (col - side) * step > 0:
+        # the walk's own side first, as it was snapped
+        snapped = col if col == moved_to else _snap_side(ax, top, bottom, col)[0]
+        if (snapped - side) * step <= 0:
+            break
+        if _rises_as_face(image, view, bottom, top, face_cols, snapped, step):
+            if snapped != moved_to:
+                log.debug(
+                    "side %d -> %d: shows at the foot only, back to %d", side, moved_to, snapped
+                )
+            return snapped
+        col -= step * RISE_BACK
+    log.debug("side %d -> %d: shows at the foot only, kept", side, moved_to)
+    return side
+
+
+def _rises_as_face(
+    image: npt.NDArray[Any],
+    view: View,
+    bottom: int,
+    top: int,
+    face_cols: tuple[int, int],
+    column: int,
+    step: int,
+) -> bool:
+    """A side moved out to ``column`` (``step`` outwards) rises as the face's: in the
+    face's upper rows the columns just inside it are the face's colour (the face between
+    ``face_cols`` there) or differ from what lies just beyond it. A shadow's or a floor
+    patch's edge at the foot has the background beside and above it alike up there."""
+    r0 = max(top, 0) + RISE_SKIP
+    r1 = min(r0 + max(2, int(RISE_ROWS_SHARE * (bottom - top))), bottom)
+    width = view.out.shape[1]
+    if step > 0:
+        inner = (max(column - RISE_SKIP - RISE_BAND, face_cols[1]), column - RISE_SKIP)
+        outer = (column + RISE_SKIP + 1, min(column + RISE_SKIP + 1 + RISE_BAND, width))
+    else:
+        inner = (column + RISE_SKIP + 1, min(column + RISE_SKIP + 1 + RISE_BAND, face_cols[0] + 1))
+        outer = (max(column - RISE_SKIP - RISE_BAND, 0), column - RISE_SKIP)
+    face = (face_cols[0] + RISE_SKIP, face_cols[1] - RISE_SKIP + 1)
+    if r1 <= r0 or min(inner[1] - inner[0], outer[1] - outer[0], face[1] - face[0]) < 1:
+        return True  # nothing to read: the walk's side stands
+    lab = _lab8(image, view, r0, r1)
+
+    def colour(cols: tuple[int, int]) -> npt.NDArray[Any]:
+        return median_of(lab[:, cols[0] : cols[1]].reshape(-1, 3).astype(np.float32), axis=0)
+
+    inside = colour(inner)
+    like_beyond = float(norm(inside - colour(outer))) <= RISE_NEAR
+    unlike_face = float(norm(inside - colour(face))) >= RISE_FACE_APART
+    if not (like_beyond and unlike_face):
+        return True
+    # the strip's foot (just above the contact row) against the floor just below it
+    f0, f1 = bottom - EDGE_SKIP - FOOT_ROWS, bottom - EDGE_SKIP
+    g0, g1 = (
+        bottom + EDGE_SKIP + 1,
+        min(bottom + EDGE_SKIP + 1 + FLOOR_BAND_ROWS, view.out.shape[0]),
+    )
+    if f0 < 0 or g1 <= g0:
+        return True
+    foot = median_of(_lab8(image, view, f0, f1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
+    floor = median_of(_lab8(image, view, g0, g1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
+    return float(norm(foot[1:] - floor[1:])) > FLOOR_CHROMA_FAR
 
 
 def _up_to_floor(on: list[bool], through: list[bool], start: int, step: int) -> list[bool]:
