@@ -198,13 +198,16 @@ def test_a_seam_is_read_just_above_the_foot() -> None:
     assert side_on_seam(seamed(0.0), (SEAM + 1, TOP, RIGHT, CONTACT), level_view(), DEPTH)
 
 
-def test_a_seam_over_a_low_plinth_is_read() -> None:
-    """A black seam running up from 13 rows (4.3 cm) above the foot, over a plinth: the
-    strip read reaches SEAM_STRIP_M (5 cm, 15 rows) above the foot, so it holds the seam's
-    3 lowest rows, enough for a line (a strip of 4 cm or less would hold none)."""
-    assert 13 / FY < SEAM_STRIP_M
-    grey = seamed(seam_from_m=13 / FY, shade=0)
-    assert side_on_seam(grey, (SEAM + 1, TOP, RIGHT, CONTACT), level_view(), DEPTH)
+@pytest.mark.parametrize(("plinth_rows", "on_seam"), [(13, True), (14, True), (16, False)])
+def test_a_seam_over_a_plinth_is_read_within_the_strip(plinth_rows: int, on_seam: bool) -> None:
+    """A black seam running up from ``plinth_rows`` above the foot, over a plinth: the
+    strip read reaches 5 cm (SEAM_STRIP_M, 15 rows) above the foot and stops a row short
+    of it (the foot's blur). From 13 rows (4.3 cm) it holds the seam's 3 lowest rows, from
+    14 its 2 lowest, enough for a line (a strip of 4 cm or less would hold none, one a row
+    lower 1); from 16 rows (5.3 cm) none (one of 6 cm would hold 3 of them)."""
+    grey = seamed(seam_from_m=plinth_rows / FY, shade=0)
+    box = (SEAM + 1.0, float(TOP), float(RIGHT), float(CONTACT))
+    assert side_on_seam(grey, box, level_view(), DEPTH) is on_seam
 
 
 def stripe(height_m: float, shift: int = 0) -> npt.NDArray[np.uint8]:
