@@ -19,10 +19,16 @@ from obstacle_fusion.vision.fused.channel import (
     face_background_grey,
     side_on_seam,
 )
-from obstacle_fusion.vision.fused.confidence import FOOT_ABOVE_CONTACT
+from obstacle_fusion.vision.fused.confidence import (
+    FLOOR_IN_FACE,
+    FOOT_ABOVE_CONTACT,
+    FOOT_OFF_FLOOR,
+    TOP_FROM_SIDES,
+)
+from obstacle_fusion.vision.fused.method import FusedMethod
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import View
+from obstacle_fusion.vision.types import Measurement, View
 
 H, W = 240, 320
 FY = 300.0
@@ -155,11 +161,11 @@ def test_a_face_found_before_is_not_tried_again(monkeypatch: pytest.MonkeyPatch)
 SEAM = 150  # a dark seam's columns SEAM..SEAM+2 on the face
 
 
-def seamed(seam_from_m: float = 0.0) -> npt.NDArray[np.uint8]:
-    """The face in front of the wall, a dark seam running up it from ``seam_from_m`` above
-    its foot (metres at the face)."""
+def seamed(seam_from_m: float = 0.0, shade: int = 40) -> npt.NDArray[np.uint8]:
+    """The face in front of the wall, a seam of grey ``shade`` running up it from
+    ``seam_from_m`` above its foot (metres at the face)."""
     img = room()
-    img[TOP : int(round(CONTACT - FY * seam_from_m / DEPTH)), SEAM : SEAM + 3] = (40, 40, 40)
+    img[TOP : int(round(CONTACT - FY * seam_from_m / DEPTH)), SEAM : SEAM + 3] = shade
     return cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
 
 
@@ -192,6 +198,39 @@ def test_a_seam_is_read_just_above_the_foot() -> None:
     assert side_on_seam(seamed(0.0), (SEAM + 1, TOP, RIGHT, CONTACT), level_view(), DEPTH)
 
 
+@pytest.mark.parametrize(("plinth_rows", "on_seam"), [(13, True), (14, True), (16, False)])
+def test_a_seam_over_a_plinth_is_read_within_the_strip(plinth_rows: int, on_seam: bool) -> None:
+    """A black seam running up from ``plinth_rows`` above the foot, over a plinth: the
+    strip read reaches 5 cm (SEAM_STRIP_M, 15 rows) above the foot and stops a row short
+    of it (the foot's blur). From 13 rows (4.3 cm) it holds the seam's 3 lowest rows, from
+    14 its 2 lowest, enough for a line (a strip of 4 cm or less would hold none, one a row
+    lower 1); from 16 rows (5.3 cm) none (one of 6 cm would hold 3 of them)."""
+    grey = seamed(seam_from_m=plinth_rows / FY, shade=0)
+    box = (SEAM + 1.0, float(TOP), float(RIGHT), float(CONTACT))
+    assert side_on_seam(grey, box, level_view(), DEPTH) is on_seam
+
+
+def stripe(height_m: float, shift: int = 0) -> npt.NDArray[np.uint8]:
+    """:func:`room` with a 3-row stripe of the face's colour across the frame (a shelf, a
+    rail on the wall) centred ``shift`` rows under ``height_m`` above the contact row."""
+    img = room()
+    row = int(round(CONTACT - FY * height_m / DEPTH)) + shift
+    img[row - 1 : row + 2] = FACE
+    return img
+
+
+@pytest.mark.parametrize("height_m", [0.1, 0.2, 0.3])
+def test_the_background_is_read_on_its_rows(height_m: float) -> None:
+    """The background is the median colour of the rows 10, 20 and 30 cm above the contact
+    row (BACKGROUND_ROWS_M), the face's own columns among them: a stripe of the face's
+    colour on one of them makes the face's colour their median (no channel); the same
+    stripe 3 rows (1 cm) off that row is not read."""
+    view = level_view()
+    assert face_background_grey(stripe(height_m), view, float(CONTACT), DEPTH) is None
+    for shift in (-3, 3):
+        assert face_background_grey(stripe(height_m, shift), view, float(CONTACT), DEPTH) is not None
+
+
 def test_a_last_try_face_on_a_seam_is_not_taken(monkeypatch: pytest.MonkeyPatch) -> None:
     # photo 1113 ordinary: a face of two planks, missed on luminance; on the background
     # channel the left plank alone, its right side the joint, 31 % narrow
@@ -218,3 +257,44 @@ def test_a_last_try_face_off_the_contact_row_is_not_taken(
     assert res.detected and res.height_m is not None
     assert FOOT_ABOVE_CONTACT in res.doubts
     assert abs(res.height_m / truth["height_m"] - 1.0) > 0.25
+
+
+@pytest.mark.parametrize(
+    "doubt, taken",
+    [
+        (FOOT_ABOVE_CONTACT, False),
+        (FOOT_OFF_FLOOR, False),
+        (FLOOR_IN_FACE, False),
+        (TOP_FROM_SIDES, True),
+    ],
+)
+def test_a_last_try_face_doubting_its_foot_is_not_taken(
+    monkeypatch: pytest.MonkeyPatch, doubt: str, taken: bool
+) -> None:
+    """The last try's face is taken only where it stands on the contact row the rig
+    predicts: a face doubting its foot there (above it, off the floor, floor within the
+    face) is some other surface's outline; a doubt about its top does not refuse it. (The
+    runs are faked: none finds a face but the one on the background channel.)"""
+    turned = np.zeros((CAM.height, CAM.width), np.uint8)
+
+    def run(
+        self: FusedMethod, image: npt.NDArray[np.uint8], range_m: float, *_: object, **__: object
+    ) -> Measurement:
+        if image is not turned:
+            return Measurement(detected=False, method="fused", range_m=range_m)
+        return Measurement(
+            detected=True,
+            method="fused",
+            range_m=range_m,
+            height_m=0.3,
+            width_m=0.3,
+            box_px=(200.0, 150.0, 300.0, 250.0),
+            confidence=0.9,
+            doubts=[doubt],
+        )
+
+    monkeypatch.setattr(FusedMethod, "run", run)
+    monkeypatch.setattr(measure, "face_background_grey", lambda *_: turned)
+    monkeypatch.setattr(measure, "side_on_seam", lambda *_: False)
+    image = np.full((CAM.height, CAM.width, 3), 100, np.uint8)
+    assert Measurer(CAM, Rig()).measure(image, 1.0).detected is taken

@@ -863,6 +863,20 @@ class Measurer:
             if not result.detected and grey is not image:
                 # the colour turn can also fade an edge luminance had: try luminance
                 result = fused.run(image, range_m, timer)
+            elif grey is not image and thin_strip(result):
+                # a thin strip at the foot, barely sure: luminance, with the colour
+                # rescue, may find the face it stands for (taken when surer and taller)
+                again = fused.run(image, range_m, timer)
+                log.debug(
+                    "thin strip %.0f px high at %.3f; luminance: %s %.0f px at %.3f",
+                    result.height_px or 0.0,
+                    result.confidence or 0.0,
+                    again.detected,
+                    again.height_px or 0.0,
+                    again.confidence or 0.0,
+                )
+                if stands_for_strip(again, result):
+                    result = again
             if not result.detected and BACKGROUND_TURN:
                 # a face in the lightness of what stands beside it shows its sides in
                 # hue only: its colour against the background's (a last try: only a miss)
@@ -885,20 +899,6 @@ class Measurer:
                     )
                     if again.detected and not seam and not off:
                         result = again
-            elif grey is not image and thin_strip(result):
-                # a thin strip at the foot, barely sure: luminance, with the colour
-                # rescue, may find the face it stands for (taken when surer and taller)
-                again = fused.run(image, range_m, timer)
-                log.debug(
-                    "thin strip %.0f px high at %.3f; luminance: %s %.0f px at %.3f",
-                    result.height_px or 0.0,
-                    result.confidence or 0.0,
-                    again.detected,
-                    again.height_px or 0.0,
-                    again.confidence or 0.0,
-                )
-                if stands_for_strip(again, result):
-                    result = again
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source
@@ -1202,13 +1202,14 @@ def _swept_over(best: Measurement | None, swept: Measurement, read: bool) -> boo
     ``read``) is taken over ``best``, the search's face so far. With no face, any; over an
     unsure face (under ESTIMATE_ACCEPT), only another face above it (the unsure face's
     box wholly below the swept face's foot) whose own sides read the pitch, of at least
-    SWEPT_OVER_UNSURE. On a coarse floor (gravel near the lens) the band's lowest steps
-    are the floor's texture and the unsure face one of its stones in front of the
-    obstacle, while the obstacle's foot, farther up, was never among the rows tried (a
+    SWEPT_OVER_UNSURE, or the unsure face read again on its own foot with its doubted top
+    right (:func:`_swept_top_over`). On a coarse floor (gravel near the lens) the band's
+    lowest steps are the floor's texture and the unsure face one of its stones in front of
+    the obstacle, while the obstacle's foot, farther up, was never among the rows tried (a
     lens pitched up puts it above them); a face sure there, whose sides agree on a pitch,
-    is the obstacle. The same face read at a swept pitch, or a weaker or unconfirmed
-    sweep's face, is no better than the unsure one (on the tuning rooms most unsure faces
-    were within 10 %, and the sweep's faces over them worse)."""
+    is the obstacle. The same face read at a swept pitch (its top not doubted), or a
+    weaker or unconfirmed sweep's face, is no better than the unsure one (on the tuning
+    rooms most unsure faces were within 10 %, and the sweep's faces over them worse)."""
     if best is None or not best.detected:
         return True
     if _swept_top_over(best, swept, read):

@@ -70,17 +70,27 @@ _LUMA_LEN = float(np.linalg.norm(_LUMA))
 _LUMA_UNIT = _LUMA / _LUMA_LEN
 
 
+def _sample_points(
+    view: View, contact_row: float, depth_m: float
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The view points sampled for the face (SAMPLE_ROWS above the contact row) and for
+    the floor (as far below it), across the beam's core (SAMPLE_HALF_M either side of the
+    centre column, at least 3 px): the channels read the face's colour at the same place."""
+    du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
+    offsets = _OFFSETS * [du, 1.0]  # (a du, r): the same products
+    centre = np.array([view.cx, contact_row])
+    return centre + offsets * [1.0, -1.0], centre + offsets
+
+
 def face_floor_grey(
     image: npt.NDArray[Any], view: View, contact_row: float, depth_m: float
 ) -> npt.NDArray[Any]:
     """One channel for the fused method: ``image`` itself when it is grey already."""
     if image.ndim != 3:
         return image
-    du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
-    offsets = _OFFSETS * [du, 1.0]  # (a du, r): the same products
-    centre = np.array([view.cx, contact_row])
+    above, below = _sample_points(view, contact_row, depth_m)
     # the face's samples above the contact row, the floor's below it: one projection
-    pts = view.to_input(np.concatenate([centre + offsets * [1.0, -1.0], centre + offsets]))
+    pts = view.to_input(np.concatenate([above, below]))
     face, floor = _mean_colours(image, pts, 2)
     if face is None or floor is None:
         return image
@@ -108,10 +118,8 @@ def face_background_grey(
     across the frame."""
     if image.ndim != 3:
         return None
-    du = max(3.0, view.fx * SAMPLE_HALF_M / depth_m)
-    centre = np.array([view.cx, contact_row])
-    pts = view.to_input(centre + _OFFSETS * [du, 1.0] * [1.0, -1.0])
-    (face,) = _mean_colours(image, pts, 1)
+    above, _ = _sample_points(view, contact_row, depth_m)
+    (face,) = _mean_colours(image, view.to_input(above), 1)
     heights = np.array([[view.cx, contact_row - view.fy * m / depth_m] for m in BACKGROUND_ROWS_M])
     rows = [int(round(r)) for r in view.to_input(heights)[:, 1]]
     rows = [r for r in rows if 0 <= r < image.shape[0]]

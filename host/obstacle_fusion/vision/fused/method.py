@@ -495,7 +495,10 @@ class FusedMethod:
             vt = walked
         if FRAME_RAIL_RAISE and rb - vt < THIN_STRIP_SHARE * (ur - ul):
             # a thin strip at the foot: a frame's bottom rail, its sides running on above
-            vt = raise_top_along_frame(seen, v, ay, rb, vt, ul, ur, depth)
+            rail_top = raise_top_along_frame(seen, v, ay, rb, vt, ul, ur, depth)
+            if rail_top != vt:
+                log.debug("frame rail %d-%d: top raised to %d", vt, rb, rail_top)
+            vt = rail_top
 
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)
