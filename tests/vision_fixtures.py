@@ -6,7 +6,9 @@ import os
 from functools import lru_cache
 from pathlib import Path
 
+import cv2
 import numpy as np
+import numpy.typing as npt
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
@@ -66,3 +68,15 @@ def room_size_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
         abs(res.height_m / truth["height_m"] - 1),
         abs(res.width_m / truth["width_m"] - 1),
     )
+
+
+def gradients(img: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
+    """|d/dy|, |d/dx| dilated by one column, and the noise level, as the method takes them
+    (one place for the drawn-face tests of the extent stage)."""
+    dx = np.empty(img.shape, np.int16)
+    dy = np.empty(img.shape, np.int16)
+    cv2.spatialGradient(img, dx, dy)
+    ay = np.abs(dy).astype(np.float32)
+    ax3 = cv2.dilate(np.abs(dx), np.ones((1, 3), np.uint8))
+    noise = float(np.median(ay[::4, ::4])) / 0.6745 + 1.0
+    return ay, ax3, noise

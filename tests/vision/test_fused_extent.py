@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
@@ -14,19 +13,10 @@ from obstacle_fusion.vision.fused.extent import (
 )
 from obstacle_fusion.vision.fused.profiles import walk_on
 
+from tests.vision_fixtures import gradients
+
 H, W = 240, 320
 TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face
-
-
-def gradients(img: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
-    """|d/dy|, |d/dx| dilated by one column, and the noise level, as the method takes them."""
-    dx = np.empty(img.shape, np.int16)
-    dy = np.empty(img.shape, np.int16)
-    cv2.spatialGradient(img, dx, dy)
-    ay = np.abs(dy).astype(np.float32)
-    ax3 = cv2.dilate(np.abs(dx), np.ones((1, 3), np.uint8))
-    noise = float(np.median(ay[::4, ::4])) / 0.6745 + 1.0
-    return ay, ax3, noise
 
 
 def room(seams: list[int] = (), rng_seed: int = 0) -> npt.NDArray[np.uint8]:

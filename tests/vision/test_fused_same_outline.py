@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused import FusedMethod
 from obstacle_fusion.vision.fused.confidence import FLOOR_IN_FACE
 from obstacle_fusion.vision.fused.floor_contact import sides_run_down
 from obstacle_fusion.vision.measure import Measurer, _same_outline
-from obstacle_fusion.vision.types import Measurement
 
-from tests.vision.test_rig_source_and_clipping import CAM, fake_face, no_rig_room
+from tests.vision.test_fused_floor_foot import outline
+from tests.vision.test_fused_stands_on_top import fake_two_readings
+from tests.vision.test_rig_source_and_clipping import CAM, no_rig_room
 
 # --- the outline test (_same_outline): OUTLINE_MATCH 6 % of the width, at least
 # OUTLINE_MATCH_PX 3 px; the lower foot OUTLINE_MIN_DROP_PX 5 px lower or more
@@ -88,16 +88,6 @@ def banded() -> np.ndarray:
     img[60:FOOT_ROW, 100:200] = DARK
     img[115:130, 100:200] = 230
     return img
-
-
-def outline(bottom: float) -> list[tuple[float, float, float, float]]:
-    """Bottom, top, left and right sides of a face from row 60 down to ``bottom``."""
-    return [
-        (100, bottom, 199, bottom),
-        (100, 60, 199, 60),
-        (100, bottom, 100, 60),
-        (199, bottom, 199, 60),
-    ]
 
 
 def test_a_face_whose_sides_run_on_below_a_band_runs_down() -> None:
@@ -191,18 +181,7 @@ def test_with_no_rig_the_upper_part_of_a_face_gives_way_to_the_face(
         0.20: (100.0 + upper_in, top, 300.0 - upper_in, float(row_at[0.20])),
     }
 
-    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
-        height = round(self.view.rig.camera_height_m, 2)
-        if self.view.rig.camera_pitch_deg or height not in row_at:  # other pitches, rows
-            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
-        fields = low_fields if height == 0.30 else {}
-        return fake_face(truth, True, sure[height], height_m=height, box_px=boxes[height], **fields)
-
-    monkeypatch.setattr(FusedMethod, "run", fake_run)
-    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
-    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
-    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
-    monkeypatch.setattr(measure, "face_runs_below", lambda *a: False)
+    fake_two_readings(monkeypatch, truth, row_at, sure, boxes, low_fields)
     # the sides are read from the upper face's foot down to the lower face's
     monkeypatch.setattr(
         measure,

@@ -13,6 +13,7 @@ from obstacle_fusion.vision.fused import method, region, scoring
 from obstacle_fusion.vision.fused.confidence import TOP_FROM_SIDES
 from obstacle_fusion.vision.fused.scoring import closing_top
 from obstacle_fusion.vision.measure import Measurer
+from obstacle_fusion.vision.types import Measurement
 
 #: The chosen top (row 100: a print's edge, the sides running on above it) and a higher
 #: candidate (row 50: where they stop), as score_pairs lists them (rows ascending).
@@ -148,6 +149,15 @@ def test_only_above_the_horizon() -> None:
     assert _closing(horizon=49.0) is None
 
 
+def height_error_with_rig(family: str, seed: int, hard: bool) -> tuple[Measurement, float]:
+    """A tuning room measured with its true rig, and its height's relative error: the
+    check each room test below makes before its own asserts."""
+    image, truth, spec = render_room(family, seed, hard)
+    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    return res, abs(res.height_m / truth["height_m"] - 1)
+
+
 @pytest.mark.parametrize("closed_stop, within", [(scoring.CLOSED_STOP, True), (1.01, False)])
 def test_a_gloss_band_across_a_tall_face_is_not_its_top(
     closed_stop: float, within: bool, monkeypatch: pytest.MonkeyPatch
@@ -161,10 +171,7 @@ def test_a_gloss_band_across_a_tall_face_is_not_its_top(
     monkeypatch.setattr(scoring, "CLOSED_STOP", closed_stop)
     if not within:
         monkeypatch.setattr(region, "TAPE_BAND_SHARE", 0.0)
-    image, truth, spec = render_room("procedural", 353, False)
-    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None
-    error = abs(res.height_m / truth["height_m"] - 1)
+    res, error = height_error_with_rig("procedural", 353, False)
     assert error <= 0.05 if within else error > 0.3
     assert (TOP_FROM_SIDES in res.doubts) is within
 
@@ -178,10 +185,7 @@ def test_a_print_over_the_whole_face_ends_at_its_top(
     to the face's top, an edge that ends at them, and the poster's texture ends there too
     (the background above it plain): that is the top, however textured the rows under it."""
     monkeypatch.setattr(scoring, "PRINT_ENDS_TEXTURE", plain_above)
-    image, truth, spec = render_room("photo", 1192, True)
-    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None
-    error = abs(res.height_m / truth["height_m"] - 1)
+    _, error = height_error_with_rig("photo", 1192, True)
     assert error <= 0.05 if within else error > 0.3
 
 
@@ -198,10 +202,7 @@ def test_a_closed_top_is_not_lowered_onto_the_print(
     switch, the colour's face replaces the strip left under the coins."""
     monkeypatch.setattr(method, "CLOSED_TOP_KEPT", kept)
     monkeypatch.setattr(method, "THIN_STRIP_MAX_CONFIDENCE", 0.0)
-    image, truth, spec = render_room("photo", 346, True)
-    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None
-    error = abs(res.height_m / truth["height_m"] - 1)
+    _, error = height_error_with_rig("photo", 346, True)
     assert error <= 0.05 if within else error > 0.3
 
 
@@ -215,10 +216,7 @@ def test_a_column_behind_the_face_in_line_with_one_side_is_not_its_top(
     mean ran on above the face's top, and the rocket's top edge closed the face (the
     height +45 %); the side against the sky ran on over a sixth of those rows only."""
     monkeypatch.setattr(scoring, "CLOSING_SIDE_RUN", side_run)
-    image, truth, spec = render_room("photo", 1484, False)
-    res = Measurer(CameraModel.paper(500, 375), spec.rig).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None
-    error = abs(res.height_m / truth["height_m"] - 1)
+    res, error = height_error_with_rig("photo", 1484, False)
     assert error <= 0.05 if within else error > 0.3
     assert (TOP_FROM_SIDES in res.doubts) is not within
 

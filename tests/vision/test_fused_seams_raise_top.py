@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
@@ -13,22 +12,11 @@ from obstacle_fusion.vision.fused import method
 from obstacle_fusion.vision.fused.extent import raise_top_along_seams
 from obstacle_fusion.vision.measure import Measurer
 
-from tests.vision_fixtures import room_size_errors
+from tests.vision_fixtures import gradients, room_size_errors
 
 H, W = 240, 320
 TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face
 SKIRTING = 170  # the skirting board's top beside the face: where its sides stop showing
-
-
-def gradients(img: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
-    """|d/dy|, |d/dx| dilated by one column, and the noise level, as the method takes them."""
-    dx = np.empty(img.shape, np.int16)
-    dy = np.empty(img.shape, np.int16)
-    cv2.spatialGradient(img, dx, dy)
-    ay = np.abs(dy).astype(np.float32)
-    ax3 = cv2.dilate(np.abs(dx), np.ones((1, 3), np.uint8))
-    noise = float(np.median(ay[::4, ::4])) / 0.6745 + 1.0
-    return ay, ax3, noise
 
 
 def wall_shade_face(seams: dict[int, int]) -> npt.NDArray[np.uint8]:

@@ -81,6 +81,33 @@ def test_a_patch_of_the_floor_is_not() -> None:
     assert not face_apart_from_floor(boxed((150, 60, 60), (90, 90, 90))[:, :, 0], LOWER)
 
 
+def fake_two_readings(
+    monkeypatch: pytest.MonkeyPatch,
+    truth: dict[str, float],
+    row_at: dict[float, int],
+    sure: dict[float, float],
+    boxes: dict[float, tuple[float, float, float, float]],
+    low_fields: dict[str, object],
+) -> None:
+    """Fakes the no-rig search to find two faces only, one on each floor-contact row
+    ``row_at`` (lower row 0.30 m, higher 0.20 m: confidence ``sure``, box ``boxes``, the
+    lower one with ``low_fields``), both standing on their rows: the measure's choice
+    between them is all that is left (here and in test_fused_same_outline)."""
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        height = round(self.view.rig.camera_height_m, 2)
+        if self.view.rig.camera_pitch_deg or height not in row_at:  # other pitches, rows
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        fields = low_fields if height == 0.30 else {}
+        return fake_face(truth, True, sure[height], height_m=height, box_px=boxes[height], **fields)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
+    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    monkeypatch.setattr(measure, "face_runs_below", lambda *a: False)
+
+
 @pytest.mark.parametrize(
     "apart, low_fields, expected",
     [
@@ -107,18 +134,7 @@ def test_with_no_rig_a_face_on_a_lower_boxs_top_gives_way_to_the_box(
         0.20: (170.0, row_at[0.30] - height_px - 80.0, 230.0, row_at[0.30] - height_px - 4.0),
     }
 
-    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
-        height = round(self.view.rig.camera_height_m, 2)
-        if self.view.rig.camera_pitch_deg or height not in row_at:  # other pitches, rows
-            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
-        fields = low_fields if height == 0.30 else {}
-        return fake_face(truth, True, sure[height], height_m=height, box_px=boxes[height], **fields)
-
-    monkeypatch.setattr(FusedMethod, "run", fake_run)
-    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row_at[0.30], row_at[0.20]])
-    monkeypatch.setattr(measure, "weak_contact_rows", lambda *a: [])
-    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
-    monkeypatch.setattr(measure, "face_runs_below", lambda *a: False)
+    fake_two_readings(monkeypatch, truth, row_at, sure, boxes, low_fields)
     monkeypatch.setattr(measure, "face_apart_from_floor", lambda *a: apart)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert res.detected, res.reason

@@ -237,6 +237,12 @@ def raise_top_past_inner_edges(
         return top
     # the top edge lies where the sides ended, or just above (blur): never back down
     # on the inner edge the sides ran past
+    return _snap_top(ay, end, bottom, left, right)
+
+
+def _snap_top(ay: npt.NDArray[np.float32], end: int, bottom: int, left: int, right: int) -> int:
+    """The strongest top edge where the face's lines ended (SNAP_ROWS above, or one row
+    below: blur), never back down on the edge they ran past: one snap for sides and seams."""
     r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
     rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
     return int(r0 + rows.argmax())
@@ -404,6 +410,4 @@ def raise_top_along_seams(
     end = int(np.median([e for e, _ in best]))
     if end <= SNAP_ROWS:
         return top  # lines running out of the view: no top seen where they end
-    r0, r1 = max(0, end - SNAP_ROWS), min(bottom - 1, end + 1)
-    rows = np.asarray(ay[r0 : r1 + 1, left + 1 : right].mean(axis=1), np.float32)
-    return int(r0 + rows.argmax())
+    return _snap_top(ay, end, bottom, left, right)

@@ -11,6 +11,7 @@ tries; the JSON says ``rig_source: estimated``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import cv2
 import numpy as np
@@ -240,18 +241,13 @@ def sides_run_up(
     way up to tell a line from the face's end)."""
     if len(lines) < 4:
         return False
-    read = 0
-    for side in lines[2:4]:
-        top = min(side[1], side[3])
-        steps = side_steps(image, side, short_top - RUN_UP_SKIP_PX, top + RUN_UP_SKIP_PX)
-        if steps is None:
-            continue
-        if len(steps) < 2 * RUN_UP_SKIP_PX:
-            return False
-        if float(np.mean(steps >= MIN_FOOT_STEP)) < RUN_UP_SHARE:
-            return False
-        read += 1
-    return read > 0 and _margin_runs_up(image, lines, short_top)
+    on = _sides_step_on(
+        image,
+        lines,
+        lambda side: (short_top - RUN_UP_SKIP_PX, min(side[1], side[3]) + RUN_UP_SKIP_PX),
+        RUN_UP_SHARE,
+    )
+    return on and _margin_runs_up(image, lines, short_top)
 
 
 #: A lower reading's sides run on below a higher reading's foot (that foot a line across
@@ -274,15 +270,33 @@ def sides_run_down(
     2 x RUN_UP_SKIP_PX rows between the two feet."""
     if len(lines) < 4:
         return False
+    return _sides_step_on(
+        image,
+        lines,
+        lambda side: (max(side[1], side[3]) - RUN_UP_SKIP_PX, upper_foot + RUN_UP_SKIP_PX),
+        RUN_DOWN_SHARE,
+    )
+
+
+def _sides_step_on(
+    image: npt.NDArray[np.uint8],
+    lines: list[tuple[float, float, float, float]],
+    span: Callable[[tuple[float, float, float, float]], tuple[float, float]],
+    min_share: float,
+) -> bool:
+    """Whether each side read (``lines[2:4]``) steps in colour (MIN_FOOT_STEP) on
+    ``min_share`` of the rows ``span(side)`` gives (lower row, upper row): one check for
+    sides running up past a top and down past a foot. False with no side read, and when
+    a side read has under 2 x RUN_UP_SKIP_PX rows."""
     read = 0
     for side in lines[2:4]:
-        foot = max(side[1], side[3])
-        steps = side_steps(image, side, foot - RUN_UP_SKIP_PX, upper_foot + RUN_UP_SKIP_PX)
+        lower, upper = span(side)
+        steps = side_steps(image, side, lower, upper)
         if steps is None:
             continue
         if len(steps) < 2 * RUN_UP_SKIP_PX:
             return False
-        if float(np.mean(steps >= MIN_FOOT_STEP)) < RUN_DOWN_SHARE:
+        if float(np.mean(steps >= MIN_FOOT_STEP)) < min_share:
             return False
         read += 1
     return read > 0

@@ -803,8 +803,15 @@ def raise_top_by_colour(
         end = capped
     if k - end <= SNAP_ROWS:
         return top
+    return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
+
+
+def _snap_top_edge(ay: npt.NDArray[np.float32], r0: int, end: int, k: int, c0: int, c1: int) -> int:
+    """The strongest top edge (mean |d/dy| over columns c0:c1) within SNAP_ROWS of row
+    ``end`` of a walk that read from row ``r0`` and started at ``k``: the walks' ends are
+    a few rows off the edge (blur), and every walk up snaps to it alike."""
     lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, c0:c1].mean(axis=1))
     return int(r0 + lo + np.argmax(rows))
 
 
@@ -990,9 +997,7 @@ def raise_top_by_sides(
         # below the horizon the lens looks down on the face's top: a top face's colour
         # stands apart from the wall beside it as well, so the walk cannot tell its end
         return top
-    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
-    return int(r0 + lo + np.argmax(rows))
+    return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
 
 
 def _held(
@@ -1154,9 +1159,7 @@ def raise_top_along_frame(
     for part in (dist[end:k, quarter : cols - quarter], beside[:, :n], beside[:, -n:]):
         if share(median_of(part, axis=1) > limit) < FRAME_INNER_SHARE:
             return top
-    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    edge = np.asarray(ay[r0 + lo : r0 + hi + 1, left + 1 : right].mean(axis=1))
-    return int(r0 + lo + np.argmax(edge))
+    return _snap_top_edge(ay, r0, end, k, left + 1, right)
 
 
 #: A band across the face taller than SIDE_WALK_GAP_M (a tape, a label strip: in the
@@ -1247,9 +1250,7 @@ def raise_top_past_band(
     end = walk_on(on.tolist(), k, -1, gap)
     if k - end <= SNAP_ROWS:
         return top
-    lo, hi = max(0, end - SNAP_ROWS), min(k - 1, end + SNAP_ROWS)
-    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, left + SIDE_SKIP : right - SIDE_SKIP].mean(axis=1))
-    return int(r0 + lo + np.argmax(rows))
+    return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
 
 
 #: Rows over which the colour going up is compared (an edge's blur spans about three).
