@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.profiles import norm
-from obstacle_fusion.vision.fused.search import line_columns
+from obstacle_fusion.vision.fused.search import SHORT_STRIP_M, line_columns
 from obstacle_fusion.vision.types import View
 
 #: Share of the face-floor colour direction in the projection (the rest is luminance).
@@ -131,8 +131,8 @@ def face_background_grey(
 
 
 #: The rows over which a side found on that channel is checked for a seam: this many metres
-#: (at the face) just above its foot, as the side search's short strip ...
-SEAM_STRIP_M = 0.05
+#: (at the face) just above its foot: the side search's short strip ...
+SEAM_STRIP_M = SHORT_STRIP_M
 #: ... at the side's column and this many either side of it (the box's sub-pixel side).
 SEAM_SIDE_COLUMNS = 1
 

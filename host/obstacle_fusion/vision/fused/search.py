@@ -94,6 +94,11 @@ def bottom_candidates(
     return bottoms
 
 
+#: The short strip just above a floor-contact row over which the side columns' vertical
+#: edges are read, metres at the face (a side stands right on the floor).
+SHORT_STRIP_M = 0.05
+
+
 def side_candidates(
     view: View,
     ax: I16,
@@ -118,7 +123,7 @@ def side_candidates(
     LINE_MOST peaks are lines' edges, a pattern of joints, only those beyond its outermost
     lines: JOINT_PATTERN_ENDS)."""
     v = view
-    k = int(clamp(round(v.fy * 0.05 / depth), 3, 25))
+    k = int(clamp(round(v.fy * SHORT_STRIP_M / depth), 3, 25))
     top_strip = max(0, rb - 1 - k)
     if rb - 2 <= top_strip:
         return None
