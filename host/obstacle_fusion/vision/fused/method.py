@@ -224,6 +224,14 @@ THIN_STRIP_MAX_CONFIDENCE = 0.15
 THIN_STRIP_TALLER = 2.0
 
 
+#: A frame round a print (extent.enclose_inner_frame) raises the top only where the colour
+#: does not end at the print's top from side to side (region.ends_in_colour); its sides
+#: stand either way. A raise under FRAME_CHECKED_RAISE of the print's height is not judged
+#: (a thin top margin, a few rows: the colour bands read there lie in the edges' blur).
+FRAME_KEEPS_COLOUR = True
+FRAME_CHECKED_RAISE = 0.2
+
+
 class FusedMethod:
     """The sonar-guided method for one camera and image size (buffers reused per frame)."""
 
@@ -460,7 +468,16 @@ class FusedMethod:
             doubts.append(PRINT_OUTLINE)
         vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
-        ul, ur, vt = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
+        ul, ur, frame_top = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
+        if not (
+            FRAME_KEEPS_COLOUR
+            and vt - frame_top >= FRAME_CHECKED_RAISE * (rb - vt)
+            and ends_in_colour(seen, v, rb, vt, ul, ur)
+        ):
+            # a frame's margin keeps its colour up past the print's top, beside it too;
+            # where the colour ends there from side to side, what the sides ran on past
+            # is behind the face, and the print's top is the face's
+            vt = frame_top
         framed = enclose_by_margin(seen, v, rb, vt, ul, ur, depth)
         if framed is None and floor_known and vb0 - rb <= FOOT_ABOVE_SHARE * tol:
             # a margin too thin for fixed strips: its own colour runs, its foot on the floor
