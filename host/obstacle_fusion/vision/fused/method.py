@@ -230,6 +230,12 @@ THIN_STRIP_TALLER = 2.0
 #: (a thin top margin, a few rows: the colour bands read there lie in the edges' blur).
 FRAME_KEEPS_COLOUR = True
 FRAME_CHECKED_RAISE = 0.2
+#: With the rig, the edge search's top is carried past a band's edge behind the face (a
+#: skirting's top, where the face's sides merely lost the band's contrast) as the colour
+#: rescue's is (region.raise_top_past_band), where that band runs on out past both sides
+#: (``runs_on``: a skirting along the wall, not a frame's margin round a print); the walk
+#: adds no evidence: the face's agreement is the lesser of the two tops' (a switch).
+EDGE_SKIRTING_WALK = True
 
 
 class FusedMethod:
@@ -516,6 +522,17 @@ class FusedMethod:
             if rail_top != vt:
                 log.debug("frame rail %d-%d: top raised to %d", vt, rb, rail_top)
             vt = rail_top
+        band_from: int | None = None  # the top the band walk carried up ...
+        band_rows = 0  # ... and by how many rows
+        if EDGE_SKIRTING_WALK and rig_known:
+            # a top on a band's edge behind the face (a skirting's running on along the
+            # wall), where the face's sides merely lost the band's contrast: walked on up
+            # while its colour holds (procedural/2033: a brick print's margin, the top
+            # taken at an orange skirting's edge, height -70 %)
+            past = raise_top_past_band(seen, v, ay, rb, vt, ul, ur, depth, runs_on=True)
+            if past < vt:
+                log.debug("top %d past a band's edge behind the face: %d", vt, past)
+                band_from, band_rows, vt = vt, vt - past, past
 
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)
@@ -586,6 +603,9 @@ class FusedMethod:
                     log.debug("top face seen past the sides from %d: front top %d", past, vt)
             # a top that is no colour boundary may be a line on the face or behind it
             agree = top_agreement(seen, v, int(round(vt)), ul, ur)
+            if band_from is not None:
+                # the walk past the band adds no evidence: the lesser of the two tops'
+                agree = min(agree, top_agreement(seen, v, band_from, ul, ur))
             agree *= side_agreement(seen, v, rb, int(round(vt)), ul, ur)
             return vt, sign, top_row, conf * agree
 
@@ -648,7 +668,11 @@ class FusedMethod:
         # what the face as measured leaves in doubt (the reported confidence only)
         faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
         measured.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
-        if floor_known and thin_strip(measured):
+        strip = measured
+        if band_rows and measured.height_px is not None:
+            # a thin strip carried past a band's edge is weighed as the edges found it
+            strip = dataclasses.replace(measured, height_px=measured.height_px - band_rows)
+        if floor_known and thin_strip(strip):
             rescued = rescue_by_colour()
             if rescued is not None and stands_for_strip(rescued, measured):
                 log.debug("a thin strip at the foot: the colour's face, surer")

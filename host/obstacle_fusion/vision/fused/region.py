@@ -1197,6 +1197,13 @@ def _cross_bands(on: list[bool], end: int, gap: int, band: int) -> int:
 #: (:func:`raise_top_past_band`).
 BAND_EDGE_STEP = 20.0
 BAND_EDGE_ROWS = (2, 6)
+#: ``runs_on`` (the edge search's top): the band under the top beside each side must run
+#: on this many columns farther out (a frame's margin round a print is a few columns wide,
+#: photo/713 hard: 7-8; a skirting runs along the wall) ...
+BAND_RUNS_ON_COLUMNS = 12
+#: ... within this Lab distance of its colour next to the side (MIN_BESIDE_STEP: the
+#: least step that parts a side from what is beside it).
+BAND_RUNS_ON_STEP = MIN_BESIDE_STEP
 
 
 def raise_top_past_band(
@@ -1208,6 +1215,7 @@ def raise_top_past_band(
     left: int,
     right: int,
     depth_m: float,
+    runs_on: bool = False,
 ) -> int:
     """The face's top row, moved up past a band's edge in the background where the face's
     sides merely lost their contrast.
@@ -1220,7 +1228,9 @@ def raise_top_past_band(
     differs from what is beside both sides by MIN_TOP_DISTANCE, the least step the colour
     walk up takes as a change. Above the real top the wall lies between the sides too: no
     step beside, and another colour than the face's. No horizon bounds the walk (unlike
-    :func:`raise_top_by_sides`): the face before a skirting may stand below it."""
+    :func:`raise_top_by_sides`): the face before a skirting may stand below it.
+    ``runs_on``: the band under the top must also run on BAND_RUNS_ON_COLUMNS farther out
+    beside both sides, of one colour (BAND_RUNS_ON_STEP), else the top is kept."""
     if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
         return top
     w_view = view.out.shape[1]
@@ -1230,8 +1240,25 @@ def raise_top_past_band(
     r0 = max(0, top - max(bottom - top, int(round(view.fy * SIDE_WALK_REACH_M / depth_m))))
     if c0 < 0 or c1 > w_view or top - r0 <= b + SNAP_ROWS or bottom - top <= b + 2:
         return top
-    lab = _lab8(image, view, r0, bottom, c0, c1)
     k = top - r0
+    if runs_on:
+        far = BAND_RUNS_ON_COLUMNS
+        if c0 - far < 0 or c1 + far > w_view:
+            return top
+        wide = _lab8(image, view, r0 + k + a, r0 + k + b + 1, c0 - far, c1 + far)
+        for near, out_far in (
+            (wide[:, far : far + BESIDE_COLUMNS], wide[:, :BESIDE_COLUMNS]),
+            (wide[:, -far - BESIDE_COLUMNS : -far], wide[:, -BESIDE_COLUMNS:]),
+        ):
+            # the band under the top runs on out past the face's side, one colour: a
+            # skirting along the wall, not a frame's margin round a print
+            step = norm(
+                median_of(median_u8(near, axis=1), axis=0)
+                - median_of(median_u8(out_far, axis=1), axis=0)
+            )
+            if step >= BAND_RUNS_ON_STEP:
+                return top
+    lab = _lab8(image, view, r0, bottom, c0, c1)
     outs = [median_u8(lab[:, :BESIDE_COLUMNS], axis=1), median_u8(lab[:, -BESIDE_COLUMNS:], axis=1)]
     for out in outs:  # the background beside both sides steps at the top: a band's edge
         above = median_of(out[k - b : k - a + 1], axis=0)
