@@ -236,6 +236,17 @@ FRAME_CHECKED_RAISE = 0.2
 #: (``runs_on``: a skirting along the wall, not a frame's margin round a print); the walk
 #: adds no evidence: the face's agreement is the lesser of the two tops' (a switch).
 EDGE_SKIRTING_WALK = True
+#: A face found by its colour in place of the edges' face standing above the contact band
+#: (STANDING_BEHIND_RESCUE), lying between that face's sides and reaching as high (its top
+#: at most RESCUE_SAME_TOP_ROWS under that face's: the same face, its foot read in the
+#: band), takes those sides as far as their strips rise as its own (region.sides_rising):
+#: the colour's run along the foot ends at a gloss's highlight or shade, the sides' edges
+#: do not. "Between" allows RESCUE_SIDES_SLACK columns past either side (the sides'
+#: snapping); a colour face lower than the edges' top is a box in front of an outline of
+#: what stands behind it.
+RESCUE_TAKES_EDGE_SIDES = True
+RESCUE_SIDES_SLACK = SNAP_COLUMNS
+RESCUE_SAME_TOP_ROWS = 2
 
 
 class FusedMethod:
@@ -412,10 +423,14 @@ class FusedMethod:
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
 
-        def rescue_by_colour(top_at_most: int | None = None) -> Measurement | None:
+        def rescue_by_colour(
+            top_at_most: int | None = None, within: tuple[int, int, int] | None = None
+        ) -> Measurement | None:
             """Where the edges give no face, or none clear, the face by its colour (else,
             with the floor row known, by its texture). ``top_at_most``: a face whose top
-            is lower than this row is not taken."""
+            is lower than this row is not taken. ``within``: the sides and top of the face
+            the edges found, whose sides a colour face between them with the same top
+            takes as far as they rise as its (RESCUE_TAKES_EDGE_SIDES)."""
             if not rescue:
                 return None
             rows = (r0b, r1b)
@@ -428,6 +443,14 @@ class FusedMethod:
             log.debug("rescue: face %d-%d x %d-%d", ul, ur, vt, rb)
             if top_at_most is not None and vt > top_at_most:
                 return None
+            if RESCUE_TAKES_EDGE_SIDES and within is not None:
+                between = (
+                    within[0] - RESCUE_SIDES_SLACK <= ul and ur <= within[1] + RESCUE_SIDES_SLACK
+                )
+                if between and vt <= within[2] + RESCUE_SAME_TOP_ROWS:
+                    edge_sides = (within[0], within[1])
+                    ul, ur = sides_rising(seen, v, ax3, rb, vt, (ul, ur), edge_sides)
+                    log.debug("rescue: sides out to the edges' %s: %d-%d", within, ul, ur)
             sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
             # a box below the lens shows its top face: the colour's top may be that face's
             # back edge, its sides the top face's receding edges; the front top edge under
@@ -579,7 +602,17 @@ class FusedMethod:
         if framed is None:
             ul, ur = trim_to_foot(seen, v, ax3, rb, int(round(vt)), ul, ur, depth, span)
         walked_from = (ul, ur)  # the sides before the colour walk along the foot
-        ul, ur = widen_by_colour(seen, v, ax3, rb, int(round(vt)), ul, ur, depth)
+        ul, ur = widen_by_colour(
+            seen,
+            v,
+            ax3,
+            rb,
+            int(round(vt)),
+            ul,
+            ur,
+            depth,
+            foot_above=floor_known and vb0 - rb > FOOT_ABOVE_SHARE * tol,
+        )
 
         def finish(
             top: tuple[int, float, float | None],
@@ -657,7 +690,9 @@ class FusedMethod:
             elif STANDING_BEHIND_RESCUE:
                 # no face round it: what stands at the range is on the floor the rig
                 # predicts; its colour there, reaching up as high, is the face
-                rescued = rescue_by_colour(vt + int(STANDING_TOP_SHARE * (rb - vt)))
+                rescued = rescue_by_colour(
+                    vt + int(STANDING_TOP_SHARE * (rb - vt)), (ul, ur, int(round(vt)))
+                )
                 if rescued is not None and rescued.detected:
                     log.debug("face standing above the contact band: the colour's face")
                     return rescued

@@ -54,6 +54,11 @@ class _BottomProfile(NamedTuple):
 MIN_SPAN_SHARE = 0.3
 #: The largest yaw of a face off square to the beam that the side-face test allows for.
 MAX_YAW_DEG = 5.0
+#: The sides' depths read from the foot's slope are kept only while the yaw they give
+#: is under MAX_YAW_DEG (a switch for the tests): a narrow face's foot, a few tens of
+#: pixels long, slopes a pixel or two from a shadow or a floor line at one corner, and
+#: the depth difference that reads (up to a quarter of the depth) outweighs its width.
+YAW_FROM_FOOT_CAPPED = True
 #: A side face's bottom must rise at least this share of the least rise its width and
 #: the vanishing point give (the blur and the fit's noise take some).
 SIDE_FACE_RISE_SHARE = 0.5
@@ -170,6 +175,15 @@ def refine(
     ur_f = 0.5 * (br[0] + tr[0])
     x_l = (ul_f - v.cx) * z_l / v.fx
     x_r = (ur_f - v.cx) * z_r / v.fx
+    if YAW_FROM_FOOT_CAPPED and z_l != z_r:
+        yaw = math.degrees(math.atan2(abs(z_r - z_l), abs(x_r - x_l)))
+        if yaw > MAX_YAW_DEG:
+            # a yaw the face cannot have (it stands square to the beam, give or take
+            # MAX_YAW_DEG): the foot's slope between the corners is the fit's, not depth
+            log.debug("foot slope gives a yaw of %.1f deg: the face depth at both sides", yaw)
+            z_l = z_r = depth
+            x_l = (ul_f - v.cx) * depth / v.fx
+            x_r = (ur_f - v.cx) * depth / v.fx
     width_m = math.hypot(x_r - x_l, z_r - z_l)
     height_m = h_px * depth / v.fy
     timer.lap("refine")

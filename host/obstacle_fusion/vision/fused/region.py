@@ -95,6 +95,12 @@ MIN_WIDEN_SHARE = 0.1
 #: A side moves in only over columns where this share shows no foot (no step from the
 #: floor below to what is above the contact row).
 MIN_TRIM_FLOORLESS = 0.7
+#: ... and, where the foot found stands above the contact rows the rig predicts, not
+#: where the columns cut off show the face's own colour above that row over this share of
+#: them: a foot found a few rows above the real one leaves face under it too, floor-like
+#: to the cut test (TRIM_KEEPS_FACE_COLOUR: a switch for the tests).
+TRIM_KEEPS_FACE_COLOUR = True
+MAX_TRIM_FACE_SHARE = 0.7
 #: Columns either side of the colour's end searched for the strongest vertical edge.
 SNAP_COLUMNS = 3
 #: A foot whose chroma (CIE Lab a, b, 8-bit scale) is within this of the floor's just
@@ -193,8 +199,12 @@ def widen_by_colour(
     depth_m: float,
     chroma: bool = True,
     rises: bool = False,
+    foot_above: bool = False,
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
+
+    ``foot_above``: the foot found stands above the contact rows the rig predicts; no side
+    comes in over columns showing the face's colour at the foot (TRIM_KEEPS_FACE_COLOUR).
 
     ``rises``: a side moved out only where the columns it took in rise as the face's
     under ``top`` (:func:`sides_rising`; the method asks that after settling the top).
@@ -318,8 +328,14 @@ def widen_by_colour(
             # the face's foot is not cut off: it stands out from the floor.
             end = walk_on(on_foot_flags, centre, step, max_gap)
             cut = slice(min(end, side) + 1, max(end, side))
-            if (side - end) * step <= min_move or (
-                float(np.mean(d_foot_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
+            if (
+                (side - end) * step <= min_move
+                or float(np.mean(d_foot_floor[cut] < MIN_FLOOR_STEP)) < MIN_TRIM_FLOORLESS
+                or (
+                    TRIM_KEEPS_FACE_COLOUR
+                    and foot_above
+                    and float(np.mean(d_face[cut] <= limit)) >= MAX_TRIM_FACE_SHARE
+                )
             ):
                 new.append(side)
                 continue
