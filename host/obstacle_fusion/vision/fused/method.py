@@ -58,6 +58,7 @@ from obstacle_fusion.vision.fused.region import (
     lower_top_to_background,
     raise_top_along_frame,
     raise_top_by_colour,
+    raise_top_by_outline,
     raise_top_by_sides,
     raise_top_past_band,
     side_agreement,
@@ -187,6 +188,11 @@ RESCUE_SNAP_SIDES = True
 #: the face's sides merely lost the band's contrast (region.raise_top_past_band; a switch
 #: for the tests).
 SKIRTING_WALK = True
+#: The top of the colour rescue and of the settled sides carried up a print's outline to
+#: where both its sides end under the background closing over it (a photograph or a drawn
+#: pattern stops the colour walks at a row of the pattern; region.raise_top_by_outline; a
+#: switch for the tests).
+PRINT_OUTLINE_TOP = True
 #: A top where the face's sides stop and a print's texture ends (scoring.closing_top
 #: with scoring.PRINT_ENDS_TEXTURE) is not lowered to where the background seems to show
 #: past a side below it (region.lower_top_to_background): under it is the print, and a
@@ -737,6 +743,12 @@ class FusedMethod:
         v = self.view
         vt = raise_top_by_colour(seen, v, ay, rb, start, ul, ur, depth)
         vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        if PRINT_OUTLINE_TOP:
+            # ... and a print's pattern stopped both walks: up its outline (as the rescue)
+            outlined = raise_top_by_outline(seen, v, ay, rb, vt, ul, ur, depth)
+            if outlined < vt:
+                log.debug("settled top %d up the print's outline: %d", vt, outlined)
+                vt = outlined
         found_top = vt
         # the raises read the face's columns as they are now, up to a top face's back
         # edge or past it: its front edge is sought as far below as from a back edge
@@ -860,6 +872,13 @@ class FusedMethod:
                 log.debug("rescue: top %d past a band's edge behind the face: %d", vt, past)
                 vt = past
                 agree = min(agree, top_agreement(seen, self.view, vt, ul, ur))
+        if PRINT_OUTLINE_TOP:
+            # a print's pattern stopped the colour walks: its top is where its outline's
+            # sides end, closed by the background over it
+            outlined = raise_top_by_outline(seen, self.view, ay, rb, vt, ul, ur, depth)
+            if outlined < vt:
+                log.debug("rescue: top %d up the print's outline: %d", vt, outlined)
+                vt = outlined
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * agree
         if conf < self.min_confidence:

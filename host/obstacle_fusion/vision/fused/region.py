@@ -2568,3 +2568,102 @@ def face_past_foot(
     side_step = _side_step(image, view, bottom, top, left, right)
     evidence = min(1.0, side_step / FULL_SIDE_STEP) * top_agreement(image, view, top, left, right)
     return bottom, top, left, right, evidence
+
+
+#: A print's outline (:func:`raise_top_by_outline`): the side rows read from the top up
+#: to this many metres at the face (as SIDE_WALK_REACH_M: a face is seldom taller).
+OUTLINE_REACH_M = 1.0
+#: ... a side stands where what is just inside it differs from what is just outside by
+#: at least this (Lab; MIN_BESIDE_STEP, the sides' walk's clear step) ...
+OUTLINE_SIDE_STEP = 12.0
+#: ... and above the top, the band between the sides is within this (Lab) of what is
+#: beside them (the background closes over the print: a horizontal boundary).
+OUTLINE_CLOSE_DISTANCE = 14.0
+#: The outline's top at least this share of the face's height found above it (a few rows
+#: up are a plain face's top blur or the brick, seam or plank joints of a face before
+#: a background with edges in line: photo/108 ordinary 3 -> 20 % without it) ...
+OUTLINE_MIN_RAISE = 0.5
+#: ... with both sides standing in at least this share of the rows up to it (clutter's
+#: edges beside the sides stand here and there: 0.2-0.7 of them on photo/2058, 2072 hard;
+#: a print's outline 0.84-0.98) ...
+OUTLINE_COVER = 0.8
+#: ... and the raised part's median colour within this (Lab) of the face's under it: the
+#: same print (13.6 on photo/731's cat, 2 on procedural/2046's blocks), not a thing of
+#: another colour standing behind a plain face in line with its sides (43 on photo/2003's
+#: rocket behind a pink face).
+OUTLINE_SAME_PRINT = 25.0
+#: Rows above the outline's end read for its closing band (a few: the background's
+#: colour just over the top, as the blur leaves it).
+OUTLINE_CLOSE_ROWS = 4
+
+
+def raise_top_by_outline(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The top of a print (a photograph, a drawn pattern covering the face): where both
+    its sides end together and the background closes over it.
+
+    A print changes its colour row by row, so walks that follow the face's colour up
+    (along its middle or just inside its sides) stop at a row of the pattern. Its
+    outline does not: each side parts the varied inside from the background beside it
+    all the way up, and both end at the top, where the background runs across."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4 or bottom - top < 6:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    if c0 < 0 or c1 > w_view:
+        return top
+    reach = int(round(view.fy * OUTLINE_REACH_M / depth_m))
+    r0 = max(0, top - reach)
+    if top - r0 < OUTLINE_CLOSE_ROWS + 4:
+        return top
+    gap = max(2, int(round(view.fy * SIDE_WALK_GAP_M / depth_m)))
+    band = _lab8(image, view, r0, top + 1, c0, c1).astype(np.float32)
+    k = top - r0
+    span = BESIDE_COLUMNS + SIDE_SKIP
+    lo_out = np.median(band[:, :BESIDE_COLUMNS], axis=1)
+    lo_in = np.median(band[:, 2 * span - BESIDE_COLUMNS : 2 * span], axis=1)
+    hi_in = np.median(band[:, -2 * span : -2 * span + BESIDE_COLUMNS], axis=1)
+    hi_out = np.median(band[:, -BESIDE_COLUMNS:], axis=1)
+    step_l = row_norms(lo_in - lo_out)
+    step_r = row_norms(hi_in - hi_out)
+    on = (step_l >= OUTLINE_SIDE_STEP) & (step_r >= OUTLINE_SIDE_STEP)
+    end = walk_on(on.tolist(), k, -1, gap)
+    if k - end <= SNAP_ROWS or end < OUTLINE_CLOSE_ROWS + 2:
+        return top
+    # a print's top far above where its pattern stopped the walks (a few rows up are
+    # the blur of a plain face's top, or a joint)
+    if k - end < OUTLINE_MIN_RAISE * (bottom - top):
+        return top
+    # both sides stand along the whole way up, not a clutter's edges here and there
+    if float(on[end:k].mean()) < OUTLINE_COVER:
+        return top
+    # ... and so does the middle between them, the print's inside: a rail or a frame
+    # behind a plain face in line with its sides shows the background between its posts
+    middle_rows = np.median(band[end:k, 2 * span : -2 * span], axis=1)
+    background = 0.5 * (lo_out[end:k] + hi_out[end:k])
+    if float((row_norms(middle_rows - background) >= OUTLINE_SIDE_STEP).mean()) < OUTLINE_COVER:
+        return top
+    # the raised part is the same print as the face under it (its colours alike): not
+    # another thing standing behind a plain face in line with its sides
+    face = _lab8(image, view, top, bottom, left + SIDE_SKIP, right - SIDE_SKIP)
+    raised = band[end:k, 2 * span : -2 * span]
+    face_colour = np.median(face.reshape(-1, 3).astype(np.float32), axis=0)
+    if norm(np.median(raised.reshape(-1, 3), axis=0) - face_colour) > OUTLINE_SAME_PRINT:
+        return top
+    # the background closes over the print: the band above between the sides is what
+    # is beside them
+    above = slice(end - OUTLINE_CLOSE_ROWS - 2, end - 2)
+    middle = np.median(band[above, span:-span].reshape(-1, 3), axis=0)
+    beside = np.concatenate([band[above, :BESIDE_COLUMNS], band[above, -BESIDE_COLUMNS:]], axis=1)
+    outside = np.median(beside.reshape(-1, 3), axis=0)
+    if norm(middle - outside) > OUTLINE_CLOSE_DISTANCE:
+        return top
+    return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
