@@ -558,10 +558,10 @@ class FusedMethod:
             # wall), where the face's sides merely lost the band's contrast: walked on up
             # while its colour holds (procedural/2033: a brick print's margin, the top
             # taken at an orange skirting's edge, height -70 %)
-            past = raise_top_past_band(seen, v, ay, rb, vt, ul, ur, depth, runs_on=True)
-            if past < vt:
-                log.debug("top %d past a band's edge behind the face: %d", vt, past)
-                band_from, band_rows, vt = vt, vt - past, past
+            band_top = raise_top_past_band(seen, v, ay, rb, vt, ul, ur, depth, runs_on=True)
+            if band_top < vt:
+                log.debug("top %d past a band's edge behind the face: %d", vt, band_top)
+                band_from, band_rows, vt = vt, vt - band_top, band_top
 
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)
