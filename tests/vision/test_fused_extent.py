@@ -13,7 +13,7 @@ from obstacle_fusion.vision.fused.extent import (
 )
 from obstacle_fusion.vision.fused.profiles import walk_on
 
-from tests.vision_fixtures import gradients
+from tests.vision_fixtures import gradients, room_size_errors
 
 H, W = 240, 320
 TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face
@@ -144,3 +144,62 @@ def test_detail_on_every_row_is_no_edge_on_the_faces_row() -> None:
     face = slice(LEFT + 5, 150)
     assert extent._line_on_row(ay, BOTTOM, noise)[face].mean() > 0.9
     assert extent._line_on_row(ay, TOP, noise)[face].mean() > 0.9
+
+
+def lit_corner_face(gap: int = 0) -> npt.NDArray[np.uint8]:
+    """Planks (seams at 100, 140, 180, 220) before a wall that is dark behind the first
+    plank's left end: that plank's top edge is strong over 12 columns and three times
+    fainter over the rest, uneven yet one line on the top row. ``gap``: columns of the
+    first plank (from column 80) where the wall behind is the plank's own shade, so the
+    top edge is no line there at all."""
+    img = room([100, 140, 180, 220]).astype(np.int16)
+    img[TOP - 30 : TOP, LEFT - 20 : LEFT + 12] = 30  # a dark structure behind one corner
+    if gap:
+        img[TOP - 30 : TOP, 80 : 80 + gap] = img[TOP + 10, 85]
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_an_uneven_top_edge_on_one_row_still_widens_the_face() -> None:
+    """A top edge strong behind one corner only (photo/2143 ordinary: measured as its
+    first plank, -75 % wide) is under EVEN_SHARE of its strong end along the plank, but
+    one line on the face's row: the face's."""
+    ay, ax3, noise = gradients(lit_corner_face())
+    gt = extent._edge_profile(ay, TOP)[LEFT + 1 : 100]
+    assert float(np.median(gt)) < extent.EVEN_SHARE * extent._p90(gt)  # uneven indeed
+    left, right = widen_across_seams(ay, ax3, BOTTOM, TOP, LEFT, 100, noise)
+    assert left == LEFT and abs(right - RIGHT) <= 2
+
+
+def test_without_the_line_rule_an_uneven_top_edge_does_not_widen(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(extent, "UNEVEN_LINE_SHARE", 0.0)
+    ay, ax3, noise = gradients(lit_corner_face())
+    assert widen_across_seams(ay, ax3, BOTTOM, TOP, LEFT, 100, noise) == (LEFT, 100)
+
+
+@pytest.mark.parametrize("gap, widened", [(4, True), (6, False)])
+def test_an_uneven_edge_must_be_a_line_over_nine_tenths_of_the_face(
+    gap: int, widened: bool
+) -> None:
+    """The first plank's top is a line over 39 columns less the break and its blur: a
+    4-column break leaves it over 92 % of them (UNEVEN_LINE_SHARE 0.9 met), a 6-column
+    one over 87 % (not met)."""
+    ay, ax3, noise = gradients(lit_corner_face(gap))
+    _, right = widen_across_seams(ay, ax3, BOTTOM, TOP, LEFT, 100, noise)
+    assert (abs(right - RIGHT) <= 2) is widened
+
+
+def test_a_plank_face_before_a_lit_structure_is_measured_whole() -> None:
+    """photo/2143 ordinary (a fresh seed, not a tuning one): lilac planks before a lit
+    gantry behind one corner; measured as its first plank (-75 % wide) before the rule."""
+    eh, ew = room_size_errors("photo", 2143, False)
+    assert eh < 0.05 and ew < 0.05
+
+
+def test_without_the_line_rule_the_plank_face_is_one_plank(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(extent, "UNEVEN_LINE_SHARE", 0.0)
+    _, ew = room_size_errors("photo", 2143, False)
+    assert ew > 0.5

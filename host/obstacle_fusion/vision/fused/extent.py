@@ -64,6 +64,11 @@ LINE_CONTRAST = 2.0
 LINE_SIDE_ROWS = (3, 5)
 #: The widening walks on where both edges stand on their rows (a switch for the tests).
 SAME_ROW_EDGES = True
+#: An edge uneven along the chosen face (under EVEN_SHARE of its strong end) is still the
+#: face's where it stands on its own row over this share of the face's columns: a top
+#: edge against a background of varying shade (a lit structure behind one corner) is
+#: strong at that end only, yet one line on one row (a switch for the tests: 0 is off).
+UNEVEN_LINE_SHARE = 0.9
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -142,9 +147,10 @@ def widen_across_seams(
         return left, right  # too faint to tell a seam from a side
     if ref_t < MIN_EDGE_SNR * noise or (faint_b and ref_t < TOP_ALONE_SNR * noise):
         return left, right  # too faint to tell a seam from a side
-    edges = ((gt, ref_t),) if faint_b else ((gb, ref_b), (gt, ref_t))
-    for profile, ref in edges:
-        if ref < EVEN_SHARE * _p90(profile[inner]):
+    for profile, ref, row in (
+        ((gt, ref_t, top),) if faint_b else ((gb, ref_b, bottom), (gt, ref_t, top))
+    ):
+        if ref < EVEN_SHARE * _p90(profile[inner]) and not _one_line(ay, row, inner, noise):
             return left, right  # the edge does not run along the face itself: no face here
     kernel = _WALK_KERNEL
     st = np.convolve(gt, kernel, mode="same") / ref_t
@@ -172,6 +178,14 @@ def widen_across_seams(
         moved = _outer_side(ax[top + 1 : bottom], sides, runs_on, side, step, min_move, need)
         new.append(side if moved is None else moved)
     return new[0], new[1]
+
+
+def _one_line(ay: npt.NDArray[np.float32], row: int, inner: slice, noise: float) -> bool:
+    """Whether the edge on ``row`` stands on that row over UNEVEN_LINE_SHARE of the
+    face's columns ``inner``: one line however its strength varies along it."""
+    if UNEVEN_LINE_SHARE <= 0.0:
+        return False
+    return share(_line_on_row(ay, row, noise)[inner]) >= UNEVEN_LINE_SHARE
 
 
 def _outer_side(
