@@ -465,7 +465,7 @@ class FusedMethod:
             if floor_known:
                 front, front_sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
                 log.debug("rescue: top %d, front top %d", vt, front)
-                if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur):
+                if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur, pattern=True):
                     vt, sign = front, front_sign
             return self._refine(
                 ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None

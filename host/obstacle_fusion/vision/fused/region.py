@@ -1309,11 +1309,13 @@ def looks_like_top_face(
     lower: int,
     left: int,
     right: int,
+    pattern: bool = False,
 ) -> bool:
     """Whether the rows between ``upper`` and ``lower`` (the face's top as found, and a
     front top edge below it) differ in colour from the face below ``lower``: a box's top
     face is lit unlike its front, while a texture line inside the front is not a top face
-    and must not cut the face's height."""
+    and must not cut the face's height. ``pattern``: nor are rows across which the face's
+    own pattern runs (PATTERN_NOT_TOP_FACE: a brick print's courses above a joint)."""
     n = lower - upper
     if image is None or image.ndim != 3 or n < MIN_TOP_FACE_ROWS or right - left < 8:
         return True
@@ -1323,7 +1325,38 @@ def looks_like_top_face(
     lab = _lab8(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
     strip = median_u8(lab[1 : n - 1].reshape(-1, 3), axis=0)
     front = median_u8(lab[n + 2 :].reshape(-1, 3), axis=0)
-    return norm(strip - front) >= MIN_TOP_DISTANCE
+    if norm(strip - front) < MIN_TOP_DISTANCE:
+        return False
+    if PATTERN_NOT_TOP_FACE and pattern:
+        # a top face is one surface: none of the front's joints (a brick print's vertical
+        # mortar lines) run across it; where the rows carry as many steps along them as
+        # the face below, they are the front face's pattern (a course of bricks and the
+        # print's margin above it), the edge under them a joint of it
+        light = lab[:, :, 0].astype(np.int16)
+        steps = np.abs(np.diff(light, axis=1))
+        band, face = float(steps[1 : n - 1].mean()), float(steps[n + 2 :].mean())
+        if face >= PATTERN_MIN_STEP and band >= PATTERN_SHARE * face:
+            log.debug("rows %d-%d: the face's pattern runs across them", upper, lower)
+            return False
+    return True
+
+
+#: Rows between a found top and a front top edge under it across which the face's own
+#: pattern runs (as many steps between neighbouring columns as on the face below) are the
+#: front face, not a top face (photo/740: a joint of a brick print taken for the front top
+#: edge, height -28 %); a switch for the tests. Used on the colour and texture rescue's
+#: face only (method.rescue_by_colour): on the edge search's face, a top face with the
+#: first course of a print under it (procedural/128) or a floor of the print's pattern
+#: (photo/716 hard) made as many answers worse as better.
+PATTERN_NOT_TOP_FACE = True
+#: The face's mean step between neighbouring columns (lightness, 8-bit) for it to have a
+#: pattern at all (a plain face's grain steps 1-2; brick prints 4-7).
+PATTERN_MIN_STEP = 3.0
+#: The rows' mean step is at least this share of the face's for the pattern to run across
+#: them (photo/740: 4.3 against 5.4, 0.8; photo/735 hard 0.83, photo/110 hard 0.92; a top
+#: face's grain over a planks face, procedural/704 hard: 0.73, which the edge search's
+#: face would take for the pattern: that face is not judged so).
+PATTERN_SHARE = 0.6
 
 
 #: A top row whose rows just above differ by at least this (Lab, 8-bit scale) from both
