@@ -61,6 +61,9 @@ def test_an_edge_inside_the_face_cuts_it_without_that_check(
     monkeypatch.setattr(method_mod, "ends_in_colour", always)
     # the highlight's own fading-out rows are a ramp (top.RAMP_ROWS): without that check too
     monkeypatch.setattr(top_mod, "RAMP_ROWS", 1000)
+    # ... and the highlight's edge is no step of its own (top.FRONT_EDGE_STEPS): without
+    # that check too
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     assert height_error("photo", 313) > 0.15
 
 
@@ -75,6 +78,8 @@ def test_without_the_ramp_check_the_highlight_cuts_the_face(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(top_mod, "RAMP_ROWS", 1000)
+    # (the new front top edge is no step of its own either, top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     assert height_error("procedural", 115) > 0.10
 
 

@@ -65,6 +65,8 @@ def test_a_top_face_is_left_out_only_with_the_settled_top(
     """The same room with a longer move asked of the top decided again: the first top
     (over the top face) stands."""
     monkeypatch.setattr(method_mod, "SETTLED_TOP_MOVE", 0.25)
+    # (the new front top edge is no step of its own either, top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     assert height_error("photo", 316) > 0.2
 
 
@@ -86,6 +88,8 @@ def test_a_small_move_of_the_top_is_taken_without_that_limit(
     monkeypatch.setattr(method_mod, "SETTLED_TOP_MOVE", 0.1)
     # (that edge is a shading ramp as well, which top.front_top skips now: without that)
     monkeypatch.setattr(top_mod, "RAMP_ROWS", 1000)
+    # (the new front top edge is no step of its own either, top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     assert height_error("procedural", 346, hard=True) > 0.05
 
 

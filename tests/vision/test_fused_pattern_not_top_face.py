@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision.fused import region
+from obstacle_fusion.vision.fused import top as top_mod
 
 from tests.vision_fixtures import room_size_errors
 
@@ -25,6 +26,8 @@ def test_a_joint_of_a_brick_print_is_no_front_top_edge() -> None:
 
 def test_without_the_rule_the_joint_cuts_the_height(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "PATTERN_NOT_TOP_FACE", False)
+    # (the joint is a dark line's lower edge as well, top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     eh, _ = room_size_errors("photo", 740, False)
     assert eh > 0.25
 
@@ -32,6 +35,8 @@ def test_without_the_rule_the_joint_cuts_the_height(monkeypatch: pytest.MonkeyPa
 def test_the_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # the rows' steps are 0.8 of the face's
     monkeypatch.setattr(region, "PATTERN_SHARE", 0.85)
+    # (the joint is a dark line's lower edge as well, top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     eh, _ = room_size_errors("photo", 740, False)
     assert eh > 0.25
 
@@ -39,5 +44,7 @@ def test_the_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_a_face_with_too_few_steps_has_no_pattern(monkeypatch: pytest.MonkeyPatch) -> None:
     # the face's mean step is 5.4
     monkeypatch.setattr(region, "PATTERN_MIN_STEP", 5.6)
+    # (the joint is a dark line's lower edge as well, top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top_mod, "FRONT_EDGE_STEPS", False)
     eh, _ = room_size_errors("photo", 740, False)
     assert eh > 0.25

@@ -130,6 +130,9 @@ def test_a_joint_under_a_front_top_edge_is_no_top_face(
     inside them, so the joint inside the front face is no front top edge (with no run
     on counted flat, the joint's lower edge would be taken)."""
     monkeypatch.setattr(top, "FLAT_SHARE", share)
+    # (the joint's lower edge, under a dark line, is no step of its own either:
+    # top.FRONT_EDGE_STEPS, tests/vision/test_fused_front_step.py; without that here)
+    monkeypatch.setattr(top, "FRONT_EDGE_STEPS", False)
     _, dy, noise = gradients(receding_box(FACE_TOP - 8, joint=True))
     row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
     assert abs(row - expected) <= 1
@@ -153,6 +156,7 @@ def test_a_top_edge_running_on_past_the_sides_is_the_backgrounds(
     it does not make the top the front top edge (reading nothing beyond the sides, it
     would)."""
     monkeypatch.setattr(top, "OUTSIDE_PX", outside)
+    monkeypatch.setattr(top, "FRONT_EDGE_STEPS", False)  # as above
     img = receding_box(FACE_TOP - 8, joint=True).astype(np.float64)
     img[:FACE_TOP, :LEFT] = 130.0
     img[:FACE_TOP, RIGHT:] = 130.0

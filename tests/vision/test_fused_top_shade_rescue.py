@@ -14,7 +14,7 @@ from __future__ import annotations
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import method, region
+from obstacle_fusion.vision.fused import method, region, top
 from obstacle_fusion.vision.measure import Measurer
 
 
@@ -65,6 +65,9 @@ def test_without_the_hue_limit_the_band_passes_for_the_face(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(region, "SHADED_HUE_STEP", 1e9)
+    # (the face is found as well where a front top edge must be a step of its own,
+    # top.FRONT_EDGE_STEPS: without that)
+    monkeypatch.setattr(top, "FRONT_EDGE_STEPS", False)
     assert _errors(*DARK_BAND, rig=False) == (9.0, 9.0)
 
 

@@ -82,7 +82,20 @@ def front_top(
     found = [r for r in found if not _ramp(prof, r - vt)]
     # the lowest, unless it ends inside both sides: a print's or a label's top edge, inset
     # in the face, while the front top edge runs from side to side
-    best = next((r for r in reversed(found) if not _inset(dy, r, ul, ur)), vt)
+    # ... and a step of its own (see _front_step): the lowest that is; under a dark line
+    # (a dip) the rows above are the front's own as well
+    peak = _top_peak(dy, vt, ul + m, ur - m) if FRONT_EDGE_STEPS else 0.0
+    best = vt
+    for r in reversed(found):
+        if _inset(dy, r, ul, ur):
+            continue
+        step = _front_step(peak, prof[r - vt]) if r - vt >= 2 else STEP
+        if step != STEP:
+            log.debug("top %d: row %d (%.1f against %.1f) is a %s", vt, r, prof[r - vt], peak, step)
+        if step == STEP:
+            best = r
+        if step != WEAK:
+            break
     if best != vt and _no_back_edge(v, dy, ul, ur, vt, best):
         # the top edge runs on flat where no top face's back edge could: it is the front
         # top edge, the line under it a joint or a gloss's edge inside the front face
@@ -90,6 +103,52 @@ def front_top(
         # apart from the top edge's blur here)
         best = vt
     return best, (1.0 if prof[best - vt] >= 0 else -1.0)
+
+
+#: Whether a front top edge two or more rows under the top must be a step of its own
+#: (:func:`_front_step`): the lowest extremum that is one is taken, none under a dark
+#: line's lower edge; a switch for the tests.
+FRONT_EDGE_STEPS = True
+#: A front top edge with the top edge's sign (wall, top face, front: a staircase) is at
+#: least this share of the top edge's peak: a weaker one on the same side is the top
+#: edge's own blur tail or the face's grain (about 0.05 on procedural/2096, 0.09 on
+#: photo/2035, 0.13 on photo/2013 hard; a real staircase 0.23, procedural/115 hard).
+STAIR_MIN_SHARE = 0.15
+#: A front top edge of the sign opposite the top edge's (the top face a bump between the
+#: wall and the front) is at least this share of the top edge's peak: a weaker one is the
+#: top edge's ringing (about 0.01 on procedural/715, 0.02 on procedural/134; thin bright
+#: top faces 0.065 and more, photo/139 hard).
+BUMP_MIN_SHARE = 0.04
+
+
+def _top_peak(dy: I16, vt: int, c0: int, c1: int) -> float:
+    """The top edge's peak: the largest row mean (columns c0..c1) of the signed vertical
+    gradient within two rows of ``vt``."""
+    top = row_means(dy[max(0, vt - 2) : vt + 3, c0:c1])
+    return float(top[int(np.argmax(np.abs(top)))])
+
+
+#: What :func:`_front_step` makes of an extremum under the top.
+STEP, WEAK, DIP = "step", "weak edge", "dark line's lower edge"
+
+
+def _front_step(peak: float, p_out: float) -> str:
+    """What the extremum ``p_out`` of the signed gradient's row means under the top,
+    whose edge peaks at ``peak``, is. A top face lies between the wall and the front:
+    at a level between theirs (two steps of one sign, the lower one a step of its own,
+    STAIR_MIN_SHARE of the top edge) or, lit from above, brighter than both (a bump,
+    its fall BUMP_MIN_SHARE of the top edge): STEP, a front top edge. A weaker one is
+    the top edge's own blur tail, its ringing or the face's grain (WEAK). A band darker
+    than both the wall and the front (the top edge falling, this one rising) is no top
+    face lit from above: the front's own dark line or frame under its top, or the top
+    edge's undershoot (DIP)."""
+    if peak == 0.0:
+        return STEP
+    if peak * p_out > 0.0:
+        return STEP if abs(p_out) >= STAIR_MIN_SHARE * abs(peak) else WEAK
+    if peak < 0.0:
+        return DIP
+    return STEP if abs(p_out) >= BUMP_MIN_SHARE * abs(peak) else WEAK
 
 
 #: A peak of the signed gradient whose same-signed run at half its value or more spans
