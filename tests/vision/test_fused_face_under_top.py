@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
+from obstacle_fusion.vision.fused import extent, region
 from obstacle_fusion.vision.fused import method as method_mod
-from obstacle_fusion.vision.fused import region
 from obstacle_fusion.vision.fused.region import face_under_raised_top
 
 from tests.vision.test_fused_region import BOTTOM, FACE, FLOOR, LEFT, RIGHT, TOP, level_view
@@ -95,4 +95,6 @@ def test_a_face_before_a_rocket_in_line_keeps_its_top(monkeypatch: pytest.Monkey
 
     assert height_error("photo", 318, hard=True) < 0.15
     monkeypatch.setattr(method_mod, "face_under_raised_top", lambda *a, **k: True)
+    # the face's top line across the rocket (extent.TOP_LINE_ACROSS) finds that top too
+    monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
     assert height_error("photo", 318, hard=True) > 0.5

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import method, region, scoring
+from obstacle_fusion.vision.fused import extent, method, region, scoring
 from obstacle_fusion.vision.fused.confidence import TOP_FROM_SIDES
 from obstacle_fusion.vision.fused.scoring import closing_top
 from obstacle_fusion.vision.measure import Measurer
@@ -216,6 +216,8 @@ def test_a_column_behind_the_face_in_line_with_one_side_is_not_its_top(
     mean ran on above the face's top, and the rocket's top edge closed the face (the
     height +45 %); the side against the sky ran on over a sixth of those rows only."""
     monkeypatch.setattr(scoring, "CLOSING_SIDE_RUN", side_run)
+    # the top line across the rocket finds that top too (extent.TOP_LINE_ACROSS): off
+    monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
     res, error = height_error_with_rig("photo", 1484, False)
     assert error <= 0.05 if within else error > 0.3
     assert (TOP_FROM_SIDES in res.doubts) is not within
@@ -294,6 +296,8 @@ def test_the_mirrored_room_asks_the_other_side(
     rocket's top closes the face (over 30 % off); with it the answer stays under the
     25 % gross bar."""
     monkeypatch.setattr(scoring, "CLOSING_SIDE_RUN", side_run)
+    # the top line across the rocket finds that top too (extent.TOP_LINE_ACROSS): off
+    monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
     cam = CameraModel.paper(500, 375)
     image, truth, spec = render_room("photo", 1484, False, cam)
     mirrored = np.ascontiguousarray(image[:, ::-1])

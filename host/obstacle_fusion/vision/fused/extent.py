@@ -69,6 +69,22 @@ SAME_ROW_EDGES = True
 #: edge against a background of varying shade (a lit structure behind one corner) is
 #: strong at that end only, yet one line on one row (a switch for the tests: 0 is off).
 UNEVEN_LINE_SHARE = 0.9
+#: Where the face's top and foot lines end together, its side stands there even where no
+#: vertical edge reaches the foot (planks of the floor's colour against the floor): the
+#: face is one surface square to the beam, its top and foot each a line on one row from
+#: side to side, and both end at its sides (a switch for the tests).
+LINES_END_TOGETHER = True
+#: Both lines must stand on their rows over this share of the columns walked past the
+#: chosen side (a dark seam breaks the foot line for a few columns) ...
+LINES_WALKED_SHARE = 0.7
+#: ... and over at most this share of the columns just past the new side: they end there ...
+LINES_PAST_SHARE = 0.2
+#: ... read over this many columns, from LINES_PAST_GAP columns past it (the edge's blur).
+LINES_PAST_COLUMNS = 6
+LINES_PAST_GAP = 3
+#: The side's vertical edge must still be present over this share of the face's rows (the
+#: part against the background; the part against a floor of its colour may show none).
+LINES_SIDE_COVERAGE = 0.5
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -173,9 +189,12 @@ def widen_across_seams(
         SIDE_SHARE_OF_SEAM * min(float(sides[left]), float(sides[right])), MIN_EDGE_SNR * noise
     )
     min_move = max(SNAP_COLUMNS // 2, MIN_WIDEN_SHARE * (right - left))
+    lines = None
+    if LINES_END_TOGETHER and not faint_b:
+        lines = (_line_on_row(ay, top, noise), _line_on_row(ay, bottom, noise))
     new = []
     for side, step in ((left, -1), (right, 1)):
-        moved = _outer_side(ax[top + 1 : bottom], sides, runs_on, side, step, min_move, need)
+        moved = _outer_side(ax[top + 1 : bottom], sides, runs_on, side, step, min_move, need, lines)
         new.append(side if moved is None else moved)
     return new[0], new[1]
 
@@ -196,6 +215,7 @@ def _outer_side(
     step: int,
     min_move: float,
     need: float,
+    lines: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | None = None,
 ) -> int | None:
     """Where the edges that run on past ``side`` (towards ``step``) end, the column of the
     face's real side: ``side`` itself when they stop within ``min_move`` columns, None when
@@ -210,7 +230,27 @@ def _outer_side(
     lo, hi = _snap_window(side, end, step, sides.size)
     best = int(lo + sides[lo : hi + 1].argmax())
     present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
-    return best if float(sides[best]) >= need and _stands(present) else None
+    if float(sides[best]) < need:
+        return None
+    if _stands(present):
+        return best
+    if lines is not None and share(present) >= LINES_SIDE_COVERAGE:
+        if all(_line_ends_at(line, side, best, step) for line in lines):
+            return best  # the top and foot lines end together: the face's side
+    return None
+
+
+def _line_ends_at(line: npt.NDArray[np.bool_], side: int, best: int, step: int) -> bool:
+    """Whether a line on its row stands over LINES_WALKED_SHARE of the columns from
+    ``side`` to ``best`` and ends there: at most LINES_PAST_SHARE of the columns just past."""
+    a, b = sorted((side + step, best))
+    walked = line[a : b + 1]
+    p0 = best + step * LINES_PAST_GAP
+    p1 = p0 + step * (LINES_PAST_COLUMNS - 1)
+    lo, hi = min(p0, p1), max(p0, p1)
+    if walked.size == 0 or lo < 0 or hi >= line.size:
+        return False
+    return share(walked) >= LINES_WALKED_SHARE and share(line[lo : hi + 1]) <= LINES_PAST_SHARE
 
 
 #: A side counts as present in a row when its |d/dx| is at least this share of its
@@ -425,3 +465,111 @@ def raise_top_along_seams(
     if end <= SNAP_ROWS:
         return top  # lines running out of the view: no top seen where they end
     return _snap_top(ay, end, bottom, left, right)
+
+
+#: A face chosen between a seam and a background edge in line with it (a tower behind the
+#: planks) runs up past the face's top: where a line on one row crosses the chosen face and
+#: runs on past both its sides, ending at vertical edges standing down towards the foot,
+#: that line is the face's top and its ends are the sides (a switch for the tests).
+TOP_LINE_ACROSS = True
+#: The line must stand on its row over this share of the chosen face's columns (a
+#: background edge crossing it breaks it for a column or two) ...
+ACROSS_INNER_SHARE = 0.8
+#: ... and run on past each side by this share of the chosen width (at least 3 columns).
+ACROSS_REACH_SHARE = 0.5
+#: The rows searched end this share of the face's height above the foot (a line lower
+#: than that is the floor's, or a plinth's) ...
+ACROSS_LOW_SHARE = 0.3
+#: ... and start this share of it (at least 3 rows) below the chosen top (a line just
+#: under the top is the top's own blur or a top face's front edge: the widening's).
+ACROSS_HIGH_SHARE = 0.1
+#: Above the line, a side where it ends is present over at most this share of the rows
+#: read (a quarter of the face's height under the line, at least 3): the side ends there.
+ACROSS_ABOVE_SHARE = 0.5
+#: A side where the line ends stands at least this share of the chosen sides' weaker one
+#: (a dark joint between planks is far stronger than the face's side against the room).
+ACROSS_SIDE_SHARE = 0.25
+
+
+def top_line_across(
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    noise: float,
+) -> tuple[int, int, int] | None:
+    """The face's (top, left, right) where a line on one row below the chosen top crosses
+    the chosen face and runs on past both its sides, both its ends at vertical edges that
+    stand from that row down (over LINES_SIDE_COVERAGE of the rows): the chosen sides were
+    a seam and an edge behind in line with it; None when no row shows such a line."""
+    w = right - left
+    if not TOP_LINE_ACROSS or w < 4 or bottom - top < 9:
+        return None
+    inner = slice(left + 1, right)
+    reach = max(3, int(ACROSS_REACH_SHARE * w))
+    best: tuple[float, int, int, int] | None = None
+    first = top + max(3, int(ACROSS_HIGH_SHARE * (bottom - top)))
+    last = bottom - max(3, int(ACROSS_LOW_SHARE * (bottom - top)))
+    for r in _rows_lined(ay[:, inner], first, last, noise):
+        line = _line_on_row(ay, r, noise)
+        ends = walk_on(line, left, -1, MAX_GAP), walk_on(line, right, 1, MAX_GAP)
+        if left - ends[0] < reach or ends[1] - right < reach:
+            continue
+        sides = column_means(ax[r : bottom + 1])
+        need = max(
+            ACROSS_SIDE_SHARE * min(float(sides[left]), float(sides[right])),
+            MIN_EDGE_SNR * noise,
+        )
+        new = []
+        for side, end, step in ((left, ends[0], -1), (right, ends[1], 1)):
+            lo, hi = _snap_window(side, end, step, sides.size)
+            col = int(lo + sides[lo : hi + 1].argmax())
+            present = np.asarray(ax[r + 1 : bottom, col], np.float32) >= SIDE_SHARE * need
+            if float(sides[col]) < need or share(present) < LINES_SIDE_COVERAGE:
+                break
+            new.append(col)
+        if len(new) < 2:
+            continue
+        if raise_top_past_inner_edges(ay, ax, bottom, r, new[0], new[1], noise) < r or any(
+            _runs_on_above(ax, bottom, r, col) for col in new
+        ):
+            continue  # the sides run on up past the line: a joint across the face, no top
+        strength = float(ay[r, new[0] + 1 : new[1]].mean())
+        if best is None or strength > best[0]:
+            best = (strength, r, new[0], new[1])
+    return None if best is None else best[1:]
+
+
+def _runs_on_above(ax: npt.NDArray[np.int16], bottom: int, row: int, col: int) -> bool:
+    """Whether the vertical edge at ``col`` runs on above ``row``: present (at SIDE_SHARE
+    of its median under the row) over more than ACROSS_ABOVE_SHARE of the rows just above
+    it (a quarter of the height under it, at least 3)."""
+    n = max(3, (bottom - row) // 4)
+    c0, c1 = max(0, col - 1), min(ax.shape[1], col + 2)
+    if row - n - 1 < 0:
+        return False
+    below = np.asarray(ax[row + 2 : bottom, c0:c1].max(axis=1), np.float32)
+    above = np.asarray(ax[row - n - 1 : row - 1, c0:c1].max(axis=1), np.float32)
+    return share(above >= SIDE_SHARE * float(median_of(below))) > ACROSS_ABOVE_SHARE
+
+
+def _rows_lined(block: npt.NDArray[np.float32], first: int, last: int, noise: float) -> list[int]:
+    """The rows ``first``..``last - 1`` where a line (:func:`_line_on_row`, the same flags
+    per column, all rows at once) stands over ACROSS_INNER_SHARE of ``block``'s columns."""
+    a, b = LINE_SIDE_ROWS
+    r0, r1 = max(first, b, EDGE_ROWS), min(last, block.shape[0] - b)
+    if r1 <= r0:
+        return []
+    x = np.asarray(block[r0 - b : r1 + b], np.float32)  # row r at r - r0 + b
+    n = r1 - r0
+    edge = x[b - EDGE_ROWS : b - EDGE_ROWS + n]
+    for k in range(1, 2 * EDGE_ROWS + 1):
+        edge = np.maximum(edge, x[b - EDGE_ROWS + k : b - EDGE_ROWS + k + n])
+    c = np.concatenate([np.zeros((1, x.shape[1]), np.float32), np.cumsum(x, axis=0)])
+    span = b - a + 1
+    above = (c[span : span + n] - c[:n]) / span  # rows r - b .. r - a
+    below = (c[b + a + span : b + a + span + n] - c[b + a : b + a + n]) / span
+    on = (edge >= MIN_EDGE_SNR * noise) & (edge >= LINE_CONTRAST * np.minimum(above, below))
+    return [r0 + i for i in np.nonzero(on.mean(axis=1) >= ACROSS_INNER_SHARE)[0].tolist()]

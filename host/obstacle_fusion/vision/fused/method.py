@@ -37,6 +37,7 @@ from obstacle_fusion.vision.fused.extent import (
     foot_in_band,
     raise_top_along_seams,
     raise_top_past_inner_edges,
+    top_line_across,
     widen_across_seams,
 )
 from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
@@ -600,6 +601,15 @@ class FusedMethod:
             front = None
         if front is not None and looks_like_top_face(seen, v, vt, front[0], ul, ur):
             vt, sign, top_row = front
+        across = None
+        if framed is None and rig_known:
+            # a seam and a tower behind in line with it taken for the sides, the top raised
+            # up the tower: the face's top line crosses them, ending at its real sides
+            across = top_line_across(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        if across is not None:
+            log.debug("top line across %d-%d (top %.0f): %s", ul, ur, vt, across)
+            vt, ul, ur = across
+            sign, top_row = (1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0), None
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known)
