@@ -62,8 +62,11 @@ class BuildPyWithFirmware(build_py):
                     _say(
                         f"{missing} not found: the package ships no {board} firmware image, so "
                         f"`flash --board {board}` needs --image"
-                        + (" and the emulated robot needs OF_FIRMWARE_ELF" if board == "uno"
-                           else "")
+                        + (
+                            " and the emulated robot needs OF_FIRMWARE_ELF"
+                            if board == "uno"
+                            else ""
+                        )
                         + f" (apt install {packages} make, then reinstall)"
                     )
                     continue

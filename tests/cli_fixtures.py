@@ -14,7 +14,9 @@ import pytest
 def _cli(*args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-m", "obstacle_fusion", *args],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
 
 
@@ -27,7 +29,17 @@ def unreadable_run(path: Path, *args: str) -> subprocess.CompletedProcess[str]:
     if shutil.which("setpriv") is None:
         pytest.fail("running as root without setpriv: cannot test a permission error")
     return subprocess.run(
-        ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups",
-         sys.executable, "-m", "obstacle_fusion", *args],
-        capture_output=True, text=True, timeout=60,
+        [
+            "setpriv",
+            "--reuid=65534",
+            "--regid=65534",
+            "--clear-groups",
+            sys.executable,
+            "-m",
+            "obstacle_fusion",
+            *args,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
     )

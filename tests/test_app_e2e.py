@@ -44,6 +44,7 @@ VISION_MAX_MISS_RATE = 1 / 25
 #: Frames at the start of a run while the range filter builds up its first estimates.
 WARM_UP_FRAMES = 10
 
+
 def _cmd(*args: str) -> list[str]:
     return [sys.executable, "-m", "obstacle_fusion", *args]
 

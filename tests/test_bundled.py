@@ -16,8 +16,13 @@ def test_in_the_clone_the_build_tree_is_used(monkeypatch: pytest.MonkeyPatch) ->
     monkeypatch.delenv("OF_FIRMWARE_ELF", raising=False)
     root = bundled.checkout_root()
     assert root is not None and (root / "firmware" / "Makefile").is_file()
-    assert bundled.default_emulator_binary() == root / "tools" / "emulator" / "build" / "of-emulator"
-    assert bundled.default_firmware_elf() == root / "firmware" / "build" / "uno" / "obstacle-fusion.elf"
+    assert (
+        bundled.default_emulator_binary() == root / "tools" / "emulator" / "build" / "of-emulator"
+    )
+    assert (
+        bundled.default_firmware_elf()
+        == root / "firmware" / "build" / "uno" / "obstacle-fusion.elf"
+    )
     monkeypatch.setenv("OF_EMULATOR", "/opt/x/of-emulator")
     monkeypatch.setenv("OF_FIRMWARE_ELF", "/opt/x/fw.elf")
     assert bundled.default_emulator_binary() == Path("/opt/x/of-emulator")

@@ -23,13 +23,34 @@ def tool(name: str) -> str:
 def test_ruff_clean() -> None:
     result = subprocess.run(
         [tool("ruff"), "check", "host", "tools", "tests"],
-        cwd=ROOT, capture_output=True, text=True, timeout=120,
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert result.returncode == 0, result.stdout + result.stderr
 
 
+def test_ruff_formatted() -> None:
+    """One layout for all the Python: a diff shows what changed, not how it was typed."""
+    result = subprocess.run(
+        [tool("ruff"), "format", "--check", "host", "tools", "tests", "setup.py"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0, (
+        result.stdout + result.stderr + "\nrun `.venv/bin/ruff format host tools tests setup.py`"
+    )
+
+
 def test_mypy_clean() -> None:
     result = subprocess.run(
-        [tool("mypy")], cwd=ROOT, capture_output=True, text=True, timeout=300,
+        [tool("mypy")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert result.returncode == 0, result.stdout + result.stderr

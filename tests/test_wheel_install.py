@@ -62,7 +62,9 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     site = Path(
         subprocess.run(
             [str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-            check=True, capture_output=True, text=True,
+            check=True,
+            capture_output=True,
+            text=True,
         ).stdout.strip()
     )
     # The dependencies (numpy, OpenCV, ...) from this venv; its editable obstacle_fusion is
@@ -96,13 +98,17 @@ def test_the_wheel_ships_the_images_and_the_emulator_sources(installed: dict[str
         assert name in names, name
     assert any(n.endswith("licenses/LICENSE") for n in names)
     # the stream decoder's C accelerator, compiled for this Python, and its types
-    assert any(n.startswith("obstacle_fusion/protocol/_cdecode.cpython-") and n.endswith(".so")
-               for n in names), sorted(n for n in names if "_cdecode" in n)
+    assert any(
+        n.startswith("obstacle_fusion/protocol/_cdecode.cpython-") and n.endswith(".so")
+        for n in names
+    ), sorted(n for n in names if "_cdecode" in n)
     assert "obstacle_fusion/protocol/_cdecode.pyi" in names
     assert not any(n.endswith(".c") and "protocol" in n for n in names)
     # and the fused vision method's
-    assert any(n.startswith("obstacle_fusion/vision/fused/_cmiddle.cpython-") and n.endswith(".so")
-               for n in names), sorted(n for n in names if "_cmiddle" in n)
+    assert any(
+        n.startswith("obstacle_fusion/vision/fused/_cmiddle.cpython-") and n.endswith(".so")
+        for n in names
+    ), sorted(n for n in names if "_cmiddle" in n)
     assert "obstacle_fusion/vision/fused/_cmiddle.pyi" in names
     assert not any(n.endswith(".c") and "vision" in n for n in names)
     meta = next(n for n in names if n.endswith("METADATA"))
@@ -170,7 +176,10 @@ def test_installed_flash_needs_no_compiler(installed: dict[str, Path], tmp_path:
     args = calls.read_text().split()
     image = Path(args[args.index("-U") + 1].removeprefix("flash:w:").removesuffix(":i"))
     assert image.is_relative_to(installed["site"])
-    assert image.read_text() == (ROOT / "firmware" / "build" / "uno" / "obstacle-fusion.hex").read_text()
+    assert (
+        image.read_text()
+        == (ROOT / "firmware" / "build" / "uno" / "obstacle-fusion.hex").read_text()
+    )
 
 
 def test_a_c_accelerator_that_does_not_compile_leaves_the_pure_decoder(tmp_path: Path) -> None:
@@ -180,8 +189,9 @@ def test_a_c_accelerator_that_does_not_compile_leaves_the_pure_decoder(tmp_path:
     src, dist, venv = tmp_path / "src", tmp_path / "dist", tmp_path / "venv"
     _clone_files(src)
     c_source = src / "host" / "obstacle_fusion" / "protocol" / "_cdecode.c"
-    c_source.write_text("#error this machine cannot compile the accelerator\n"
-                        + c_source.read_text())
+    c_source.write_text(
+        "#error this machine cannot compile the accelerator\n" + c_source.read_text()
+    )
     done = subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
          "--no-index", "-w", str(dist), str(src)],
@@ -192,7 +202,9 @@ def test_a_c_accelerator_that_does_not_compile_leaves_the_pure_decoder(tmp_path:
     assert len(wheels) == 1
     import zipfile
 
-    assert not [n for n in zipfile.ZipFile(wheels[0]).namelist() if "_cdecode" in n and n.endswith(".so")]
+    assert not [
+        n for n in zipfile.ZipFile(wheels[0]).namelist() if "_cdecode" in n and n.endswith(".so")
+    ]
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
     py = venv / "bin" / "python"
     subprocess.run(

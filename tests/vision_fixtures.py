@@ -70,7 +70,9 @@ def room_size_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
     )
 
 
-def gradients(img: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
+def gradients(
+    img: npt.NDArray[np.uint8],
+) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int16], float]:
     """|d/dy|, |d/dx| dilated by one column, and the noise level, as the method takes them
     (one place for the drawn-face tests of the extent stage)."""
     dx = np.empty(img.shape, np.int16)

@@ -80,8 +80,10 @@ def main() -> None:
     parser.add_argument("--reference", action="store_true", help="also time the old model")
     args = parser.parse_args()
     warm = 35.0
-    print(f"clock model, us per RANGE sustained (window full, {args.measure_s:.0f} s timed, "
-          "TIME_SYNC at 5 Hz included)")
+    print(
+        f"clock model, us per RANGE sustained (window full, {args.measure_s:.0f} s timed, "
+        "TIME_SYNC at 5 Hz included)"
+    )
     header = f"{'RANGE/s':>8} {'us/RANGE':>9}"
     if args.reference:
         header += f" {'reference us/RANGE':>19}"

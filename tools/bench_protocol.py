@@ -113,13 +113,20 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     stream = make_stream(args.frames)
-    path = ("C accelerator (obstacle_fusion.protocol._cdecode)" if StreamDecoder().accelerated
-            else "pure Python (no C accelerator: not built, or OBSTACLE_FUSION_PURE_PYTHON set)")
-    print(f"decode throughput, {args.frames} RANGE frames ({len(stream)} bytes), best of "
-          f"{args.repeats}, decoder, pure-Python decoder and bare loop alternating")
+    path = (
+        "C accelerator (obstacle_fusion.protocol._cdecode)"
+        if StreamDecoder().accelerated
+        else "pure Python (no C accelerator: not built, or OBSTACLE_FUSION_PURE_PYTHON set)"
+    )
+    print(
+        f"decode throughput, {args.frames} RANGE frames ({len(stream)} bytes), best of "
+        f"{args.repeats}, decoder, pure-Python decoder and bare loop alternating"
+    )
     print(f"decoder path timed: {path}")
-    print(f"{'chunk bytes':>12} {'decoder frames/s':>17} {'bare COBS+CRC/s':>16} {'ratio':>6} "
-          f"{'pure Python/s':>14} {'ratio':>6} {'build only/s':>13} {'ceiling':>8}")
+    print(
+        f"{'chunk bytes':>12} {'decoder frames/s':>17} {'bare COBS+CRC/s':>16} {'ratio':>6} "
+        f"{'pure Python/s':>14} {'ratio':>6} {'build only/s':>13} {'ceiling':>8}"
+    )
     for chunk in (64, 1024, 65536):
         best_dec = best_pure = best_bare = best_build = 0.0
         for _ in range(args.repeats):
@@ -136,9 +143,11 @@ def main() -> None:
             assert n == args.frames
             best_build = max(best_build, n / t)
         ceiling = best_build / (best_build + best_bare)  # 1 / (1 + t_build / t_bare)
-        print(f"{chunk:>12} {best_dec:>17,.0f} {best_bare:>16,.0f} {best_dec / best_bare:>6.2f} "
-              f"{best_pure:>14,.0f} {best_pure / best_bare:>6.2f} {best_build:>13,.0f} "
-              f"{ceiling:>8.2f}")
+        print(
+            f"{chunk:>12} {best_dec:>17,.0f} {best_bare:>16,.0f} {best_dec / best_bare:>6.2f} "
+            f"{best_pure:>14,.0f} {best_pure / best_bare:>6.2f} {best_build:>13,.0f} "
+            f"{ceiling:>8.2f}"
+        )
 
 
 if __name__ == "__main__":

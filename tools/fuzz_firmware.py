@@ -37,9 +37,16 @@ SOURCES = [
     CORE / "of_frame.c",
 ]
 FLAGS = [
-    "-std=c99", "-O1", "-g", "-Wall", "-Wextra", "-Werror",
-    "-fsanitize=fuzzer,address,undefined", "-fno-sanitize-recover=all",
-    f"-I{NATIVE}", f"-I{CORE}",
+    "-std=c99",
+    "-O1",
+    "-g",
+    "-Wall",
+    "-Wextra",
+    "-Werror",
+    "-fsanitize=fuzzer,address,undefined",
+    "-fno-sanitize-recover=all",
+    f"-I{NATIVE}",
+    f"-I{CORE}",
 ]
 CLANGS = ("clang", "clang-19", "clang-16", "clang-15", "clang-14")
 
@@ -63,9 +70,11 @@ class FuzzResult:
 
     def summary(self) -> str:
         found = ", ".join(str(p) for p in self.findings) or "none"
-        return (f"fuzz_core: {self.seconds} s, {self.execs:,} executions ({self.execs_per_s:,}/s), "
-                f"coverage {self.cov} edges / {self.features} features, corpus {self.corpus} "
-                f"inputs, findings: {found}")
+        return (
+            f"fuzz_core: {self.seconds} s, {self.execs:,} executions ({self.execs_per_s:,}/s), "
+            f"coverage {self.cov} edges / {self.features} features, corpus {self.corpus} "
+            f"inputs, findings: {found}"
+        )
 
 
 def find_clang() -> str:
@@ -73,32 +82,47 @@ def find_clang() -> str:
         path = shutil.which(name)
         if path:
             return path
-    raise FuzzSetupError("clang not found: install it (apt-get install clang libclang-rt-14-dev; "
-                         "`make setup` does)")
+    raise FuzzSetupError(
+        "clang not found: install it (apt-get install clang libclang-rt-14-dev; `make setup` does)"
+    )
 
 
 def libfuzzer_available(clang: str) -> bool:
     """Whether clang can link a libFuzzer target with the sanitizers."""
     with tempfile.TemporaryDirectory() as tmp:
         src = Path(tmp) / "probe.c"
-        src.write_text("#include <stddef.h>\n#include <stdint.h>\n"
-                       "int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n);\n"
-                       "int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n)"
-                       "{ (void)d; (void)n; return 0; }\n")
-        proc = subprocess.run([clang, "-fsanitize=fuzzer,address,undefined", str(src), "-o",
-                               str(Path(tmp) / "probe")], capture_output=True, text=True)
+        src.write_text(
+            "#include <stddef.h>\n#include <stdint.h>\n"
+            "int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n);\n"
+            "int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n)"
+            "{ (void)d; (void)n; return 0; }\n"
+        )
+        proc = subprocess.run(
+            [
+                clang,
+                "-fsanitize=fuzzer,address,undefined",
+                str(src),
+                "-o",
+                str(Path(tmp) / "probe"),
+            ],
+            capture_output=True,
+            text=True,
+        )
         return proc.returncode == 0
 
 
 def build(work: Path) -> Path:
     clang = find_clang()
     if not libfuzzer_available(clang):
-        raise FuzzSetupError(f"{clang} cannot link libFuzzer with the sanitizers: install "
-                             "libclang-rt-14-dev (or the compiler-rt of your clang)")
+        raise FuzzSetupError(
+            f"{clang} cannot link libFuzzer with the sanitizers: install "
+            "libclang-rt-14-dev (or the compiler-rt of your clang)"
+        )
     work.mkdir(parents=True, exist_ok=True)
     out = work / "fuzz_core"
-    proc = subprocess.run([clang, *FLAGS, *map(str, SOURCES), "-o", str(out)],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        [clang, *FLAGS, *map(str, SOURCES), "-o", str(out)], capture_output=True, text=True
+    )
     if proc.returncode != 0:
         raise FuzzSetupError(f"building the fuzz target failed:\n{proc.stderr}")
     return out
@@ -112,10 +136,22 @@ def seed_inputs() -> list[bytes]:
     frames = [bytes.fromhex(v["frame"]) for v in json.loads(GOLDEN.read_text())]
     commands = [
         encode(GetInfo(), 1),
-        encode(SetConfig(cycle_ms=29, sensor_mask=15, max_echo_us=1000, echo_timeout_us=1000,
-                         heartbeat_ms=100), 2),
-        encode(SetConfig(cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000,
-                         heartbeat_ms=0), 3),
+        encode(
+            SetConfig(
+                cycle_ms=29,
+                sensor_mask=15,
+                max_echo_us=1000,
+                echo_timeout_us=1000,
+                heartbeat_ms=100,
+            ),
+            2,
+        ),
+        encode(
+            SetConfig(
+                cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=0
+            ),
+            3,
+        ),
         encode(TimeSync(token=0xDEADBEEF), 4),
         encode(Stop(), 5),
         encode(Start(), 6),
@@ -152,10 +188,20 @@ def run(seconds: int, work: Path, max_len: int = 1024) -> FuzzResult:
         (seeds / f"seed{i:02d}").write_bytes(data)
     before = set(artifacts.iterdir())
     proc = subprocess.run(
-        [str(binary), str(corpus), str(seeds), f"-max_total_time={seconds}",
-         f"-max_len={max_len}", "-timeout=10", "-rss_limit_mb=2048", "-print_final_stats=1",
-         f"-artifact_prefix={artifacts}/"],
-        capture_output=True, text=True, timeout=seconds + 600,
+        [
+            str(binary),
+            str(corpus),
+            str(seeds),
+            f"-max_total_time={seconds}",
+            f"-max_len={max_len}",
+            "-timeout=10",
+            "-rss_limit_mb=2048",
+            "-print_final_stats=1",
+            f"-artifact_prefix={artifacts}/",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=seconds + 600,
     )
     (work / "last_run.log").write_text(proc.stderr)
     execs, rate, cov, ft, corp = parse_output(proc.stderr)
@@ -178,8 +224,12 @@ def is_slow(binary: Path, unit: Path, limit_s: float = 1.0) -> bool:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=int, default=60, help="how long to fuzz (60)")
-    parser.add_argument("--work", type=Path, default=ROOT / "firmware" / "build" / "fuzz",
-                        help="build, corpus and artifacts directory (firmware/build/fuzz)")
+    parser.add_argument(
+        "--work",
+        type=Path,
+        default=ROOT / "firmware" / "build" / "fuzz",
+        help="build, corpus and artifacts directory (firmware/build/fuzz)",
+    )
     args = parser.parse_args()
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     try:
@@ -189,8 +239,11 @@ def main() -> int:
         return 2
     print(result.summary())
     if result.findings or result.returncode != 0:
-        print(f"fuzz_firmware: FINDING (libFuzzer exit {result.returncode}); log: "
-              f"{args.work / 'last_run.log'}", file=sys.stderr)
+        print(
+            f"fuzz_firmware: FINDING (libFuzzer exit {result.returncode}); log: "
+            f"{args.work / 'last_run.log'}",
+            file=sys.stderr,
+        )
         return 1
     return 0
 

@@ -55,8 +55,16 @@ _FLIP: dict[type, type] = {
     ast.NotIn: ast.In,
 }
 _SYMBOL: dict[type, str] = {
-    ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==", ast.NotEq: "!=",
-    ast.Is: "is", ast.IsNot: "is not", ast.In: "in", ast.NotIn: "not in",
+    ast.Lt: "<",
+    ast.LtE: "<=",
+    ast.Gt: ">",
+    ast.GtE: ">=",
+    ast.Eq: "==",
+    ast.NotEq: "!=",
+    ast.Is: "is",
+    ast.IsNot: "is not",
+    ast.In: "in",
+    ast.NotIn: "not in",
 }
 
 
@@ -104,8 +112,10 @@ def _sites(tree: ast.AST, numbers: str = "all") -> Iterator[tuple[list[int], str
             for k, op in enumerate(node.ops):
                 if type(op) in _FLIP:
                     yield path, "compare", str(k), line
-        elif isinstance(node, ast.Constant) and isinstance(node.value, int | float) and not (
-            isinstance(node.value, bool)
+        elif (
+            isinstance(node, ast.Constant)
+            and isinstance(node.value, int | float)
+            and not (isinstance(node.value, bool))
         ):
             values = _numbers(node.value)
             for v in values[:1] if numbers == "one" else values:
@@ -114,8 +124,10 @@ def _sites(tree: ast.AST, numbers: str = "all") -> Iterator[tuple[list[int], str
             yield path, "bool", "", line
         elif isinstance(node, ast.BoolOp):
             yield path, "boolop", "", line
-        elif isinstance(node, ast.Return) and node.value is not None and not (
-            isinstance(node.value, ast.Constant) and node.value.value is None
+        elif (
+            isinstance(node, ast.Return)
+            and node.value is not None
+            and not (isinstance(node.value, ast.Constant) and node.value.value is None)
         ):
             yield path, "return", "", line
         elif isinstance(node, ast.AugAssign) and isinstance(node.op, ast.Add | ast.Sub):
@@ -251,7 +263,11 @@ def run_tests(tests: list[str], timeout_s: float) -> str:
     cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests]
     try:
         proc = subprocess.run(
-            cmd, cwd=ROOT, env=env, capture_output=True, timeout=timeout_s,
+            cmd,
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            timeout=timeout_s,
             start_new_session=True,
         )
     except subprocess.TimeoutExpired:
@@ -276,11 +292,14 @@ def main() -> int:
         "--rerun", type=Path, help="only the mutants that survived in this earlier --json"
     )
     parser.add_argument(
-        "--numbers", choices=("all", "one"), default="all",
+        "--numbers",
+        choices=("all", "one"),
+        default="all",
         help="one: a single variant per number (n + 1, or 2 x for a float) to go faster",
     )
     parser.add_argument(
-        "--subprocess", action="store_true",
+        "--subprocess",
+        action="store_true",
         help="a new interpreter per mutant (slower) instead of a forked child",
     )
     args = parser.parse_args()
@@ -317,7 +336,8 @@ def main() -> int:
             target = target.resolve()
             originals[target] = target.read_text()
             todo = [
-                m for m in mutants(target, named, args.numbers)
+                m
+                for m in mutants(target, named, args.numbers)
                 if (not args.only_line or m.line in args.only_line)
                 and (again is None or (m.line, m.kind, m.what) in again)
             ]
@@ -338,15 +358,25 @@ def main() -> int:
                     print(f"  SURVIVED line {m.line:>4} {m.kind:<9} {m.what}", flush=True)
                 else:
                     killed += 1
-                results.append({"file": str(target.relative_to(ROOT)), "line": m.line,
-                                "kind": m.kind, "what": m.what, "verdict": verdict,
-                                "seconds": round(time.monotonic() - start, 1)})
+                results.append(
+                    {
+                        "file": str(target.relative_to(ROOT)),
+                        "line": m.line,
+                        "kind": m.kind,
+                        "what": m.what,
+                        "verdict": verdict,
+                        "seconds": round(time.monotonic() - start, 1),
+                    }
+                )
                 if k % 25 == 0:
                     print(f"  ... {k}/{len(todo)}", flush=True)
             if not args.list:
                 total = killed + survived
-                print(f"{target.relative_to(ROOT)}: {killed} killed, {survived} survived of "
-                      f"{total} ({100 * killed / max(total, 1):.1f} % killed)", flush=True)
+                print(
+                    f"{target.relative_to(ROOT)}: {killed} killed, {survived} survived of "
+                    f"{total} ({100 * killed / max(total, 1):.1f} % killed)",
+                    flush=True,
+                )
     finally:
         restore()
         if args.json:

@@ -47,13 +47,22 @@ PROTOCOL_TESTS = ("golden_test.c", "stream_test.c")
 TARGETS = ("of_ranger.c", "of_frame.c", "of_app.c", "of_ring.c")
 NATIVE_SOURCES = ("of_app.c", "of_ranger.c", "of_ring.c", "of_frame.c")
 HEADERS = ("of_ranger.h", "of_app.h", "of_frame.h", "of_protocol.h", "of_ring.h")
-CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1", "-g",
-          "-fsanitize=address,undefined", "-fno-sanitize-recover=all"]
+CFLAGS = [
+    "-std=c99",
+    "-Wall",
+    "-Wextra",
+    "-Werror",
+    "-O1",
+    "-g",
+    "-fsanitize=address,undefined",
+    "-fno-sanitize-recover=all",
+]
 # The emulator tests run on a native survivor: the firmware end to end, quick ones only.
 EMULATOR_TESTS = [
     "tests/sim/test_emulator_firmware.py",
     "tests/sim/test_emulator_robustness.py",
-    "-k", "not real_time and not 1pct and not published and not large_host_write",
+    "-k",
+    "not real_time and not 1pct and not published and not large_host_write",
 ]
 
 ROR = {"<": "<=", "<=": "<", ">": ">=", ">=": ">", "==": "!=", "!=": "=="}
@@ -190,11 +199,13 @@ def all_mutants(only: str | None = None) -> list[Mutant]:
     return out
 
 
-def run(cmd: list[str], timeout: float, env: dict[str, str] | None = None,
-        cwd: Path = ROOT) -> tuple[int, str]:
+def run(
+    cmd: list[str], timeout: float, env: dict[str, str] | None = None, cwd: Path = ROOT
+) -> tuple[int, str]:
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env,
-                              cwd=cwd)
+        proc = subprocess.run(
+            cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=cwd
+        )
     except subprocess.TimeoutExpired:
         return -999, "timeout"
     return proc.returncode, (proc.stdout + proc.stderr)[-2000:]
@@ -205,12 +216,18 @@ def compile_objects(work: Path) -> dict[str, Path]:
     objs = work / "base"
     objs.mkdir(parents=True, exist_ok=True)
     out: dict[str, Path] = {}
-    sources = [NATIVE / "test_core.c", NATIVE / "fuzz_replay.c", NATIVE / "fake_hal.c",
-               *(PROTOCOL_C / p for p in PROTOCOL_TESTS), *(CORE / s for s in NATIVE_SOURCES)]
+    sources = [
+        NATIVE / "test_core.c",
+        NATIVE / "fuzz_replay.c",
+        NATIVE / "fake_hal.c",
+        *(PROTOCOL_C / p for p in PROTOCOL_TESTS),
+        *(CORE / s for s in NATIVE_SOURCES),
+    ]
     for src in sources:
         obj = objs / (src.stem + ".o")
-        rc, text = run(["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{CORE}", "-c", str(src), "-o", str(obj)],
-                       120)
+        rc, text = run(
+            ["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{CORE}", "-c", str(src), "-o", str(obj)], 120
+        )
         if rc != 0:
             raise SystemExit(f"mutate_firmware: the unmutated {src.name} does not build:\n{text}")
         out[src.name] = obj
@@ -227,12 +244,30 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool, base: dict[str, Path]) -
     (fw / "core" / mu.file).write_text(text[: mu.start] + mu.replacement + text[mu.end :])
 
     def result(status: str, detail: str) -> Result:
-        return Result(mu.name, mu.file, mu.line, mu.op, status, detail.strip()[-300:],
-                      round(time.monotonic() - t0, 1))
+        return Result(
+            mu.name,
+            mu.file,
+            mu.line,
+            mu.op,
+            status,
+            detail.strip()[-300:],
+            round(time.monotonic() - t0, 1),
+        )
 
     mutated = work / "mutated.o"
-    rc, out = run(["gcc", *CFLAGS, f"-I{NATIVE}", f"-I{fw / 'core'}", "-c",
-                   str(fw / "core" / mu.file), "-o", str(mutated)], 120)
+    rc, out = run(
+        [
+            "gcc",
+            *CFLAGS,
+            f"-I{NATIVE}",
+            f"-I{fw / 'core'}",
+            "-c",
+            str(fw / "core" / mu.file),
+            "-o",
+            str(mutated),
+        ],
+        120,
+    )
     if rc != 0:
         return result("stillborn", out)
     core = [str(mutated) if name == mu.file else str(base[name]) for name in NATIVE_SOURCES]
@@ -249,8 +284,17 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool, base: dict[str, Path]) -
     # firmware's own decoder cannot catch a change it shares (a CRC polynomial, say).
     for program in PROTOCOL_TESTS:
         binary = work / Path(program).stem
-        rc, out = run(["gcc", *CFLAGS, str(base[program]),
-                       core[NATIVE_SOURCES.index("of_frame.c")], "-o", str(binary)], 120)
+        rc, out = run(
+            [
+                "gcc",
+                *CFLAGS,
+                str(base[program]),
+                core[NATIVE_SOURCES.index("of_frame.c")],
+                "-o",
+                str(binary),
+            ],
+            120,
+        )
         if rc != 0:
             return result("stillborn", out)
         rc, out = run([str(binary)], 120)
@@ -265,8 +309,22 @@ def test_mutant(mu: Mutant, work: Path, emulator: bool, base: dict[str, Path]) -
     if rc != 0:
         return result("stillborn", "the Uno build fails: " + out)
     env = dict(os.environ, OF_FIRMWARE_ELF=str(work / "build" / "uno" / "obstacle-fusion.elf"))
-    rc, out = run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider",
-                   "--timeout", "120", *EMULATOR_TESTS], 900, env=env)
+    rc, out = run(
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-x",
+            "-p",
+            "no:cacheprovider",
+            "--timeout",
+            "120",
+            *EMULATOR_TESTS,
+        ],
+        900,
+        env=env,
+    )
     if rc != 0:
         return result("killed-emulator", out if rc != -999 else "timeout")
     return result("survived", "native and emulator tests pass")
@@ -278,9 +336,12 @@ def main() -> int:
     parser.add_argument("--only", help="FILE or FILE:LINE (e.g. of_ranger.c:88)")
     parser.add_argument("--native-only", action="store_true", help="skip the emulator tests")
     parser.add_argument("--json", type=Path, help="write every result here")
-    parser.add_argument("--rerun", type=Path,
-                        help="only the mutants that reached the emulator stage (survived or "
-                        "killed there) in this earlier --json file")
+    parser.add_argument(
+        "--rerun",
+        type=Path,
+        help="only the mutants that reached the emulator stage (survived or "
+        "killed there) in this earlier --json file",
+    )
     args = parser.parse_args()
     mutants = all_mutants(args.only)
     if args.rerun:
@@ -301,8 +362,10 @@ def main() -> int:
             print(f"[{i}/{len(mutants)}] {res.status:16} {res.seconds:6.1f}s {mu.name}", flush=True)
             if args.json:
                 args.json.write_text(json.dumps([asdict(r) for r in results], indent=1))
-    counts = {s: sum(r.status == s for r in results)
-              for s in ("killed-native", "killed-emulator", "survived", "stillborn")}
+    counts = {
+        s: sum(r.status == s for r in results)
+        for s in ("killed-native", "killed-emulator", "survived", "stillborn")
+    }
     valid = len(results) - counts["stillborn"]
     killed = counts["killed-native"] + counts["killed-emulator"]
     print("\nsurvivors:")
@@ -311,8 +374,10 @@ def main() -> int:
             print(f"  {r.mutant}")
     print(f"\n{len(results)} mutants: {counts}")
     if valid:
-        print(f"mutation score: {killed}/{valid} = {100 * killed / valid:.1f} % killed "
-              "(equivalent mutants not yet excluded)")
+        print(
+            f"mutation score: {killed}/{valid} = {100 * killed / valid:.1f} % killed "
+            "(equivalent mutants not yet excluded)"
+        )
     return 0
 
 

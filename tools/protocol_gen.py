@@ -331,12 +331,23 @@ def gen_python(spec: Spec) -> str:
         "",
     ]
     for m in spec.messages:
-        out += ["", "@dataclass(slots=True)", f"class {m.camel}(Message):", f'    """{m.doc}"""', ""]
+        out += [
+            "",
+            "@dataclass(slots=True)",
+            f"class {m.camel}(Message):",
+            f'    """{m.doc}"""',
+            "",
+        ]
         for f in m.fields:
             pytype = "str" if f.is_text else "int"
             comment = " ".join(
-                x for x in (f"[{f.unit}]" if f.unit else "", f"{f.enum} enum" if f.enum else "",
-                            f.doc) if x
+                x
+                for x in (
+                    f"[{f.unit}]" if f.unit else "",
+                    f"{f.enum} enum" if f.enum else "",
+                    f.doc,
+                )
+                if x
             )
             out.append(f"    {f.name}: {pytype}" + (f"  # {comment}" if comment else ""))
         if not m.fields:
@@ -405,7 +416,9 @@ def gen_c_header(spec: Spec) -> str:
     for e in spec.enums:
         o += ["", f"/* {e.doc} */", "typedef enum {"]
         for n, v, doc in e.values:
-            o.append(f"    OF_{e.name.upper()}_{n.upper()} = {v}," + (f" /* {doc} */" if doc else ""))
+            o.append(
+                f"    OF_{e.name.upper()}_{n.upper()} = {v}," + (f" /* {doc} */" if doc else "")
+            )
         o.append(f"}} of_{e.name}_t;")
     o += [
         "",
@@ -465,7 +478,9 @@ def gen_c_header(spec: Spec) -> str:
             if f.size == 1:
                 o.append(f"    payload[{off}] = (uint8_t)m->{f.name};")
             else:
-                o.append(f"    of_put_u{8 * f.size}(payload + {off}, (uint{8 * f.size}_t)m->{f.name});")
+                o.append(
+                    f"    of_put_u{8 * f.size}(payload + {off}, (uint{8 * f.size}_t)m->{f.name});"
+                )
             off += f.size
         if not m.text_field:
             o.append(f"    return {off}u;")
@@ -501,7 +516,10 @@ def gen_c_header(spec: Spec) -> str:
         "/* The CRC seed byte of a message id, or -1 for an id the spec does not know. */",
         "static inline int of_crc_extra(uint8_t msg_id) {",
         "    switch (msg_id) {",
-        *[f"    case OF_MSG_{m.name.upper()}: return OF_MSG_{m.name.upper()}_CRC_EXTRA;" for m in spec.messages],
+        *[
+            f"    case OF_MSG_{m.name.upper()}: return OF_MSG_{m.name.upper()}_CRC_EXTRA;"
+            for m in spec.messages
+        ],
         "    default: return -1;",
         "    }",
         "}",

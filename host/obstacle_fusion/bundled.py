@@ -164,8 +164,9 @@ def missing_build_tools() -> list[str]:
     missing = []
     if shutil.which(os.environ.get("CC", "cc")) is None and shutil.which("gcc") is None:
         missing.append("gcc")
-    if not any(Path(d, "sim_avr.h").is_file() for d in ("/usr/include/simavr",
-                                                          "/usr/local/include/simavr")):
+    if not any(
+        Path(d, "sim_avr.h").is_file() for d in ("/usr/include/simavr", "/usr/local/include/simavr")
+    ):
         missing.append("libsimavr-dev")
     if not any(Path(d, "libelf.h").is_file() for d in ("/usr/include", "/usr/local/include")):
         missing.append("libelf-dev")

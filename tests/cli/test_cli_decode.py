@@ -22,8 +22,9 @@ def run_cli(*args: str, stdin: bytes | None = None) -> subprocess.CompletedProce
 
 def capture_bytes() -> bytes:
     garbage = [b"", b"\xff\xfe", b"\x00\x00", b"noise", b"\x01\x02\x03\x00"]
-    return b"".join(bytes.fromhex(v["frame"]) + garbage[i % len(garbage)]
-                    for i, v in enumerate(VECTORS))
+    return b"".join(
+        bytes.fromhex(v["frame"]) + garbage[i % len(garbage)] for i, v in enumerate(VECTORS)
+    )
 
 
 def check_output(stdout: bytes) -> None:
@@ -54,7 +55,9 @@ def test_decode_stdin() -> None:
 
 
 def test_enum_fields_by_name(tmp_path: Path) -> None:
-    result = run_cli("-", stdin=bytes.fromhex(next(v["frame"] for v in VECTORS if v["message"] == "range")))
+    result = run_cli(
+        "-", stdin=bytes.fromhex(next(v["frame"] for v in VECTORS if v["message"] == "range"))
+    )
     first = json.loads(result.stdout.decode().splitlines()[0])
     assert first["status"] == "out_of_range"
 
@@ -86,7 +89,9 @@ def test_garbage_warns_no_frame(tmp_path: Path) -> None:
 def test_a_closed_standard_input_is_a_clear_error() -> None:
     res = subprocess.run(
         [sys.executable, "-m", "obstacle_fusion", "decode", "-"],
-        stdin=subprocess.DEVNULL, capture_output=True, timeout=60,
+        stdin=subprocess.DEVNULL,
+        capture_output=True,
+        timeout=60,
         preexec_fn=lambda: __import__("os").close(0),
     )
     assert res.returncode == 2, res.stderr

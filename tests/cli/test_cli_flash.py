@@ -173,9 +173,7 @@ def test_bluepill_port_without_stm32flash_is_not_ignored_silently(
         lambda name, *a, **k: None if name in ("stm32flash", "openocd") else f"/usr/bin/{name}",
     )
     ran: list[list[str]] = []
-    monkeypatch.setattr(
-        flash_cli.subprocess, "run", lambda cmd: ran.append(cmd) or subprocess_ok()
-    )
+    monkeypatch.setattr(flash_cli.subprocess, "run", lambda cmd: ran.append(cmd) or subprocess_ok())
     controller, device = os.openpty()
     try:
         with caplog.at_level("WARNING"):

@@ -28,7 +28,10 @@ N_FRAMES = 117
 def _cli(*args: str, stdin: Any = None) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-m", "obstacle_fusion", *args],
-        capture_output=True, text=True, timeout=120, stdin=stdin,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        stdin=stdin,
     )
 
 
@@ -187,8 +190,9 @@ def test_foreign_messages_mixed_into_a_recording_are_skipped_and_counted(
         chans = {t: w.register_channel(t, "json", sid) for t in ("/sonar/range", "/camera/image")}
         for m in whole.messages:
             if m.topic in chans:
-                w.add_message(chans[m.topic], m.log_time_ns, json.dumps(m.data).encode(),
-                              m.publish_time_ns)
+                w.add_message(
+                    chans[m.topic], m.log_time_ns, json.dumps(m.data).encode(), m.publish_time_ns
+                )
         t = whole.messages[10].log_time_ns
         w.add_message(chans["/sonar/range"], t, b'{"range": "far"}', t)
         bad_jpeg = base64.b64encode(b"not a jpeg").decode()

@@ -32,7 +32,10 @@ def test_seeds_are_the_golden_frames_and_valid_commands() -> None:
     seeds = tool.seed_inputs()
     import json
 
-    golden = [bytes.fromhex(v["frame"]) for v in json.loads((ROOT / "protocol/vectors/golden.json").read_text())]
+    golden = [
+        bytes.fromhex(v["frame"])
+        for v in json.loads((ROOT / "protocol/vectors/golden.json").read_text())
+    ]
     assert all(g in seeds for g in golden)
     assert b"".join(golden) in seeds
 
@@ -54,10 +57,14 @@ def test_fuzz_firmware_30s(tmp_path: Path) -> None:
     except tool.FuzzSetupError as exc:
         pytest.skip(f"no clang: {exc} (`make setup` installs it)")
     if not tool.libfuzzer_available(clang):
-        pytest.skip("clang has no libFuzzer/sanitizer runtime (install libclang-rt-dev; `make setup` does)")
+        pytest.skip(
+            "clang has no libFuzzer/sanitizer runtime (install libclang-rt-dev; `make setup` does)"
+        )
     proc = subprocess.run(
         [sys.executable, str(SCRIPT), "--seconds", "30", "--work", str(tmp_path)],
-        capture_output=True, text=True, timeout=300,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     log = (tmp_path / "last_run.log").read_text() if (tmp_path / "last_run.log").exists() else ""
     assert proc.returncode == 0, proc.stdout + proc.stderr + log[-3000:]
@@ -82,9 +89,24 @@ def test_fuzz_oracles_on_generated_inputs(tmp_path: Path) -> None:
         core / f for f in ("of_app.c", "of_ranger.c", "of_ring.c", "of_frame.c")
     ]
     build = subprocess.run(
-        [gcc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-O1", "-g", "-fsanitize=address,undefined",
-         "-fno-sanitize-recover=all", f"-I{native}", f"-I{core}", *map(str, sources), "-o", str(out)],
-        capture_output=True, text=True,
+        [
+            gcc,
+            "-std=c99",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O1",
+            "-g",
+            "-fsanitize=address,undefined",
+            "-fno-sanitize-recover=all",
+            f"-I{native}",
+            f"-I{core}",
+            *map(str, sources),
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
     )
     assert build.returncode == 0, build.stderr
     run = subprocess.run([str(out)], capture_output=True, text=True, timeout=120)

@@ -184,7 +184,12 @@ def test_started_from_the_boot_alias_still_runs(elf: Path, tmp_path: Path) -> No
     rom.write_bytes(boot_rom_table(elf.with_suffix(".bin").read_bytes()))
     board = QemuBoard(
         elf,
-        ("-global", f"armv7m.init-nsvtor={ROM_TABLE:#x}", "-device", f"loader,file={rom},addr={ROM_TABLE:#x}"),
+        (
+            "-global",
+            f"armv7m.init-nsvtor={ROM_TABLE:#x}",
+            "-device",
+            f"loader,file={rom},addr={ROM_TABLE:#x}",
+        ),
     )
     try:
         assert [type(m) for m in board.read_until(2)] == [Hello, Config]

@@ -16,7 +16,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def load_tool() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("mutate_firmware", ROOT / "tools" / "mutate_firmware.py")
+    spec = importlib.util.spec_from_file_location(
+        "mutate_firmware", ROOT / "tools" / "mutate_firmware.py"
+    )
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # its dataclasses look their module up
@@ -37,9 +39,19 @@ def named(tool: ModuleType) -> list[object]:
     mutants = tool.all_mutants()
     want = [
         lambda m: m.file == "of_ranger.c" and m.op == "half" and m.original == "OF_GUARD_US",
-        lambda m: m.file == "of_ranger.c" and m.op == "ror" and m.original == "<="
-        and "echo_timeout_us" in (ROOT / "firmware/core/of_ranger.c").read_text().splitlines()[m.line - 1],
-        lambda m: m.file == "of_frame.c" and m.op == "const" and m.original == "6u" and m.replacement == "5u",
+        lambda m: (
+            m.file == "of_ranger.c"
+            and m.op == "ror"
+            and m.original == "<="
+            and "echo_timeout_us"
+            in (ROOT / "firmware/core/of_ranger.c").read_text().splitlines()[m.line - 1]
+        ),
+        lambda m: (
+            m.file == "of_frame.c"
+            and m.op == "const"
+            and m.original == "6u"
+            and m.replacement == "5u"
+        ),
     ]
     found = []
     for pred in want:

@@ -90,8 +90,11 @@ def test_a_full_disk_stops_the_recording_once_and_keeps_what_was_written(
 
 
 def test_run_goes_on_when_the_recording_fails_and_exits_4(
-    uno_elf: Path, monkeypatch: pytest.MonkeyPatch, tmp_path: Path,
-    capsys: pytest.CaptureFixture[str], caplog: pytest.LogCaptureFixture,
+    uno_elf: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    caplog: pytest.LogCaptureFixture,
 ) -> None:
     """`run --json --record` with the disk full after 600 KB (about 2 s): the JSON lines go on to the
     end, the failure is said once on stderr and in the summary, and the exit code is 4."""

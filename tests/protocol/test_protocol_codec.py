@@ -107,7 +107,7 @@ def test_ids_unique_and_directions_split() -> None:
     assert len(ids) == len(set(ids))
     for cls in MESSAGES.values():
         assert (cls.DIRECTION == "host_to_device") == (cls.MSG_ID >= 0x40)
-        assert [f.name for f in dataclasses.fields(cls)]  or cls.MIN_LEN == 0
+        assert [f.name for f in dataclasses.fields(cls)] or cls.MIN_LEN == 0
 
 
 def test_the_spec_says_the_crc_byte_order_the_wire_uses() -> None:

@@ -23,14 +23,29 @@ from obstacle_fusion.protocol.generated import (
 u32 = st.integers(0, 0xFFFFFFFF)
 u8 = st.integers(0, 0xFF)
 messages = st.one_of(
-    st.builds(Range, measurement=u32, sensor_id=st.integers(0, 3), trigger_us=u32,
-              echo_ticks=u32, status=st.integers(0, 3)),
-    st.builds(Heartbeat, uptime_ms=u32, frames_sent=u32, rx_errors=u32, tx_overruns=u32,
-              state=st.integers(0, 1)),
+    st.builds(
+        Range,
+        measurement=u32,
+        sensor_id=st.integers(0, 3),
+        trigger_us=u32,
+        echo_ticks=u32,
+        status=st.integers(0, 3),
+    ),
+    st.builds(
+        Heartbeat,
+        uptime_ms=u32,
+        frames_sent=u32,
+        rx_errors=u32,
+        tx_overruns=u32,
+        state=st.integers(0, 1),
+    ),
     st.builds(TimeSyncReply, token=u32, rx_us=u32, tx_us=u32),
     st.builds(Ack, command_id=u8, command_seq=u8),
-    st.builds(Log, level=st.integers(0, 3),
-              text=st.text(alphabet=st.characters(min_codepoint=32, max_codepoint=126), max_size=40)),
+    st.builds(
+        Log,
+        level=st.integers(0, 3),
+        text=st.text(alphabet=st.characters(min_codepoint=32, max_codepoint=126), max_size=40),
+    ),
 )
 
 
@@ -79,8 +94,11 @@ def test_never_raises_on_arbitrary_bytes(data: bytes, cuts: list[int]) -> None:
 
 @settings(suppress_health_check=[HealthCheck.too_slow], max_examples=200)
 @given(
-    st.lists(st.tuples(messages, st.booleans(), st.binary(max_size=12), st.integers(0, 60)),
-             min_size=1, max_size=25),
+    st.lists(
+        st.tuples(messages, st.booleans(), st.binary(max_size=12), st.integers(0, 60)),
+        min_size=1,
+        max_size=25,
+    ),
     st.lists(st.integers(0, 5000), max_size=10),
 )
 def test_recovers_every_intact_frame(items: list, cuts: list[int]) -> None:  # type: ignore[type-arg]
@@ -124,6 +142,7 @@ def test_counts_errors_and_gaps() -> None:
 
 def test_unknown_id_is_counted() -> None:
     from cobs import cobs
+
     decoder = StreamDecoder()
     assert decoder.feed(bytes(cobs.encode(b"\x7f\x01\x02\x03\x04")) + b"\x00") == []
     assert decoder.stats.unknown_ids == 1
@@ -200,12 +219,16 @@ def test_runs_of_zeros_are_counted_as_dropped_bytes() -> None:
 
 @settings(suppress_health_check=[HealthCheck.too_slow], max_examples=150)
 @given(
-    st.lists(st.tuples(messages, st.booleans(), st.binary(max_size=80), st.integers(0, 60)),
-             min_size=1, max_size=12),
+    st.lists(
+        st.tuples(messages, st.booleans(), st.binary(max_size=80), st.integers(0, 60)),
+        min_size=1,
+        max_size=12,
+    ),
     st.lists(st.integers(0, 3000), max_size=10),
 )
 def test_every_byte_is_in_a_good_frame_pending_or_counted_as_dropped(
-    items: list, cuts: list[int]  # type: ignore[type-arg]
+    items: list,
+    cuts: list[int],  # type: ignore[type-arg]
 ) -> None:
     """Garbage (zeros included), corrupted and intact frames: the bytes of the good frames,
     the pending tail and bytes_discarded add up to the bytes fed, in every chunking."""
@@ -345,8 +368,12 @@ def test_gaps_use_the_sequence_byte_not_the_id_or_payload() -> None:
 
 def _ranges(count: int, first_seq: int = 0) -> list[bytes]:
     return [
-        encode(Range(measurement=i, sensor_id=i % 4, trigger_us=60_000 * i, echo_ticks=4000 + i,
-                     status=0), (first_seq + i) & 0xFF)
+        encode(
+            Range(
+                measurement=i, sensor_id=i % 4, trigger_us=60_000 * i, echo_ticks=4000 + i, status=0
+            ),
+            (first_seq + i) & 0xFF,
+        )
         for i in range(count)
     ]
 
@@ -526,8 +553,12 @@ def test_frames_of_other_lengths_summing_to_a_run_are_decoded_one_by_one() -> No
     from obstacle_fusion.protocol.generated import SetConfig
 
     frames = _ranges(16)
-    short = encode(SetConfig(cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000,
-                             heartbeat_ms=1000), 5)
+    short = encode(
+        SetConfig(
+            cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000
+        ),
+        5,
+    )
     long = encode(Log(level=1, text="x" * 14), 6)
     assert len(short) + len(long) == 2 * len(frames[0])
     frames[5:7] = [short, long]
@@ -591,12 +622,28 @@ def test_runs_with_any_damage_decode_as_frame_by_frame(
     if kind == "range":
         frames = _ranges(count, first_seq)
     elif kind == "heartbeat":
-        frames = [encode(Heartbeat(uptime_ms=i, frames_sent=i * 3, rx_errors=0, tx_overruns=0,
-                                   state=1), (first_seq + i) & 0xFF) for i in range(count)]
+        frames = [
+            encode(
+                Heartbeat(uptime_ms=i, frames_sent=i * 3, rx_errors=0, tx_overruns=0, state=1),
+                (first_seq + i) & 0xFF,
+            )
+            for i in range(count)
+        ]
     else:
-        frames = [encode(Config(cycle_ms=60, sensor_mask=1, max_echo_us=i, echo_timeout_us=40000,
-                                heartbeat_ms=1000, state=1), (first_seq + i) & 0xFF)
-                  for i in range(count)]
+        frames = [
+            encode(
+                Config(
+                    cycle_ms=60,
+                    sensor_mask=1,
+                    max_echo_us=i,
+                    echo_timeout_us=40000,
+                    heartbeat_ms=1000,
+                    state=1,
+                ),
+                (first_seq + i) & 0xFF,
+            )
+            for i in range(count)
+        ]
     for index, how, at in damage:
         index %= len(frames)
         frames[index] = b"" if how == 4 else _mutate(frames[index], how, at)

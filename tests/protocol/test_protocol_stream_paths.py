@@ -30,16 +30,24 @@ from obstacle_fusion.protocol import StreamDecoder, encode, stream
 from obstacle_fusion.protocol.generated import MESSAGES, Heartbeat, Hello, Message, Range
 
 _INT_RANGES = {
-    "B": (0, 0xFF), "H": (0, 0xFFFF), "I": (0, 0xFFFFFFFF),
-    "b": (-0x80, 0x7F), "h": (-0x8000, 0x7FFF), "i": (-0x80000000, 0x7FFFFFFF),
+    "B": (0, 0xFF),
+    "H": (0, 0xFFFF),
+    "I": (0, 0xFFFFFFFF),
+    "b": (-0x80, 0x7F),
+    "h": (-0x8000, 0x7FFF),
+    "i": (-0x80000000, 0x7FFFFFFF),
 }
 
 
 def _message_strategy(cls: type[Message]) -> st.SearchStrategy[Message]:
     values = [st.integers(*_INT_RANGES[code]) for code in cls.STRUCT.format.lstrip("<")]
     if cls.TEXT_FIELD is not None:
-        values.append(st.text(st.characters(min_codepoint=32, max_codepoint=126),
-                              max_size=cls.MAX_LEN - cls.MIN_LEN))
+        values.append(
+            st.text(
+                st.characters(min_codepoint=32, max_codepoint=126),
+                max_size=cls.MAX_LEN - cls.MIN_LEN,
+            )
+        )
     return st.tuples(*values).map(lambda v: cls(*v))
 
 
@@ -54,8 +62,12 @@ item = st.one_of(
     # one frame, its seq advanced by 1 (or by more: frames lost before it; 0: seq repeated)
     st.tuples(st.just("frame"), any_message, st.sampled_from([1, 1, 1, 2, 7, 0, 130]), damage),
     # a run of one fixed-length message (the whole-chunk path), a few frames damaged
-    st.tuples(st.just("run"), st.sampled_from(["range", "heartbeat"]), st.integers(1, 40),
-              st.lists(st.tuples(st.integers(0, 39), damage), max_size=3)),
+    st.tuples(
+        st.just("run"),
+        st.sampled_from(["range", "heartbeat"]),
+        st.integers(1, 40),
+        st.lists(st.tuples(st.integers(0, 39), damage), max_size=3),
+    ),
     # line noise: random bytes (0x00 included), a run of 0x00, a run longer than any frame
     st.tuples(st.just("noise"), st.binary(max_size=30)),
     st.tuples(st.just("zeros"), st.integers(1, 5)),
@@ -98,11 +110,21 @@ def build_stream(items: list[Any], first_seq: int) -> bytes:
             for i in range(count):
                 seq = (seq + 1) & 0xFF
                 if which == "range":
-                    msg: Message = Range(measurement=i, sensor_id=i % 4, trigger_us=60_000 * i,
-                                         echo_ticks=4000 + 7 * i, status=i % 4)
+                    msg: Message = Range(
+                        measurement=i,
+                        sensor_id=i % 4,
+                        trigger_us=60_000 * i,
+                        echo_ticks=4000 + 7 * i,
+                        status=i % 4,
+                    )
                 else:
-                    msg = Heartbeat(uptime_ms=1000 * i, frames_sent=3 * i, rx_errors=0,
-                                    tx_overruns=i % 2, state=1)
+                    msg = Heartbeat(
+                        uptime_ms=1000 * i,
+                        frames_sent=3 * i,
+                        rx_errors=0,
+                        tx_overruns=i % 2,
+                        state=1,
+                    )
                 frames.append(encode(msg, seq))
             for index, (how, at) in hurts:
                 frames[index % count] = _damaged(frames[index % count], how, at)
@@ -140,8 +162,9 @@ def _cdecode() -> Any:
     return _cdecode
 
 
-def decode(pieces: list[bytes], last_seq: int | None, accelerated: bool = False
-           ) -> tuple[list[Message], dict[str, int], int | None, int]:
+def decode(
+    pieces: list[bytes], last_seq: int | None, accelerated: bool = False
+) -> tuple[list[Message], dict[str, int], int | None, int]:
     decoder = StreamDecoder(accelerated=accelerated)
     decoder.last_seq = last_seq
     out: list[Message] = []
@@ -209,9 +232,14 @@ def _assert_paths_agree(data: bytes, pieces: list[bytes], last_seq: int | None) 
 @settings(suppress_health_check=[HealthCheck.too_slow], max_examples=150, deadline=None)
 @given(
     st.lists(item, max_size=25),
-    st.lists(st.tuples(st.integers(0, 10_000), st.integers(0, 3),
-                       st.sampled_from([0, 0, 1, 2, 0xFF, 0xFE, 0x13, 0x02]) | st.integers(0, 255)),
-             max_size=8),
+    st.lists(
+        st.tuples(
+            st.integers(0, 10_000),
+            st.integers(0, 3),
+            st.sampled_from([0, 0, 1, 2, 0xFF, 0xFE, 0x13, 0x02]) | st.integers(0, 255),
+        ),
+        max_size=8,
+    ),
     st.sampled_from([None, 0, 37]),
     st.lists(st.integers(0, 10_000), max_size=12),
 )
@@ -225,9 +253,21 @@ def test_the_c_accelerator_decodes_mutated_streams_as_python(
 @settings(suppress_health_check=[HealthCheck.too_slow], max_examples=150, deadline=None)
 @given(
     st.binary(max_size=400)
-    | st.lists(st.sampled_from([b"\x00", b"\x00" * 3, b"\x01", b"\xff", b"\x02\x02",
-                                b"\x13\x02\x05", bytes(range(1, 60)), b"\xff" * 60]),
-               max_size=40).map(b"".join),
+    | st.lists(
+        st.sampled_from(
+            [
+                b"\x00",
+                b"\x00" * 3,
+                b"\x01",
+                b"\xff",
+                b"\x02\x02",
+                b"\x13\x02\x05",
+                bytes(range(1, 60)),
+                b"\xff" * 60,
+            ]
+        ),
+        max_size=40,
+    ).map(b"".join),
     st.sampled_from([None, 0, 254]),
     st.lists(st.integers(0, 10_000), max_size=12),
 )
@@ -239,11 +279,26 @@ def test_the_c_accelerator_decodes_random_bytes_as_python(
 
 
 @settings(max_examples=400, deadline=None)
-@given(st.binary(max_size=255)
-       | st.lists(st.sampled_from([b"\x01", b"\x02x", b"\xffy", b"\x03ab", b"\xfe",
-                                   b"\xfe" + b"w" * 253, b"\xff" + b"z" * 254]),
-                  max_size=6).map(b"".join).map(lambda b: b[:255]),
-       st.integers(0, 0xFFFF))
+@given(
+    st.binary(max_size=255)
+    | st.lists(
+        st.sampled_from(
+            [
+                b"\x01",
+                b"\x02x",
+                b"\xffy",
+                b"\x03ab",
+                b"\xfe",
+                b"\xfe" + b"w" * 253,
+                b"\xff" + b"z" * 254,
+            ]
+        ),
+        max_size=6,
+    )
+    .map(b"".join)
+    .map(lambda b: b[:255]),
+    st.integers(0, 0xFFFF),
+)
 def test_the_c_cobs_and_crc_are_the_cobs_packages_and_binascii(data: bytes, seed: int) -> None:
     """The C COBS decoder accepts and gives what the cobs package does; it reads nothing
     past its buffer (given a view of the first bytes of a longer one)."""
@@ -266,8 +321,13 @@ def test_the_accelerator_is_the_default_and_builds_every_fixed_frame_itself() ->
     _cdecode()
     decoder = StreamDecoder()
     assert decoder.accelerated and not StreamDecoder(accelerated=False).accelerated
-    frames = b"".join(encode(Range(measurement=i, sensor_id=1, trigger_us=7 * i, echo_ticks=i,
-                                   status=i % 4), (i + 3) & 0xFF) for i in range(300))
+    frames = b"".join(
+        encode(
+            Range(measurement=i, sensor_id=1, trigger_us=7 * i, echo_ticks=i, status=i % 4),
+            (i + 3) & 0xFF,
+        )
+        for i in range(300)
+    )
     scans: list[int] = []
     ones: list[bytes] = []
     real_scan, real_one = decoder._scan, decoder._one
@@ -283,26 +343,47 @@ def test_the_accelerator_is_the_default_and_builds_every_fixed_frame_itself() ->
     decoder._scan = scan_spy
     decoder._one = one_spy  # type: ignore[method-assign]
     got = decoder.feed(frames[:4010]) + decoder.feed(frames[4010:])
-    assert got == [Range(measurement=i, sensor_id=1, trigger_us=7 * i, echo_ticks=i,
-                         status=i % 4) for i in range(300)]
+    assert got == [
+        Range(measurement=i, sensor_id=1, trigger_us=7 * i, echo_ticks=i, status=i % 4)
+        for i in range(300)
+    ]
     assert scans == [4010, len(frames) - 4000] and ones == []  # the 10 pending bytes again
     assert decoder.last_seq == (299 + 3) & 0xFF and decoder.stats.frames == 300
-    hello = encode(Hello(protocol_version=1, schema_fingerprint=2, fw_major=0, fw_minor=1,
-                         fw_patch=2, board=0, cpu_hz=16_000_000, timer_hz=2_000_000,
-                         sensor_count=1), 0)
+    hello = encode(
+        Hello(
+            protocol_version=1,
+            schema_fingerprint=2,
+            fw_major=0,
+            fw_minor=1,
+            fw_patch=2,
+            board=0,
+            cpu_hz=16_000_000,
+            timer_hz=2_000_000,
+            sensor_count=1,
+        ),
+        0,
+    )
     assert len(decoder.feed(hello)) == 1 and ones == [hello[:-1]]
 
 
 def test_the_environment_variable_makes_pure_python_the_default() -> None:
     _cdecode()
-    code = ("from obstacle_fusion.protocol import StreamDecoder, stream; "
-            "print(StreamDecoder().accelerated, stream.ACCELERATOR is not None)")
+    code = (
+        "from obstacle_fusion.protocol import StreamDecoder, stream; "
+        "print(StreamDecoder().accelerated, stream.ACCELERATOR is not None)"
+    )
     env = {k: v for k, v in os.environ.items() if k != stream.PURE_PYTHON_ENV}
     for value, expected in ((None, "True True"), ("1", "False True"), ("0", "True True")):
         if value is not None:
             env[stream.PURE_PYTHON_ENV] = value
-        done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                              text=True, timeout=60, check=True)
+        done = subprocess.run(
+            [sys.executable, "-c", code],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=True,
+        )
         assert done.stdout.split() == expected.split(), value
 
 
@@ -327,8 +408,9 @@ try:
 except RuntimeError as exc:
     print("refused:", exc)
 """
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=60, check=True)
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True
+    )
     assert "obstacle_fusion.protocol.stream stream decoder: no C accelerator" in done.stderr
     assert "refused: the stream decoder's C accelerator is not built" in done.stdout
 
@@ -337,8 +419,10 @@ def test_the_fast_paths_are_taken_and_the_plain_path_is_not() -> None:
     """The comparison above means something only if the fast paths ran: a clean run of
     RANGE goes whole, a short chunk is decoded by the lean loop without decode_body, and
     the plain path sends every frame through decode_body."""
-    frames = b"".join(encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i,
-                                   status=0), i) for i in range(40))
+    frames = b"".join(
+        encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0), i)
+        for i in range(40)
+    )
     calls: list[int] = []
     real_run = StreamDecoder._decode_run
     real_body = stream.decode_body
@@ -389,8 +473,10 @@ class _RecordingGC:
 
 
 def test_a_long_chunk_pauses_the_gc_and_restores_it(monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    frames = [encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0), i)
-              for i in range(40)]
+    frames = [
+        encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0), i)
+        for i in range(40)
+    ]
     fake = _RecordingGC(enabled=True)
     monkeypatch.setattr(stream, "gc", fake)
     decoder = StreamDecoder(accelerated=False)
@@ -414,8 +500,10 @@ def test_no_collection_runs_while_a_long_chunk_is_decoded(accelerated: bool) -> 
     of 4 (no pause) with one at least every other message; the collection is on after."""
     if accelerated:
         _cdecode()
-    frames = [encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0),
-                     i) for i in range(65)]
+    frames = [
+        encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0), i)
+        for i in range(65)
+    ]
     decoder = StreamDecoder(accelerated=accelerated)
     decoder.feed(frames[0])
     runs: list[str] = []
@@ -454,10 +542,13 @@ class _EveryCode:
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.tuples(*[st.integers(*_INT_RANGES[code]) for code in "bhiBHI"]),
-       st.sampled_from([None, 0, 200]))
-def test_the_c_accelerator_reads_every_field_code(values: tuple[int, ...],
-                                                  last_seq: int | None) -> None:
+@given(
+    st.tuples(*[st.integers(*_INT_RANGES[code]) for code in "bhiBHI"]),
+    st.sampled_from([None, 0, 200]),
+)
+def test_the_c_accelerator_reads_every_field_code(
+    values: tuple[int, ...], last_seq: int | None
+) -> None:
     c = _cdecode()
     seed = 0x1D0F
     slots = tuple(getattr(_EveryCode, f.name) for f in dataclasses.fields(_EveryCode))
@@ -476,12 +567,22 @@ def test_the_c_accelerator_reads_every_field_code(values: tuple[int, ...],
     assert got == ([_EveryCode(*values)] * 3, b"\x05", 9, 3, gaps, 0, None)
 
 
-@pytest.mark.parametrize("data", [
-    b"", b"\x01", b"\x01\x01", b"\x02", b"\x03a", b"\x02a\x01", b"\x05abcd\x02e",
-    b"\xfe" + b"w" * 253 + b"\x01",  # a 253-byte block: a 0x00 follows it
-    b"\xff" + b"z" * 254,  # a 254-byte block: no 0x00 after it (nothing may follow here)
-    b"\xff" + b"z" * 253, b"\xfe" + b"w" * 252,  # one byte short
-])
+@pytest.mark.parametrize(
+    "data",
+    [
+        b"",
+        b"\x01",
+        b"\x01\x01",
+        b"\x02",
+        b"\x03a",
+        b"\x02a\x01",
+        b"\x05abcd\x02e",
+        b"\xfe" + b"w" * 253 + b"\x01",  # a 253-byte block: a 0x00 follows it
+        b"\xff" + b"z" * 254,  # a 254-byte block: no 0x00 after it (nothing may follow here)
+        b"\xff" + b"z" * 253,
+        b"\xfe" + b"w" * 252,  # one byte short
+    ],
+)
 def test_the_c_cobs_edge_cases(data: bytes) -> None:
     try:
         want: bytes | None = bytes(cobs.decode(data))
@@ -499,8 +600,10 @@ def test_the_c_scan_pauses_the_collection_from_pause_gc_frames_on() -> None:
     chunk of PAUSE_GC_FRAMES frames is scanned, some in a chunk of one frame fewer."""
     _cdecode()
     n = stream.PAUSE_GC_FRAMES
-    frames = [encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0),
-                     i) for i in range(2 * n)]
+    frames = [
+        encode(Range(measurement=i, sensor_id=0, trigger_us=i, echo_ticks=i, status=0), i)
+        for i in range(2 * n)
+    ]
     decoder = StreamDecoder(accelerated=True)
     runs: list[int] = []
     inside: list[int] = []

@@ -69,7 +69,9 @@ def ranges(lines: list[str]) -> dict[int, int]:
     return out
 
 
-def run_echo_test(factory: Factory, count: int, **config: object) -> tuple[dict[int, int], list[TruthRecord], Emulator]:
+def run_echo_test(
+    factory: Factory, count: int, **config: object
+) -> tuple[dict[int, int], list[TruthRecord], Emulator]:
     emu = factory(elf=firmware_for_tests("echo_test"), fast=True, **config)
     port = TextPort(emu.pty_path)
     try:
@@ -81,7 +83,9 @@ def run_echo_test(factory: Factory, count: int, **config: object) -> tuple[dict[
     return ranges(lines), emu.truth.read(), emu
 
 
-def test_echo_width_exact_to_one_tick_over_the_range(emulator_factory: Factory, tmp_path: Path) -> None:
+def test_echo_width_exact_to_one_tick_over_the_range(
+    emulator_factory: Factory, tmp_path: Path
+) -> None:
     scene = tmp_path / "sweep.txt"
     scene.write_text("# sweep the whole range\ntemperature 25\n0 0.02\n15 4.0\n")
     got, truth, _ = run_echo_test(emulator_factory, 240, scene=scene)
@@ -185,7 +189,9 @@ def test_control_channel_moves_the_obstacle_live(emulator_factory: Factory) -> N
 
 def test_real_time_pacing_and_crystal_error(emulator_factory: Factory) -> None:
     def rate(ppm: float) -> float:
-        emu = emulator_factory(elf=firmware_for_tests("echo_test"), clock_ppm=ppm, wait_client=False)
+        emu = emulator_factory(
+            elf=firmware_for_tests("echo_test"), clock_ppm=ppm, wait_client=False
+        )
         s0, w0 = emu.control.sim_time(), time.monotonic()
         time.sleep(1.0)
         s1, w1 = emu.control.sim_time(), time.monotonic()
@@ -239,7 +245,10 @@ def test_quirk_fixes_make_simavr_behave_like_the_chip(emulator_factory: Factory)
 def test_bad_scene_file_is_named_with_its_line(emulator_built: Path, tmp_path: Path) -> None:
     scene = tmp_path / "bad.txt"
     scene.write_text("0 1.0\n1 far\n")
-    emu = Emulator(config=EmulatorConfig(elf=firmware_for_tests("echo_test"), scene=scene), binary=emulator_built)
+    emu = Emulator(
+        config=EmulatorConfig(elf=firmware_for_tests("echo_test"), scene=scene),
+        binary=emulator_built,
+    )
     with pytest.raises(EmulatorError, match=r"bad\.txt:2: bad distance 'far'"):
         emu.start()
     emu.cleanup()
@@ -252,7 +261,9 @@ def test_missing_files_say_run_make_setup(tmp_path: Path) -> None:
         check_built(binary=tmp_path / "no-emulator")
     proc = subprocess.run(
         [sys.executable, "-m", "obstacle_fusion", "emulate", "--elf", str(tmp_path / "none.elf")],
-        capture_output=True, text=True, timeout=60,
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert proc.returncode == 2
     assert "make setup" in proc.stderr and "Traceback" not in proc.stderr
@@ -267,12 +278,29 @@ def test_truth_line_parsing() -> None:
         parse_truth_line("1 2 3")
 
 
-def test_emulate_cli_prints_the_pty_and_stops_after_duration(emulator_built: Path, tmp_path: Path) -> None:
+def test_emulate_cli_prints_the_pty_and_stops_after_duration(
+    emulator_built: Path, tmp_path: Path
+) -> None:
     truth = tmp_path / "truth.log"
     proc = subprocess.run(
-        [sys.executable, "-m", "obstacle_fusion", "emulate", "--elf", str(firmware_for_tests("echo_test")),
-         "--fast", "--duration", "1.5", "--distance", "0.7", "--truth", str(truth)],
-        capture_output=True, text=True, timeout=60,
+        [
+            sys.executable,
+            "-m",
+            "obstacle_fusion",
+            "emulate",
+            "--elf",
+            str(firmware_for_tests("echo_test")),
+            "--fast",
+            "--duration",
+            "1.5",
+            "--distance",
+            "0.7",
+            "--truth",
+            str(truth),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.startswith("/dev/pts/")
@@ -335,7 +363,9 @@ def test_no_orphan_when_the_starting_process_dies(emulator_built: Path) -> None:
         f" binary=Path({str(emulator_built)!r})).start()\n"
         "print(emu.pid, flush=True)\n"
     )
-    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    proc = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
     assert proc.returncode == 0, proc.stderr
     pid = int(proc.stdout.split()[0])
 
@@ -354,9 +384,22 @@ def test_control_path_never_deletes_a_users_file(emulator_built: Path, tmp_path:
     precious = tmp_path / "notes.txt"
     precious.write_text("keep me\n")
     proc = subprocess.run(
-        [sys.executable, "-m", "obstacle_fusion", "emulate", "--elf", str(firmware_for_tests("echo_test")),
-         "--fast", "--duration", "0.5", "--control", str(precious)],
-        capture_output=True, text=True, timeout=60,
+        [
+            sys.executable,
+            "-m",
+            "obstacle_fusion",
+            "emulate",
+            "--elf",
+            str(firmware_for_tests("echo_test")),
+            "--fast",
+            "--duration",
+            "0.5",
+            "--control",
+            str(precious),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert proc.returncode == 2
     assert "not a socket" in proc.stderr and "Traceback" not in proc.stderr
@@ -370,9 +413,18 @@ def test_control_socket_of_a_running_emulator_is_not_stolen(
     assert first.workdir is not None
     sock = first.workdir / "control.sock"
     proc = subprocess.run(
-        [str(emulator_built), "--fast", "--duration", "0.2", "--control", str(sock),
-         str(firmware_for_tests("echo_test"))],
-        capture_output=True, text=True, timeout=60,
+        [
+            str(emulator_built),
+            "--fast",
+            "--duration",
+            "0.2",
+            "--control",
+            str(sock),
+            str(firmware_for_tests("echo_test")),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert proc.returncode == 2 and "another emulator is listening" in proc.stderr
     # The path still leads to the first emulator (a stolen one would be gone by now).
@@ -383,7 +435,9 @@ def test_emulate_cli_names_folders_and_bad_durations(emulator_built: Path, tmp_p
     def emulate(*args: str) -> str:
         proc = subprocess.run(
             [sys.executable, "-m", "obstacle_fusion", "emulate", *args],
-            capture_output=True, text=True, timeout=60,
+            capture_output=True,
+            text=True,
+            timeout=60,
         )
         assert proc.returncode == 2 and "Traceback" not in proc.stderr
         return proc.stderr
@@ -411,21 +465,44 @@ def test_emulate_cli_sensors_option_wires_a_second_sensor(uno_elf: Path, tmp_pat
 
     bad = subprocess.run(
         [sys.executable, "-m", "obstacle_fusion", "emulate", "--sensors", "5"],
-        capture_output=True, text=True, timeout=60,
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert bad.returncode == 2 and "1 to 4 sensors" in bad.stderr
     truth = tmp_path / "truth.log"
     proc = subprocess.Popen(
-        [sys.executable, "-m", "obstacle_fusion", "emulate", "--elf", str(uno_elf), "--sensors", "2",
-         "--distance", "1.5", "--truth", str(truth)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        [
+            sys.executable,
+            "-m",
+            "obstacle_fusion",
+            "emulate",
+            "--elf",
+            str(uno_elf),
+            "--sensors",
+            "2",
+            "--distance",
+            "1.5",
+            "--truth",
+            str(truth),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
     )
     try:
         assert proc.stdout is not None
         port = FirmwarePort(proc.stdout.readline().strip())
         try:
-            seq = port.send(SetConfig(cycle_ms=60, sensor_mask=3, max_echo_us=23324,
-                                      echo_timeout_us=40000, heartbeat_ms=1000))
+            seq = port.send(
+                SetConfig(
+                    cycle_ms=60,
+                    sensor_mask=3,
+                    max_echo_us=23324,
+                    echo_timeout_us=40000,
+                    heartbeat_ms=1000,
+                )
+            )
             ack, _ = port.read_until(lambda m: isinstance(m, Ack) and m.command_seq == seq)
             assert ack is not None
             port.collect(0.6)

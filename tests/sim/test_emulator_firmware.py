@@ -44,10 +44,14 @@ open_port = emulator_fixtures.open_port
 Factory = Callable[..., Emulator]
 Opener = Callable[[Emulator], FirmwarePort]
 
-DEFAULTS = dict(cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000)
+DEFAULTS = dict(
+    cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000
+)
 
 
-def boot(factory: Factory, opener: Opener, elf: Path, **config: object) -> tuple[Emulator, FirmwarePort, Hello, Config]:
+def boot(
+    factory: Factory, opener: Opener, elf: Path, **config: object
+) -> tuple[Emulator, FirmwarePort, Hello, Config]:
     config.setdefault("fast", True)
     emu = factory(elf=elf, **config)
     port = opener(emu)
@@ -58,7 +62,9 @@ def boot(factory: Factory, opener: Opener, elf: Path, **config: object) -> tuple
     return emu, port, hello, cfg
 
 
-def command(port: FirmwarePort, msg: Message, timeout_s: float = 5.0) -> tuple[Ack | Nack, list[Message]]:
+def command(
+    port: FirmwarePort, msg: Message, timeout_s: float = 5.0
+) -> tuple[Ack | Nack, list[Message]]:
     seq = port.send(msg)
     reply, seen = port.read_until(
         lambda m: isinstance(m, Ack | Nack) and m.command_seq == seq and m.command_id == msg.MSG_ID,
@@ -79,7 +85,9 @@ def ranges(msgs: list[Message]) -> list[Range]:
     return [m for m in msgs if isinstance(m, Range)]
 
 
-def test_hello_after_power_up_and_reset(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_hello_after_power_up_and_reset(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     emu, port, hello, cfg = boot(emulator_factory, open_port, uno_elf)
     assert hello.protocol_version == PROTOCOL_VERSION
     assert hello.schema_fingerprint == SCHEMA_FINGERPRINT
@@ -94,13 +102,17 @@ def test_hello_after_power_up_and_reset(emulator_factory: Factory, open_port: Op
     assert isinstance(again, Hello), f"no HELLO after reset; got {seen[-5:]}"
 
 
-def test_ranging_starts_with_the_default_cycle(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_ranging_starts_with_the_default_cycle(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     _, port, _, _ = boot(emulator_factory, open_port, uno_elf, distance_m=1.0)
     _, seen = port.read_until(lambda m: isinstance(m, Range) and m.measurement >= 10, 10.0)
     rs = ranges(seen)
     assert len(rs) >= 10, f"only {len(rs)} RANGE frames"
     # From the second measurement on the cycle is steady (the first follows the boot).
-    gaps = [(b.trigger_us - a.trigger_us) & 0xFFFFFFFF for a, b in zip(rs[1:], rs[2:], strict=False)]
+    gaps = [
+        (b.trigger_us - a.trigger_us) & 0xFFFFFFFF for a, b in zip(rs[1:], rs[2:], strict=False)
+    ]
     # The period counts from each trigger, so a gap is never under the cycle; the main
     # loop polls TRIG, so each is a few tens of us longer (a HEARTBEAT waits for a due
     # trigger, so it never pushes one by its few hundred us).
@@ -109,7 +121,9 @@ def test_ranging_starts_with_the_default_cycle(emulator_factory: Factory, open_p
     assert all(r.status == RangeStatus.OK for r in rs)
 
 
-def test_stop_stops_range_frames_and_start_resumes(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_stop_stops_range_frames_and_start_resumes(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     emu, port, _, _ = boot(emulator_factory, open_port, uno_elf, distance_m=1.0)
     port.read_until(lambda m: isinstance(m, Range), 5.0)
     reply, _ = command(port, Stop())
@@ -128,7 +142,9 @@ def test_stop_stops_range_frames_and_start_resumes(emulator_factory: Factory, op
     assert isinstance(r, Range), "no RANGE after START"
 
 
-def test_set_config_changes_the_rate(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_set_config_changes_the_rate(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     _, port, _, _ = boot(emulator_factory, open_port, uno_elf, distance_m=0.5)
     new = dict(DEFAULTS, cycle_ms=100)
     reply, _ = command(port, SetConfig(**new))
@@ -156,7 +172,11 @@ def test_set_config_changes_the_rate(emulator_factory: Factory, open_port: Opene
     ],
 )
 def test_bad_set_config_is_nacked_and_changes_nothing(
-    emulator_factory: Factory, open_port: Opener, uno_elf: Path, change: dict[str, int], error: Error
+    emulator_factory: Factory,
+    open_port: Opener,
+    uno_elf: Path,
+    change: dict[str, int],
+    error: Error,
 ) -> None:
     _, port, _, _ = boot(emulator_factory, open_port, uno_elf)
     before = get_config(port)
@@ -217,7 +237,9 @@ def test_echo_ticks_equal_the_truth_over_the_whole_range(
     assert min(distances) < 0.1 and max(distances) > 3.6
 
 
-def test_no_echo_is_a_status_never_a_zero(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_no_echo_is_a_status_never_a_zero(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     emu, port, _, _ = boot(emulator_factory, open_port, uno_elf, distance_m=None)
     _, seen = port.read_until(lambda m: isinstance(m, Range) and m.measurement >= 5, 10.0)
     rs = ranges(seen)
@@ -252,7 +274,9 @@ def read_all(path: str, emu: Emulator, timeout_s: float = 60.0) -> bytes:
     return bytes(data)
 
 
-def test_decoder_recovers_every_intact_frame_with_1pct_corruption(emulator_factory: Factory, uno_elf: Path) -> None:
+def test_decoder_recovers_every_intact_frame_with_1pct_corruption(
+    emulator_factory: Factory, uno_elf: Path
+) -> None:
     # The simulation is deterministic: the same run with and without faults sends the
     # same bytes, and a corrupted byte keeps its place, so we know which frames are intact.
     common = dict(elf=uno_elf, fast=True, distance_m=1.5, duration_s=15.0)
@@ -287,7 +311,9 @@ def test_decoder_recovers_every_intact_frame_with_1pct_corruption(emulator_facto
     assert clean_emu.wait(10.0) == 0 and noisy_emu.wait(10.0) == 0
 
 
-def test_real_time_mode_looks_like_a_board(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_real_time_mode_looks_like_a_board(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     _, port, _, _ = boot(emulator_factory, open_port, uno_elf, fast=False, distance_m=1.0)
     arrivals = []
     while len(arrivals) < 9:
@@ -304,7 +330,9 @@ def test_real_time_mode_looks_like_a_board(emulator_factory: Factory, open_port:
     assert 0.003 < time.monotonic() - t0 < 0.2
 
 
-def test_round_robin_over_sensors_sharing_the_echo_pin(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_round_robin_over_sensors_sharing_the_echo_pin(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     # Three virtual sensors on D9, D10, D11, their ECHOs OR-ed onto D8 (firmware README).
     emu, port, hello, _ = boot(emulator_factory, open_port, uno_elf, distance_m=1.0, sensors=3)
     assert hello.sensor_count >= 3
@@ -363,7 +391,9 @@ def test_unknown_ids_are_dropped_silently_and_device_ids_get_nack_unknown_comman
 
     readme = (Path(__file__).resolve().parents[2] / "protocol" / "README.md").read_text()
     assert "| an id the firmware has no schema for | nothing:" in readme
-    assert "| a known id that is not a command (HELLO, RANGE, ...) | NACK(unknown_command) |" in readme
+    assert (
+        "| a known id that is not a command (HELLO, RANGE, ...) | NACK(unknown_command) |" in readme
+    )
     _, port, _, _ = boot(emulator_factory, open_port, uno_elf, distance_m=1.0)
     hb, _ = port.read_until(lambda m: isinstance(m, Heartbeat), 5.0)
     assert isinstance(hb, Heartbeat)

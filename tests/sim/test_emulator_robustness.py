@@ -44,10 +44,14 @@ open_port = emulator_fixtures.open_port
 Factory = Callable[..., Emulator]
 Opener = Callable[[Emulator], FirmwarePort]
 
-DEFAULTS = dict(cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000)
+DEFAULTS = dict(
+    cycle_ms=60, sensor_mask=1, max_echo_us=23324, echo_timeout_us=40000, heartbeat_ms=1000
+)
 
 
-def boot(factory: Factory, opener: Opener, elf: Path, **config: object) -> tuple[Emulator, FirmwarePort]:
+def boot(
+    factory: Factory, opener: Opener, elf: Path, **config: object
+) -> tuple[Emulator, FirmwarePort]:
     config.setdefault("fast", True)
     emu = factory(elf=elf, **config)
     port = opener(emu)
@@ -58,7 +62,9 @@ def boot(factory: Factory, opener: Opener, elf: Path, **config: object) -> tuple
     return emu, port
 
 
-def answered(port: FirmwarePort, msg: Message, want: type, timeout_s: float = 5.0) -> Message | None:
+def answered(
+    port: FirmwarePort, msg: Message, want: type, timeout_s: float = 5.0
+) -> Message | None:
     seq = port.send(msg)
 
     def match(m: Message) -> bool:
@@ -125,23 +131,34 @@ def test_a_large_host_write_is_fed_whole_and_later_commands_answered(
         time.sleep(0.1)
         want = emu.control.stats()["rx_fed"] + len(blob)
         flood(emu, port, blob)
-        assert wait_for(lambda w=want: emu.control.stats()["rx_fed"] >= w, 10.0), (round_, rx_figures(emu))
+        assert wait_for(lambda w=want: emu.control.stats()["rx_fed"] >= w, 10.0), (
+            round_,
+            rx_figures(emu),
+        )
         port.collect(0.3)
         reply = answered(port, TimeSync(token=99), TimeSyncReply)
-        assert isinstance(reply, TimeSyncReply) and reply.token == 99, (round_, rx_figures(emu), port.decoder.stats)
+        assert isinstance(reply, TimeSyncReply) and reply.token == 99, (
+            round_,
+            rx_figures(emu),
+            port.decoder.stats,
+        )
 
 
 # --- defect 10 c: the gap between triggers is never under the cycle ----------------------------
 
 
-def test_trigger_gaps_never_under_the_cycle(emulator_factory: Factory, open_port: Opener, uno_elf: Path) -> None:
+def test_trigger_gaps_never_under_the_cycle(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path
+) -> None:
     """Two sensors in turn at the shortest cycle (29 ms): sensor 0's far obstacle gives a
     27 ms echo, so the 2 ms guard holds the next trigger back about 0.5 ms; sensor 1's
     near one lets the trigger after it go on time. Phase-keeping firmware answered each
     late trigger with a 28.5 ms gap; the truth log's TRIG edges (cycle-exact) show none."""
     width_s = 0.029 + 0.0005 - 0.002 - 0.00046  # cycle + lateness - guard - (pulse + burst)
     v = 331.3 * (1 + 20.0 / 273.15) ** 0.5
-    emu, port = boot(emulator_factory, open_port, uno_elf, distance_m=0.5, sensors=2, max_range_m=6.0)
+    emu, port = boot(
+        emulator_factory, open_port, uno_elf, distance_m=0.5, sensors=2, max_range_m=6.0
+    )
     emu.control.set_distance(width_s * v / 2, sensor=0)
     cfg = dict(DEFAULTS, cycle_ms=29, sensor_mask=0b11, echo_timeout_us=28000, max_echo_us=28000)
     reply = answered(port, SetConfig(**cfg), Ack)
@@ -172,7 +189,9 @@ def logs_after_boot(port: FirmwarePort) -> list[Message]:
 
 
 @pytest.mark.parametrize("optiboot", [True, False], ids=["optiboot", "no_bootloader"])
-def test_watchdog_reset_is_reported(emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot: bool) -> None:
+def test_watchdog_reset_is_reported(
+    emulator_factory: Factory, open_port: Opener, uno_elf: Path, optiboot: bool
+) -> None:
     """Optiboot clears MCUSR before it starts the application and hands the reset cause
     over in r2 (the emulator's --optiboot does the same at every reset). The firmware
     must read r2 when MCUSR is 0: "watchdog reset" after a watchdog reset, nothing after

@@ -112,11 +112,7 @@ def test_window_hull_matches_the_rebuilt_hull_as_points_come_and_go() -> None:
                 # Anywhere, and exactly on each vertex (the edge on its left is the one).
                 for m in [rng.uniform(window[0][0], window[-1][0]), *(p[0] for p in ref)]:
                     want = next(
-                        (
-                            (p, q)
-                            for p, q in zip(ref, ref[1:], strict=False)
-                            if p[0] <= m <= q[0]
-                        ),
+                        ((p, q) for p, q in zip(ref, ref[1:], strict=False) if p[0] <= m <= q[0]),
                         None,
                     )
                     assert hull.segment_at(m) == want, (trial, step, m)

@@ -109,15 +109,21 @@ def test_the_background_is_read_above_the_floor_seen_past_the_face() -> None:
     # background row: the wall above is what the face is told from
     below = 0.09  # metres: under BACKGROUND_ROWS_M's lowest
     assert below < min(BACKGROUND_ROWS_M)
-    assert face_background_grey(
-        room(wall_from_m=below, behind=FACE), level_view(), float(CONTACT), DEPTH
-    ) is not None
+    assert (
+        face_background_grey(
+            room(wall_from_m=below, behind=FACE), level_view(), float(CONTACT), DEPTH
+        )
+        is not None
+    )
     # ... and where it reaches over most of the rows read, it is the background
     over = 0.22  # metres: over two of the three rows
     assert sorted(BACKGROUND_ROWS_M)[1] < over < max(BACKGROUND_ROWS_M)
-    assert face_background_grey(
-        room(wall_from_m=over, behind=FACE), level_view(), float(CONTACT), DEPTH
-    ) is None
+    assert (
+        face_background_grey(
+            room(wall_from_m=over, behind=FACE), level_view(), float(CONTACT), DEPTH
+        )
+        is None
+    )
 
 
 def test_a_face_filling_the_rows_read_is_its_own_background() -> None:
@@ -177,7 +183,7 @@ def test_a_side_on_a_seam_is_told_from_a_side_between_two_shades() -> None:
     # the face's own sides part the face from the wall (and a dark box from the floor's
     # colour): no seam
     dark = grey.copy()
-    dark[:CONTACT, : LEFT] = 20
+    dark[:CONTACT, :LEFT] = 20
     dark[:CONTACT, RIGHT:] = 20
     assert not side_on_seam(dark, (LEFT, TOP, RIGHT, CONTACT), view, DEPTH)
 
@@ -228,7 +234,9 @@ def test_the_background_is_read_on_its_rows(height_m: float) -> None:
     view = level_view()
     assert face_background_grey(stripe(height_m), view, float(CONTACT), DEPTH) is None
     for shift in (-3, 3):
-        assert face_background_grey(stripe(height_m, shift), view, float(CONTACT), DEPTH) is not None
+        assert (
+            face_background_grey(stripe(height_m, shift), view, float(CONTACT), DEPTH) is not None
+        )
 
 
 def test_a_last_try_face_on_a_seam_is_not_taken(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -164,7 +164,13 @@ def test_only_a_thin_strip_is_read_for_a_frame(monkeypatch: pytest.MonkeyPatch) 
     calls: list[tuple[int, int, int, int]] = []
 
     def spy(
-        image: object, view: View, ay: object, bottom: int, top: int, left: int, right: int,
+        image: object,
+        view: View,
+        ay: object,
+        bottom: int,
+        top: int,
+        left: int,
+        right: int,
         depth_m: float,
     ) -> int:
         calls.append((bottom, top, left, right))

@@ -90,8 +90,16 @@ def test_column_means_and_share_are_numpys() -> None:
 
 @pytest.mark.parametrize(
     ("shape", "axis"),
-    [((9,), None), ((1, 40, 3), 0), ((4, 40, 3), 0), ((5, 40, 3), 0), ((9, 40, 3), 0),
-     ((33, 10, 3), 1), ((12, 3), 0), ((3, 7), 0)],
+    [
+        ((9,), None),
+        ((1, 40, 3), 0),
+        ((4, 40, 3), 0),
+        ((5, 40, 3), 0),
+        ((9, 40, 3), 0),
+        ((33, 10, 3), 1),
+        ((12, 3), 0),
+        ((3, 7), 0),
+    ],
 )
 def test_median_u8_is_the_float_median(shape: tuple[int, ...], axis: int | None) -> None:
     rng = np.random.default_rng(shape[0])
@@ -152,8 +160,13 @@ def test_vertical_fits_are_fit_vertical_once_per_rows_and_columns() -> None:
     ax[:, 140:150] = 0  # a second call with the same rows and columns is the first fit
     assert fits(rows, [50, 140], 200) == first
     # other rows, columns or width are fitted anew (on the changed image)
-    for args in ((np.arange(10, 109), [50, 140], 200), (np.arange(11, 110), [50, 140], 200),
-                 (rows, [50, 141], 200), (rows, [50], 200), (rows, [50, 140], 199)):
+    for args in (
+        (np.arange(10, 109), [50, 140], 200),
+        (np.arange(11, 110), [50, 140], 200),
+        (rows, [50, 141], 200),
+        (rows, [50], 200),
+        (rows, [50, 140], 199),
+    ):
         assert fits(*args) == fit_vertical(ax, *args)
         assert fits(*args) != first
 
@@ -297,7 +310,13 @@ def test_walk_on_in_c_is_the_python_walk(monkeypatch: pytest.MonkeyPatch) -> Non
         flags = rng.random(n) < rng.random()
         start, step = int(rng.integers(-2, n + 2)), int(rng.choice([-2, -1, 1, 3]))
         gap = int(rng.integers(0, 5))
-        kinds = (flags.tolist(), [int(f) for f in flags], flags, flags[::-1], flags.astype(np.uint8))
+        kinds = (
+            flags.tolist(),
+            [int(f) for f in flags],
+            flags,
+            flags[::-1],
+            flags.astype(np.uint8),
+        )
         for on in (*kinds, flags.astype(float)):
             got = profiles.walk_on(on, start, step, gap)
             with monkeypatch.context() as m:

@@ -55,17 +55,13 @@ def test_it_takes_min_seams_running_on_together(count: int, moves: bool) -> None
     assert (raised(seams) < SKIRTING) is moves
 
 
-@pytest.mark.parametrize(
-    ("apart", "moves"), [(3, True), (4, False)]
-)
+@pytest.mark.parametrize(("apart", "moves"), [(3, True), (4, False)])
 def test_seams_must_end_together(apart: int, moves: bool) -> None:
     """Lines ending at rows apart (stickers, a print's edges) are no face's seams."""
     assert (raised({127: TOP, 193: TOP + apart}) < SKIRTING) is moves
 
 
-@pytest.mark.parametrize(
-    ("width", "moves"), [(4, False), (5, True)]
-)
+@pytest.mark.parametrize(("width", "moves"), [(4, False), (5, True)])
 def test_a_thin_line_is_one_seam(width: int, moves: bool) -> None:
     """A line's two edges, up to SEAM_WIDTH apart, are one seam (one joint running on is
     not enough); a wider band's two edges are two lines of the face."""
@@ -77,7 +73,8 @@ def test_a_thin_line_is_one_seam(width: int, moves: bool) -> None:
 
 
 @pytest.mark.parametrize(
-    ("seams", "moves"), [((100, 150), False), ((100, 160), False), ((100, 161), True), ((100, 165), True)]
+    ("seams", "moves"),
+    [((100, 150), False), ((100, 160), False), ((100, 161), True), ((100, 165), True)],
 )
 def test_the_seams_must_part_the_whole_face(seams: tuple[int, int], moves: bool) -> None:
     """Seams leaving over SEAM_PART_SHARE of the face (200 columns) without one: the pair
@@ -145,9 +142,17 @@ def test_seams_ending_within_snap_rows_of_the_view_top_raise_nothing(
 
 @pytest.mark.parametrize(
     ("gap_rows", "top", "moves"),
-    [(4, SKIRTING, True), (8, SKIRTING, False), (5, SKIRTING - 1, True), (6, SKIRTING - 1, True), (7, SKIRTING - 1, False)],
+    [
+        (4, SKIRTING, True),
+        (8, SKIRTING, False),
+        (5, SKIRTING - 1, True),
+        (6, SKIRTING - 1, True),
+        (7, SKIRTING - 1, False),
+    ],
 )
-def test_a_seam_must_stand_over_most_of_the_face_found(gap_rows: int, top: int, moves: bool) -> None:
+def test_a_seam_must_stand_over_most_of_the_face_found(
+    gap_rows: int, top: int, moves: bool
+) -> None:
     """A line standing over under SEAM_COVERAGE of the face's rows is no seam of it: two of
     three lines broken near the foot leave one seam. With the top found on row 169 the
     face has 30 rows: a gap drawn 6 rows high leaves 24 (0.8, the limit, a seam), 7 leave

@@ -69,10 +69,14 @@ def test_a_new_frame_or_none_held_is_read_afresh() -> None:
     first = view.lab(img, 100, 140).copy()
     view.hold_colour(None)
     img[:] = frame(3)
-    assert np.array_equal(view.lab(img, 110, 120, 200, 260), converted(view, img, 110, 120, 200, 260))
+    assert np.array_equal(
+        view.lab(img, 110, 120, 200, 260), converted(view, img, 110, 120, 200, 260)
+    )
     view.hold_colour(img)
     assert not np.array_equal(view.lab(img, 100, 140), first)
-    assert np.array_equal(view.lab(img, 110, 120, 200, 260), converted(view, img, 110, 120, 200, 260))
+    assert np.array_equal(
+        view.lab(img, 110, 120, 200, 260), converted(view, img, 110, 120, 200, 260)
+    )
     other = frame(4)  # a frame other than the held one is never read from its blocks
     assert np.array_equal(view.lab(other, 110, 120), converted(view, other, 110, 120))
     view.hold_colour(None)
@@ -124,9 +128,7 @@ def test_an_overlapping_block_converts_only_what_no_block_before_covered(
     pixels: list[int] = []
     lab_into = view._lab_into  # a held frame's pieces are converted in its buffer
 
-    def counted(
-        image: npt.NDArray[np.uint8], out: npt.NDArray[np.uint8], *box: int
-    ) -> None:
+    def counted(image: npt.NDArray[np.uint8], out: npt.NDArray[np.uint8], *box: int) -> None:
         lab_into(image, out, *box)
         pixels.append(out.shape[0] * out.shape[1])
 

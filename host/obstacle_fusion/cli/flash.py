@@ -24,6 +24,7 @@ from obstacle_fusion.link.ports import check_port, find_board_port
 
 log = logging.getLogger(__name__)
 
+
 @dataclass(frozen=True, slots=True)
 class BoardTools:
     """What one board needs on the PATH to build and flash."""

@@ -274,8 +274,11 @@ def run(args: argparse.Namespace) -> int:
     if index == 0 and s.readings == 0:
         raise UserError(
             f"{args.recording} holds no camera frames or sonar ranges this tool can replay"
-            + (f" (skipped {what}); was it written by `obstacle-fusion run --record`?"
-               if what else "")
+            + (
+                f" (skipped {what}); was it written by `obstacle-fusion run --record`?"
+                if what
+                else ""
+            )
         )
     if skipped:
         print(

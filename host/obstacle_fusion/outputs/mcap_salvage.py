@@ -247,8 +247,10 @@ class _Scanner:
                 op, stop, body = _record(data, pos, end)
                 if op == Opcode.CHUNK and not in_chunk:
                     chunk = Chunk.read(_stream(body))
-                    if chunk.compression == "" and chunk.uncompressed_crc and (
-                        zlib.crc32(chunk.data) != chunk.uncompressed_crc
+                    if (
+                        chunk.compression == ""
+                        and chunk.uncompressed_crc
+                        and (zlib.crc32(chunk.data) != chunk.uncompressed_crc)
                     ):
                         raise _Bad
                 self._take(op, body, strict=True, in_chunk=in_chunk)

@@ -28,6 +28,7 @@ log = logging.getLogger(__name__)
 Clock = Callable[[], float]
 Sleep = Callable[[float], None]
 
+
 class SourceError(UserError):
     """A frame source that cannot be opened or used as asked."""
 

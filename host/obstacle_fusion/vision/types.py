@@ -107,9 +107,7 @@ Block = tuple[int, int, int, int]  # a view block's rows r0..r1-1, columns c0..c
 Uncovered = Callable[[list[Block], int, int, int, int], list[Block] | None]
 
 
-def uncovered_pieces(
-    boxes: list[Block], ra: int, rb: int, ca: int, cb: int
-) -> list[Block] | None:
+def uncovered_pieces(boxes: list[Block], ra: int, rb: int, ca: int, cb: int) -> list[Block] | None:
     """None when the block (ra, rb, ca, cb) lies inside one of ``boxes`` (the blocks of a
     held frame converted before, :meth:`View.lab`); else its parts no box covers:
     rectangles (the block less each box in turn: up to four pieces around it), in order.

@@ -186,7 +186,6 @@ def sides_reach_foot(
     return not read or any(read)
 
 
-
 #: A taller reading's side runs on above a shorter reading's top (the short top a line
 #: on the face, a print's edge or the wall's line behind, not the face's top) when the
 #: colour step across it is at least MIN_FOOT_STEP on this share of the rows between

@@ -123,9 +123,7 @@ class Candidate:
         return inter / max(union - inter, 1.0)
 
 
-def sides_vertical(
-    view: View, ax: I16, cand: Candidate, fits: VerticalFits | None = None
-) -> bool:
+def sides_vertical(view: View, ax: I16, cand: Candidate, fits: VerticalFits | None = None) -> bool:
     """False when a side leans the way a floor line through its foot would.
 
     In the levelled view every vertical world edge is an image column; a seam or
