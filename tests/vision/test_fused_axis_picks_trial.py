@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.fused.confidence import SECOND_TOP, SKEWED_EDGES, TOP_RUNS_ON
 from obstacle_fusion.vision.measure import Measurer, _covers
@@ -17,13 +16,11 @@ from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision.test_rig_source_and_clipping import CAM
+from tests.vision_fixtures import room_size_errors
 
 
 def _no_rig_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
-    image, truth, _ = render_room(family, seed, hard, CAM)
-    res = Measurer(CAM, None).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None and res.width_m is not None, res.reason
-    return abs(res.height_m / truth["height_m"] - 1), abs(res.width_m / truth["width_m"] - 1)
+    return room_size_errors(family, seed, hard, with_rig=False)
 
 
 def test_the_face_on_the_axis_is_taken() -> None:
