@@ -15,6 +15,7 @@ test: setup
 
 lint: setup
 	$(VENV)/ruff check host tools tests
+	$(VENV)/ruff format --check host tools tests setup.py
 	$(VENV)/mypy
 
 bench: setup
