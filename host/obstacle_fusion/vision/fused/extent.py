@@ -105,15 +105,34 @@ def _line_on_row(ay: npt.NDArray[np.float32], row: int, noise: float) -> npt.NDA
     MIN_EDGE_SNR noise levels and LINE_CONTRAST times the weaker of the mean |d/dy| over
     the rows LINE_SIDE_ROWS above and below it (a step between two surfaces, whatever its
     contrast; texture that fills every row is no line)."""
-    h = ay.shape[0]
     a, b = LINE_SIDE_ROWS
-    if row - b < 0 or row + b + 1 > h:
+    if row - b < 0 or row + b + 1 > ay.shape[0]:
         return np.zeros(ay.shape[1], bool)
-    edge = _edge_profile(ay, row)
-    above = np.asarray(ay[row - b : row - a + 1].mean(axis=0), np.float32)
-    below = np.asarray(ay[row + a : row + b + 1].mean(axis=0), np.float32)
-    beside = np.minimum(above, below)
-    return (edge >= MIN_EDGE_SNR * noise) & (edge >= LINE_CONTRAST * beside)
+    return _lines_on_rows(ay, row, row + 1, noise)[0]
+
+
+def _lines_on_rows(
+    ay: npt.NDArray[np.float32], r0: int, r1: int, noise: float
+) -> npt.NDArray[np.bool_]:
+    """:func:`_line_on_row` for the rows r0..r1-1 at once (row r at r - r0), every row at
+    least LINE_SIDE_ROWS[1] from the array's top and bottom."""
+    a, b = LINE_SIDE_ROWS
+    n = r1 - r0
+    x = np.asarray(ay[r0 - b : r1 + b], np.float32)  # row r at r - r0 + b
+
+    def rows(first: int) -> npt.NDArray[np.float32]:  # each row's row + first - b
+        return x[first : first + n]
+
+    edge = rows(b - EDGE_ROWS)
+    for k in range(1, 2 * EDGE_ROWS + 1):
+        edge = np.maximum(edge, rows(b - EDGE_ROWS + k))
+    above, below = rows(0).copy(), rows(b + a).copy()  # rows r - b .. r - a, r + a .. r + b
+    for k in range(1, b - a + 1):
+        above += rows(k)
+        below += rows(b + a + k)
+    above /= b - a + 1
+    below /= b - a + 1
+    return (edge >= MIN_EDGE_SNR * noise) & (edge >= LINE_CONTRAST * np.minimum(above, below))
 
 
 def _stands(present: npt.NDArray[np.bool_]) -> bool:
@@ -556,20 +575,11 @@ def _runs_on_above(ax: npt.NDArray[np.int16], bottom: int, row: int, col: int) -
 
 
 def _rows_lined(block: npt.NDArray[np.float32], first: int, last: int, noise: float) -> list[int]:
-    """The rows ``first``..``last - 1`` where a line (:func:`_line_on_row`, the same flags
-    per column, all rows at once) stands over ACROSS_INNER_SHARE of ``block``'s columns."""
-    a, b = LINE_SIDE_ROWS
-    r0, r1 = max(first, b, EDGE_ROWS), min(last, block.shape[0] - b)
+    """The rows ``first``..``last - 1`` where a line (:func:`_line_on_row`) stands over
+    ACROSS_INNER_SHARE of ``block``'s columns."""
+    _, b = LINE_SIDE_ROWS
+    r0, r1 = max(first, b), min(last, block.shape[0] - b)
     if r1 <= r0:
         return []
-    x = np.asarray(block[r0 - b : r1 + b], np.float32)  # row r at r - r0 + b
-    n = r1 - r0
-    edge = x[b - EDGE_ROWS : b - EDGE_ROWS + n]
-    for k in range(1, 2 * EDGE_ROWS + 1):
-        edge = np.maximum(edge, x[b - EDGE_ROWS + k : b - EDGE_ROWS + k + n])
-    c = np.concatenate([np.zeros((1, x.shape[1]), np.float32), np.cumsum(x, axis=0)])
-    span = b - a + 1
-    above = (c[span : span + n] - c[:n]) / span  # rows r - b .. r - a
-    below = (c[b + a + span : b + a + span + n] - c[b + a : b + a + n]) / span
-    on = (edge >= MIN_EDGE_SNR * noise) & (edge >= LINE_CONTRAST * np.minimum(above, below))
+    on = _lines_on_rows(block, r0, r1, noise)
     return [r0 + i for i in np.nonzero(on.mean(axis=1) >= ACROSS_INNER_SHARE)[0].tolist()]
