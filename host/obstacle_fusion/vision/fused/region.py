@@ -2088,6 +2088,11 @@ def _margin_run_up(part: npt.NDArray[Any], ring: npt.NDArray[np.float32]) -> int
     return int(np.argmax(miss)) if miss.any() else None
 
 
+#: Whether :func:`enclose_from_foot` reads the lower margin's colour past the print's
+#: blurred edge (the row farthest from the print's colour within RING_BLUR rows).
+FOOT_RING_PAST_BLUR = True
+
+
 def enclose_from_foot(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -2127,6 +2132,12 @@ def enclose_from_foot(
     rows = np.asarray(median_u8(mid, axis=1), np.float32)
     below = rows[b + RING_SKIP :]
     ring = median_of(below[:2], axis=0)
+    if FOOT_RING_PAST_BLUR:
+        # the found foot may lie on the print's blurred edge: the rows just under it are
+        # between the print's colour and the margin's; the margin's own is the farthest
+        # from the print's within the blur's rows
+        far = row_norms(below[:RING_BLUR] - np.asarray(print_colour, np.float32))
+        ring = below[int(np.argmax(far))]
     if norm(ring - print_colour) < MARGIN_VS_PRINT:
         return None
     down = _ring_run(below, ring, below.shape[0])
