@@ -194,6 +194,10 @@ SKIRTING_WALK = True
 #: pattern stops the colour walks at a row of the pattern; region.raise_top_by_outline; a
 #: switch for the tests).
 PRINT_OUTLINE_TOP = True
+#: Whether the edge search's face, its foot in the contact band and no margin round it
+#: found, is tried for a print whose frame shows only beside it
+#: (:func:`.region.enclose_beside_foot`, else only after the texture rescue).
+BESIDE_FOOT_FIRST = True
 #: A top where the face's sides stop and a print's texture ends (scoring.closing_top
 #: with scoring.PRINT_ENDS_TEXTURE) is not lowered to where the background seems to show
 #: past a side below it (region.lower_top_to_background): under it is the print, and a
@@ -519,6 +523,10 @@ class FusedMethod:
             # a margin too thin for fixed strips: its own colour runs, its foot on the floor
             # (a face standing above the floor's row is _outline's, after the confidence)
             framed = enclose_by_ring(seen, v, rb, vt, ul, ur, (r0b, r1b))
+            if framed is None and BESIDE_FOOT_FIRST:
+                # ... or no margin under the print (its foot the face's own), the margin
+                # beside it running up to the frame's top (as after the texture rescue)
+                framed = enclose_beside_foot(seen, v, rb, vt, ul, ur, (r0b, r1b))
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:

@@ -2171,6 +2171,12 @@ def enclose_from_foot(
 
 #: Rows of a print's lower half read for the margin beside it (a share of its height).
 BESIDE_ROWS_SHARE = 0.5
+#: Whether a margin beside a print must differ from the floor under it (beside the foot):
+#: the floor seen past a face's sides is no margin of it.
+BESIDE_NOT_FLOOR = True
+#: ... by at least this (Lab): frames 24-111 from the floor under them on our rooms, the
+#: floor seen beside a face 3-4 (procedural/2153 hard).
+BESIDE_FLOOR_APART = 12.0
 
 
 def enclose_beside_foot(
@@ -2200,7 +2206,7 @@ def enclose_beside_foot(
     h, w = view.out.shape
     reach_u = int(MAX_MARGIN_SHARE * (right - left)) + RING_SKIP + 3
     reach_up = int((1.0 + FOOT_FRAME_REACH) * (bottom - top))
-    r0, r1 = top - int(FOOT_FRAME_REACH * (bottom - top)) - 4, min(h, bottom + 6)
+    r0, r1 = top - int(FOOT_FRAME_REACH * (bottom - top)) - 4, min(h, bottom + 9)
     c0, c1 = left - reach_u - 1, right + reach_u + 2
     if r0 < 0 or c0 < 0 or c1 > w or r1 <= bottom + 4:
         return None
@@ -2239,6 +2245,13 @@ def enclose_beside_foot(
             return None  # the colour runs on (a wall of it), or no margin past the side
         out.append(p + run)
     new_left, new_right = left - RING_SKIP - out[0], right + RING_SKIP + out[1]
+    if BESIDE_NOT_FLOOR:
+        # the margin is the face's, standing on the foot: under it (beside the foot) the
+        # floor; the floor's own colour there is the floor seen beside the face
+        for c_lo, c_hi in ((new_left, left - RING_SKIP), (right + RING_SKIP + 1, new_right + 1)):
+            under = median_u8(lab[b + 3 : b + 8, c_lo - c0 : c_hi - c0].reshape(-1, 3), axis=0)
+            if norm(np.asarray(under, np.float32) - ring) < BESIDE_FLOOR_APART:
+                return None
     # up the frame's side margins, as enclose_from_foot reads them
     tops = []
     for c_lo, c_hi in ((new_left, left), (right + 1, new_right + 1)):
