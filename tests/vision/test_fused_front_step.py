@@ -91,7 +91,10 @@ def test_a_weak_second_step_is_no_front_edge(
     share: float, expected: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Under a top edge falling by 80, a fall of 8 five rows down (a tenth of the top
-    edge, below STAIR_MIN_SHARE) is the face's shading, not a top face's front edge."""
+    edge, below STAIR_MIN_SHARE) is the face's shading, not a top face's front edge
+    (read on the share alone: running straight across, FAINT_STAIRS takes it, see
+    test_fused_stair_across.py)."""
+    monkeypatch.setattr(top, "FAINT_STAIRS", False)
     monkeypatch.setattr(top, "STAIR_MIN_SHARE", share)
     assert abs(front_row(face(200.0, 120.0, 0, 120.0, lower=-8.0)) - expected) <= 1
 

@@ -90,6 +90,8 @@ def front_top(
         if _inset(dy, r, ul, ur):
             continue
         step = _front_step(peak, prof[r - vt]) if r - vt >= 2 else STEP
+        if FAINT_STAIRS and r - vt >= 2:
+            step = _stair_across(dy, r, ul + m, ur - m, peak, prof[r - vt], step)
         if step != STEP:
             log.debug("top %d: row %d (%.1f against %.1f) is a %s", vt, r, prof[r - vt], peak, step)
         if step == STEP:
@@ -119,6 +121,57 @@ STAIR_MIN_SHARE = 0.15
 #: top edge's ringing (about 0.01 on procedural/715, 0.02 on procedural/134; thin bright
 #: top faces 0.065 and more, photo/139 hard).
 BUMP_MIN_SHARE = 0.04
+
+
+#: Whether a staircase step (of the top edge's sign) is read along its row as well
+#: (:func:`_stair_across`): a faint one running straight across is a front top edge, a
+#: weak one not stepping the same way all along is none; a switch for the tests.
+FAINT_STAIRS = True
+#: The faintest staircase step taken when it runs straight across: a far box's top face
+#: lit nearly as its front steps about 0.09 of the top edge's peak (the bench's far box,
+#: README), a purple box's lighter top face 0.13; the top edge's blur tail and grain
+#: under it mostly 0.02-0.05 (procedural/131, 2096, photo/729).
+STAIR_FAINT_SHARE = 0.08
+#: Column groups the step's row is cut into (inside the face's columns).
+STRAIGHT_GROUPS = 8
+#: A faint step runs straight across when every column group's step (the strongest of
+#: the rows r-1..r+1, of the step's sign) is at least this share of the groups' mean:
+#: two planes meeting on one straight line, each lit evenly, step alike all along it;
+#: grain and a print's structure come and go along the row (weakest group 0.05-0.17 of
+#: the mean on photo/2013 hard, 2035, procedural/704 hard, 2031 hard; 0.55-0.59 on
+#: procedural/2067, photo/147, all 0.07-0.13 of the peak; real front top edges taken on
+#: the tuning rooms mostly 0.76-0.97: procedural/115 hard, 2018, photo/137, 2092 hard).
+STRAIGHT_MIN_SHARE = 0.75
+#: A staircase step under this share of the top edge's peak (and at least
+#: STAIR_FAINT_SHARE) must step the same way in every column group: a front top edge
+#: runs from side to side; a print's structure taken at 0.17-0.19 steps against it in
+#: a group (procedural/116 hard, photo/155); a real one at 0.23 does not (weakest group
+#: 0.78 of the mean, procedural/115 hard).
+STAIR_CHECK_SHARE = 0.3
+
+
+def _stair_across(dy: I16, r: int, c0: int, c1: int, peak: float, p: float, step: str) -> str:
+    """A same-signed (staircase) extremum ``p`` on row ``r`` under the top edge (peak
+    ``peak``), which :func:`_front_step` made ``step``, read along the row (columns
+    c0..c1): a faint one (STAIR_FAINT_SHARE up to STAIR_MIN_SHARE of the peak) running
+    straight across is a STEP; one under STAIR_CHECK_SHARE that does not step the same
+    way in every column group is WEAK (a print's structure, grain)."""
+    share = abs(p) / abs(peak) if peak != 0.0 else 0.0
+    if peak * p <= 0.0 or not STAIR_FAINT_SHARE <= share < STAIR_CHECK_SHARE:
+        return step
+    n = min(STRAIGHT_GROUPS, (c1 - c0) // 3)
+    if n < 3:
+        return step
+    sign = 1.0 if p > 0.0 else -1.0
+    band = dy[r - 1 : r + 2, c0:c1].astype(np.float32) * sign
+    cuts = np.linspace(0, c1 - c0, n + 1).astype(np.int64)
+    steps = np.array(
+        [band[:, a:b].mean(axis=1).max() for a, b in zip(cuts[:-1], cuts[1:], strict=True)]
+    )
+    mean, least = float(steps.mean()), float(steps.min())
+    if step == WEAK:
+        return STEP if mean > 0.0 and least >= STRAIGHT_MIN_SHARE * mean else WEAK
+    return step if least > 0.0 else WEAK
 
 
 def _top_peak(dy: I16, vt: int, c0: int, c1: int) -> float:
