@@ -39,6 +39,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from obstacle_fusion.vision.fused.extent import foot_in_band
 from obstacle_fusion.vision.fused.profiles import (
     clamp,
     column_means,
@@ -2724,3 +2725,41 @@ def raise_top_by_outline(
     if norm(middle - outside) > OUTLINE_CLOSE_DISTANCE:
         return top
     return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
+
+
+#: The face's colour (the median across its middle) holds down a row while within this
+#: (Lab) of the colour over the found foot.
+FACE_DOWN_AGREE = 15.0
+#: Rows over the found foot read for the face's colour there.
+FACE_DOWN_ROWS = 4
+
+
+def face_down_to_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    left: int,
+    right: int,
+    band: tuple[int, int],
+    noise: float,
+) -> int | None:
+    """The foot in the floor-contact ``band`` (:func:`.extent.foot_in_band`, the strongest
+    edge across the face under ``bottom``) when every row between holds the face's colour
+    over the found foot: the face runs on down to the floor the rig predicts (its found foot
+    a shading step on it). Rows next to the new foot (its edge's blur) are not read. None
+    when no foot stands in the band or a row between is something else (a margin, a
+    shadow, the floor)."""
+    if image is None or image.ndim != 3 or right - left < 8 or bottom - FACE_DOWN_ROWS < 0:
+        return None
+    foot = foot_in_band(ay, bottom, left, right, band, noise)
+    if foot is None or foot - bottom < 2:
+        return None
+    q = (right - left) // 4
+    lab = _lab8(image, view, bottom - FACE_DOWN_ROWS, foot - 1, left + q, right - q)
+    rows = np.asarray(median_u8(lab, axis=1), np.float32)
+    face = median_of(rows[:FACE_DOWN_ROWS], axis=0)
+    between = rows[FACE_DOWN_ROWS:]
+    if between.shape[0] == 0 or float(row_norms(between - face).max()) > FACE_DOWN_AGREE:
+        return None
+    return foot
