@@ -212,10 +212,10 @@ TEXTURE_SIDES_WALK = True
 #: the sonar's range, or on an edge across the face) with no margin round it gives way to
 #: the face its colour finds standing in the band (a switch for the tests)...
 STANDING_BEHIND_RESCUE = True
-#: Whether a face found standing above the contact band with no print round it
-#: (:meth:`FusedMethod._outline` found none) takes the foot in the band when its own
-#: colour runs on down to it (:func:`.region.face_down_to_foot`; a gloss face whose lower
-#: rows, a shade darker, ended the found foot early).
+#: Whether a face found standing above the contact band with no print round it (and no
+#: colour face standing in the band: STANDING_BEHIND_RESCUE) takes the foot in the band
+#: when its own colour runs on down to it (:func:`.region.face_down_to_foot`; a gloss face
+#: whose lower rows, a shade darker, ended the found foot early).
 FACE_DOWN_TO_FOOT = True
 #: ... when that face reaches up as high, within this share of the first face's height:
 #: the same face read with its foot in the band, or the box in front of an outline of
@@ -714,18 +714,9 @@ class FusedMethod:
             outline = self._outline(
                 seen, ay, ax3, rb, int(round(vt)), ul, ur, (r0b, r1b), depth, noise
             )
-            down = (
-                face_down_to_foot(seen, v, ay, rb, ul, ur, (r0b, r1b), noise)
-                if outline is None and FACE_DOWN_TO_FOOT
-                else None
-            )
             if outline is not None:
                 rb, vt, ul, ur = outline
                 sign, top_row = (1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0), None
-            elif down is not None:
-                # no print: the face's own colour runs on down to the foot the rig predicts
-                log.debug("foot %d: the face's colour runs down to %d", rb, down)
-                rb = down
             elif STANDING_BEHIND_RESCUE:
                 # no face round it: what stands at the range is on the floor the rig
                 # predicts; its colour there, reaching up as high, is the face
@@ -735,6 +726,13 @@ class FusedMethod:
                 if rescued is not None and rescued.detected:
                     log.debug("face standing above the contact band: the colour's face")
                     return rescued
+            if outline is None and FACE_DOWN_TO_FOOT:
+                # no print, no other face standing in the band: the face's own colour may
+                # run on down to the foot the rig predicts
+                down = face_down_to_foot(seen, v, ay, rb, ul, ur, (r0b, r1b), noise)
+                if down is not None:
+                    log.debug("foot %d: the face's colour runs down to %d", rb, down)
+                    rb = down
         timer.lap("extent")
         measured = self._refine(
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits

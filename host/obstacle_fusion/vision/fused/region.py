@@ -2746,8 +2746,9 @@ def face_down_to_foot(
 ) -> int | None:
     """The foot in the floor-contact ``band`` (:func:`.extent.foot_in_band`, the strongest
     edge across the face under ``bottom``) when every row between holds the face's colour
-    over the found foot: the face runs on down to the floor the rig predicts (its found foot
-    a shading step on it). Rows next to the new foot (its edge's blur) are not read. None
+    over the found foot, in each of its side quarters and its middle half: the face runs on
+    down to the floor the rig predicts (its found foot a shading step on it). Rows next to
+    the new foot (its edge's blur) are not read. None
     when no foot stands in the band or a row between is something else (a margin, a
     shadow, the floor)."""
     if image is None or image.ndim != 3 or right - left < 8 or bottom - FACE_DOWN_ROWS < 0:
@@ -2755,11 +2756,15 @@ def face_down_to_foot(
     foot = foot_in_band(ay, bottom, left, right, band, noise)
     if foot is None or foot - bottom < 2:
         return None
+    # the face's quarters at each side and its middle half, each on its own: a found face
+    # wider than the one standing (the outline of things beside it) leaves the floor
+    # under its outer parts
     q = (right - left) // 4
-    lab = _lab8(image, view, bottom - FACE_DOWN_ROWS, foot - 1, left + q, right - q)
-    rows = np.asarray(median_u8(lab, axis=1), np.float32)
-    face = median_of(rows[:FACE_DOWN_ROWS], axis=0)
-    between = rows[FACE_DOWN_ROWS:]
-    if between.shape[0] == 0 or float(row_norms(between - face).max()) > FACE_DOWN_AGREE:
-        return None
+    lab = _lab8(image, view, bottom - FACE_DOWN_ROWS, foot - 1, left + 2, right - 1)
+    for c0, c1 in ((0, q - 2), (q - 2, 3 * q - 2), (3 * q - 2, lab.shape[1])):
+        rows = np.asarray(median_u8(lab[:, c0:c1], axis=1), np.float32)
+        face = median_of(rows[:FACE_DOWN_ROWS], axis=0)
+        between = rows[FACE_DOWN_ROWS:]
+        if between.shape[0] == 0 or float(row_norms(between - face).max()) > FACE_DOWN_AGREE:
+            return None
     return foot
