@@ -2751,8 +2751,8 @@ def face_down_to_foot(
     the new foot (its edge's blur) are not read. None
     when no foot stands in the band or a row between is something else (a margin, a
     shadow, the floor)."""
-    if image is None or image.ndim != 3 or right - left < 8 or bottom - FACE_DOWN_ROWS < 0:
-        return None
+    if image is None or image.ndim != 3 or right - left < 16 or bottom - FACE_DOWN_ROWS < 0:
+        return None  # (16: each quarter a few columns)
     foot = foot_in_band(ay, bottom, left, right, band, noise)
     if foot is None or foot - bottom < 2:
         return None
