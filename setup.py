@@ -10,9 +10,11 @@ message saying what to install; nothing built is ever written into the source tr
 Editable installs skip all this: a clone finds the same files in its own build tree.
 
 The stream decoder's C accelerator, obstacle_fusion.protocol._cdecode, is built as an
-optional extension (and so is the fused vision method's, obstacle_fusion.vision.fused._cmiddle), into the wheel, and by editable installs in place (the one build output
-in the source tree: host/obstacle_fusion/protocol/_cdecode*.so, ignored by git). If it does
-not compile, setuptools says so, the install goes on, and the decoder runs pure Python.
+optional extension (and so is the fused vision method's,
+obstacle_fusion.vision.fused._cmiddle), into the wheel, and by editable installs in place
+(the only build outputs in the source tree: the two extensions' *.so files, ignored by
+git). If one does not compile, setuptools says so, the install goes on, and that part runs
+pure Python.
 """
 
 from __future__ import annotations
