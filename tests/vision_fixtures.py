@@ -13,7 +13,10 @@ import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.chessboard import BoardRenderer, BoardSpec, default_poses
+from obstacle_fusion.vision.fused import top
 from obstacle_fusion.vision.measure import Measurer
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import View
 
 REPO = Path(__file__).resolve().parents[1]
 # The project's shared data sits beside the checkout (as CI lays it out); a clone elsewhere
@@ -84,3 +87,31 @@ def gradients(
     ax3 = cv2.dilate(np.abs(dx), np.ones((1, 3), np.uint8))
     noise = float(np.median(ay[::4, ::4])) / 0.6745 + 1.0
     return ay, ax3, noise
+
+
+#: A synthetic front face seen from above, as on a low box (for :func:`.top.front_top`'s
+#: tests): the image size, the horizon row, the face's top, foot and sides, its depth.
+#: The face (cx = 160) is narrow enough that no top face's back edge could be told from
+#: its front one a few rows under it (``top._no_back_edge`` does not judge).
+LOW_H, LOW_W = 240, 320
+LOW_CY = 20.0
+LOW_TOP, LOW_BOTTOM, LOW_LEFT, LOW_RIGHT = 80, 200, 100, 220
+LOW_DEPTH = 1.0
+
+
+def low_box_view() -> View:
+    """The level view of a lens looking down on the face (horizon at row LOW_CY)."""
+    k = np.array([[300.0, 0.0, LOW_W / 2], [0.0, 300.0, LOW_CY], [0.0, 0.0, 1.0]])
+    return View(CameraModel(k, np.zeros(5), LOW_W, LOW_H), Rig(), "level")
+
+
+def low_box_front_row(img: npt.NDArray[np.uint8]) -> int:
+    """The front top edge :func:`.top.front_top` finds under the face's top in ``img``."""
+    dy = np.empty(img.shape, np.int16)
+    dx = np.empty(img.shape, np.int16)
+    cv2.spatialGradient(img, dx, dy)
+    noise = float(np.median(np.abs(dy[::4, ::4]))) / 0.6745 + 1.0
+    row, _ = top.front_top(
+        low_box_view(), LOW_DEPTH, dy, LOW_BOTTOM, LOW_LEFT, LOW_RIGHT, LOW_TOP, noise
+    )
+    return row

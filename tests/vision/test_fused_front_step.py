@@ -15,50 +15,35 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import top
-from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import View
 
-from tests.vision_fixtures import room_size_errors
-
-H, W = 240, 320
-CY = 20.0  # the horizon: the lens looks down on the face, as on a low box
-# the front face (cx = 160): narrow enough that no top face's back edge could be told
-# from its front one a few rows under it (top._no_back_edge does not judge)
-FACE_TOP, BOTTOM, LEFT, RIGHT = 80, 200, 100, 220
-DEPTH = 1.0
-
-
-def high_view() -> View:
-    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, CY], [0.0, 0.0, 1.0]])
-    return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+from tests.vision_fixtures import (
+    LOW_BOTTOM,
+    LOW_H,
+    LOW_LEFT,
+    LOW_RIGHT,
+    LOW_TOP,
+    LOW_W,
+    low_box_front_row,
+    room_size_errors,
+)
 
 
 def face(
     wall: float, band: float, band_rows: int, front: float, lower: float = 0.0
 ) -> npt.NDArray[np.uint8]:
-    """Wall above FACE_TOP, floor below BOTTOM; the face's top ``band_rows`` rows of
+    """Wall above LOW_TOP, floor below LOW_BOTTOM; the face's top ``band_rows`` rows of
     ``band`` (a top face, or the front's own line under its top), the front ``front``
     below, stepping by ``lower`` five rows under the top; blurred as by the optics."""
     rng = np.random.default_rng(7)
-    img = np.full((H, W), float(wall))
-    img[BOTTOM:] = 60.0
-    img[FACE_TOP:BOTTOM, LEFT:RIGHT] = front
-    img[FACE_TOP : FACE_TOP + band_rows, LEFT:RIGHT] = band
-    img[FACE_TOP + 5 : BOTTOM, LEFT:RIGHT] += lower
+    img = np.full((LOW_H, LOW_W), float(wall))
+    img[LOW_BOTTOM:] = 60.0
+    img[LOW_TOP:LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = front
+    img[LOW_TOP : LOW_TOP + band_rows, LOW_LEFT:LOW_RIGHT] = band
+    img[LOW_TOP + 5 : LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] += lower
     img = cv2.GaussianBlur(img, (0, 0), 0.6)
     img += rng.normal(0, 1.0, img.shape)
     return np.clip(img, 0, 255).astype(np.uint8)
-
-
-def front_row(img: npt.NDArray[np.uint8]) -> int:
-    dy = np.empty(img.shape, np.int16)
-    dx = np.empty(img.shape, np.int16)
-    cv2.spatialGradient(img, dx, dy)
-    noise = float(np.median(np.abs(dy[::4, ::4]))) / 0.6745 + 1.0
-    row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
-    return row
 
 
 @pytest.mark.parametrize("on", [True, False])
@@ -69,24 +54,24 @@ def test_a_dark_line_under_the_top_is_no_top_face(
     the line's lower edge is the lowest extremum in reach, but no top face is darker than
     both the wall and the front (without the rule it is taken)."""
     monkeypatch.setattr(top, "FRONT_EDGE_STEPS", on)
-    row = front_row(face(200.0, 120.0, 3, 170.0))
+    row = low_box_front_row(face(200.0, 120.0, 3, 170.0))
     if on:
-        assert abs(row - FACE_TOP) <= 1
+        assert abs(row - LOW_TOP) <= 1
     else:
-        assert row >= FACE_TOP + 2
+        assert row >= LOW_TOP + 2
 
 
 def test_a_top_face_brighter_than_both_is_taken() -> None:
     """A dark wall, a top face three rows thick brighter than the front: its front edge."""
-    assert abs(front_row(face(90.0, 220.0, 3, 170.0)) - (FACE_TOP + 3)) <= 1
+    assert abs(low_box_front_row(face(90.0, 220.0, 3, 170.0)) - (LOW_TOP + 3)) <= 1
 
 
 def test_a_top_face_between_wall_and_front_is_taken() -> None:
     """A staircase: a light wall, a top face three rows thick, the front darker still."""
-    assert abs(front_row(face(200.0, 150.0, 3, 110.0)) - (FACE_TOP + 3)) <= 1
+    assert abs(low_box_front_row(face(200.0, 150.0, 3, 110.0)) - (LOW_TOP + 3)) <= 1
 
 
-@pytest.mark.parametrize("share, expected", [(top.STAIR_MIN_SHARE, FACE_TOP), (0.02, FACE_TOP + 5)])
+@pytest.mark.parametrize("share, expected", [(top.STAIR_MIN_SHARE, LOW_TOP), (0.02, LOW_TOP + 5)])
 def test_a_weak_second_step_is_no_front_edge(
     share: float, expected: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -96,7 +81,7 @@ def test_a_weak_second_step_is_no_front_edge(
     test_fused_stair_across.py)."""
     monkeypatch.setattr(top, "FAINT_STAIRS", False)
     monkeypatch.setattr(top, "STAIR_MIN_SHARE", share)
-    assert abs(front_row(face(200.0, 120.0, 0, 120.0, lower=-8.0)) - expected) <= 1
+    assert abs(low_box_front_row(face(200.0, 120.0, 0, 120.0, lower=-8.0)) - expected) <= 1
 
 
 def test_the_shares_decide_at_their_limits() -> None:

@@ -17,50 +17,37 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import top
-from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import View
 
-from tests.vision_fixtures import room_size_errors
-
-H, W = 240, 320
-CY = 20.0  # the horizon: the lens looks down on the face, as on a low box
-FACE_TOP, BOTTOM, LEFT, RIGHT = 80, 200, 100, 220
-DEPTH = 1.0
-
-
-def high_view() -> View:
-    k = np.array([[300.0, 0.0, W / 2], [0.0, 300.0, CY], [0.0, 0.0, 1.0]])
-    return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
+from tests.vision_fixtures import (
+    LOW_BOTTOM,
+    LOW_H,
+    LOW_LEFT,
+    LOW_RIGHT,
+    LOW_TOP,
+    LOW_W,
+    low_box_front_row,
+    room_size_errors,
+)
 
 
 def face(lower: float, every_other: bool = False) -> npt.NDArray[np.uint8]:
-    """A light wall (200) over a face (120) falling by 80 at FACE_TOP, then by ``lower``
+    """A light wall (200) over a face (120) falling by 80 at LOW_TOP, then by ``lower``
     five rows under it: across the face, or (``every_other``) in every other block of
     15 columns only, as a print's structure; blurred as by the optics."""
     rng = np.random.default_rng(7)
-    img = np.full((H, W), 200.0)
-    img[BOTTOM:] = 60.0
-    img[FACE_TOP:BOTTOM, LEFT:RIGHT] = 120.0
-    below = img[FACE_TOP + 5 : BOTTOM, LEFT:RIGHT]
+    img = np.full((LOW_H, LOW_W), 200.0)
+    img[LOW_BOTTOM:] = 60.0
+    img[LOW_TOP:LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = 120.0
+    below = img[LOW_TOP + 5 : LOW_BOTTOM, LOW_LEFT:LOW_RIGHT]
     if every_other:
-        for c in range(0, RIGHT - LEFT, 30):
+        for c in range(0, LOW_RIGHT - LOW_LEFT, 30):
             below[:, c : c + 15] += lower
     else:
         below += lower
     img = cv2.GaussianBlur(img, (0, 0), 0.6)
     img += rng.normal(0, 1.0, img.shape)
     return np.clip(img, 0, 255).astype(np.uint8)
-
-
-def front_row(img: npt.NDArray[np.uint8]) -> int:
-    dy = np.empty(img.shape, np.int16)
-    dx = np.empty(img.shape, np.int16)
-    cv2.spatialGradient(img, dx, dy)
-    noise = float(np.median(np.abs(dy[::4, ::4]))) / 0.6745 + 1.0
-    row, _ = top.front_top(high_view(), DEPTH, dy, BOTTOM, LEFT, RIGHT, FACE_TOP, noise)
-    return row
 
 
 @pytest.mark.parametrize("on", [True, False])
@@ -70,14 +57,14 @@ def test_a_faint_straight_staircase_is_a_front_top_edge(
     """A fall of 8 five rows under a top edge falling by 80 (0.1 of it, under
     STAIR_MIN_SHARE), alike from side to side: a top face's front edge (off: passed over)."""
     monkeypatch.setattr(top, "FAINT_STAIRS", on)
-    row = front_row(face(-8.0))
-    assert abs(row - (FACE_TOP + 5 if on else FACE_TOP)) <= 1
+    row = low_box_front_row(face(-8.0))
+    assert abs(row - (LOW_TOP + 5 if on else LOW_TOP)) <= 1
 
 
 def test_a_faint_step_that_comes_and_goes_is_no_front_top_edge() -> None:
     """The same mean fall, made by every other block of columns falling twice as far:
     a print's structure, not a top face's front edge."""
-    assert abs(front_row(face(-16.0, every_other=True)) - FACE_TOP) <= 1
+    assert abs(low_box_front_row(face(-16.0, every_other=True)) - LOW_TOP) <= 1
 
 
 def stair_dy(values: list[int], row: int = 5) -> npt.NDArray[np.int16]:
