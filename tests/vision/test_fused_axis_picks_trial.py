@@ -19,18 +19,14 @@ from tests.vision.test_rig_source_and_clipping import CAM
 from tests.vision_fixtures import room_size_errors
 
 
-def _no_rig_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
-    return room_size_errors(family, seed, hard, with_rig=False)
-
-
 def test_the_face_on_the_axis_is_taken() -> None:
-    eh, ew = _no_rig_errors("procedural", 740, True)
+    eh, ew = room_size_errors("procedural", 740, True, with_rig=False)
     assert eh < 0.05 and ew < 0.05
 
 
 def test_without_the_rule_the_face_beside_the_axis_stands(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "AXIS_PICKS_TRIAL", False)
-    eh, ew = _no_rig_errors("procedural", 740, True)
+    eh, ew = room_size_errors("procedural", 740, True, with_rig=False)
     assert max(eh, ew) > 0.25
 
 

@@ -28,25 +28,21 @@ from tests.vision.test_rig_source_and_clipping import CAM
 from tests.vision_fixtures import room_size_errors
 
 
-def _no_rig_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
-    return room_size_errors(family, seed, hard, with_rig=False)
-
-
 def test_the_nearer_face_on_the_axis_is_taken() -> None:
-    eh, ew = _no_rig_errors("photo", 740, True)
+    eh, ew = room_size_errors("photo", 740, True, with_rig=False)
     assert eh < 0.05 and ew < 0.05
 
 
 def test_without_the_rule_the_band_beside_the_axis_stands(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "NEARER_ON_AXIS", False)
-    eh, ew = _no_rig_errors("photo", 740, True)
+    eh, ew = room_size_errors("photo", 740, True, with_rig=False)
     assert max(eh, ew) > 0.25
 
 
 def test_the_nearer_face_must_reach_the_accept_limit(monkeypatch: pytest.MonkeyPatch) -> None:
     # the box's trial stood at 0.17: a limit over it leaves the band
     monkeypatch.setattr(measure, "NEARER_AXIS_ACCEPT", 0.18)
-    eh, ew = _no_rig_errors("photo", 740, True)
+    eh, ew = room_size_errors("photo", 740, True, with_rig=False)
     assert max(eh, ew) > 0.25
 
 

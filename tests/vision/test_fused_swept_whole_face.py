@@ -20,18 +20,14 @@ from obstacle_fusion.vision.types import Measurement
 from tests.vision_fixtures import room_size_errors
 
 
-def _no_rig_errors(family: str, seed: int, hard: bool) -> tuple[float, float]:
-    return room_size_errors(family, seed, hard, with_rig=False)
-
-
 def test_the_face_seen_whole_is_taken() -> None:
-    eh, ew = _no_rig_errors("photo", 2091, False)
+    eh, ew = room_size_errors("photo", 2091, False, with_rig=False)
     assert eh < 0.05 and ew < 0.05
 
 
 def test_without_the_rule_the_strip_stands(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "SWEPT_WHOLE_FACE", False)
-    eh, _ = _no_rig_errors("photo", 2091, False)
+    eh, _ = room_size_errors("photo", 2091, False, with_rig=False)
     assert eh > 0.25
 
 
