@@ -27,6 +27,9 @@ def _frame(
     ay = rng.integers(0, 40, (h, w)).astype(np.float32)
     ay[rng.integers(0, h, 6)] += rng.integers(50, 1000, (6, w)).astype(np.float32)
     if strided:
+        wide_grey = np.zeros((h, 2 * w), np.uint8)
+        wide_grey[:, ::2] = grey
+        grey = wide_grey[:, ::2]
         wide_ay = np.zeros((h, 2 * w), np.float32)
         wide_ay[:, ::2] = ay
         wide_ax = np.zeros((h, 2 * w), np.int16)
@@ -124,9 +127,6 @@ def test_score_tops_refuses_what_it_cannot_take() -> None:
     from obstacle_fusion.vision.fused import _cmiddle
 
     grey, ax3, ay, sides, pairs, noise, rb = _case(3, 60, 80, 6)
-    ps = [(0, 40, 5, 35)]
-    bands = scoring.band_ranges(ps)
-    sums = np.zeros((rb, 5), np.float32)
     pair = np.array([[0, 40, 5, 35, 0, 1, 10, 10, 0, 0]], np.intp)
     cap = 2 * rb
 
@@ -136,9 +136,9 @@ def test_score_tops_refuses_what_it_cannot_take() -> None:
             ax3=ax3,
             counts=sides.out,
             nxt=sides.nxt,
-            sums=sums,
+            grey=grey,
             pairs=pair,
-            bands=bands,
+            bands=4,
             noise=noise,
             rb=rb,
             top_limit=rb - 5,
@@ -159,6 +159,12 @@ def test_score_tops_refuses_what_it_cannot_take() -> None:
         call(ay=ay.astype(np.float64))
     with pytest.raises(TypeError):
         call(ax3=ax3.astype(np.int32))
+    with pytest.raises(TypeError):
+        call(grey=grey.astype(np.int16))
+    with pytest.raises(ValueError):
+        call(grey=grey[: rb - 1])  # rows short of rb
+    with pytest.raises(ValueError):
+        call(bands=0)
     with pytest.raises(ValueError):
         call(tops=np.empty(3, np.intp), pp=np.empty(3, np.intp))  # no room for the tops
     with pytest.raises(ValueError):
@@ -168,4 +174,4 @@ def test_score_tops_refuses_what_it_cannot_take() -> None:
     with pytest.raises(ValueError):
         call(top_limit=2)
     with pytest.raises(ValueError):
-        call(pairs=pair[:0], bands=bands[:0])  # no pair
+        call(pairs=pair[:0])  # no pair

@@ -10,8 +10,9 @@
  * Also profiles.walk_on's walk along a row of flags (a Python loop of a few hundred steps,
  * a dozen walks a frame), profiles.first_gap's search down each column of flags and
  * profiles.next_true's running minimum up them, and search.ramp_columns' gradient walks
- * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours, and
- * View.lab's held-block bookkeeping (uncovered).
+ * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours,
+ * View.lab's held-block bookkeeping (uncovered), and scoring.score_pairs' top candidates
+ * with their features (score_tops: numpy's float operations in numpy's order).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -1090,16 +1091,16 @@ done:
     return result;
 }
 
-/* score_tops(ay, ax3, counts, nxt, grey_sums, pairs, bands, noise, rb, top_limit, kf,
+/* score_tops(ay, ax3, counts, nxt, grey, pairs, bands, noise, rb, top_limit, kf,
  * label_rows, label_share, tops, pp, f64, f32, i32): scoring.score_pairs' top candidates
  * and their features, the numpy path's values bit for bit (the same float32 and float64
  * operations in the same order; sums of integers, exact in either order).
  *
  * pairs: int64, one row per pair: ul, ur, c0, c1 (the inner columns), the side table
  * columns il, ir, their edge runs' tops, and the background columns ba, bb (Sides).
- * bands: int64, BANDS rows of (start, end) per pair. counts: Sides' running counts
- * (upto, out), nxt: its next edge rows. grey_sums: the grey row sums (rows 0..rb-1) over
- * each pair's inner columns, then over each pair's bands. The top candidates go to tops and
+ * bands: how many column bands across each pair's inner columns (scoring.band_ranges').
+ * counts: Sides' running counts (upto, out), nxt: its next edge rows. grey: the working
+ * view's grey rows (0..rb-1 read). The top candidates go to tops and
  * pp (pair-major, rows ascending) and their features to the rows of f64 (cov, stop, hole,
  * textured, tex_above, face, face_above, face_bands), f32 (snr, contained) and i32 (up_l,
  * up_r), each of the outputs' capacity long (at least top_limit entries per pair). Returns
@@ -1122,6 +1123,13 @@ static int has_format(const Py_buffer *b, Py_ssize_t itemsize, const char *forma
     return f[0] != '\0' && f[1] == '\0' && strchr(formats, f[0]) != NULL;
 }
 
+/* 16 zero bytes, then 16 of all ones: the 16 bytes from entry k keep the last k bytes
+ * of a vector (a range's last k < 16 bytes, or 4-byte floats, read as the end of a
+ * whole vector ending at the range's end, the lanes before it masked off). */
+static const unsigned char last_lanes[32] = {
+    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,
+    0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff};
+
 /* The sum of row r's floats over columns c0..c1-1: exact for the integer-valued gradients
  * summed here (|d/dy| <= 1020 over at most a row: every partial sum an integer under 2**24,
  * exact in float32 lanes and in double), so the same value in any order, cv2.reduce's
@@ -1142,6 +1150,13 @@ static double row_sum_f32(const Py_buffer *b, Py_ssize_t r, Py_ssize_t c0, Py_ss
         }
         for (; c + 4 <= c1; c += 4)
             a0 = _mm_add_ps(a0, _mm_loadu_ps(p + c));
+        if (c < c1 && c1 >= 4) {
+            /* the last 1-3 floats: the 4 ending at c1, those before c masked off (read
+             * inside the row: c1 >= 4) */
+            __m128 keep = _mm_loadu_ps((const float *)(last_lanes + 4 * (c1 - c)));
+            a1 = _mm_add_ps(a1, _mm_and_ps(_mm_loadu_ps(p + c1 - 4), keep));
+            c = c1;
+        }
         float lanes[4];
         _mm_storeu_ps(lanes, _mm_add_ps(a0, a1));
         s = ((double)lanes[0] + lanes[1]) + ((double)lanes[2] + lanes[3]);
@@ -1169,6 +1184,14 @@ static long row_sum_i16(const Py_buffer *b, Py_ssize_t r, Py_ssize_t c0, Py_ssiz
          * under 2**15 steps */
         for (; c + 8 <= c1; c += 8)
             acc = _mm_add_epi32(acc, _mm_madd_epi16(_mm_loadu_si128((const __m128i *)(p + c)), ones));
+        if (c < c1 && c1 >= 8) {
+            /* the last 1-7 values: the 8 ending at c1 (inside the row), those before c
+             * masked off */
+            __m128i keep = _mm_loadu_si128((const __m128i *)(last_lanes + 2 * (c1 - c)));
+            __m128i tail = _mm_loadu_si128((const __m128i *)(p + c1 - 8));
+            acc = _mm_add_epi32(acc, _mm_madd_epi16(_mm_and_si128(tail, keep), ones));
+            c = c1;
+        }
         int lanes[4];
         _mm_storeu_si128((__m128i *)lanes, acc);
         s = (long)lanes[0] + lanes[1] + lanes[2] + lanes[3];
@@ -1219,57 +1242,85 @@ static double shade_share(const int *cnt, const Py_ssize_t *first, Py_ssize_t rb
     return share;
 }
 
+/* The sum of row r's bytes over columns c0..c1-1; sixteen at a time where the row is
+ * packed. */
+static long row_sum_u8(const Py_buffer *b, Py_ssize_t r, Py_ssize_t c0, Py_ssize_t c1)
+{
+    const unsigned char *row = (const unsigned char *)b->buf + r * b->strides[0];
+    Py_ssize_t cs = b->strides[1];
+    long s = 0;
+    Py_ssize_t c = c0;
+#ifdef __SSE2__
+    if (cs == 1 && c1 >= 16) {
+        const __m128i zero = _mm_setzero_si128();
+        __m128i acc = zero;
+        for (; c + 16 <= c1; c += 16)
+            acc = _mm_add_epi64(acc, _mm_sad_epu8(_mm_loadu_si128((const __m128i *)(row + c)), zero));
+        if (c < c1) {
+            /* the last 1-15 bytes: the 16 ending at c1 (inside the row), those before c
+             * masked off */
+            __m128i keep = _mm_loadu_si128((const __m128i *)(last_lanes + (c1 - c)));
+            __m128i tail = _mm_loadu_si128((const __m128i *)(row + c1 - 16));
+            acc = _mm_add_epi64(acc, _mm_sad_epu8(_mm_and_si128(tail, keep), zero));
+            c = c1;
+        }
+        long long lanes[2];
+        _mm_storeu_si128((__m128i *)lanes, acc);
+        s = (long)(lanes[0] + lanes[1]);
+    }
+#endif
+    for (; c < c1; c++)
+        s += row[c * cs];
+    return s;
+}
+
 static PyObject *score_tops(PyObject *self, PyObject *args)
 {
     (void)self;
-    PyObject *objs[12];
+    PyObject *objs[11];
     double noise, label_share;
-    Py_ssize_t rb, top_limit, kf;
+    Py_ssize_t n_b, rb, top_limit, kf;
     long label_rows;
-    if (!PyArg_ParseTuple(args, "OOOOOOOdnnnldOOOOO:score_tops", &objs[0], &objs[1], &objs[2],
-                          &objs[3], &objs[4], &objs[5], &objs[6], &noise, &rb, &top_limit, &kf,
-                          &label_rows, &label_share, &objs[7], &objs[8], &objs[9], &objs[10],
-                          &objs[11]))
+    if (!PyArg_ParseTuple(args, "OOOOOOndnnnldOOOOO:score_tops", &objs[0], &objs[1], &objs[2],
+                          &objs[3], &objs[4], &objs[5], &n_b, &noise, &rb, &top_limit, &kf,
+                          &label_rows, &label_share, &objs[6], &objs[7], &objs[8], &objs[9],
+                          &objs[10]))
         return NULL;
-    Py_buffer b[12];
+    Py_buffer b[11];
     int got = 0;
-    for (; got < 12; got++) {
-        int flags = got < 7 ? PyBUF_STRIDES | PyBUF_FORMAT
+    for (; got < 11; got++) {
+        int flags = got < 6 ? PyBUF_STRIDES | PyBUF_FORMAT
                             : PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT;
         if (PyObject_GetBuffer(objs[got], &b[got], flags) < 0)
             break;
     }
     PyObject *result = NULL;
-    float *prof = NULL;
+    float *prof = NULL, *gsum = NULL;
     int *work = NULL;
     Py_ssize_t *firsts = NULL;
     unsigned char *match = NULL;
-    if (got < 12)
+    if (got < 11)
         goto done;
-    Py_buffer *ay = &b[0], *ax3 = &b[1], *counts = &b[2], *nxt = &b[3], *gs = &b[4];
-    Py_buffer *pairs = &b[5], *bands = &b[6];
+    Py_buffer *ay = &b[0], *ax3 = &b[1], *counts = &b[2], *nxt = &b[3], *grey = &b[4];
+    Py_buffer *pairs = &b[5];
     if (!has_format(ay, 4, "f") || !has_format(ax3, 2, "h") || !has_format(counts, 4, "i") ||
-        !has_format(nxt, 8, "lq") || !has_format(gs, 4, "f") || !has_format(pairs, 8, "lq") ||
-        !has_format(bands, 8, "lq") || !has_format(&b[7], 8, "lq") ||
-        !has_format(&b[8], 8, "lq") || !has_format(&b[9], 8, "d") ||
-        !has_format(&b[10], 4, "f") || !has_format(&b[11], 4, "i") || ay->ndim != 2 ||
-        ax3->ndim != 2 || counts->ndim != 2 || nxt->ndim != 2 || gs->ndim != 2 ||
-        pairs->ndim != 2 || bands->ndim != 2 || pairs->shape[1] != SCORE_PAIR_FIELDS ||
-        bands->shape[1] != 2) {
+        !has_format(nxt, 8, "lq") || !is_u8(grey) || !has_format(pairs, 8, "lq") ||
+        !has_format(&b[6], 8, "lq") || !has_format(&b[7], 8, "lq") ||
+        !has_format(&b[8], 8, "d") || !has_format(&b[9], 4, "f") || !has_format(&b[10], 4, "i") ||
+        ay->ndim != 2 || ax3->ndim != 2 || counts->ndim != 2 || nxt->ndim != 2 ||
+        grey->ndim != 2 || pairs->ndim != 2 || pairs->shape[1] != SCORE_PAIR_FIELDS) {
         PyErr_SetString(PyExc_TypeError, "score_tops: arrays of the wrong type or shape");
         goto done;
     }
     Py_ssize_t n_p = pairs->shape[0];
-    Py_ssize_t n_b = n_p > 0 ? bands->shape[0] / n_p : 0;
-    Py_ssize_t cap = b[7].len / 8;
+    Py_ssize_t cap = b[6].len / 8;
     Py_ssize_t w = ay->shape[1];
-    if (n_p < 1 || n_b < 1 || n_b > SCORE_MAX_BANDS || bands->shape[0] != n_b * n_p ||
-        top_limit < 3 || rb <= top_limit || kf < 2 || kf > SCORE_MAX_KF || rb - 3 - kf < 0 ||
-        top_limit > ay->shape[0] || rb > ax3->shape[0] ||
-        ax3->shape[1] != w || counts->shape[0] < rb + 1 || nxt->shape[0] < rb ||
-        gs->shape[0] < rb || gs->shape[1] < n_p * (1 + n_b) || cap < n_p * top_limit ||
-        b[8].len / 8 != cap || b[9].len / 8 < 8 * cap || b[10].len / 4 < 2 * cap ||
-        b[11].len / 4 < 2 * cap) {
+    if (n_p < 1 || n_b < 1 || n_b > SCORE_MAX_BANDS || top_limit < 3 || rb <= top_limit ||
+        kf < 2 || kf > SCORE_MAX_KF || rb - 3 - kf < 0 || top_limit > ay->shape[0] ||
+        rb > ax3->shape[0] || ax3->shape[1] != w || rb > grey->shape[0] ||
+        grey->shape[1] != w || counts->shape[0] < rb + 1 || nxt->shape[0] < rb ||
+        cap < n_p * top_limit || b[7].len / 8 != cap || b[8].len / 8 < 8 * cap ||
+        b[9].len / 4 < 2 * cap || b[10].len / 4 < 2 * cap) {
         PyErr_SetString(PyExc_ValueError, "score_tops: sizes that do not fit");
         goto done;
     }
@@ -1283,11 +1334,8 @@ static PyObject *score_tops(PyObject *self, PyObject *args)
             bad |= p[f] < 0 || p[f] >= n_side;
         for (int f = 8; f < 10; f++)
             bad |= p[f] < 0 || p[f] >= n_cols;
-        for (Py_ssize_t q = 0; q < n_b; q++) {
-            long long c0 = AT2(*bands, long long, j * n_b + q, 0);
-            long long c1 = AT2(*bands, long long, j * n_b + q, 1);
-            bad |= c0 < 0 || c1 <= c0;
-        }
+        /* the last band is one column wide at least: past c1 on the narrowest pairs */
+        bad |= p[3] + 1 > w;
         if (bad) {
             PyErr_SetString(PyExc_ValueError, "score_tops: a pair's columns out of range");
             goto done;
@@ -1297,18 +1345,19 @@ static PyObject *score_tops(PyObject *self, PyObject *args)
     /* per column of shade matches (the face's, then its bands'): counts and next match;
      * then per pair the texture counts */
     Py_ssize_t n_q = 1 + n_b;
+    gsum = PyMem_Malloc((size_t)(n_q * rb) * sizeof(float));
     work = PyMem_Malloc((size_t)(n_q * (rb + 1) + (rb + 1)) * sizeof(int));
     firsts = PyMem_Malloc((size_t)(n_q * rb) * sizeof(Py_ssize_t));
     match = PyMem_Malloc((size_t)rb);
-    if (prof == NULL || work == NULL || firsts == NULL || match == NULL) {
+    if (prof == NULL || gsum == NULL || work == NULL || firsts == NULL || match == NULL) {
         PyErr_NoMemory();
         goto done;
     }
     const float nf = (float)noise;
-    long long *tops = (long long *)b[7].buf, *pp = (long long *)b[8].buf;
-    double *f64 = (double *)b[9].buf;
-    float *f32 = (float *)b[10].buf;
-    int *i32 = (int *)b[11].buf;
+    long long *tops = (long long *)b[6].buf, *pp = (long long *)b[7].buf;
+    double *f64 = (double *)b[8].buf;
+    float *f32 = (float *)b[9].buf;
+    int *i32 = (int *)b[10].buf;
     /* the mean |d/dy| between each pair's sides, rows 0..top_limit-1, and its peaks */
     Py_ssize_t n_t = 0;
     for (Py_ssize_t j = 0; j < n_p; j++) {
@@ -1375,17 +1424,35 @@ static PyObject *score_tops(PyObject *self, PyObject *args)
         Py_ssize_t o0 = ul - 1 - wo > 0 ? ul - 1 - wo : 0, o1 = ul - 1 > 1 ? ul - 1 : 1;
         Py_ssize_t o2 = ur + 2 < w - 1 ? ur + 2 : w - 1, o3 = ur + 2 + wo < w ? ur + 2 + wo : w;
         float inv_l = (float)(1.0 / (double)(o1 - o0)), inv_r = (float)(1.0 / (double)(o3 - o2));
+        /* the column bands [lo, hi) across the inner columns: c0 + round(b (c1 - c0) /
+         * BANDS), rounded half to even (as scoring.band_ranges), each a column wide at least;
+         * a tiling of c0..c1 unless the pair is narrower than the bands */
+        Py_ssize_t lo[SCORE_MAX_BANDS], hi[SCORE_MAX_BANDS];
+        int tiled = 1;
+        for (Py_ssize_t q = 0; q < n_b; q++) {
+            lo[q] = c0 + (Py_ssize_t)nearbyint((double)(q * (c1 - c0)) / (double)n_b);
+            Py_ssize_t end = c0 + (Py_ssize_t)nearbyint((double)((q + 1) * (c1 - c0)) / (double)n_b);
+            hi[q] = end > lo[q] + 1 ? end : lo[q] + 1;
+            tiled &= end > lo[q];
+        }
+        /* the grey row sums over the inner columns (gsum, rows 0..rb-1), then over each band
+         * (integers: exact in float32, as numpy's) */
+        for (Py_ssize_t r = 0; r < rb; r++) {
+            long whole = 0;
+            for (Py_ssize_t q = 0; q < n_b; q++) {
+                long s = row_sum_u8(grey, r, lo[q], hi[q]);
+                gsum[(q + 1) * rb + r] = (float)s;
+                whole += s;
+            }
+            gsum[r] = (float)(tiled ? whole : row_sum_u8(grey, r, c0, c1));
+        }
         /* the face's shade (whole width, then each band) and the rows that match it */
         for (Py_ssize_t q = 0; q < n_q; q++) {
-            Py_ssize_t col = q == 0 ? j : n_p + j * n_b + (q - 1);
-            float width = 0.0f;
-            if (q > 0) {
-                Py_ssize_t row = j * n_b + (q - 1);
-                width = (float)(AT2(*bands, long long, row, 1) - AT2(*bands, long long, row, 0));
-            }
+            const float *gq = gsum + q * rb;
+            float width = q > 0 ? (float)(hi[q - 1] - lo[q - 1]) : 0.0f;
             float means[SCORE_MAX_KF];
             for (Py_ssize_t r = rb - 3 - kf; r < rb - 3; r++) {
-                float g = AT2(*gs, float, r, col);
+                float g = gq[r];
                 means[r - (rb - 3 - kf)] = q == 0 ? g * inv_n : g / width;
             }
             float face = kth_smallest(means, (int)kf, (int)(kf / 2));
@@ -1400,7 +1467,7 @@ static PyObject *score_tops(PyObject *self, PyObject *args)
                 tol = t1 > t2 ? t1 : t2;
             }
             for (Py_ssize_t r = 0; r < rb; r++) {
-                float g = AT2(*gs, float, r, col);
+                float g = gq[r];
                 float m = q == 0 ? g * inv_n : g / width;
                 match[r] = fabsf(m - face) <= tol;
             }
@@ -1474,6 +1541,7 @@ done:
     PyMem_Free(match);
     PyMem_Free(firsts);
     PyMem_Free(work);
+    PyMem_Free(gsum);
     PyMem_Free(prof);
     for (int k = got - 1; k >= 0; k--)
         PyBuffer_Release(&b[k]);

@@ -484,9 +484,6 @@ def _tops_in_c(
     numpy's, in numpy's order)."""
     assert _c_score_tops is not None
     n_p = len(ps)
-    bands = band_ranges(ps)
-    ranges = np.array([(c0, c1) for _, _, c0, c1 in ps], np.intp)
-    grey_sums = grey_range_sums(grey[:rb], np.concatenate([ranges, bands]))
     run_top = sides.run_top
     pairs = np.array(
         [
@@ -506,9 +503,9 @@ def _tops_in_c(
         ax3,
         sides.out,
         sides.nxt,
-        grey_sums,
+        grey,
         pairs,
-        bands,
+        BANDS,
         noise,
         rb,
         top_limit,
