@@ -10,8 +10,9 @@
  * Also profiles.walk_on's walk along a row of flags (a Python loop of a few hundred steps,
  * a dozen walks a frame), profiles.first_gap's search down each column of flags and
  * profiles.next_true's running minimum up them, and search.ramp_columns' gradient walks
- * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours, and
- * View.lab's held-block bookkeeping (uncovered).
+ * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours,
+ * View.lab's held-block bookkeeping (uncovered), and scoring.score_pairs' top candidates
+ * with their features (score_tops: numpy's float operations in numpy's order).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -1090,6 +1091,463 @@ done:
     return result;
 }
 
+/* score_tops(ay, ax3, counts, nxt, grey, pairs, bands, noise, rb, top_limit, kf,
+ * label_rows, label_share, tops, pp, f64, f32, i32): scoring.score_pairs' top candidates
+ * and their features, the numpy path's values bit for bit (the same float32 and float64
+ * operations in the same order; sums of integers, exact in either order).
+ *
+ * pairs: int64, one row per pair: ul, ur, c0, c1 (the inner columns), the side table
+ * columns il, ir, their edge runs' tops, and the background columns ba, bb (Sides).
+ * bands: how many column bands across each pair's inner columns (scoring.band_ranges').
+ * counts: Sides' running counts (upto, out), nxt: its next edge rows. grey: the working
+ * view's grey rows (0..rb-1 read). The top candidates go to tops and
+ * pp (pair-major, rows ascending) and their features to the rows of f64 (cov, stop, hole,
+ * textured, tex_above, face, face_above, face_bands), f32 (snr, contained) and i32 (up_l,
+ * up_r), each of the outputs' capacity long (at least top_limit entries per pair). Returns
+ * the number of top candidates. */
+#define SCORE_PAIR_FIELDS 10
+#define SCORE_MAX_BANDS 16
+#define SCORE_MAX_KF 64
+
+#define AT2(b, type, r, c)                                                                   \
+    (*(const type *)((const char *)(b).buf + (Py_ssize_t)(r) * (b).strides[0] +             \
+                     (Py_ssize_t)(c) * (b).strides[1]))
+
+static int has_format(const Py_buffer *b, Py_ssize_t itemsize, const char *formats)
+{
+    if (b->itemsize != itemsize || b->format == NULL)
+        return 0;
+    const char *f = b->format;
+    if (*f == '=' || *f == '@' || *f == '<')
+        f++;
+    return f[0] != '\0' && f[1] == '\0' && strchr(formats, f[0]) != NULL;
+}
+
+/* 16 zero bytes, then 16 of all ones: the 16 bytes from entry k keep the last k bytes
+ * of a vector (a range's last k < 16 bytes, or 4-byte floats, read as the end of a
+ * whole vector ending at the range's end, the lanes before it masked off). */
+static const unsigned char last_lanes[32] = {
+    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,
+    0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff};
+
+/* The sum of row r's floats over columns c0..c1-1: exact for the integer-valued gradients
+ * summed here (|d/dy| <= 1020 over at most a row: every partial sum an integer under 2**24,
+ * exact in float32 lanes and in double), so the same value in any order, cv2.reduce's
+ * included. Four lanes at a time where the row is packed. */
+static double row_sum_f32(const Py_buffer *b, Py_ssize_t r, Py_ssize_t c0, Py_ssize_t c1)
+{
+    const char *row = (const char *)b->buf + r * b->strides[0];
+    Py_ssize_t cs = b->strides[1];
+    double s = 0.0;
+    Py_ssize_t c = c0;
+#ifdef __SSE2__
+    if (cs == (Py_ssize_t)sizeof(float)) {
+        const float *p = (const float *)row;
+        __m128 a0 = _mm_setzero_ps(), a1 = _mm_setzero_ps();
+        for (; c + 8 <= c1; c += 8) {
+            a0 = _mm_add_ps(a0, _mm_loadu_ps(p + c));
+            a1 = _mm_add_ps(a1, _mm_loadu_ps(p + c + 4));
+        }
+        for (; c + 4 <= c1; c += 4)
+            a0 = _mm_add_ps(a0, _mm_loadu_ps(p + c));
+        if (c < c1 && c1 >= 4) {
+            /* the last 1-3 floats: the 4 ending at c1, those before c masked off (read
+             * inside the row: c1 >= 4) */
+            __m128 keep = _mm_loadu_ps((const float *)(last_lanes + 4 * (c1 - c)));
+            a1 = _mm_add_ps(a1, _mm_and_ps(_mm_loadu_ps(p + c1 - 4), keep));
+            c = c1;
+        }
+        float lanes[4];
+        _mm_storeu_ps(lanes, _mm_add_ps(a0, a1));
+        s = ((double)lanes[0] + lanes[1]) + ((double)lanes[2] + lanes[3]);
+    }
+#endif
+    for (; c < c1; c++)
+        s += *(const float *)(row + c * cs);
+    return s;
+}
+
+/* The sum of row r's int16 values over columns c0..c1-1 (integers: exact in any order);
+ * eight at a time where the row is packed. */
+static long row_sum_i16(const Py_buffer *b, Py_ssize_t r, Py_ssize_t c0, Py_ssize_t c1)
+{
+    const char *row = (const char *)b->buf + r * b->strides[0];
+    Py_ssize_t cs = b->strides[1];
+    long s = 0;
+    Py_ssize_t c = c0;
+#ifdef __SSE2__
+    if (cs == (Py_ssize_t)sizeof(short)) {
+        const short *p = (const short *)row;
+        const __m128i ones = _mm_set1_epi16(1);
+        __m128i acc = _mm_setzero_si128();
+        /* pairs of int16 summed into int32 lanes: at most 2 * 32768 a step, a row of
+         * under 2**15 steps */
+        for (; c + 8 <= c1; c += 8)
+            acc = _mm_add_epi32(acc, _mm_madd_epi16(_mm_loadu_si128((const __m128i *)(p + c)), ones));
+        if (c < c1 && c1 >= 8) {
+            /* the last 1-7 values: the 8 ending at c1 (inside the row), those before c
+             * masked off */
+            __m128i keep = _mm_loadu_si128((const __m128i *)(last_lanes + 2 * (c1 - c)));
+            __m128i tail = _mm_loadu_si128((const __m128i *)(p + c1 - 8));
+            acc = _mm_add_epi32(acc, _mm_madd_epi16(_mm_and_si128(tail, keep), ones));
+            c = c1;
+        }
+        int lanes[4];
+        _mm_storeu_si128((__m128i *)lanes, acc);
+        s = (long)lanes[0] + lanes[1] + lanes[2] + lanes[3];
+    }
+#endif
+    for (; c < c1; c++)
+        s += *(const short *)(row + c * cs);
+    return s;
+}
+
+/* The kth smallest of n floats (n <= SCORE_MAX_KF): numpy's partition's value. */
+static float kth_smallest(const float *x, int n, int k)
+{
+    float s[SCORE_MAX_KF];
+    for (int i = 0; i < n; i++) {
+        float v = x[i];
+        int j = i;
+        for (; j > 0 && s[j - 1] > v; j--)
+            s[j] = s[j - 1];
+        s[j] = v;
+    }
+    return s[k];
+}
+
+/* A column of shade matches: running counts cnt[0..rb] and next match first[0..rb-1]. */
+static void match_column(const unsigned char *match, Py_ssize_t rb, int *cnt, Py_ssize_t *first)
+{
+    cnt[0] = 0;
+    for (Py_ssize_t r = 0; r < rb; r++)
+        cnt[r + 1] = cnt[r] + match[r];
+    Py_ssize_t low = rb;
+    for (Py_ssize_t r = rb - 1; r >= 0; r--) {
+        if (match[r])
+            low = r;
+        first[r] = low;
+    }
+}
+
+/* scoring._shade_share of one top candidate in one column. */
+static double shade_share(const int *cnt, const Py_ssize_t *first, Py_ssize_t rb, Py_ssize_t t,
+                          Py_ssize_t h, long label_rows, double label_share)
+{
+    double share = (double)(cnt[rb] - cnt[t]) / (double)h;
+    Py_ssize_t ft = first[t];
+    long long inner = (long long)(rb - ft) - (long long)(cnt[rb] - cnt[ft]);
+    if (ft - t <= label_rows && (double)inner <= label_share * (double)h)
+        return share + (double)inner / (double)h;
+    return share;
+}
+
+/* The sum of row r's bytes over columns c0..c1-1; sixteen at a time where the row is
+ * packed. */
+static long row_sum_u8(const Py_buffer *b, Py_ssize_t r, Py_ssize_t c0, Py_ssize_t c1)
+{
+    const unsigned char *row = (const unsigned char *)b->buf + r * b->strides[0];
+    Py_ssize_t cs = b->strides[1];
+    long s = 0;
+    Py_ssize_t c = c0;
+#ifdef __SSE2__
+    if (cs == 1 && c1 >= 16) {
+        const __m128i zero = _mm_setzero_si128();
+        __m128i acc = zero;
+        for (; c + 16 <= c1; c += 16)
+            acc = _mm_add_epi64(acc, _mm_sad_epu8(_mm_loadu_si128((const __m128i *)(row + c)), zero));
+        if (c < c1) {
+            /* the last 1-15 bytes: the 16 ending at c1 (inside the row), those before c
+             * masked off */
+            __m128i keep = _mm_loadu_si128((const __m128i *)(last_lanes + (c1 - c)));
+            __m128i tail = _mm_loadu_si128((const __m128i *)(row + c1 - 16));
+            acc = _mm_add_epi64(acc, _mm_sad_epu8(_mm_and_si128(tail, keep), zero));
+            c = c1;
+        }
+        long long lanes[2];
+        _mm_storeu_si128((__m128i *)lanes, acc);
+        s = (long)(lanes[0] + lanes[1]);
+    }
+#endif
+    for (; c < c1; c++)
+        s += row[c * cs];
+    return s;
+}
+
+static PyObject *score_tops(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *objs[11];
+    double noise, label_share;
+    Py_ssize_t n_b, rb, top_limit, kf;
+    long label_rows;
+    if (!PyArg_ParseTuple(args, "OOOOOOndnnnldOOOOO:score_tops", &objs[0], &objs[1], &objs[2],
+                          &objs[3], &objs[4], &objs[5], &n_b, &noise, &rb, &top_limit, &kf,
+                          &label_rows, &label_share, &objs[6], &objs[7], &objs[8], &objs[9],
+                          &objs[10]))
+        return NULL;
+    Py_buffer b[11];
+    int got = 0;
+    for (; got < 11; got++) {
+        int flags = got < 6 ? PyBUF_STRIDES | PyBUF_FORMAT
+                            : PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT;
+        if (PyObject_GetBuffer(objs[got], &b[got], flags) < 0)
+            break;
+    }
+    PyObject *result = NULL;
+    float *prof = NULL, *gsum = NULL;
+    int *work = NULL;
+    Py_ssize_t *firsts = NULL;
+    unsigned char *match = NULL;
+    if (got < 11)
+        goto done;
+    Py_buffer *ay = &b[0], *ax3 = &b[1], *counts = &b[2], *nxt = &b[3], *grey = &b[4];
+    Py_buffer *pairs = &b[5];
+    if (!has_format(ay, 4, "f") || !has_format(ax3, 2, "h") || !has_format(counts, 4, "i") ||
+        !has_format(nxt, 8, "lq") || !is_u8(grey) || !has_format(pairs, 8, "lq") ||
+        !has_format(&b[6], 8, "lq") || !has_format(&b[7], 8, "lq") ||
+        !has_format(&b[8], 8, "d") || !has_format(&b[9], 4, "f") || !has_format(&b[10], 4, "i") ||
+        ay->ndim != 2 || ax3->ndim != 2 || counts->ndim != 2 || nxt->ndim != 2 ||
+        grey->ndim != 2 || pairs->ndim != 2 || pairs->shape[1] != SCORE_PAIR_FIELDS) {
+        PyErr_SetString(PyExc_TypeError, "score_tops: arrays of the wrong type or shape");
+        goto done;
+    }
+    Py_ssize_t n_p = pairs->shape[0];
+    Py_ssize_t cap = b[6].len / 8;
+    Py_ssize_t w = ay->shape[1];
+    if (n_p < 1 || n_b < 1 || n_b > SCORE_MAX_BANDS || top_limit < 3 || rb <= top_limit ||
+        kf < 2 || kf > SCORE_MAX_KF || rb - 3 - kf < 0 || top_limit > ay->shape[0] ||
+        rb > ax3->shape[0] || ax3->shape[1] != w || rb > grey->shape[0] ||
+        grey->shape[1] != w || counts->shape[0] < rb + 1 || nxt->shape[0] < rb ||
+        cap < n_p * top_limit || b[7].len / 8 != cap || b[8].len / 8 < 8 * cap ||
+        b[9].len / 4 < 2 * cap || b[10].len / 4 < 2 * cap) {
+        PyErr_SetString(PyExc_ValueError, "score_tops: sizes that do not fit");
+        goto done;
+    }
+    Py_ssize_t n_cols = counts->shape[1], n_side = nxt->shape[1];
+    for (Py_ssize_t j = 0; j < n_p; j++) {
+        long long p[SCORE_PAIR_FIELDS];
+        for (int f = 0; f < SCORE_PAIR_FIELDS; f++)
+            p[f] = AT2(*pairs, long long, j, f);
+        int bad = p[0] < 0 || p[1] > w || p[0] >= p[1] || p[2] < 0 || p[3] > w || p[2] >= p[3];
+        for (int f = 4; f < 6; f++)
+            bad |= p[f] < 0 || p[f] >= n_side;
+        for (int f = 8; f < 10; f++)
+            bad |= p[f] < 0 || p[f] >= n_cols;
+        /* the last band is one column wide at least: past c1 on the narrowest pairs */
+        bad |= p[3] + 1 > w;
+        if (bad) {
+            PyErr_SetString(PyExc_ValueError, "score_tops: a pair's columns out of range");
+            goto done;
+        }
+    }
+    prof = PyMem_Malloc((size_t)(n_p * top_limit) * sizeof(float));
+    /* per column of shade matches (the face's, then its bands'): counts and next match;
+     * then per pair the texture counts */
+    Py_ssize_t n_q = 1 + n_b;
+    gsum = PyMem_Malloc((size_t)(n_q * rb) * sizeof(float));
+    work = PyMem_Malloc((size_t)(n_q * (rb + 1) + (rb + 1)) * sizeof(int));
+    firsts = PyMem_Malloc((size_t)(n_q * rb) * sizeof(Py_ssize_t));
+    match = PyMem_Malloc((size_t)rb);
+    if (prof == NULL || gsum == NULL || work == NULL || firsts == NULL || match == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    const float nf = (float)noise;
+    long long *tops = (long long *)b[6].buf, *pp = (long long *)b[7].buf;
+    double *f64 = (double *)b[8].buf;
+    float *f32 = (float *)b[9].buf;
+    int *i32 = (int *)b[10].buf;
+    /* the mean |d/dy| between each pair's sides, rows 0..top_limit-1, and its peaks */
+    Py_ssize_t n_t = 0;
+    for (Py_ssize_t j = 0; j < n_p; j++) {
+        Py_ssize_t c0 = (Py_ssize_t)AT2(*pairs, long long, j, 2);
+        Py_ssize_t c1 = (Py_ssize_t)AT2(*pairs, long long, j, 3);
+        float inv_n = (float)(1.0 / (double)(c1 - c0));
+        float *pr = prof + j * top_limit;
+        for (Py_ssize_t r = 0; r < top_limit; r++)
+            pr[r] = (float)row_sum_f32(ay, r, c0, c1) * inv_n;
+        long long e[2] = {AT2(*pairs, long long, j, 6), AT2(*pairs, long long, j, 7)};
+        for (Py_ssize_t r = 0; r < top_limit; r++) {
+            int on = 0;
+            if (r >= 1 && r <= top_limit - 2) {
+                float s = pr[r] / nf, up = pr[r - 1] / nf, down = pr[r + 1] / nf;
+                on = s >= up && s > down && s > 1.2f;
+            }
+            for (int q = 0; q < 2 && !on; q++)
+                on = r > 0 && (r == e[q] - 1 || r == e[q]);
+            if (on) {
+                tops[n_t] = r;
+                pp[n_t] = j;
+                n_t++;
+            }
+        }
+    }
+    Py_ssize_t t0 = rb;
+    for (Py_ssize_t i = 0; i < n_t; i++) {
+        Py_ssize_t t = tops[i], h = rb - t;
+        Py_ssize_t a = t - (h / 2 > 3 ? h / 2 : 3);
+        if (a < 0)
+            a = 0;
+        if (a < t0)
+            t0 = a;
+    }
+    const float tex_min = (float)(3.0 * noise);
+    const double grey_noise = (noise - 1.0 > 0.0 ? noise - 1.0 : 0.0) / 3.46;
+    const float grey_tol = (float)(3.0 * grey_noise);
+    int *texc = work + n_q * (rb + 1);
+    Py_ssize_t i = 0;
+    for (Py_ssize_t j = 0; j < n_p; j++) {
+        Py_ssize_t s0 = i;
+        while (i < n_t && pp[i] == j)
+            i++;
+        if (i == s0)
+            continue;
+        Py_ssize_t ul = (Py_ssize_t)AT2(*pairs, long long, j, 0);
+        Py_ssize_t ur = (Py_ssize_t)AT2(*pairs, long long, j, 1);
+        Py_ssize_t c0 = (Py_ssize_t)AT2(*pairs, long long, j, 2);
+        Py_ssize_t c1 = (Py_ssize_t)AT2(*pairs, long long, j, 3);
+        Py_ssize_t il = (Py_ssize_t)AT2(*pairs, long long, j, 4);
+        Py_ssize_t ir = (Py_ssize_t)AT2(*pairs, long long, j, 5);
+        Py_ssize_t ba = (Py_ssize_t)AT2(*pairs, long long, j, 8);
+        Py_ssize_t bb = (Py_ssize_t)AT2(*pairs, long long, j, 9);
+        float inv_n = (float)(1.0 / (double)(c1 - c0));
+        const float *pr = prof + j * top_limit;
+        /* texture rows (t0..rb-1) and their running counts from t0 */
+        texc[t0] = 0;
+        for (Py_ssize_t r = t0; r < rb; r++) {
+            long s = row_sum_i16(ax3, r, c0, c1);
+            texc[r + 1] = texc[r] + ((float)s * inv_n > tex_min);
+        }
+        /* the columns just outside each side */
+        Py_ssize_t wo = (ur - ul) / 5 > 3 ? (ur - ul) / 5 : 3;
+        Py_ssize_t o0 = ul - 1 - wo > 0 ? ul - 1 - wo : 0, o1 = ul - 1 > 1 ? ul - 1 : 1;
+        Py_ssize_t o2 = ur + 2 < w - 1 ? ur + 2 : w - 1, o3 = ur + 2 + wo < w ? ur + 2 + wo : w;
+        float inv_l = (float)(1.0 / (double)(o1 - o0)), inv_r = (float)(1.0 / (double)(o3 - o2));
+        /* the column bands [lo, hi) across the inner columns: c0 + round(b (c1 - c0) /
+         * BANDS), rounded half to even (as scoring.band_ranges), each a column wide at least;
+         * a tiling of c0..c1 unless the pair is narrower than the bands */
+        Py_ssize_t lo[SCORE_MAX_BANDS], hi[SCORE_MAX_BANDS];
+        int tiled = 1;
+        for (Py_ssize_t q = 0; q < n_b; q++) {
+            lo[q] = c0 + (Py_ssize_t)nearbyint((double)(q * (c1 - c0)) / (double)n_b);
+            Py_ssize_t end = c0 + (Py_ssize_t)nearbyint((double)((q + 1) * (c1 - c0)) / (double)n_b);
+            hi[q] = end > lo[q] + 1 ? end : lo[q] + 1;
+            tiled &= end > lo[q];
+        }
+        /* the grey row sums over the inner columns (gsum, rows 0..rb-1), then over each band
+         * (integers: exact in float32, as numpy's) */
+        for (Py_ssize_t r = 0; r < rb; r++) {
+            long whole = 0;
+            for (Py_ssize_t q = 0; q < n_b; q++) {
+                long s = row_sum_u8(grey, r, lo[q], hi[q]);
+                gsum[(q + 1) * rb + r] = (float)s;
+                whole += s;
+            }
+            gsum[r] = (float)(tiled ? whole : row_sum_u8(grey, r, c0, c1));
+        }
+        /* the face's shade (whole width, then each band) and the rows that match it */
+        for (Py_ssize_t q = 0; q < n_q; q++) {
+            const float *gq = gsum + q * rb;
+            float width = q > 0 ? (float)(hi[q - 1] - lo[q - 1]) : 0.0f;
+            float means[SCORE_MAX_KF];
+            for (Py_ssize_t r = rb - 3 - kf; r < rb - 3; r++) {
+                float g = gq[r];
+                means[r - (rb - 3 - kf)] = q == 0 ? g * inv_n : g / width;
+            }
+            float face = kth_smallest(means, (int)kf, (int)(kf / 2));
+            float tol;
+            if (q == 0) {
+                float rel = (float)(0.08 * (double)face);
+                tol = rel > 8.0f ? rel : 8.0f;
+            } else {
+                float rel = 0.08f * face;
+                float t1 = rel > 8.0f ? rel : 8.0f;
+                float t2 = grey_tol / sqrtf(width);
+                tol = t1 > t2 ? t1 : t2;
+            }
+            for (Py_ssize_t r = 0; r < rb; r++) {
+                float g = gq[r];
+                float m = q == 0 ? g * inv_n : g / width;
+                match[r] = fabsf(m - face) <= tol;
+            }
+            match_column(match, rb, work + q * (rb + 1), firsts + q * rb);
+        }
+        const int *mc = work;
+        const Py_ssize_t *mf = firsts;
+        for (Py_ssize_t k = s0; k < i; k++) {
+            Py_ssize_t t = tops[k], h = rb - t;
+            double span = (double)h;
+            int below_l = AT2(*counts, int, rb, il) - AT2(*counts, int, t, il);
+            int below_r = AT2(*counts, int, rb, ir) - AT2(*counts, int, t, ir);
+            double cov = 0.5 * (double)(below_l + below_r) / span;
+            Py_ssize_t as = t - (h / 2 > 3 ? h / 2 : 3);
+            if (as < 0)
+                as = 0;
+            Py_ssize_t n_above = t - as > 1 ? t - as : 1;
+            int ext = (AT2(*counts, int, t, il) + AT2(*counts, int, t, ir)) -
+                      (AT2(*counts, int, as, il) + AT2(*counts, int, as, ir));
+            double above = 0.5 * (double)ext / (double)n_above;
+            int bg = (AT2(*counts, int, t, ba) + AT2(*counts, int, t, bb)) -
+                     (AT2(*counts, int, as, ba) + AT2(*counts, int, as, bb));
+            above = above - 0.5 * (double)bg / (double)n_above;
+            if (!(above > 0.0))
+                above = 0.0;
+            Py_ssize_t start = t + 1 < rb - 1 ? t + 1 : rb - 1;
+            long long nx = AT2(*nxt, long long, start, il) + AT2(*nxt, long long, start, ir) -
+                           2 * (long long)start;
+            double hole = 0.5 * (double)nx;
+            float o_l = (float)row_sum_f32(ay, t, o0, o1) * inv_l;
+            float o_r = (float)row_sum_f32(ay, t, o2, o3) * inv_r;
+            float inside = pr[t] > 1e-3f ? pr[t] : 1e-3f;
+            float cont = 1.0f - (o_l > o_r ? o_l : o_r) / inside;
+            cont = cont > 0.0f ? cont : 0.0f;
+            cont = cont < 1.0f ? cont : 1.0f;
+            double textured = (double)(texc[rb] - texc[t]) / (double)h;
+            double tex_above = (double)(texc[t] - texc[as]) / (double)n_above;
+            double face = shade_share(mc, mf, rb, t, h, label_rows, label_share);
+            Py_ssize_t a0 = t - (h > 3 ? h : 3);
+            if (a0 < 0)
+                a0 = 0;
+            double face_above =
+                (double)(mc[t] - mc[a0]) / (double)(t - a0 > 1 ? t - a0 : 1);
+            Py_ssize_t t2 = t - 2 > 0 ? t - 2 : 0;
+            /* (a row matches where its next match is itself) */
+            if (mf[t - 1] == t - 1 || mf[t2] == t2)
+                face_above = 0.0;
+            double bands_min = 0.0;
+            for (Py_ssize_t q = 1; q < n_q; q++) {
+                double s = shade_share(work + q * (rb + 1), firsts + q * rb, rb, t, h,
+                                       label_rows, label_share);
+                if (q == 1 || s < bands_min)
+                    bands_min = s;
+            }
+            f64[0 * cap + k] = cov;
+            f64[1 * cap + k] = 1.0 - above;
+            f64[2 * cap + k] = hole;
+            f64[3 * cap + k] = textured;
+            f64[4 * cap + k] = tex_above;
+            f64[5 * cap + k] = face;
+            f64[6 * cap + k] = face_above;
+            f64[7 * cap + k] = bands_min;
+            f32[0 * cap + k] = pr[t] / nf;
+            f32[1 * cap + k] = cont;
+            i32[0 * cap + k] = AT2(*counts, int, t, il);
+            i32[1 * cap + k] = AT2(*counts, int, t, ir);
+        }
+    }
+    result = PyLong_FromSsize_t(n_t);
+done:
+    PyMem_Free(match);
+    PyMem_Free(firsts);
+    PyMem_Free(work);
+    PyMem_Free(gsum);
+    PyMem_Free(prof);
+    for (int k = got - 1; k >= 0; k--)
+        PyBuffer_Release(&b[k]);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"uncovered", uncovered, METH_VARARGS,
      "uncovered(boxes, r0, r1, c0, c1): None inside a box, else the block's uncovered pieces."},
@@ -1101,6 +1559,8 @@ static PyMethodDef methods[] = {
      "remap_table(src, stride, offsets, fx, fy, dst): OpenCV's bilinear remap by a view's table."},
     {"remap_table3", remap_table3, METH_VARARGS,
      "remap_table3(src, offsets, wtop, wbot, r0, c0, dst): remap_table's remap of a BGR block."},
+    {"score_tops", score_tops, METH_VARARGS,
+     "score_tops(...): scoring.score_pairs' top candidates and their features."},
     {"next_true", next_true, METH_VARARGS,
      "next_true(flags, fill, out): per entry, the first true row at or below (profiles)."},
     {"first_gap", first_gap, METH_VARARGS,

@@ -15,6 +15,27 @@ def ramp_spans(
     strip: Any, cols: Any, min_cols: int, beside: int, /
 ) -> list[tuple[int, int, int]]: ...
 def row_norms(x: Any, out: Any, /) -> None: ...
+def score_tops(
+    ay: Any,
+    ax3: Any,
+    counts: Any,
+    nxt: Any,
+    grey: Any,
+    pairs: Any,
+    bands: int,
+    noise: float,
+    rb: int,
+    top_limit: int,
+    kf: int,
+    label_rows: int,
+    label_share: float,
+    tops: Any,
+    pp: Any,
+    f64: Any,
+    f32: Any,
+    i32: Any,
+    /,
+) -> int: ...
 def uncovered(
     boxes: Any, r0: int, r1: int, c0: int, c1: int, /
 ) -> list[tuple[int, int, int, int]] | None: ...

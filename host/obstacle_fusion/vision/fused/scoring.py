@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -46,6 +47,18 @@ from obstacle_fusion.vision.fused.tuning import (
 from obstacle_fusion.vision.types import View
 
 log = logging.getLogger(__name__)
+
+_c_score_tops: Callable[..., int] | None
+try:  # the optional C accelerator (setup.py): score_pairs' top candidates in one call
+    from obstacle_fusion.vision.fused._cmiddle import score_tops as _c_score_tops
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_score_tops = None
+
+#: Features of the top candidates the C accelerator returns, as rows of its float64,
+#: float32 and int32 outputs (``score_tops``).
+_C_F64 = ("cov", "stop", "hole", "textured", "tex_above", "face", "face_above", "face_bands")
+_C_F32 = ("snr", "contained")
+_C_I32 = ("up_l", "up_r")
 
 
 def _face_term(face: Any, bands: Any) -> Any:
@@ -178,138 +191,31 @@ def score_pairs(
     if not ps:
         return []
     n_p = len(ps)
-    h_ay, w_ay = ay.shape
-    il = np.array([sides.index[p[0]] for p in ps], np.intp)
-    ir = np.array([sides.index[p[1]] for p in ps], np.intp)
-    inv_n = np.array([1.0 / (p[3] - p[2]) for p in ps], np.float32)
-    # mean |d/dy| between the sides for every row above the smallest face (row sums of
-    # integers: exact, the per-pair values bit for bit)
-    ranges = [(c0, c1) for _, _, c0, c1 in ps]
-    prof = range_sums(ay[:top_limit], ranges) * inv_n
-    # the grey row sums between the sides and over each side's column bands, from one
-    # integral (exact integer sums: the same values as one integral per call)
-    bands = band_ranges(ps)
-    grey_sums = grey_range_sums(grey[:rb], np.concatenate([np.array(ranges, np.intp), bands]))
-    row_sum = grey_sums[:, :n_p]
-    snr = prof / noise
-    mask = np.zeros((top_limit, n_p), bool)
-    mid = snr[1:-1]
-    mask[1:-1] = (mid >= snr[:-2]) & (mid > snr[2:]) & (mid > 1.2)
-    # where each vertical edge ends is a top candidate too: the front top edge of a
-    # box can be nearly invisible (front and top faces alike) while its sides are not
-    run_top = sides.run_top
-    for j in range(n_p):
-        for e in (run_top[il[j]], run_top[ir[j]]):
-            for r in (e - 1, e):
-                if 0 < r < top_limit:
-                    mask[r, j] = True
-    pp, tops = mask.T.nonzero()  # pair-major, rows ascending within a pair
-    if tops.size == 0:
+    sides_at = [(sides.index[p[0]], sides.index[p[1]]) for p in ps]
+    h_t: npt.NDArray[np.intp]
+    if _c_score_tops is not None:
+        found = _tops_in_c(grey, ax3, ay, sides, ps, sides_at, noise, rb, top_limit, min_h)
+    else:
+        found = _tops_in_numpy(grey, ax3, ay, sides, ps, sides_at, noise, rb, top_limit, min_h)
+    if found is None:
         return []
-    tl, tr = il[pp], ir[pp]
-    # coverage of each side from each top candidate down to the bottom, and above it
-    # (tops < top_limit: the face height rb - tops is >= min_h + 1, never 0)
+    tops, pp, feats = found
     h_t = rb - tops
-    span = h_t.astype(np.float64)
-    below, upto = sides.below, sides.upto
-    cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
-    # vertical edges above the top (half as high again as the face): a stripe across
-    # the face leaves them there
-    above_start = np.maximum(tops - np.maximum(3, h_t // 2), 0)
-    n_above = np.maximum(tops - above_start, 1)
-    ext_t = upto[tops, tl] + upto[tops, tr]
-    ext_a = upto[above_start, tl] + upto[above_start, tr]
-    above = 0.5 * (ext_t - ext_a) / n_above
-    # ...but textured background (books, posters) gives vertical edges everywhere: only
-    # what the side columns have beyond the columns just outside them counts
-    bg = np.array([sides.background(il[j], ir[j]) for j in range(n_p)], np.intp)
-    ba, bb = bg[pp, 0], bg[pp, 1]
-    out = sides.out
-    bg_t = out[tops, ba] + out[tops, bb]
-    bg_a = out[above_start, ba] + out[above_start, bb]
-    above = np.maximum(above - 0.5 * (bg_t - bg_a) / n_above, 0.0)
-    stop = 1.0 - above
-    # rows just below a top candidate with no vertical edge: the top face of a low box
-    start = np.minimum(tops + 1, rb - 1)
-    nxt = sides.nxt
-    hole = 0.5 * (nxt[start, tl] + nxt[start, tr] - 2 * start).astype(np.float64)
-    # the box's top edge stops at its sides; a shelf or skirting line runs on
-    # (means over the columns just outside each side, at the top rows)
-    o_cols = []  # per pair: left range start, end, right range start, end
-    for ul, ur, _, _ in ps:
-        wo = max(3, (ur - ul) // 5)
-        o_cols.append(
-            (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
-        )
-    o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
-    o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
-    # row sums over each pair's two outside ranges at the top rows (exact in float32:
-    # integers under 2**24), both ranges of every pair in one pass (each range is at
-    # least one column wide)
-    o_ranges = [(o[k] - o_lo, o[k + 1] - o_lo) for o in o_cols for k in (0, 2)]
-    o_sums = range_sums(ay[tops, o_lo:o_hi], o_ranges)  # T x 2 pairs
-    at_top = np.arange(tops.size)
-    inv_t = o_inv[pp]
-    o_l = o_sums[at_top, 2 * pp] * inv_t[:, 0]
-    o_r = o_sums[at_top, 2 * pp + 1] * inv_t[:, 1]
-    prof_tops = prof[tops, pp]
-    inside = np.maximum(prof_tops, 1e-3)
-    contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
-    # texture inside the face (books on a shelf behind a box's top) is not the face
-    # (rows from the highest top candidate down: counts are exact whatever the start)
-    t0 = int(above_start.min())
-    tex = range_sums(ax3[t0:rb], ranges) * inv_n
-    flags = np.zeros((rb, 2 * n_p), bool)  # face shade (below) and texture per row
-    flags[t0:, n_p:] = tex > 3.0 * noise
     # A hole is a top face only if one fits there: a top face shows below the horizon
     # and spans at most (t - cy) * 2 m / D rows (a box up to 2 m long). A longer hole is
     # a side losing contrast against the background, a milder fault.
+    hole = feats["hole"]
     hole_max = np.maximum(0.0, (tops - view.cy) * 2.0 / depth) + 1.0
     soft = np.exp(-hole / np.maximum(4.0, HOLE_SHARE * h_t))
-    hole_fit = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
-    # rows whose inside has the face's own shade (measured just above the floor): a
-    # shelf of books or a poster over the box does not, a box's face does (but for a
-    # stripe across it, or its top face)
-    row_sum *= inv_n
-    kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
-    face = _face_shade(row_sum, rb, kf)
-    tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
-    match_b = np.abs(row_sum - face) <= tol
-    flags[:, :n_p] = match_b
-    counts = running_counts(flags)  # rows in 0..r-1 (exact counts)
-    match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
-    textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
-    # the same share over the rows just above each top (as many as ``above`` reads)
-    tex_above = (tex_upto[tops, pp] - tex_upto[above_start, pp]) / n_above
-    match_t = match_upto[tops, pp]
-    face_frac = _shade_share(match_upto, _first_match(match_b, rb), tops, pp, rb, h_t)
-    # ...and the face's shade coming back above a band of another shade right above
-    # a top means the top was a stripe across the face (a top face of the same shade
-    # as the front starts right at the top, with no band)
-    a0 = np.maximum(tops - np.maximum(3, h_t), 0)
-    face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
-    # (tops >= 1: row 0 is never a candidate)
-    band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
-    face_above = np.where(band, face_above, 0.0)
-    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise, grey_sums[:, n_p:], bands)
-    snr_tops = snr[tops, pp]
-    feats = {
-        "face_bands": face_bands,
-        "snr": snr_tops,
-        "hole": hole,
-        "hole_fit": hole_fit,
-        "cov": cov,
-        "stop": stop,
-        "contained": contained,
-        "textured": textured,
-        "tex_above": tex_above,
-        "face": face_frac,
-        "face_above": face_above,
-        # each side's edge rows above each top candidate (rows 0..top-1): the rows a side
-        # runs on between two tops (closing_top)
-        "up_l": upto[tops, tl],
-        "up_r": upto[tops, tr],
-    }
+    feats["hole_fit"] = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
+    snr_tops, stop, textured = feats["snr"], feats["stop"], feats["textured"]
+    cov, contained, face_frac, face_above = (
+        feats["cov"],
+        feats["contained"],
+        feats["face"],
+        feats["face_above"],
+    )
+    w_ay = ay.shape[1]
     score_t, fit = _top_score(feats)
     o_ok, o_fit = outline_tops(feats)
     # the bottom edge's strength between the sides (max over +-1 row), per pair
@@ -346,7 +252,7 @@ def score_pairs(
         vt = int(tops[i])
         snr_b = float(np.float32(m3[c1] - m3[c0]) * (1.0 / (c1 - c0))) / noise
         inv_h = 1.0 / (rb - vt)
-        a, b = int(il[j]), int(ir[j])
+        a, b = sides_at[j]
         snr_l = float(np.float32(csum_s[rb, a] - csum_s[vt, a]) * inv_h) / noise
         snr_r = float(np.float32(csum_s[rb, b] - csum_s[vt, b]) * inv_h) / noise
         side = min(snr_l, snr_r, 30.0)
@@ -416,6 +322,208 @@ def score_pairs(
             )
         )
     return cands
+
+
+def _tops_in_numpy(
+    grey: npt.NDArray[np.uint8],
+    ax3: I16,
+    ay: F32,
+    sides: Sides,
+    ps: list[tuple[int, int, int, int]],
+    sides_at: list[tuple[int, int]],
+    noise: float,
+    rb: int,
+    top_limit: int,
+    min_h: int,
+) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.intp], dict[str, npt.NDArray[Any]]] | None:
+    """score_pairs' top candidates (pair-major, rows ascending: rows and pair indices) and
+    their features in numpy (all but ``hole_fit``); None when there are none."""
+    n_p = len(ps)
+    w_ay = ay.shape[1]
+    il = np.array([a for a, _ in sides_at], np.intp)
+    ir = np.array([b for _, b in sides_at], np.intp)
+    inv_n = np.array([1.0 / (p[3] - p[2]) for p in ps], np.float32)
+    # mean |d/dy| between the sides for every row above the smallest face (row sums of
+    # integers: exact, the per-pair values bit for bit)
+    ranges = [(c0, c1) for _, _, c0, c1 in ps]
+    prof = range_sums(ay[:top_limit], ranges) * inv_n
+    # the grey row sums between the sides and over each side's column bands, from one
+    # integral (exact integer sums: the same values as one integral per call)
+    bands = band_ranges(ps)
+    grey_sums = grey_range_sums(grey[:rb], np.concatenate([np.array(ranges, np.intp), bands]))
+    row_sum = grey_sums[:, :n_p]
+    snr = prof / noise
+    mask = np.zeros((top_limit, n_p), bool)
+    mid = snr[1:-1]
+    mask[1:-1] = (mid >= snr[:-2]) & (mid > snr[2:]) & (mid > 1.2)
+    # where each vertical edge ends is a top candidate too: the front top edge of a
+    # box can be nearly invisible (front and top faces alike) while its sides are not
+    run_top = sides.run_top
+    for j in range(n_p):
+        for e in (run_top[il[j]], run_top[ir[j]]):
+            for r in (e - 1, e):
+                if 0 < r < top_limit:
+                    mask[r, j] = True
+    pp, tops = mask.T.nonzero()  # pair-major, rows ascending within a pair
+    if tops.size == 0:
+        return None
+    tl, tr = il[pp], ir[pp]
+    # coverage of each side from each top candidate down to the bottom, and above it
+    # (tops < top_limit: the face height rb - tops is >= min_h + 1, never 0)
+    h_t = rb - tops
+    span = h_t.astype(np.float64)
+    below, upto = sides.below, sides.upto
+    cov = 0.5 * (below[tops, tl] + below[tops, tr]) / span
+    # vertical edges above the top (half as high again as the face): a stripe across
+    # the face leaves them there
+    above_start = np.maximum(tops - np.maximum(3, h_t // 2), 0)
+    n_above = np.maximum(tops - above_start, 1)
+    ext_t = upto[tops, tl] + upto[tops, tr]
+    ext_a = upto[above_start, tl] + upto[above_start, tr]
+    above = 0.5 * (ext_t - ext_a) / n_above
+    # ...but textured background (books, posters) gives vertical edges everywhere: only
+    # what the side columns have beyond the columns just outside them counts
+    bg = np.array([sides.background(il[j], ir[j]) for j in range(n_p)], np.intp)
+    ba, bb = bg[pp, 0], bg[pp, 1]
+    out = sides.out
+    bg_t = out[tops, ba] + out[tops, bb]
+    bg_a = out[above_start, ba] + out[above_start, bb]
+    above = np.maximum(above - 0.5 * (bg_t - bg_a) / n_above, 0.0)
+    stop = 1.0 - above
+    # rows just below a top candidate with no vertical edge: the top face of a low box
+    start = np.minimum(tops + 1, rb - 1)
+    nxt = sides.nxt
+    hole = 0.5 * (nxt[start, tl] + nxt[start, tr] - 2 * start).astype(np.float64)
+    # the box's top edge stops at its sides; a shelf or skirting line runs on
+    # (means over the columns just outside each side, at the top rows)
+    o_cols = []  # per pair: left range start, end, right range start, end
+    for ul, ur, _, _ in ps:
+        wo = max(3, (ur - ul) // 5)
+        o_cols.append(
+            (max(0, ul - 1 - wo), max(1, ul - 1), min(w_ay - 1, ur + 2), min(w_ay, ur + 2 + wo))
+        )
+    o_lo, o_hi = min(o[0] for o in o_cols), max(o[3] for o in o_cols)
+    o_inv = np.array([(1.0 / (o[1] - o[0]), 1.0 / (o[3] - o[2])) for o in o_cols], np.float32)
+    # row sums over each pair's two outside ranges at the top rows (exact in float32:
+    # integers under 2**24), both ranges of every pair in one pass (each range is at
+    # least one column wide)
+    o_ranges = [(o[k] - o_lo, o[k + 1] - o_lo) for o in o_cols for k in (0, 2)]
+    o_sums = range_sums(ay[tops, o_lo:o_hi], o_ranges)  # T x 2 pairs
+    at_top = np.arange(tops.size)
+    inv_t = o_inv[pp]
+    o_l = o_sums[at_top, 2 * pp] * inv_t[:, 0]
+    o_r = o_sums[at_top, 2 * pp + 1] * inv_t[:, 1]
+    prof_tops = prof[tops, pp]
+    inside = np.maximum(prof_tops, 1e-3)
+    contained = np.minimum(np.maximum(1.0 - np.maximum(o_l, o_r) / inside, 0.0), 1.0)
+    # texture inside the face (books on a shelf behind a box's top) is not the face
+    # (rows from the highest top candidate down: counts are exact whatever the start)
+    t0 = int(above_start.min())
+    tex = range_sums(ax3[t0:rb], ranges) * inv_n
+    flags = np.zeros((rb, 2 * n_p), bool)  # face shade (below) and texture per row
+    flags[t0:, n_p:] = tex > 3.0 * noise
+    # rows whose inside has the face's own shade (measured just above the floor): a
+    # shelf of books or a poster over the box does not, a box's face does (but for a
+    # stripe across it, or its top face)
+    row_sum *= inv_n
+    kf = max(2, min(8, min_h // 2))  # within the smallest face the method looks for
+    face = _face_shade(row_sum, rb, kf)
+    tol = np.maximum(np.float32(8.0), (0.08 * face.astype(np.float64)).astype(np.float32))
+    match_b = np.abs(row_sum - face) <= tol
+    flags[:, :n_p] = match_b
+    counts = running_counts(flags)  # rows in 0..r-1 (exact counts)
+    match_upto, tex_upto = counts[:, :n_p], counts[:, n_p:]
+    textured = (tex_upto[rb, pp] - tex_upto[tops, pp]) / h_t
+    # the same share over the rows just above each top (as many as ``above`` reads)
+    tex_above = (tex_upto[tops, pp] - tex_upto[above_start, pp]) / n_above
+    match_t = match_upto[tops, pp]
+    face_frac = _shade_share(match_upto, _first_match(match_b, rb), tops, pp, rb, h_t)
+    # ...and the face's shade coming back above a band of another shade right above
+    # a top means the top was a stripe across the face (a top face of the same shade
+    # as the front starts right at the top, with no band)
+    a0 = np.maximum(tops - np.maximum(3, h_t), 0)
+    face_above = (match_t - match_upto[a0, pp]) / np.maximum(tops - a0, 1)
+    # (tops >= 1: row 0 is never a candidate)
+    band = ~(match_b[tops - 1, pp] | match_b[np.maximum(tops - 2, 0), pp])
+    face_above = np.where(band, face_above, 0.0)
+    face_bands = band_face_share(grey, ps, tops, pp, rb, kf, noise, grey_sums[:, n_p:], bands)
+    snr_tops = snr[tops, pp]
+    feats = {
+        "face_bands": face_bands,
+        "snr": snr_tops,
+        "hole": hole,
+        "cov": cov,
+        "stop": stop,
+        "contained": contained,
+        "textured": textured,
+        "tex_above": tex_above,
+        "face": face_frac,
+        "face_above": face_above,
+        # each side's edge rows above each top candidate (rows 0..top-1): the rows a side
+        # runs on between two tops (closing_top)
+        "up_l": upto[tops, tl],
+        "up_r": upto[tops, tr],
+    }
+    return tops, pp, feats
+
+
+def _tops_in_c(
+    grey: npt.NDArray[np.uint8],
+    ax3: I16,
+    ay: F32,
+    sides: Sides,
+    ps: list[tuple[int, int, int, int]],
+    sides_at: list[tuple[int, int]],
+    noise: float,
+    rb: int,
+    top_limit: int,
+    min_h: int,
+) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.intp], dict[str, npt.NDArray[Any]]] | None:
+    """:func:`_tops_in_numpy` in one call of the C accelerator (``score_tops``): the same
+    candidates and the same values, bit for bit (its float32 and float64 operations are
+    numpy's, in numpy's order)."""
+    assert _c_score_tops is not None
+    n_p = len(ps)
+    run_top = sides.run_top
+    pairs = np.array(
+        [
+            (ul, ur, c0, c1, a, b, run_top[a], run_top[b], *sides.background(a, b))
+            for (ul, ur, c0, c1), (a, b) in zip(ps, sides_at, strict=True)
+        ],
+        np.intp,
+    )
+    cap = top_limit * n_p
+    tops, pp = np.empty(cap, np.intp), np.empty(cap, np.intp)
+    f64 = np.empty((len(_C_F64), cap))
+    f32 = np.empty((len(_C_F32), cap), np.float32)
+    i32 = np.empty((len(_C_I32), cap), np.int32)
+    kf = max(2, min(8, min_h // 2))
+    n = _c_score_tops(
+        ay,
+        ax3,
+        sides.out,
+        sides.nxt,
+        grey,
+        pairs,
+        BANDS,
+        noise,
+        rb,
+        top_limit,
+        kf,
+        LABEL_BLUR_ROWS,
+        LABEL_SHARE,
+        tops,
+        pp,
+        f64,
+        f32,
+        i32,
+    )
+    if n == 0:
+        return None
+    feats: dict[str, npt.NDArray[Any]] = {k: f64[i, :n] for i, k in enumerate(_C_F64)}
+    feats.update({k: f32[i, :n] for i, k in enumerate(_C_F32)})
+    feats.update({k: i32[i, :n] for i, k in enumerate(_C_I32)})
+    return tops[:n], pp[:n], feats
 
 
 def _edge_evidence(
