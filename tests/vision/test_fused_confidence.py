@@ -607,11 +607,14 @@ def test_a_face_of_panels_is_not_refused_for_its_panels(
     0.95), and the luminance run took the joint between the rows for the top (-52 %).
     (With this rule off, the top decided again between the settled sides finds the face's
     top anyway, at a low confidence: that is switched off as well, to see this rule alone;
-    so are the candidates beside the joints, search.LINE_SIDES, which find the face whole.)"""
+    so are the candidates beside the joints, search.LINE_SIDES, which find the face whole,
+    and the outline read from the face's foot round the unsure short face,
+    method.FOOT_OUTLINE, which does too.)"""
     monkeypatch.setattr(conf_mod, "SAME_FACE_ROWS", rows)
     if not within:
         monkeypatch.setattr(method_mod, "SETTLED_MOVE_SHARE", 10.0)
         monkeypatch.setattr(search_mod, "LINE_SIDES", False)
+        monkeypatch.setattr(method_mod, "FOOT_OUTLINE", False)
     image, truth, spec = render_room("procedural", 345, False)
     res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None

@@ -28,6 +28,7 @@ from obstacle_fusion.vision.fused.confidence import (
     contact_doubts,
     face_doubts,
     refusal,
+    reported_confidence,
 )
 from obstacle_fusion.vision.fused.extent import (
     OUTLINE_FAR_M,
@@ -40,6 +41,7 @@ from obstacle_fusion.vision.fused.extent import (
     top_line_across,
     widen_across_seams,
 )
+from obstacle_fusion.vision.fused.foot_outline import grows_face, outline_from_foot
 from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
@@ -162,6 +164,17 @@ def stands_for_strip(face: Measurement, strip: Measurement) -> bool:
     )
 
 
+def _unsure(m: Measurement) -> bool:
+    """Whether a face found would be reported under FOOT_OUTLINE_CONFIDENCE (its doubts
+    and its size in pixels applied, unfloored, the rig given)."""
+    if not m.detected:
+        return False
+    sure, _ = reported_confidence(
+        m.confidence or 0.0, m.doubts, m.height_px, m.width_px, 0.0, rig_given=True
+    )
+    return sure < FOOT_OUTLINE_CONFIDENCE
+
+
 def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
     """Whether the width stages moved the sides far from the search's pair ``found``."""
     move = abs(settled[0] - found[0]) + abs(settled[1] - found[1])
@@ -253,6 +266,17 @@ FRAME_CHECKED_RAISE = 0.2
 #: (``runs_on``: a skirting along the wall, not a frame's margin round a print); the walk
 #: adds no evidence: the face's agreement is the lesser of the two tops' (a switch).
 EDGE_SKIRTING_WALK = True
+#: A face found as a piece of a print covering it is grown to the outline read from its
+#: foot (:func:`.foot_outline.outline_from_foot`; with the rig only: the foot's row is the
+#: one the range predicts). Session 35, branch ``wt-b-35``; a switch for the tests.
+FOOT_OUTLINE = True
+#: ... only for a face reported under this confidence (its doubts and pixel size applied,
+#: unfloored): a face found surely is no piece of a print (with no limit, photo/2063 hard
+#: at 0.41 went 0.9 -> 37 %, photo/2042 ordinary at 0.58 9.5 -> 39 %; the pieces the rule
+#: is for were at 0.05-0.20).
+FOOT_OUTLINE_CONFIDENCE = 0.25
+#: ... its foot the found one where that is within this many rows of the predicted row.
+FOOT_SAME_ROWS = 3
 #: A face found by its colour in place of the edges' face standing above the contact band
 #: (STANDING_BEHIND_RESCUE), lying between that face's sides and reaching as high (its top
 #: at most RESCUE_SAME_TOP_ROWS under that face's: the same face, its foot read in the
@@ -478,9 +502,35 @@ class FusedMethod:
                 log.debug("rescue: top %d, front top %d", vt, front)
                 if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur, pattern=True):
                     vt, sign = front, front_sign
-            return self._refine(
+            found = self._refine(
                 ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
             )
+            if FOOT_OUTLINE and floor_known and rig_known and _unsure(found):
+                # a piece of a print found by its colour or texture: the face round it
+                grown = self._foot_outline(seen, dy, noise, rb, vt, ul, ur, depth, vb0)
+                if grown is not None:
+                    rb, vt, ul, ur = grown
+                    sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+                    again = self._refine(
+                        ax,
+                        ay,
+                        ax3,
+                        dy,
+                        rb,
+                        ul,
+                        ur,
+                        vt,
+                        sign,
+                        None,
+                        conf,
+                        depth,
+                        range_m,
+                        timer,
+                        None,
+                    )
+                    if again.detected:
+                        return again
+            return found
 
         if best is None:
             rescued = rescue_by_colour()
@@ -749,7 +799,56 @@ class FusedMethod:
             if rescued is not None and stands_for_strip(rescued, measured):
                 log.debug("a thin strip at the foot: the colour's face, surer")
                 return rescued
+        if FOOT_OUTLINE and floor_known and rig_known and _unsure(measured):
+            # an unsure face, a piece of a print over the face: the outline round it read
+            # from the face's foot
+            grown = self._foot_outline(seen, dy, noise, rb, int(round(vt)), ul, ur, depth, vb0)
+            if grown is not None:
+                rb, vt, ul, ur = grown
+                sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
+                again = self._refine(
+                    ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
+                )
+                if again.detected:
+                    faced = face_doubts(
+                        v.camera, seen, ay, rb, ul, ur, vt, best, rivals, again.lines
+                    )
+                    again.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
+                    return again
         return measured
+
+    def _foot_outline(
+        self,
+        seen: npt.NDArray[Any],
+        dy: npt.NDArray[np.int16],
+        noise: float,
+        rb: int,
+        vt: int,
+        ul: int,
+        ur: int,
+        depth: float,
+        vb0: float,
+    ) -> tuple[int, int, int, int] | None:
+        """The face's outline read from its foot (:func:`.foot_outline.outline_from_foot`)
+        round a face found as a piece of a print: read on the floor-contact row the rig
+        predicts (the face stands there, a print's found foot may be a margin's width
+        above it), the face's foot there unless the found one is within FOOT_SAME_ROWS."""
+        foot = int(round(vb0))
+        log.debug("foot outline from %d round %d-%d x %d-%d", foot, ul, ur, vt, rb)
+        grown = outline_from_foot(seen, self.view, foot, rb, vt, ul, ur, depth)
+        if grown is None:
+            return None
+        bottom = rb if abs(rb - foot) <= FOOT_SAME_ROWS else foot
+        _, top, left, right = grown
+        # a face lower than the lens shows its top face over its front: the sides' rises
+        # end at its back edge, the face's top is the front edge under it
+        front, _ = front_top(self.view, depth, dy, bottom, left, right, top, noise)
+        if front != top and looks_like_top_face(seen, self.view, top, front, left, right):
+            log.debug("foot outline: top %d, a top face's back edge over the front %d", top, front)
+            if not grows_face((rb, vt, ul, ur), front, left, right):
+                return None
+            top = front
+        return bottom, top, left, right
 
     def _settled_top(
         self,

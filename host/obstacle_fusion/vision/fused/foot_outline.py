@@ -1,0 +1,253 @@
+"""The face's outline read from its foot up (session 35): a print found instead of the face.
+
+Receives the face as found (floor-contact row, top row, side columns, in the levelled view),
+the floor-contact row the rig and the range predict and the input BGR frame (read in CIE Lab,
+only a block round the face); returns the face's outline (bottom, top, left, right) or None.
+
+A print covering the face (a poster, a photograph, a drawn pattern) has strong edges of its
+own inside the face: the search, the colour and the texture rescues take a piece of it (a
+plain part at its foot, a column of its pattern) and every walk up or out stops on a row or
+a column of the picture. Its outline does not depend on the picture: the face is one
+surface standing on the floor the rig predicts, so just above that row, across its whole
+width, it hides the floor that shows just below it (whatever it carries), and beside it
+the floor runs on further back; and each of its sides parts it from what stands beside it
+from the floor all the way up to its top, where both end together.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from obstacle_fusion.vision.fused.profiles import median_u8, row_norms
+from obstacle_fusion.vision.types import View
+
+log = logging.getLogger(__name__)
+
+#: Rows just above the floor-contact row read for the face's foot (its edge's blur skipped).
+FOOT_FACE_ROWS = (1, 5)
+#: Rows just below it read for the floor the face hides.
+FOOT_FLOOR_ROWS = (3, 7)
+#: A column is the face's (it hides the floor) where its foot differs from the floor under
+#: it by at least this (Lab; the sides' walk's clear step, region.MIN_BESIDE_STEP), and a
+#: side stands on a row where what is just inside it differs as much from what is just
+#: outside.
+FOOT_STEP = 12.0
+#: The foot's run is walked out from the found face over gaps of up to this (m at the face:
+#: a print's dark part of the floor's shade at the foot) ...
+FOOT_GAP_M = 0.02
+#: ... and must end within this far (m) past the found sides on both sides: a run reaching
+#: farther is a band along the wall's foot or a floor line, no face's foot.
+FOOT_REACH_M = 1.0
+#: The found face's own foot must hide the floor along this share of its columns (else
+#: the found face is no face standing on the predicted row: nothing to widen from).
+FOUND_FOOT_SHARE = 0.6
+#: A face wider than this (m) is no face the sonar ranges (its foot run is clutter too).
+MAX_FACE_M = 1.5
+#: Columns read on each side of a side candidate (their means compared) ...
+SIDE_STRIP = 3
+#: ... and its rise walked up over gaps of up to this (m at the face: a print's part of
+#: the background's shade along one side) ...
+RISE_GAP_M = 0.05
+#: ... from the floor up to at most this (m: a face is seldom taller).
+RISE_REACH_M = 1.5
+#: A side is sought within this share of the foot run's width inside each of its ends
+#: (the run may end a shadow's or a blur's width outside the side) ...
+SIDE_SEARCH_SHARE = 0.25
+#: ... as the outermost column rising at least this many times the found face's height
+#: (the outline round a piece of the picture rises past that piece's top) ...
+SIDE_RISE_FACTOR = 1.3
+#: ... and at least this far (m): the blur of a shadow or a floor line rises a few rows ...
+SIDE_MIN_RISE_M = 0.1
+#: ... standing in at least this share of the rows up to its end (region.OUTLINE_COVER: a
+#: face's side stands nearly all the way, the leaning lines of a floor's grid crossed
+#: one after another over the gaps here and there: with no cover asked, 5 of the own
+#: rooms' answers the rule fixed went wrong again, procedural/746 hard among them).
+SIDE_COVER = 0.8
+#: The two sides' rises end together (a face's top is level): within this share of the
+#: longer one (plus SIDE_AGREE_ROWS rows; photo/735 hard: its right side rises on up a
+#: tripod's leg behind, 147 against 179 rows, 0.18).
+SIDE_AGREE_SHARE = 0.25
+SIDE_AGREE_ROWS = 3
+#: Rows over and under a top row read for its step (its edge's blur skipped) ...
+TOP_STEP_ROWS = (2, 5)
+#: ... which must part the face under it from what is over it along at least this share
+#: of the columns between the sides: a face's top is a boundary across it, not a row of
+#: a textured background the sides' steps rose on into (procedural/746 hard's top: 0.84).
+TOP_STEP_SHARE = 0.75
+#: The outline is taken only where it grows the face found: its top at least this share
+#: of the found face's height higher (region.OUTLINE_MIN_RAISE's figure: a few rows up
+#: are a plain face's top blur, or a low box's top face; photo/2034 hard's print: 0.66) ...
+MIN_RAISE_SHARE = 0.5
+#: ... or its width this many times the found one.
+MIN_WIDEN_FACTOR = 1.25
+#: The outline holds at least this share of the found face's columns (a found side may lie
+#: past the face's, on its shadow or the floor's blur beside it: procedural/746 hard, 0.87).
+CONTAIN_SHARE = 0.7
+
+
+def _rises(on: npt.NDArray[np.bool_], gap: int) -> npt.NDArray[np.intp]:
+    """Per column of ``on`` (rows going up from the floor), the rows up to the last one on
+    before the first run of more than ``gap`` misses: how far the column's side rises."""
+    n = on.shape[0]
+    miss = (~on).astype(np.int32)
+    run = gap + 1
+    if n < run:
+        ends = np.full(on.shape[1], n, np.intp)
+    else:
+        c = np.vstack([np.zeros((1, on.shape[1]), np.int32), np.cumsum(miss, axis=0)])
+        window = c[run:] - c[:-run]  # misses in rows i .. i+gap
+        full = window == run
+        ends = np.where(full.any(axis=0), full.argmax(axis=0), n)
+    rows = np.arange(n)[:, None]
+    last = np.where(on & (rows < ends[None, :]), rows, -1).max(axis=0)
+    return last + 1
+
+
+def grows_face(found: tuple[int, int, int, int], top: int, left: int, right: int) -> bool:
+    """Whether an outline (``top``, ``left``, ``right``) grows the ``found`` face
+    (bottom, top, left, right) enough to be taken: its top MIN_RAISE_SHARE of the found
+    height higher, or its width MIN_WIDEN_FACTOR times the found one."""
+    bottom, found_top, found_l, found_r = found
+    raised = found_top - top >= MIN_RAISE_SHARE * (bottom - found_top)
+    return raised or right - left >= MIN_WIDEN_FACTOR * (found_r - found_l)
+
+
+def _top_across(
+    image: npt.NDArray[Any], view: View, end: int, left: int, right: int, gap: int
+) -> int | None:
+    """The face's top near ``end``, where its sides' rises end: of the rows from there
+    down to ``gap`` rows under it, the one across which the colour steps along the most of
+    the columns between the sides (what is over the face differs from the face), if that
+    is at least TOP_STEP_SHARE of them; else None (the sides rose on into a textured
+    background, no top closes them)."""
+    far = TOP_STEP_ROWS[1]
+    c0, c1 = left + SIDE_STRIP, right - SIDE_STRIP + 1
+    r0, r1 = end - far, min(view.out.shape[0], end + gap + far + 1)
+    if r0 < 0 or c1 - c0 < 4 or r1 - r0 < 2 * far + 1:
+        return None
+    band = view.lab(image, r0, r1, c0, c1)
+    best, best_share = None, -1.0
+    for row in range(end, r1 - far):
+        k = row - r0
+        over = np.asarray(median_u8(band[k - far : k - TOP_STEP_ROWS[0] + 1], axis=0), np.float32)
+        under = np.asarray(median_u8(band[k + TOP_STEP_ROWS[0] : k + far + 1], axis=0), np.float32)
+        across = float((row_norms(over - under) >= FOOT_STEP).mean())
+        if across > best_share:
+            best, best_share = row, across
+    log.debug("foot outline: top %s from %d, steps across %.2f", best, end, best_share)
+    return best if best_share >= TOP_STEP_SHARE else None
+
+
+def outline_from_foot(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    foot: int,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int, int, int] | None:
+    """The face's outline read from its foot on the floor-contact row ``foot``: its sides
+    the outermost columns near the ends of the run of columns whose foot hides the floor,
+    rising up from the floor past the found top, its top where both end. Returns
+    (``foot``, top, left, right) when it contains the found face and grows it by
+    MIN_RAISE_SHARE of its height or MIN_WIDEN_FACTOR of its width, else None."""
+    if image is None or image.ndim != 3 or right - left < 4 or bottom - top < 2:
+        return None
+    h, w = view.out.shape
+    ppm_u, ppm_v = view.fx / depth_m, view.fy / depth_m
+    if foot - FOOT_FACE_ROWS[1] < 0 or foot + FOOT_FLOOR_ROWS[1] > h:
+        return None
+    reach = int(round(FOOT_REACH_M * ppm_u))
+    edge = SIDE_STRIP + 3
+    c0, c1 = max(edge, left - reach), min(w - edge, right + reach + 1)
+    if right >= c1 or left < c0:
+        return None
+    # the foot's run: the columns whose foot hides the floor under it
+    lab = view.lab(image, foot - FOOT_FACE_ROWS[1], foot + FOOT_FLOOR_ROWS[1], c0, c1)
+    face = np.asarray(median_u8(lab[: FOOT_FACE_ROWS[1] - FOOT_FACE_ROWS[0]], axis=0))
+    k = FOOT_FACE_ROWS[1]
+    floor = np.asarray(median_u8(lab[k + FOOT_FLOOR_ROWS[0] : k + FOOT_FLOOR_ROWS[1]], axis=0))
+    hides = row_norms(np.asarray(face - floor, np.float32)) >= FOOT_STEP
+    fl, fr = left - c0, right - c0
+    if float(hides[fl : fr + 1].mean()) < FOUND_FOOT_SHARE:
+        return None
+    gap = max(2, int(round(FOOT_GAP_M * ppm_u)))
+    ends = []
+    for way, stop in ((-1, -1), (1, c1 - c0)):
+        c, last, miss = (fl + fr) // 2, None, 0
+        while c != stop and miss <= gap:
+            if hides[c]:
+                last, miss = c, 0
+            else:
+                miss += 1
+            c += way
+        if miss <= gap or last is None:
+            return None  # the run reaches the block's end: no face's foot
+        ends.append(last + c0)
+    run_l, run_r = ends[0], ends[1] + 1
+    if (run_r - run_l) / ppm_u > MAX_FACE_M:
+        return None
+    # the sides: the outermost columns near the run's ends rising from the floor past the
+    # found top (the steps between what is just inside and just outside each column)
+    q = max(3, int(SIDE_SEARCH_SHARE * (run_r - run_l)))
+    b0 = max(0, foot - int(round(RISE_REACH_M * ppm_v)))
+    s0, s1 = max(0, run_l - 2 - edge), min(w, run_r + 2 + edge + 1)
+    block = view.lab(image, b0, foot - 1, s0, s1)[::-1].astype(np.float32)
+    if block.shape[0] < 4:
+        return None
+    mean = cv2.blur(block, (SIDE_STRIP, 1), borderType=cv2.BORDER_REPLICATE)
+    half = SIDE_STRIP // 2 + 1
+    steps = np.zeros(block.shape[:2], np.float32)
+    diff = mean[:, 2 * half :] - mean[:, : -2 * half]
+    steps[:, half:-half] = np.sqrt((diff * diff).sum(axis=2))
+    rise_gap = max(2, int(round(RISE_GAP_M * ppm_v)))
+    on = steps >= FOOT_STEP
+    rises = _rises(on, rise_gap)
+    need = max(SIDE_RISE_FACTOR * (foot - top), SIDE_MIN_RISE_M * ppm_v)
+    sides = []
+    for cols in (range(run_l - 2, run_l + q), range(run_r + 2, run_r - q, -1)):
+        found = None
+        for c in cols:
+            i = c - s0
+            if (
+                half <= i < block.shape[1] - half
+                and rises[i] >= need
+                and float(on[: rises[i], i].mean()) >= SIDE_COVER
+            ):
+                found = (c, int(rises[i]))
+                break
+        if found is None:
+            return None
+        sides.append(found)
+    (new_l, rise_l), (new_r, rise_r) = sides
+    log.debug(
+        "foot outline: run %d-%d, sides %d (%d) %d (%d)", run_l, run_r, new_l, rise_l, new_r, rise_r
+    )
+    if abs(rise_l - rise_r) > SIDE_AGREE_SHARE * max(rise_l, rise_r) + SIDE_AGREE_ROWS:
+        return None  # a level top: both sides end together
+    new_top = _top_across(image, view, foot - 1 - min(rise_l, rise_r), new_l, new_r, rise_gap)
+    if new_top is None:
+        return None
+    held = min(new_r, right) - max(new_l, left)
+    if held < CONTAIN_SHARE * (right - left) or new_top >= top:
+        return None
+    if not grows_face((bottom, top, left, right), new_top, new_l, new_r):
+        return None
+    log.debug(
+        "outline from the foot %d: %d-%d x %d (found %d-%d x %d)",
+        foot,
+        new_l,
+        new_r,
+        new_top,
+        left,
+        right,
+        top,
+    )
+    return foot, new_top, new_l, new_r
