@@ -58,6 +58,7 @@ from obstacle_fusion.vision.fused.region import (
     looks_like_top_face,
     lower_top_past_top_face,
     lower_top_to_background,
+    lower_top_to_surface,
     raise_top_along_frame,
     raise_top_by_colour,
     raise_top_by_outline,
@@ -264,6 +265,12 @@ EDGE_SKIRTING_WALK = True
 RESCUE_TAKES_EDGE_SIDES = True
 RESCUE_SIDES_SLACK = SNAP_COLUMNS
 RESCUE_SAME_TOP_ROWS = 2
+#: With the rig, the top as settled is lowered to where the face's own surface begins
+#: under it when the rows between are something else from side to side, ending at an
+#: edge (:func:`.region.lower_top_to_surface`): the face is one surface from its foot up
+#: to its top, and a top on a background line in line above it (a rocket's or a
+#: platform's edge, a wall band) has that background between (a switch for the tests).
+SURFACE_UP_TO_TOP = True
 
 
 class FusedMethod:
@@ -694,6 +701,14 @@ class FusedMethod:
                 and again[3] >= self.min_confidence
             ):
                 vt, sign, top_row, face_conf = again
+        if SURFACE_UP_TO_TOP and rig_known and floor_known:
+            # the face is one surface from its foot up to its top: a top with something
+            # else from side to side between it and the face's colour is a line behind
+            surface = lower_top_to_surface(seen, v, ay, rb, int(round(vt)), ul, ur)
+            if surface > vt:
+                log.debug("top %d: the face's surface starts at %d", vt, surface)
+                vt, top_row = surface, None
+                sign = 1.0 if int(dy[surface, ul:ur].sum()) >= 0 else -1.0
         if rig_known:
             # a side the walk moved out rises as the face's up to the top as settled (no
             # shadow's, no floor's at its foot): read under the top found for the sides the
