@@ -7,6 +7,8 @@ room) is a small tape face under a wall band in line with its sides: the top was
 on the band's edge (+38 %, confidence 0.18); between that edge and the face's real top
 lies the wall, another colour, ending at the face's top edge. Procedural 106 (ordinary)
 is a tall gloss face whose upper half lightens gradually: a ramp, no edge, kept.
+With it, a top where the face's colour ends is not walked up by the colour and sides
+walks (``method.COLOUR_TOP_STAYS``; photo 2085 hard, a poster under a rocket).
 """
 
 from __future__ import annotations
@@ -121,4 +123,19 @@ def test_a_gloss_ramp_keeps_its_top(monkeypatch: pytest.MonkeyPatch) -> None:
     assert eh < 0.05 and ew < 0.05
     monkeypatch.setattr(region, "SURFACE_STEP", 0.0)
     eh, _ = room_size_errors("procedural", 106, False)
+    assert eh > 0.25
+
+
+def test_a_top_where_the_colour_ends_is_not_walked_up() -> None:
+    # photo/2085 hard (a tuning room): a poster face under a photographed rocket in line
+    # with its sides; the print's wide colour spread let the walks run up the rocket
+    eh, _ = room_size_errors("photo", 2085, True)
+    assert eh < 0.05
+
+
+def test_without_the_colour_top_the_walks_run_up_the_rocket(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(method, "COLOUR_TOP_STAYS", False)
+    eh, _ = room_size_errors("photo", 2085, True)
     assert eh > 0.25

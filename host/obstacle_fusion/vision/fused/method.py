@@ -271,6 +271,13 @@ RESCUE_SAME_TOP_ROWS = 2
 #: to its top, and a top on a background line in line above it (a rocket's or a
 #: platform's edge, a wall band) has that background between (a switch for the tests).
 SURFACE_UP_TO_TOP = True
+#: With the rig, a top where the face's colour ends (region.stops_at_colour_top: the
+#: inner edges' raise judged short, the rows above unlike those below and the face's
+#: foot, from side to side) is not raised by the colour and sides walks either: their
+#: looser limits (the face's spread, up to region.MAX_FACE_DISTANCE) let a print's wide
+#: spread pass what stands in line behind the face (photo/2085 hard: a poster under a
+#: photographed rocket, +131 -> +2 %; a switch for the tests).
+COLOUR_TOP_STAYS = True
 
 
 class FusedMethod:
@@ -558,11 +565,17 @@ class FusedMethod:
         # the floor row the range predicts; under a row merely tried a poster face's
         # strips, unlike its middle, stopped its walk: photo/1490 hard)
         coloured = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth, edge_sides=rig_known)
+        if COLOUR_TOP_STAYS and colour_top and rig_known:
+            # the face's colour ends at this top (the sides ran on a short way only): the
+            # walks up read what stands in line behind it, not the face
+            coloured = vt
         if face_under_raised_top(seen, v, rb, vt, coloured, ul, ur) and not (
             framed is not None and top_face_above(seen, v, rb, vt, coloured, ul, ur)
         ):
             vt = coloured
         walked = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        if COLOUR_TOP_STAYS and colour_top and rig_known:
+            walked = vt
         if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True) and not (
             framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
         ):
