@@ -25,6 +25,8 @@ def test_without_the_colour_check_the_background_is_taken_for_the_frame(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(method, "FRAME_KEEPS_COLOUR", False)
+    # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
+    monkeypatch.setattr(method, "SURFACE_UP_TO_TOP", False)
     eh, _ = room_size_errors("photo", 739, False)
     assert eh > 0.25
 

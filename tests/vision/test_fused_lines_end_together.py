@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from obstacle_fusion.vision.fused import extent
+from obstacle_fusion.vision.fused import extent, method
 from obstacle_fusion.vision.fused.extent import _line_ends_at
 
 from tests.vision_fixtures import room_size_errors
@@ -83,6 +83,8 @@ def test_without_the_rule_the_seam_and_the_tower_are_the_face(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
+    # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
+    monkeypatch.setattr(method, "SURFACE_UP_TO_TOP", False)
     eh, ew = room_size_errors("photo", 2022, False)
     assert eh > 0.25 and ew > 0.25
 

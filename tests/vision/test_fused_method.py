@@ -189,6 +189,8 @@ def test_without_one_side_the_cups_rim_is_taken(monkeypatch: pytest.MonkeyPatch)
     and the frame's margin closing under it (region.frame_top_by_margin)."""
     monkeypatch.setattr(region, "ONE_SIDE_ROWS", 10_000)
     monkeypatch.setattr(method_mod, "frame_top_by_margin", lambda *a: None)
+    # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
+    monkeypatch.setattr(method_mod, "SURFACE_UP_TO_TOP", False)
     assert height_error("photo", 310) > 0.3
 
 

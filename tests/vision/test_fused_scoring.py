@@ -220,6 +220,8 @@ def test_a_column_behind_the_face_in_line_with_one_side_is_not_its_top(
     monkeypatch.setattr(scoring, "CLOSING_SIDE_RUN", side_run)
     # the top line across the rocket finds that top too (extent.TOP_LINE_ACROSS): off
     monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
+    # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
+    monkeypatch.setattr(method, "SURFACE_UP_TO_TOP", False)
     res, error = height_error_with_rig("photo", 1484, False)
     assert error <= 0.05 if within else error > 0.3
     assert (TOP_FROM_SIDES in res.doubts) is not within
@@ -300,6 +302,8 @@ def test_the_mirrored_room_asks_the_other_side(
     monkeypatch.setattr(scoring, "CLOSING_SIDE_RUN", side_run)
     # the top line across the rocket finds that top too (extent.TOP_LINE_ACROSS): off
     monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
+    # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
+    monkeypatch.setattr(method, "SURFACE_UP_TO_TOP", False)
     cam = CameraModel.paper(500, 375)
     image, truth, spec = render_room("photo", 1484, False, cam)
     mirrored = np.ascontiguousarray(image[:, ::-1])

@@ -60,6 +60,7 @@ from obstacle_fusion.vision.fused.region import (
     looks_like_top_face,
     lower_top_past_top_face,
     lower_top_to_background,
+    lower_top_to_surface,
     raise_top_along_frame,
     raise_top_by_colour,
     raise_top_by_outline,
@@ -288,6 +289,19 @@ FOOT_SAME_ROWS = 3
 RESCUE_TAKES_EDGE_SIDES = True
 RESCUE_SIDES_SLACK = SNAP_COLUMNS
 RESCUE_SAME_TOP_ROWS = 2
+#: With the rig, the top as settled is lowered to where the face's own surface begins
+#: under it when the rows between are something else from side to side, ending at an
+#: edge (:func:`.region.lower_top_to_surface`): the face is one surface from its foot up
+#: to its top, and a top on a background line in line above it (a rocket's or a
+#: platform's edge, a wall band) has that background between (a switch for the tests).
+SURFACE_UP_TO_TOP = True
+#: With the rig, a top where the face's colour ends (region.stops_at_colour_top: the
+#: inner edges' raise judged short, the rows above unlike those below and the face's
+#: foot, from side to side) is not raised by the colour and sides walks either: their
+#: looser limits (the face's spread, up to region.MAX_FACE_DISTANCE) let a print's wide
+#: spread pass what stands in line behind the face (photo/2085 hard: a poster under a
+#: photographed rocket, +131 -> +2 %; a switch for the tests).
+COLOUR_TOP_STAYS = True
 
 
 class FusedMethod:
@@ -601,11 +615,17 @@ class FusedMethod:
         # the floor row the range predicts; under a row merely tried a poster face's
         # strips, unlike its middle, stopped its walk: photo/1490 hard)
         coloured = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth, edge_sides=rig_known)
+        if COLOUR_TOP_STAYS and colour_top and rig_known:
+            # the face's colour ends at this top (the sides ran on a short way only): the
+            # walks up read what stands in line behind it, not the face
+            coloured = vt
         if face_under_raised_top(seen, v, rb, vt, coloured, ul, ur) and not (
             framed is not None and top_face_above(seen, v, rb, vt, coloured, ul, ur)
         ):
             vt = coloured
         walked = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        if COLOUR_TOP_STAYS and colour_top and rig_known:
+            walked = vt
         if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True) and not (
             framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
         ):
@@ -744,6 +764,14 @@ class FusedMethod:
                 and again[3] >= self.min_confidence
             ):
                 vt, sign, top_row, face_conf = again
+        if SURFACE_UP_TO_TOP and rig_known and floor_known:
+            # the face is one surface from its foot up to its top: a top with something
+            # else from side to side between it and the face's colour is a line behind
+            surface = lower_top_to_surface(seen, v, ay, rb, int(round(vt)), ul, ur)
+            if surface > vt:
+                log.debug("top %d: the face's surface starts at %d", vt, surface)
+                vt, top_row = surface, None
+                sign = 1.0 if int(dy[surface, ul:ur].sum()) >= 0 else -1.0
         if rig_known:
             # a side the walk moved out rises as the face's up to the top as settled (no
             # shadow's, no floor's at its foot): read under the top found for the sides the

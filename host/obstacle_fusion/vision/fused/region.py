@@ -2768,3 +2768,96 @@ def face_down_to_foot(
         if between.shape[0] == 0 or float(row_norms(between - face).max()) > FACE_DOWN_AGREE:
             return None
     return foot
+
+
+#: The face's colour is read on its lower part: this share of its height over the foot
+#: (past FOOT_BAND_ROWS[0] rows of the foot's blur), in the middle and in the strips just
+#: inside each side (a print over the middle keeps a margin of the face's colour).
+SURFACE_REF_SHARE = 0.35
+#: Rows of the face's colour in a row (middle or a side strip within the face's spread
+#: of its colour, spread_limit) that start its surface going down from the top.
+SURFACE_RUN_ROWS = 3
+#: The rows above the surface's first row, down from the top, are something else in at
+#: least this share (a band across the face's upper part comes back to its colour: a
+#: label, a tape) ...
+SURFACE_FOREIGN_SHARE = 0.85
+#: ... over at least this share of the height as found (shorter: a top face, a frame's
+#: top margin, the top edge's blur).
+SURFACE_MIN_DROP = 0.2
+#: ... and the colour steps by this much (Lab, 8-bit) at the surface's first row, in the
+#: middle and both strips (STEP_BAND_ROWS either side): an edge where one thing ends and
+#: the face begins; a gloss's highlight or the light's fall-off up a face is a ramp
+#: (procedural/106 ordinary, 148 and 2053 hard: steps 2-10, lowered 30-38 % without it).
+SURFACE_STEP = TOP_COLOUR_STEP
+#: The surface found is the face's only when its colour differs by this much from the
+#: floor's just under the foot: a patch of floor between a wall band and a found foot is
+#: no face standing on the floor.
+SURFACE_FLOOR_APART = MIN_FACE_DISTANCE
+
+
+def lower_top_to_surface(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> int:
+    """The top moved down to the first row under it from which the face's own colour
+    (read on its lower part) holds, where the rows from ``top`` down to it are something
+    else in the middle and just inside both sides (SURFACE_FOREIGN_SHARE) and the colour
+    steps there (SURFACE_STEP), snapped to the strongest top edge within SNAP_ROWS.
+
+    The face is one surface standing on the floor: from its foot up to its top its colour
+    holds, a print in a margin of it or a band across it aside. A top taken on a line of
+    the background (a rocket photographed in line above a small face, a platform's edge,
+    a wall band) has that background between it and the face's real top, from side to
+    side, ending at an edge where the face begins."""
+    h = bottom - top
+    if image is None or image.ndim != 3 or right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS):
+        return top
+    f0 = FOOT_BAND_ROWS[0]
+    ref_rows = max(SURFACE_RUN_ROWS + 1, int(SURFACE_REF_SHARE * h))
+    if h < 4 * SURFACE_RUN_ROWS or ref_rows + f0 >= h:
+        return top
+    lab = _lab8(image, view, top, bottom, left + SIDE_SKIP, right - SIDE_SKIP + 1)
+    parts = [
+        np.asarray(median_u8(part, axis=1), np.float32)
+        for part in (
+            lab[:, BESIDE_COLUMNS:-BESIDE_COLUMNS:SUBSAMPLE],
+            lab[:, :BESIDE_COLUMNS],
+            lab[:, -BESIDE_COLUMNS:],
+        )
+    ]
+    face = np.zeros(h, bool)
+    refs = []
+    for rows in parts:
+        seed = rows[h - f0 - ref_rows : h - f0]
+        ref = median_of(seed, axis=0)
+        refs.append(ref)
+        face |= row_norms(rows - ref) <= spread_limit(row_norms(seed - ref), MIN_FACE_DISTANCE)
+    run = np.convolve(face.astype(np.int32), np.ones(SURFACE_RUN_ROWS, np.int32), "valid")
+    starts = np.flatnonzero(run == SURFACE_RUN_ROWS)
+    if starts.size == 0:
+        return top
+    first = int(starts[0])
+    if first < SURFACE_MIN_DROP * h or float(np.mean(~face[:first])) < SURFACE_FOREIGN_SHARE:
+        return top
+    near, far = STEP_BAND_ROWS
+    for rows in parts:
+        above = median_of(rows[max(0, first - far) : first - near + 1], axis=0)
+        below = median_of(rows[first + near : first + far + 1], axis=0)
+        if norm(above - below) < SURFACE_STEP:
+            return top
+    f1 = bottom + EDGE_SKIP + 1
+    f2 = min(f1 + FLOOR_BAND_ROWS, view.out.shape[0])
+    if f2 > f1:
+        floor = _lab8(image, view, f1, f2, left + SIDE_SKIP, right - SIDE_SKIP + 1)
+        floor_c = np.asarray(median_u8(floor.reshape(-1, 3), axis=0), np.float32)
+        if norm(refs[0] - floor_c) < SURFACE_FLOOR_APART:
+            return top
+    lo, hi = max(0, first - SNAP_ROWS), min(h - 1, first + SNAP_ROWS)
+    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP
+    strength = np.asarray(ay[top + lo : top + hi + 1, c0:c1].mean(axis=1))
+    return int(top + lo + np.argmax(strength))
