@@ -122,6 +122,9 @@ def test_a_gloss_ramp_keeps_its_top(monkeypatch: pytest.MonkeyPatch) -> None:
     eh, ew = room_size_errors("procedural", 106, False)
     assert eh < 0.05 and ew < 0.05
     monkeypatch.setattr(region, "SURFACE_STEP", 0.0)
+    # the print outline from the foot (method.FOOT_OUTLINE) finds this face's top again
+    # after the lowered one: off, so that this limit alone is watched
+    monkeypatch.setattr(method, "FOOT_OUTLINE", False)
     eh, _ = room_size_errors("procedural", 106, False)
     assert eh > 0.25
 
