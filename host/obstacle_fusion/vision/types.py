@@ -101,6 +101,7 @@ UNSEEN_MARGIN_PX = 4.0
 #: :meth:`View.unseen_sides` names them.
 _SIDE_T = np.linspace(0.0, 1.0, SIDE_SAMPLES)[:, None]
 _SIDE_NAMES = ("left", "right", "top", "bottom")
+_SIDE_T_LIST: list[float] = _SIDE_T[:, 0].tolist()
 
 
 Block = tuple[int, int, int, int]  # a view block's rows r0..r1-1, columns c0..c1-1
@@ -345,25 +346,34 @@ class View:
         c = np.asarray(corners, dtype=np.float64).reshape(4, 2)
         if not np.isfinite(c).all():
             return []  # no outline to place (the refinement's fits failed)
-        bl, br, tr, tl = c
-        # the four sides' samples in one array (left, right, top, bottom x SIDE_SAMPLES x 2:
-        # each point the expression a side at a time would give), moved out by the margin
-        start = np.stack([bl, br, tl, bl])
-        end = np.stack([tl, tr, tr, br])
-        pts = start[:, None] + _SIDE_T * (end - start)[:, None]
-        pts += np.array([(-margin, 0.0), (margin, 0.0), (0.0, -margin), (0.0, margin)])[:, None]
-        h, w = self.map1.shape[:2]
+        (blx, bly), (brx, bry), (trx, try_), (tlx, tly) = c.tolist()
+        map1 = self.map1
+        h, w = map1.shape[:2]
         w_in, h_in = self.camera.size
-        # the pixel each point lies in: a margin of exactly ``margin`` either way
-        u = np.floor(pts[..., 0]).astype(np.int64)
-        v = np.floor(pts[..., 1]).astype(np.int64)
-        inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
-        # the input pixel (integer part) each point inside reads (those outside read the
-        # view's pixel 0, 0: their side is unseen whatever it gives)
-        src = self.map1[np.where(inside, v, 0), np.where(inside, u, 0)].astype(np.int64)
-        seen = (src[..., 0] >= 0) & (src[..., 0] < w_in) & (src[..., 1] >= 0) & (src[..., 1] < h_in)
-        unseen = ~(inside & seen).all(axis=1)
-        return [side for side, out in zip(_SIDE_NAMES, unseen.tolist(), strict=True) if out]
+        unseen = []
+        # per side: its samples start + t (end - start), moved out by the margin (the same
+        # float operations, point by point, as in numpy), each in sight of the view or not
+        for name, (sx, sy), (ex, ey), (dx, dy) in (
+            ("left", (blx, bly), (tlx, tly), (-margin, 0.0)),
+            ("right", (brx, bry), (trx, try_), (margin, 0.0)),
+            ("top", (tlx, tly), (trx, try_), (0.0, -margin)),
+            ("bottom", (blx, bly), (brx, bry), (0.0, margin)),
+        ):
+            ax, ay = ex - sx, ey - sy
+            for t in _SIDE_T_LIST:
+                # the pixel the point lies in: a margin of exactly ``margin`` either way
+                u = math.floor(sx + t * ax + dx)
+                v = math.floor(sy + t * ay + dy)
+                if not (0 <= u < w and 0 <= v < h):
+                    break
+                # the input pixel (integer part) the point reads
+                x_in, y_in = map1.item(v, u, 0), map1.item(v, u, 1)
+                if not (0 <= x_in < w_in and 0 <= y_in < h_in):
+                    break
+            else:
+                continue
+            unseen.append(name)
+        return unseen
 
     def to_input(self, pts: npt.ArrayLike) -> FloatArray:
         """View pixels (N x 2) back to input-image pixels (through the lens distortion)."""

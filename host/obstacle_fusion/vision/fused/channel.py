@@ -10,6 +10,7 @@ With a frame that is grey already, or face and floor of one colour, it is plain 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import cv2
@@ -37,6 +38,39 @@ SAMPLE_HALF_M = 0.03
 BAND_ROWS = 12.0
 
 _LUMA = np.array([0.114, 0.587, 0.299])  # BGR weights of OpenCV's grey
+
+_c_project3: Callable[[Any, float, float, float, float, Any], None] | None
+try:  # the optional C accelerator (setup.py)
+    from obstacle_fusion.vision.fused._cmiddle import project3 as _c_project3
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_project3 = None
+
+#: A row and colours on which OpenCV's 3-to-1 transform rounds otherwise when its build
+#: here multiplies and adds in one step (fused multiply-adds, as the C projection does)
+#: than when it rounds each product: where OpenCV does not answer as the C projection
+#: does, the C projection is not used.
+_PROBE_ROW = (0.3, 0.6, -0.2, 51.0)
+_PROBE_BGR = ((219, 3, 0), (239, 3, 0), (217, 4, 0), (237, 4, 0), (229, 8, 0), (12, 9, 0))
+
+
+def _c_project_agrees() -> bool:
+    """Whether the C projection gives OpenCV's integers for the probe colours (and one row
+    of every 8-bit value on each channel)."""
+    if _c_project3 is None:  # pragma: no cover - only where the extension did not build
+        return False
+    ramp = np.arange(256, dtype=np.uint8)
+    image = np.concatenate(
+        [np.array(_PROBE_BGR, np.uint8), np.stack([ramp, ramp[::-1], ramp[::3].repeat(3)[:256]], 1)]
+    )[None]
+    matrix = np.array([_PROBE_ROW], np.float32)
+    mine = np.empty(image.shape[:2], np.uint8)
+    a, b, c, d = (float(v) for v in matrix[0])
+    _c_project3(image, a, b, c, d, mine)
+    return bool(np.array_equal(mine, cv2.transform(image, matrix)))
+
+
+if _c_project3 is not None and not _c_project_agrees():  # pragma: no cover - another build
+    _c_project3 = None
 
 
 def _mean_colours(
@@ -182,5 +216,12 @@ def _turned(
     band = contact_row + BAND_ROWS + max(0.0, contact_row - view.cy) * (0.03 + 0.01 / depth_m)
     k = view.input_rows(int(np.ceil(band)))
     out = np.zeros(image.shape[:2], np.uint8)
+    if _c_project3 is not None:
+        try:  # OpenCV's integers, faster (checked at import, _c_project_agrees)
+            a, b, c, d = (float(v) for v in matrix[0])
+            _c_project3(image[:k], a, b, c, d, out[:k])
+            return out
+        except ValueError:  # pixels not packed, or weights it does not take: OpenCV
+            pass
     cv2.transform(image[:k], matrix, dst=out[:k])
     return out
