@@ -516,16 +516,16 @@ class FusedMethod:
                 log.debug("rescue: top %d, front top %d", vt, front)
                 if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur, pattern=True):
                     vt, sign = front, front_sign
-            found = self._refine(
+            colour_face = self._refine(
                 ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
             )
-            if FOOT_OUTLINE and floor_known and rig_known and _unsure(found):
+            if FOOT_OUTLINE and floor_known and rig_known and _unsure(colour_face):
                 # a piece of a print found by its colour or texture: the face round it
                 grown = self._foot_outline(seen, dy, noise, rb, vt, ul, ur, depth, vb0)
                 if grown is not None:
                     rb, vt, ul, ur = grown
                     sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
-                    again = self._refine(
+                    from_foot = self._refine(
                         ax,
                         ay,
                         ax3,
@@ -542,9 +542,9 @@ class FusedMethod:
                         timer,
                         None,
                     )
-                    if again.detected:
-                        return again
-            return found
+                    if from_foot.detected:
+                        return from_foot
+            return colour_face
 
         if best is None:
             rescued = rescue_by_colour()
@@ -834,15 +834,15 @@ class FusedMethod:
             if grown is not None:
                 rb, vt, ul, ur = grown
                 sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
-                again = self._refine(
+                from_foot = self._refine(
                     ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
                 )
-                if again.detected:
+                if from_foot.detected:
                     faced = face_doubts(
-                        v.camera, seen, ay, rb, ul, ur, vt, best, rivals, again.lines
+                        v.camera, seen, ay, rb, ul, ur, vt, best, rivals, from_foot.lines
                     )
-                    again.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
-                    return again
+                    from_foot.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
+                    return from_foot
         return measured
 
     def _foot_outline(
