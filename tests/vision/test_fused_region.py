@@ -1001,7 +1001,11 @@ def test_a_side_standing_on_the_contact_row_is_kept_without_a_foot_step(
     lies between it and the face's foot (room procedural/132: a margin of the face's colour
     under a print whose lower edge was taken for the contact row). The pole at half its
     contrast over the foot's rows keeps 0.57 of its edge there and does not stand
-    (SIDE_FOOT_SHARE 0.6), at 0.6 of its contrast it keeps 0.67 and does."""
+    (SIDE_FOOT_SHARE 0.6), at 0.6 of its contrast it keeps 0.67 and does. The floor seen
+    between the pole and the face, running on past the pole, brings it in however it
+    stands (region.FLOOR_BETWEEN, tests/vision/test_fused_floor_between.py): off here,
+    where the limit of standing is tested."""
+    monkeypatch.setattr(region, "FLOOR_BETWEEN", False)
     assert trim(pole_scene(0.5), LEFT, RIGHT + 40) == (LEFT, RIGHT)
     assert trim(pole_scene(0.6), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
     monkeypatch.setattr(region, "SIDE_FOOT_SHARE", 0.55)
@@ -1010,10 +1014,16 @@ def test_a_side_standing_on_the_contact_row_is_kept_without_a_foot_step(
     assert trim(pole_scene(0.6), LEFT, RIGHT + 40) == (LEFT, RIGHT)
 
 
-def test_a_side_moved_out_across_seams_comes_back_to_the_search_side() -> None:
+def test_a_side_moved_out_across_seams_comes_back_to_the_search_side(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """A side the seam walk moved out (room photo/311: onto a neighbour's edge over a
     textured floor that keeps it present down to the contact row) is brought back to
-    where the face's foot ends, but no farther in than the search's side."""
+    where the face's foot ends, but no farther in than the search's side. (The floor
+    between the pole and the face, running on past the pole, brings the search's own side
+    on the pole in too: region.FLOOR_BETWEEN, off here, where the seam walk's return is
+    tested.)"""
+    monkeypatch.setattr(region, "FLOOR_BETWEEN", False)
     img = pole_scene(1.0)
     assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT)) == (LEFT, RIGHT)
     assert trim(img, LEFT, RIGHT + 40, found=(LEFT, RIGHT + 40)) == (LEFT, RIGHT + 40)
