@@ -16,7 +16,7 @@ from obstacle_fusion.vision.chessboard import BoardRenderer, BoardSpec, default_
 from obstacle_fusion.vision.fused import top
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
-from obstacle_fusion.vision.types import View
+from obstacle_fusion.vision.types import Measurement, View
 
 REPO = Path(__file__).resolve().parents[1]
 # The project's shared data sits beside the checkout (as CI lays it out); a clone elsewhere
@@ -115,3 +115,23 @@ def low_box_front_row(img: npt.NDArray[np.uint8]) -> int:
         low_box_view(), LOW_DEPTH, dy, LOW_BOTTOM, LOW_LEFT, LOW_RIGHT, LOW_TOP, noise
     )
     return row
+
+
+def face_found(
+    box: tuple[float, float, float, float], confidence: float, pitch: float | None = None
+) -> Measurement:
+    """A detection of ``box`` (pixels) at ``confidence``, as a trial of the no-rig search
+    returns it (``pitch``: the camera pitch it was levelled for), for the rules that
+    compare trials by their boxes."""
+    return Measurement(
+        detected=True,
+        method="fused",
+        range_m=2.0,
+        height_m=0.3,
+        width_m=0.3,
+        confidence=confidence,
+        box_px=box,
+        height_px=box[3] - box[1],
+        width_px=box[2] - box[0],
+        camera_pitch_deg=pitch,
+    )

@@ -15,9 +15,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.types import Measurement
 
-from tests.vision_fixtures import room_size_errors
+from tests.vision_fixtures import face_found, room_size_errors
 
 
 def test_the_face_seen_whole_is_taken() -> None:
@@ -29,20 +28,6 @@ def test_without_the_rule_the_strip_stands(monkeypatch: pytest.MonkeyPatch) -> N
     monkeypatch.setattr(measure, "SWEPT_WHOLE_FACE", False)
     eh, _ = room_size_errors("photo", 2091, False, with_rig=False)
     assert eh > 0.25
-
-
-def _face(box: tuple[float, float, float, float], confidence: float) -> Measurement:
-    return Measurement(
-        detected=True,
-        method="fused",
-        range_m=2.0,
-        height_m=0.3,
-        width_m=0.3,
-        confidence=confidence,
-        box_px=box,
-        height_px=box[3] - box[1],
-        width_px=box[2] - box[0],
-    )
 
 
 @pytest.fixture
@@ -73,11 +58,11 @@ UNSURE = (100.0, 200.0, 300.0, 250.0)  # a strip 200 px wide, 50 tall, its foot 
 def test_the_whole_face_shares_the_foot_and_sides_and_is_taller(
     box: tuple[float, float, float, float], read: bool, confidence: float, taken: bool
 ) -> None:
-    got = measure._swept_whole(_face(UNSURE, 0.1), _face(box, confidence), read, IMAGE)
+    got = measure._swept_whole(face_found(UNSURE, 0.1), face_found(box, confidence), read, IMAGE)
     assert got is taken
 
 
 def test_the_sides_must_run_up_past_the_unsure_top(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "sides_run_up", lambda image, lines, row: False)
-    whole = _face((100.0, 100.0, 300.0, 250.0), 0.3)
-    assert not measure._swept_whole(_face(UNSURE, 0.1), whole, True, IMAGE)
+    whole = face_found((100.0, 100.0, 300.0, 250.0), 0.3)
+    assert not measure._swept_whole(face_found(UNSURE, 0.1), whole, True, IMAGE)

@@ -19,9 +19,8 @@ from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import Measurer
-from obstacle_fusion.vision.types import Measurement
 
-from tests.vision_fixtures import room_size_errors
+from tests.vision_fixtures import face_found, room_size_errors
 
 
 def _detected(family: str, seed: int, hard: bool) -> bool:
@@ -62,45 +61,30 @@ def test_the_pitches_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert not _detected("photo", 156, False)
 
 
-def _face(box: tuple[float, float, float, float], confidence: float, pitch: float) -> Measurement:
-    return Measurement(
-        detected=True,
-        method="fused",
-        range_m=2.0,
-        height_m=0.3,
-        width_m=0.3,
-        confidence=confidence,
-        box_px=box,
-        height_px=box[3] - box[1],
-        width_px=box[2] - box[0],
-        camera_pitch_deg=pitch,
-    )
-
-
 BOX = (100.0, 150.0, 200.0, 250.0)
 NEAR = (101.0, 151.0, 200.0, 251.0)  # the same face, its foot a pixel lower
 LOWER = (100.0, 154.0, 200.0, 254.0)  # its foot 3-4 px lower: another foot
 
 
 def test_three_trials_at_two_pitches_give_the_surest() -> None:
-    faces = [_face(BOX, 0.10, 0.0), _face(NEAR, 0.15, 2.0), _face(BOX, 0.12, 0.0)]
+    faces = [face_found(BOX, 0.10, 0.0), face_found(NEAR, 0.15, 2.0), face_found(BOX, 0.12, 0.0)]
     found = measure._repeated_face(faces)
     assert found is faces[1]
 
 
 def test_two_trials_give_none() -> None:
-    assert measure._repeated_face([_face(BOX, 0.10, 0.0), _face(NEAR, 0.15, 2.0)]) is None
+    assert measure._repeated_face([face_found(BOX, 0.10, 0.0), face_found(NEAR, 0.15, 2.0)]) is None
 
 
 def test_a_face_on_another_foot_is_not_the_same() -> None:
-    faces = [_face(BOX, 0.10, 0.0), _face(NEAR, 0.15, 2.0), _face(LOWER, 0.12, 4.0)]
+    faces = [face_found(BOX, 0.10, 0.0), face_found(NEAR, 0.15, 2.0), face_found(LOWER, 0.12, 4.0)]
     assert measure._repeated_face(faces) is None
 
 
 def test_three_trials_at_one_pitch_give_none(monkeypatch: pytest.MonkeyPatch) -> None:
     # other rows at one pitch read the same levelled view again (a patch of gravel near
     # the lens was found so on three rows)
-    faces = [_face(BOX, 0.06, 0.0), _face(BOX, 0.06, 0.0), _face(NEAR, 0.06, 0.0)]
+    faces = [face_found(BOX, 0.06, 0.0), face_found(BOX, 0.06, 0.0), face_found(NEAR, 0.06, 0.0)]
     assert measure._repeated_face(faces) is None
     monkeypatch.setattr(measure, "REPEATED_FACE_PITCHES", 1)
     assert measure._repeated_face(faces) is faces[0]
