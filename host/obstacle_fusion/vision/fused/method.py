@@ -508,6 +508,36 @@ class FusedMethod:
         timer.lap("search")
         seen = colour if colour is not None else image  # the colours the extent reads
 
+        def from_foot(
+            bottom: int, top: int, left: int, right: int, found_conf: float
+        ) -> tuple[Measurement, tuple[int, int, int, int]] | None:
+            """An unsure face (a piece of a print, found at ``found_conf``) measured again
+            on the outline read from its foot (:meth:`_foot_outline`), with that outline;
+            None when there is none or it gives no detection."""
+            grown = self._foot_outline(seen, dy, noise, bottom, top, left, right, depth, vb0)
+            if grown is None:
+                return None
+            g_bottom, g_top, g_left, g_right = grown
+            sign = 1.0 if int(dy[g_top, g_left:g_right].sum()) >= 0 else -1.0
+            again = self._refine(
+                ax,
+                ay,
+                ax3,
+                dy,
+                g_bottom,
+                g_left,
+                g_right,
+                g_top,
+                sign,
+                None,
+                found_conf,
+                depth,
+                range_m,
+                timer,
+                None,
+            )
+            return (again, grown) if again.detected else None
+
         def rescue_by_colour(
             top_at_most: int | None = None, within: tuple[int, int, int] | None = None
         ) -> Measurement | None:
@@ -555,29 +585,9 @@ class FusedMethod:
                 and _unsure(colour_face)
             ):
                 # a piece of a print found by its colour or texture: the face round it
-                grown = self._foot_outline(seen, dy, noise, rb, vt, ul, ur, depth, vb0)
+                grown = from_foot(rb, vt, ul, ur, conf)
                 if grown is not None:
-                    rb, vt, ul, ur = grown
-                    sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
-                    from_foot = self._refine(
-                        ax,
-                        ay,
-                        ax3,
-                        dy,
-                        rb,
-                        ul,
-                        ur,
-                        vt,
-                        sign,
-                        None,
-                        conf,
-                        depth,
-                        range_m,
-                        timer,
-                        None,
-                    )
-                    if from_foot.detected:
-                        return from_foot
+                    return grown[0]
             return colour_face
 
         if best is None:
@@ -864,19 +874,23 @@ class FusedMethod:
         if FOOT_OUTLINE and _foot_read(floor_known, rig_known, rb, vb0, conf) and _unsure(measured):
             # an unsure face, a piece of a print over the face: the outline round it read
             # from the face's foot
-            grown = self._foot_outline(seen, dy, noise, rb, int(round(vt)), ul, ur, depth, vb0)
+            grown = from_foot(rb, int(round(vt)), ul, ur, conf)
             if grown is not None:
-                rb, vt, ul, ur = grown
-                sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
-                from_foot = self._refine(
-                    ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
+                regrown, (g_bottom, g_top, g_left, g_right) = grown
+                faced = face_doubts(
+                    v.camera,
+                    seen,
+                    ay,
+                    g_bottom,
+                    g_left,
+                    g_right,
+                    g_top,
+                    best,
+                    rivals,
+                    regrown.lines,
                 )
-                if from_foot.detected:
-                    faced = face_doubts(
-                        v.camera, seen, ay, rb, ul, ur, vt, best, rivals, from_foot.lines
-                    )
-                    from_foot.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
-                    return from_foot
+                regrown.doubts = [*doubts, *faced, *contact_doubts(g_bottom, vb0, tol)]
+                return regrown
         return measured
 
     def _foot_outline(
