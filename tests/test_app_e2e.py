@@ -43,6 +43,9 @@ VISION_MAX_MISS_RATE = 1 / 25
 
 #: Frames at the start of a run while the range filter builds up its first estimates.
 WARM_UP_FRAMES = 10
+#: Half the echo wait the old default's frames had (p95 69-76 ms): a frame that waits for an
+#: echo fails, a busy CI core's scheduling does not.
+PAIRING_OWN_P95_LIMIT_S = 0.030
 
 
 def _cmd(*args: str) -> list[str]:
@@ -369,7 +372,9 @@ def test_the_default_run_is_fast_and_pairs_every_frame(uno_elf: Path) -> None:
     own = sorted(r["latency_s"] - r["vision_ms"] / 1e3 for r in records)
     own_p95 = own[int(0.95 * (len(own) - 1))]
     print(f"latency_s p95 {p95 * 1e3:.1f} ms; without the vision {own_p95 * 1e3:.1f} ms")
-    assert own_p95 <= 0.010, (
+    # The bound tells "no frame waits for an echo" (waiting gave 69-76 ms) from a loaded
+    # machine's scheduling (10.0 ms once at load 8); the 10 ms target is bench_e2e.py's.
+    assert own_p95 <= PAIRING_OWN_P95_LIMIT_S, (
         f"p95 latency without the vision {own_p95 * 1e3:.1f} ms "
         f"(median {own[len(own) // 2] * 1e3:.1f}); whole latency_s p95 {p95 * 1e3:.1f} ms"
     )
