@@ -1586,6 +1586,9 @@ def test_with_no_rig_a_face_read_again_with_fewer_doubts_is_no_refusal(
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [found])
     monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    # the taller face holding the level one on its foot is another rule's (the refused
+    # face a part of it: measure.WHOLE_FACE_READING, tests/vision/test_no_rig_whole_face.py)
+    monkeypatch.setattr(measure, "WHOLE_FACE_READING", False)
     measurer = Measurer(CAM, None)
     res = measurer.measure(image, truth["range_m"])
     assert res.detected == answered
