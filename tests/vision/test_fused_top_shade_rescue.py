@@ -48,6 +48,8 @@ def test_without_the_shade_weight_the_walk_stops_under_the_highlight(
     monkeypatch.setattr(region, "SHADED_SIDE_WALK", False)
     # (the outline read from the foot round the unsure short face finds it whole too)
     monkeypatch.setattr(method, "FOOT_OUTLINE", False)
+    # (nor does the walk up the face's hue, which finds its top past the highlight too)
+    monkeypatch.setattr(method, "HUE_HOLDS_TOP", False)
     eh, _ = _errors(*GLOSS)
     assert eh < -0.25
 

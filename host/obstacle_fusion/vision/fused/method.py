@@ -63,6 +63,7 @@ from obstacle_fusion.vision.fused.region import (
     lower_top_to_surface,
     raise_top_along_frame,
     raise_top_by_colour,
+    raise_top_by_hue,
     raise_top_by_outline,
     raise_top_by_sides,
     raise_top_past_band,
@@ -143,6 +144,11 @@ def _front_ends_colour(
 #: The colour rescue's face has its top raised to where its sides end only where the
 #: face's colour is back under that row (region.face_under_raised_top), with the rig.
 RESCUE_RAISE_BY_COLOUR = True
+#: The top, after the colour and side walks (of the edge search's face and of the colour
+#: rescue's), walked on up while the rows between the sides keep the face's hue
+#: (region.raise_top_by_hue): a gloss's highlight stops those walks inside the face (a
+#: switch for the tests).
+HUE_HOLDS_TOP = True
 
 
 def thin_strip(m: Measurement) -> bool:
@@ -674,6 +680,12 @@ class FusedMethod:
             framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
         ):
             vt = walked
+        if HUE_HOLDS_TOP and framed is None and not (COLOUR_TOP_STAYS and colour_top and rig_known):
+            # a gloss's highlight across the face stopped both walks: the face's hue goes on
+            hued = raise_top_by_hue(seen, v, ay, rb, vt, ul, ur, depth)
+            if hued < vt:
+                log.debug("top %d: the face's hue holds up to %d", vt, hued)
+                vt = hued
         if FRAME_RAIL_RAISE and rb - vt < THIN_STRIP_SHARE * (ur - ul):
             # a thin strip at the foot: a frame's bottom rail, its sides running on above
             rail_top = raise_top_along_frame(seen, v, ay, rb, vt, ul, ur, depth)
@@ -1068,6 +1080,12 @@ class FusedMethod:
         # ... and where they do not show in the gradients (a face of the background's
         # shade in grey), its colour parts it from what is beside it up to its top
         vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth, one_side=True)
+        if HUE_HOLDS_TOP:
+            # ... and past a gloss's highlight that stopped both walks: the face's hue holds
+            hued = raise_top_by_hue(seen, self.view, ay, rb, vt, ul, ur, depth)
+            if hued < vt:
+                log.debug("rescue: top %d, the face's hue holds up to %d", vt, hued)
+                vt = hued
         # ... and past a band's edge behind it (a skirting's) where its sides merely lost
         # the band's contrast against the wall above it
         # (no surer for it: the confidence is the lesser of the two tops' agreements)

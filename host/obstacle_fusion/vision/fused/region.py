@@ -1085,6 +1085,126 @@ def raise_top_by_sides(
     return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
 
 
+#: The face's hue walk (:func:`raise_top_by_hue`) reads a plain face only: its rows under
+#: the top (their medians between the sides) at most this far (a, b) from their median
+#: hue, the median over the rows (a plain face's rows are one hue: 0-0.5; a print's or a
+#: photographed face's vary, 2-5) ...
+PLAIN_HUE_SPREAD = 1.0
+#: ... going up, a row between the sides keeps that hue within SHADED_HUE_STEP (a gloss or
+#: the light's fall-off changes a face's lightness, not its hue; a lid's, a print's
+#: margin's or the background's hue is another) and its colour moves at most this much
+#: (Lab) over DRIFT_ROWS rows: a gloss's highlight is a ramp, the face's end (against a
+#: wall, a lid, a box behind of the face's hue in another light) a step within the edge's
+#: blur.
+HUE_DRIFT = 10.0
+#: ... and the top it reaches is an edge at least this many times as strong (mean |d/dy|
+#: between the sides, the strongest of the three rows round each) as the top it left: the
+#: face's end against what is behind it is a clear edge, a highlight's a ramp (the raises
+#: under 1.3x on the tuning rooms went past a right top or from a wrong one).
+HUE_TOP_EDGE_GAIN = 2.0
+#: The hue walk reads this many gaps' rows above the top first (the whole reach only where
+#: the walk runs on past them): the same top, at a fraction of the rows on most faces.
+HUE_FIRST_ROWS = 4
+
+
+def raise_top_by_hue(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The face's top row, moved up while the rows between its sides keep the face's hue,
+    change colour only slowly and differ from what is beside both sides.
+
+    The face is one surface from its foot to its top: a gloss's highlight lightens its
+    upper part (the colour walks stop where the highlight starts, the sides' walk where
+    a background band beside it has the highlight's lightness), but its hue stays the
+    face's and the lightness changes as a ramp. Its true top is where it ends against
+    what is behind it: there the colour between the sides steps to the background's (the
+    wall continues across, no longer apart from what is beside the sides) or to another
+    hue (a lid, a print's margin, an object behind). A line inside the face (the
+    highlight's edge) has the face's hue on both sides of it and the face's sides still
+    apart from the background beside them. Only to a top above the horizon, as
+    :func:`raise_top_by_sides` (below it a box's top face of the front's hue shows)."""
+    narrow = right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS) + 4
+    if image is None or image.ndim != 3 or narrow or bottom - top < 6:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    if c0 < 0 or c1 > w_view:
+        return top
+    reach = max(bottom - top, int(round(view.fy * SIDE_WALK_REACH_M / depth_m)))
+    r0 = max(0, top - reach)
+    k = top - r0
+    if k <= SNAP_ROWS + DRIFT_ROWS:
+        return top
+    # the face under the top first (most faces are no plain face: read no more), then the
+    # rows above it
+    w = BESIDE_COLUMNS + 2 * SIDE_SKIP
+    inner_cols = slice(w, -w, SUBSAMPLE)
+    strips = (slice(w, w + BESIDE_COLUMNS), slice(-(w + BESIDE_COLUMNS + 1), -(w + 1)))
+    below = _lab8(image, view, top + 2, bottom, c0, c1)
+    inner_below = median_u8(below[:, inner_cols], axis=1)
+    ref = median_of(inner_below[:, 1:], axis=0)
+    for cols in (inner_cols, *strips):
+        d_below = row_norms(
+            (inner_below if cols is inner_cols else median_u8(below[:, cols], axis=1))[:, 1:] - ref
+        )
+        # a plain face (its rows of one hue), one surface from side to side: the strips
+        # just inside both sides are of its hue too (a side out on the background beside
+        # the face reads the background there)
+        if float(median_of(d_below)) > (
+            PLAIN_HUE_SPREAD if cols is inner_cols else SHADED_HUE_STEP
+        ):
+            return top
+    gap = max(2, int(round(view.fy * MAX_ROW_GAP_M / depth_m)))
+
+    def walk(rs: int) -> tuple[int, bool]:
+        """The walk up over the rows rs..top+1 (and the top's colour drift from the rows
+        under it): the row it reached, and whether it may run on above rs."""
+        kk = top - rs
+        above = _lab8(image, view, rs, top + 2, c0, c1)
+        inner = np.concatenate([median_u8(above[:, inner_cols], axis=1), inner_below[:DRIFT_ROWS]])
+        d_hue = row_norms(inner[:kk, 1:] - ref)
+        for cols in strips:
+            d_hue = np.maximum(d_hue, row_norms(median_u8(above[:kk, cols], axis=1)[:, 1:] - ref))
+        drift = row_norms(inner[:kk] - inner[DRIFT_ROWS : kk + DRIFT_ROWS])
+        # another hue or a step in the colour ends the face: no gap is crossed past it
+        # (the rows a walk over gaps would skip are an edge's blur)
+        ends = np.flatnonzero((d_hue > SHADED_HUE_STEP) | (drift > HUE_DRIFT))
+        # the rows apart from what is beside both sides (a band beside the face of the
+        # highlight's shade is crossed as a gap)
+        on = np.ones(kk + 1, bool)
+        for out in (above[: kk + 1, :BESIDE_COLUMNS], above[: kk + 1, -BESIDE_COLUMNS:]):
+            on &= row_norms(inner[: kk + 1] - median_u8(out, axis=1)) >= MIN_TOP_DISTANCE
+        reached = walk_on(on.tolist(), kk, -1, gap)
+        if ends.size:
+            return rs + max(reached, int(ends[-1]) + 1), False
+        return rs + reached, reached <= gap + 1
+
+    # first only the rows a short walk reads: most tops do not move, and the whole reach
+    # (up to 1 m of rows) would cost most of the stage's time
+    short = max(r0, top - HUE_FIRST_ROWS * gap)
+    end, runs_on = walk(short)
+    if runs_on and short > r0:
+        end, _ = walk(r0)
+    end -= r0
+    if k - end <= SNAP_ROWS or r0 + end > view.cy:
+        return top
+    raised = _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
+    # the face's end against what is behind it is an edge, the highlight's a ramp
+    cols = slice(left + SIDE_SKIP, right - SIDE_SKIP)
+    e_raised = float(ay[max(raised - 1, 0) : raised + 2, cols].mean(axis=1).max())
+    e_top = float(ay[max(top - 1, 0) : top + 2, cols].mean(axis=1).max())
+    if e_raised < HUE_TOP_EDGE_GAIN * e_top:
+        return top
+    return raised
+
+
 def _held(
     strip: npt.NDArray[Any],
     dist: npt.NDArray[Any],
