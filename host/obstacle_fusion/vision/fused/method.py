@@ -130,6 +130,9 @@ SETTLED_TOP_MOVE = 0.15
 #: The top is decided again between the settled sides for a face whose first top (decided
 #: between the search's sides) left it under the minimum confidence too (with the rig).
 SETTLED_REFUSED = True
+#: A face the search's top refused is weighed again without its texture where a print of
+#: its own covers it (``Candidate.print_evidence``), with the rig, in the rescuing try.
+PRINT_EVIDENCE = True
 
 
 def _front_ends_colour(
@@ -698,6 +701,20 @@ class FusedMethod:
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)
         reason = refusal(conf, self.min_confidence)
+        rescued_first: list[Measurement | None] = []  # the rescue, tried once
+        if reason is not None and PRINT_EVIDENCE and rig_known and rescue:
+            # a face refused for a print of its own over it from its foot up (its texture
+            # cut its evidence): weighed without that texture, in the try that rescues,
+            # where the colour finds no surer face (what the refusal gives it, as before)
+            printed = dataclasses.replace(best, evidence=best.print_evidence)
+            again = confidence(printed, rivals, parts_agree=floor_known)
+            if again > conf and refusal(again, self.min_confidence) is None:
+                rescued_first.append(rescue_by_colour())
+                first = rescued_first[0]
+                if first is not None and (first.confidence or 0.0) > conf:
+                    return first
+                log.debug("face refused at %.3f: a print of its own, %.3f", conf, again)
+                conf, reason = again, None
         if reason is not None:
             rescued = rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
@@ -792,7 +809,7 @@ class FusedMethod:
         vt, sign, top_row, face_conf = finish((vt, sign, top_row))
         refused = face_conf < self.min_confidence
         # the colour's face for a face refused here (tried once: the refusal below reads it)
-        rescued_once: list[Measurement | None] = []
+        rescued_once = rescued_first
         if (
             floor_known
             and framed is None
@@ -806,7 +823,8 @@ class FusedMethod:
             # the rig: SETTLED_REFUSED) is decided so only where the colour finds no surer
             # face (what the refusal gives it, as before)
             if refused:
-                rescued_once.append(rescue_by_colour())
+                if not rescued_once:
+                    rescued_once.append(rescue_by_colour())
                 first = rescued_once[0]
                 if first is not None and (first.confidence or 0.0) > face_conf:
                     return first
