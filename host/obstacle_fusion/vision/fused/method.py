@@ -128,6 +128,12 @@ SETTLED_MOVE_SHARE = 0.1
 #: ... and the top decided again is taken only where it moves by at least this share of
 #: the face's height (nearer, it is the same edge: the answer is left as it was).
 SETTLED_TOP_MOVE = 0.15
+#: The top is decided again between the settled sides for a face whose first top (decided
+#: between the search's sides) left it under the minimum confidence too (with the rig).
+SETTLED_REFUSED = True
+#: A face the search's top refused is weighed again without its texture where a print of
+#: its own covers it (``Candidate.print_evidence``), with the rig, in the rescuing try.
+PRINT_EVIDENCE = True
 
 
 def _front_ends_colour(
@@ -707,6 +713,20 @@ class FusedMethod:
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)
         reason = refusal(conf, self.min_confidence)
+        rescued_first: list[Measurement | None] = []  # the rescue, tried once
+        if reason is not None and PRINT_EVIDENCE and rig_known and rescue:
+            # a face refused for a print of its own over it from its foot up (its texture
+            # cut its evidence): weighed without that texture, in the try that rescues,
+            # where the colour finds no surer face (what the refusal gives it, as before)
+            printed = dataclasses.replace(best, evidence=best.print_evidence)
+            again = confidence(printed, rivals, parts_agree=floor_known)
+            if again > conf and refusal(again, self.min_confidence) is None:
+                rescued_first.append(rescue_by_colour())
+                first = rescued_first[0]
+                if first is not None and (first.confidence or 0.0) > conf:
+                    return first
+                log.debug("face refused at %.3f: a print of its own, %.3f", conf, again)
+                conf, reason = again, None
         if reason is not None:
             rescued = rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
@@ -799,17 +819,27 @@ class FusedMethod:
             return vt, sign, top_row, conf * agree
 
         vt, sign, top_row, face_conf = finish((vt, sign, top_row))
+        refused = face_conf < self.min_confidence
+        # the colour's face for a face refused here (tried once: the refusal below reads it)
+        rescued_once = rescued_first
         if (
             floor_known
             and framed is None
-            and face_conf >= self.min_confidence
+            and (not refused or (SETTLED_REFUSED and rig_known and rescue))
             and _moved(span, (ul, ur))
         ):
             # the top was decided between the search's sides; the face's sides settled
             # far from them (one plank of a face, or a face with the background beside
             # it): its top decided again between the sides it has, taken where it moved
-            # and the face under it is still one to report (a face this try refused is
-            # left to the next try, as before)
+            # and the face under it is still one to report. A face this top refused (with
+            # the rig: SETTLED_REFUSED) is decided so only where the colour finds no surer
+            # face (what the refusal gives it, as before)
+            if refused:
+                if not rescued_once:
+                    rescued_once.append(rescue_by_colour())
+                first = rescued_once[0]
+                if first is not None and (first.confidence or 0.0) > face_conf:
+                    return first
             settled = self._settled_top(
                 seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top
             )
@@ -836,7 +866,7 @@ class FusedMethod:
         conf = face_conf
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
-            rescued = rescue_by_colour()
+            rescued = rescued_once[0] if rescued_once else rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
             fail.confidence = round(conf, 3)

@@ -122,6 +122,9 @@ class Candidate:
     #: the evidence of the face closed at ``closing`` alone (its shape fit without the
     #: face-shade terms, as an outline's)
     closing_evidence: float = 0.0
+    #: the evidence with the face's texture left out, for a face textured from its foot
+    #: up over PRINT_COVERS_FACE of its rows (a print of its own); else the evidence
+    print_evidence: float = 0.0
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -158,6 +161,11 @@ def sides_vertical(view: View, ax: I16, cand: Candidate, fits: VerticalFits | No
         if abs(radial) >= RADIAL_MIN and abs(b) >= LEAN_MIN and abs(b - radial) < 0.5 * abs(radial):
             return False
     return True
+
+
+#: A face textured over at least this share of its rows (so down to its foot) bears a
+#: print of its own, a brick or tile pattern (:attr:`Candidate.print_evidence`).
+PRINT_COVERS_FACE = 0.8
 
 
 def score_pairs(
@@ -270,6 +278,14 @@ def score_pairs(
             * (1.0 - math.exp(-min(side, horiz) / 4.0))
             * (0.5 + 0.5 * prior_b)
         )
+        print_ev = evidence
+        if float(textured[i]) >= PRINT_COVERS_FACE:
+            # a print over the whole face down to its foot (a brick or tile pattern): the
+            # evidence its shape fit gives without the texture term
+            fit_p = fit_i / max(1e-6, 1.0 - float(textured[i]))
+            print_ev = evidence * math.sqrt(
+                min(1.0, 2.0 * fit_p) / max(1e-12, min(1.0, 2.0 * fit_i))
+            )
         closing = closing_top(feats, tops, s0, s1, i, view.cy)
         print_top = False
         c_ev = 0.0
@@ -319,6 +335,7 @@ def score_pairs(
                 clamp(o_ev, 0.0, 1.0),
                 print_top,
                 clamp(c_ev, 0.0, 1.0),
+                clamp(print_ev, 0.0, 1.0),
             )
         )
     return cands
@@ -831,6 +848,7 @@ def enclosing_outline(
                 vt=c.outline,
                 score=max(c.score, best.score),
                 evidence=c.outline_evidence,
+                print_evidence=c.outline_evidence,
                 closing=None,
             )
         elif (
@@ -841,7 +859,11 @@ def enclosing_outline(
             # its own closing kept: the top is from the sides (a doubt) as for the face
             # closed there itself
             outer = dataclasses.replace(
-                c, vt=c.closing, score=max(c.score, best.score), evidence=c.closing_evidence
+                c,
+                vt=c.closing,
+                score=max(c.score, best.score),
+                evidence=c.closing_evidence,
+                print_evidence=c.closing_evidence,
             )
         else:
             continue
