@@ -843,13 +843,13 @@ class FusedMethod:
             settled = self._settled_top(
                 seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top
             )
-            again = finish(settled)
-            log.debug("top %d between the settled sides, %d as first found", again[0], vt)
+            decided = finish(settled)
+            log.debug("top %d between the settled sides, %d as first found", decided[0], vt)
             if (
-                abs(again[0] - vt) >= SETTLED_TOP_MOVE * (rb - vt)
-                and again[3] >= self.min_confidence
+                abs(decided[0] - vt) >= SETTLED_TOP_MOVE * (rb - vt)
+                and decided[3] >= self.min_confidence
             ):
-                vt, sign, top_row, face_conf = again
+                vt, sign, top_row, face_conf = decided
         if SURFACE_UP_TO_TOP and rig_known and floor_known:
             # the face is one surface from its foot up to its top: a top with something
             # else from side to side between it and the face's colour is a line behind
