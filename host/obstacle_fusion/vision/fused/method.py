@@ -61,6 +61,7 @@ from obstacle_fusion.vision.fused.region import (
     lower_top_past_top_face,
     lower_top_to_background,
     lower_top_to_surface,
+    lower_top_where_sides_end,
     raise_top_along_frame,
     raise_top_by_colour,
     raise_top_by_hue,
@@ -344,6 +345,11 @@ SURFACE_UP_TO_TOP = True
 #: spread pass what stands in line behind the face (photo/2085 hard: a poster under a
 #: photographed rocket, +131 -> +2 %; a switch for the tests).
 COLOUR_TOP_STAYS = True
+#: Every face measured (the edges', the colour's and texture's rescues', the foot
+#: outline's) has its top moved down to where its sides end: a top far above them put on
+#: something standing in line behind the face (region.lower_top_where_sides_end; a switch
+#: for the tests).
+SIDES_END_TOP = True
 
 
 class FusedMethod:
@@ -374,6 +380,7 @@ class FusedMethod:
         self._buf = np.empty((2, h, w), np.float32)  # |dy|, top edge
         self._adx = np.empty((2, h, w), np.int16)  # d/dx, made |dx| in place; its dilation
         self._dy = np.empty((h, w), np.int16)
+        self._seen: npt.NDArray[Any] | None = None  # the frame the colour stages read
 
     def run(
         self,
@@ -417,6 +424,7 @@ class FusedMethod:
     ) -> Measurement:
         """:meth:`run`'s stages, the frame's colour held."""
         v = self.view
+        self._seen = colour if colour is not None else image
         rig = v.rig
         fail = Measurement(detected=False, method=self.name, range_m=range_m, distance_m=range_m)
         depth = rig.face_depth(range_m)
@@ -1275,6 +1283,13 @@ class FusedMethod:
         """The chosen face measured: the top edge's gradient window, then :func:`refine`."""
         n = ay.shape[0]
         v = self.view
+        if SIDES_END_TOP:
+            # the face's sides end at its top: above them what is behind runs on across
+            ended = lower_top_where_sides_end(self._seen, v, ay, rb, vt, ul, ur)
+            if ended > vt:
+                log.debug("top %d: the face's sides end at %d", vt, ended)
+                vt, top_row = ended, None
+                sign = 1.0 if int(dy[ended, ul:ur].sum()) >= 0 else -1.0
         # the top edge's signed gradient, only in the 7-row window its refinement reads
         top_edge = self._buf[1, :n]
         r0 = int(clamp(vt - 3, 0, n - 7))

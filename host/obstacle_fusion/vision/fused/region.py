@@ -3049,3 +3049,114 @@ def lower_top_to_surface(
     c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP
     strength = np.asarray(ay[top + lo : top + hi + 1, c0:c1].mean(axis=1))
     return int(top + lo + np.argmax(strength))
+
+
+#: lower_top_where_sides_end: columns read on each side of a side line (just inside the
+#: face, just outside it), a blur's width off it ...
+SIDES_END_STRIP = 3
+SIDES_END_SKIP = 2
+#: ... a side stands out where what is just inside it differs from what is just outside
+#: by at least this (Lab, 8-bit) along the face's lower part (read as SURFACE_REF_SHARE
+#: of its rows over its foot's): a side the background matches there tells nothing above.
+SIDES_END_STAND = 20.0
+#: A row is past the face's top where its standing sides keep on average under this share
+#: of that contrast and under SIDES_END_LEVEL (Lab): above the face's top the background
+#: behind runs on across its side lines, the same on both sides of each (a face's upper
+#: part merely like the wall beside it still differs by more: photo/140, 13-17).
+SIDES_END_KEEP = 0.5
+SIDES_END_LEVEL = 10.0
+#: The face's top is under this many rows in a row over which its sides no longer stand
+#: (a row or two of the background's own edges' blur aside) ...
+SIDES_END_RUN = 6
+#: ... and the rows between it and the top as found are mostly so (this share): the top
+#: was put on something standing in line behind the face, not a face whose sides fade.
+SIDES_END_SHARE = 0.7
+#: The top is moved only down by at least this share of the face's height as found (a
+#: grossly high top: a few rows' move is the top edges' own business).
+SIDES_END_MIN_DROP = 0.2
+#: The face's surface ends there: an edge across it between the sides, its mean |d/dy| at
+#: least this many times the median row's of the face under it (a line on the wall behind
+#: it, where the sides' contrast changes, crosses no edge of the face: procedural/141).
+SIDES_END_EDGE = 3.0
+
+
+def lower_top_where_sides_end(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> int:
+    """The top moved down to where the face's sides end: walking up from the face's lower
+    part, the first row above which, for SIDES_END_RUN rows, the sides that stand out
+    there (SIDES_END_STAND) lose their contrast (SIDES_END_KEEP), where the rows from it
+    up to ``top`` mostly do too (SIDES_END_SHARE); snapped to the strongest top edge
+    within SNAP_ROWS.
+
+    The face is one surface at the sonar's depth: its own colour does not continue past
+    its sides, so each side line parts it from what is beside it from the foot up to its
+    top. Above its top the wall (or a rocket, a shelf) behind it runs on across the side
+    lines at the same rows: a top put there has rows whose sides part nothing."""
+    h = bottom - top
+    if image is None or image.ndim != 3:
+        return top
+    f0 = FOOT_BAND_ROWS[0]
+    ref_rows = max(SIDES_END_RUN, int(SURFACE_REF_SHARE * h))
+    if h < 4 * SIDES_END_RUN or ref_rows + f0 >= h:
+        return top
+    w_img = view.out.shape[1]
+    reach = SIDES_END_SKIP + SIDES_END_STRIP
+    if left - reach < 0 or right + reach > w_img or right - left < 2 * reach + 2:
+        return top
+    s, g = SIDES_END_STRIP, SIDES_END_SKIP
+    # only the strips round each side line are read: (outside, inside) of each
+    lb = _lab8(image, view, top, bottom, left - reach, left + reach + 1)
+    rb = _lab8(image, view, top, bottom, right - reach, right + reach + 1)
+    strips = (
+        (lb[:, :s], lb[:, reach + g + 1 :]),
+        (rb[:, reach + g + 1 :], rb[:, :s]),
+    )
+    keep = np.zeros(h, np.float32)
+    level = np.zeros(h, np.float32)
+    n_stand = 0
+    for outside, inside in strips:
+        o = np.asarray(median_u8(outside, axis=1), np.float32)
+        i = np.asarray(median_u8(inside, axis=1), np.float32)
+        contrast = row_norms(i - o)
+        ref = float(median_of(contrast[h - f0 - ref_rows : h - f0]))
+        if ref < SIDES_END_STAND:
+            continue
+        n_stand += 1
+        keep += contrast / ref
+        level += contrast
+    if n_stand == 0:
+        return top
+    box = np.ones(3, np.float32) / (3 * n_stand)
+    face = (np.convolve(keep, box, "same") >= SIDES_END_KEEP) | (
+        np.convolve(level, box, "same") >= SIDES_END_LEVEL
+    )
+    end = -1
+    run = 0
+    for r in range(h - f0 - ref_rows, -1, -1):
+        if face[r]:
+            run = 0
+            continue
+        run += 1
+        if run == SIDES_END_RUN:
+            end = r + SIDES_END_RUN  # the face's top row: the last one whose sides stand
+            break
+    if end < SIDES_END_MIN_DROP * h:
+        return top
+    if float(np.mean(~face[:end])) < SIDES_END_SHARE:
+        return top
+    lo, hi = max(0, end - SNAP_ROWS), min(h - 1, end + SNAP_ROWS)
+    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP
+    strength = np.asarray(ay[top : bottom - f0, c0:c1].mean(axis=1))
+    at = lo + int(np.argmax(strength[lo : hi + 1]))
+    below = float(median_of(strength[at + SNAP_ROWS + 1 :]))
+    log.debug("sides end at %d: edge %.1f, face %.1f", top + at, strength[at], below)
+    if strength[at] < SIDES_END_EDGE * below:
+        return top
+    return top + at
