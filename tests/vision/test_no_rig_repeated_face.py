@@ -52,6 +52,8 @@ def test_a_face_found_twice_is_not_reported(monkeypatch: pytest.MonkeyPatch) -> 
     monkeypatch.setattr(measure, "REPEATED_FACE_TRIALS", 2)
     # (the outline read from the strip's foot in the trials grows it to the face: off)
     monkeypatch.setattr(method, "FOOT_OUTLINE_TRIALS", False)
+    # (... as does the estimated rig taken as known, measure.ESTIMATED_RIG_AGAIN: off)
+    monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
     eh, _ = room_size_errors("photo", 737, True, with_rig=False)
     assert eh > 0.25
 
