@@ -400,6 +400,8 @@ def test_with_no_rig_a_stream_tries_the_last_frames_camera_height_first(
         return find(*args)  # type: ignore[arg-type]
 
     monkeypatch.setattr(measure, "contact_rows", counting)
+    # (the blank frame's rows read as with a rig, KNOWN_RIG_ROWS, would seek them too)
+    monkeypatch.setattr(measure, "KNOWN_RIG_ROWS", False)
     measurer = Measurer(CAM, None)
     first = measurer.measure(image, truth["range_m"])
     assert first.detected and len(sought) == 1
@@ -1615,10 +1617,14 @@ def test_with_no_rig_photo_faces_refused_on_a_guessed_pitch_are_measured(
     _assert_measured_without_rig("photo", seed, hard, rel=0.05)
 
 
-def test_with_no_rig_procedural_108_a_face_off_by_its_size_is_not_reported() -> None:
+def test_with_no_rig_procedural_108_a_face_off_by_its_size_is_not_reported(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """Room procedural/108 (hard): with no rig a narrow strip of the panelled wall stood a
     face +115 % in height (six doubts, confidence 0.05): no answer now, and the reason
-    names the doubts."""
+    names the doubts. (Its rows read as with a rig, KNOWN_RIG_ROWS, find the box within
+    4 %: off here.)"""
+    monkeypatch.setattr(measure, "KNOWN_RIG_ROWS", False)
     image, truth, _ = render_room("procedural", 108, True, CAM)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert not res.detected

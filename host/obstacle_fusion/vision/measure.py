@@ -129,6 +129,7 @@ class Measurer:
         self._last_rig: tuple[float, float, bool] | None = None
         self._last_pitch_doubts: list[str] = []
         self._sweep_rest = 0  # frames still to go without the last-resort pitch sweep
+        self._known_rest = 0  # ... and without the rows read as with a rig (KNOWN_RIG_ROWS)
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
 
@@ -1097,6 +1098,74 @@ class Measurer:
         again.doubts = [*again.doubts, *(d for d in found.doubts if d in SEARCH_DOUBTS)]
         return again
 
+    def _known_rig_rows(
+        self, fused: FusedMethod, image: npt.NDArray[Any], range_m: float, timer: Timer
+    ) -> Measurement | None:
+        """With no rig and no face from the search (a miss or a refusal): each floor-contact
+        row and weaker step of the band, lowest first, is measured as with a rig, the camera
+        height and pitch that put the contact there at each of KNOWN_RIG_PITCHES_DEG taken
+        as known, so the stages that need a rig run (the foot outline, the seams' and the
+        band's walks, the luminance and background-turn tries). A face is a surface in the
+        world: on its true foot row it stays one box however the pitch is guessed. The
+        first row where at least KNOWN_RIG_AGREE of those readings are one face on one foot
+        (:func:`_same_face`), each standing on its foot (:func:`sides_reach_foot`), none
+        of FOOT_DOUBTS, not small, not doubted on every count (its pitch a guess,
+        PITCH_UNREAD, counted: MIN_DOUBTED_CONFIDENCE), gives the surest of them; None when
+        no row does."""
+        view: View = fused.view
+        depth = self.rig.face_depth(range_m)
+        h_img, w_img = image.shape[:2]
+        rows = sorted(
+            set(contact_rows(image, view, depth)) | set(weak_contact_rows(image, view, depth)),
+            reverse=True,
+        )
+        for row in rows:
+            faces: list[Measurement] = []
+            for k, pitch in enumerate(KNOWN_RIG_PITCHES_DEG):
+                if len(faces) + len(KNOWN_RIG_PITCHES_DEG) - k < KNOWN_RIG_AGREE:
+                    break  # too few pitches left to agree
+                height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
+                if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                    continue
+                method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
+                base = method.view
+                rig = dataclasses.replace(self.rig, camera_height_m=height, camera_pitch_deg=pitch)
+                method.view = copy.copy(base)
+                method.view.rig = rig
+                method.view.horizon_slack_px = 0.0
+                try:
+                    result = self._run_rig(method, rig, image, range_m, timer)
+                finally:
+                    method.view = base
+                if not result.detected:
+                    continue
+                # its pitch a guess: doubted so, and refused as the search refuses a face
+                # doubted on every count
+                result.doubts = [*result.doubts, PITCH_UNREAD]
+                if (
+                    sides_reach_foot(image, result.lines)
+                    and not FOOT_DOUBTS.intersection(result.doubts)
+                    and not _small(result)
+                    and _doubted(result, REFUSAL_IGNORES) >= MIN_DOUBTED_CONFIDENCE
+                ):
+                    result.camera_height_m = float(height)
+                    result.camera_pitch_deg = pitch
+                    faces.append(result)
+            for face in sorted(faces, key=lambda f: f.confidence or 0.0, reverse=True):
+                same = [f for f in faces if _same_face(face.box_px, f.box_px)]
+                if len(same) >= KNOWN_RIG_AGREE:
+                    log.debug(
+                        "no rig, row %d as with a rig: %d readings agree, box %s at %.3f",
+                        row,
+                        len(same),
+                        face.box_px,
+                        face.confidence or 0.0,
+                    )
+                    timer.lap("known_rig_rows")
+                    return face
+        timer.lap("known_rig_rows")
+        return None
+
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
             raise UserError("image must be a non-empty grey or BGR array")
@@ -1114,6 +1183,16 @@ class Measurer:
             result = self._run_estimated(impl, image, range_m, timer)
             if ESTIMATED_RIG_AGAIN and result.detected:
                 result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
+            if KNOWN_RIG_ROWS and not result.detected:
+                # (in a stream where it found nothing, the next SWEEP_REST_FRAMES frames
+                # go without: up to ~130 rig readings a frame)
+                if self._known_rest > 0:
+                    self._known_rest -= 1
+                else:
+                    found = self._known_rig_rows(cast(FusedMethod, impl), image, range_m, timer)
+                    self._known_rest = SWEEP_REST_FRAMES if found is None else 0
+                    if found is not None:
+                        result = found
         elif self.method == "fused":
             result = self._run_rig(cast(FusedMethod, impl), self.rig, image, range_m, timer)
         else:
@@ -1144,6 +1223,16 @@ class Measurer:
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
 
+
+#: With no rig, when the search gives no face (a miss or a refusal), each floor-contact
+#: row and weaker step, lowest first, measured as with a rig at a few guessed pitches; the
+#: first whose readings agree on one face gives it (:meth:`Measurer._known_rig_rows`).
+#: Session 37, branch ``wt-c-37``; a switch for the tests.
+KNOWN_RIG_ROWS = True
+#: ... the pitches the row is measured at (degrees, down positive) ...
+KNOWN_RIG_PITCHES_DEG = (-2.0, 0.0, 2.0, 4.0)
+#: ... and how many of those readings must be one face on one foot.
+KNOWN_RIG_AGREE = 3
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages

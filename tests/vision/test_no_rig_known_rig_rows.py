@@ -1,0 +1,89 @@
+"""With no rig, when the search gives no face (a miss or a refusal), each floor-contact row
+and weaker step, lowest first, is measured as with a rig at a few guessed pitches, and the
+first row whose readings agree on one face on one foot gives it, with its low confidence
+(``measure.KNOWN_RIG_ROWS``, ``measure.Measurer._known_rig_rows``).
+
+The rooms are tuning rooms, measured with no rig. Photo 700 (ordinary): the face's foot is
+the last of the band's weak steps (row 229); the no-rig trials there find no face, the
+rig's stages do, alike at all four pitches (within 3 %). Procedural 144 (hard): the search
+refused a band of the face; its foot row read as with a rig gives the face at three of the
+four pitches (within 4 %), while the step under it (row 265) agrees only twice, its width a
+quarter short: at KNOWN_RIG_AGREE 2 that row is taken, at 4 no row agrees. Photo 2085
+(hard): readings agreeing on a face 59 % too tall carry the search's refusal's doubts
+(second top edge, top running on, skewed edges, small): refused as the search refuses.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused.confidence import PITCH_UNREAD
+from obstacle_fusion.vision.measure import Measurer
+from obstacle_fusion.vision.types import Measurement
+
+from tests.vision_fixtures import room_size_errors
+
+
+def _measured(family: str, seed: int, hard: bool) -> Measurement:
+    cam = CameraModel.paper(500, 375)
+    image, truth, _ = render_room(family, seed, hard, cam)
+    return Measurer(cam, None).measure(image, truth["range_m"])
+
+
+def test_a_foot_on_a_weak_step_is_read_as_with_a_rig() -> None:
+    eh, ew = room_size_errors("photo", 700, False, with_rig=False)
+    assert eh < 0.05 and ew < 0.05
+
+
+def test_the_face_is_reported_unsure() -> None:
+    found = _measured("photo", 700, False)
+    assert found.detected and (found.confidence or 0.0) < 0.5
+    assert PITCH_UNREAD in found.doubts
+
+
+def test_without_the_rule_the_face_is_missed(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "KNOWN_RIG_ROWS", False)
+    assert not _measured("photo", 700, False).detected
+    assert not _measured("procedural", 144, True).detected
+
+
+def test_three_pitches_agree_on_the_face() -> None:
+    eh, ew = room_size_errors("procedural", 144, True, with_rig=False)
+    assert eh < 0.05 and ew < 0.05
+
+
+def test_two_agreeing_readings_take_the_row_below(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "KNOWN_RIG_AGREE", 2)
+    _, ew = room_size_errors("procedural", 144, True, with_rig=False)
+    assert ew > 0.2
+
+
+def test_four_agreeing_readings_are_too_many(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "KNOWN_RIG_AGREE", 4)
+    assert not _measured("procedural", 144, True).detected
+
+
+def test_a_face_doubted_on_every_count_stays_refused() -> None:
+    assert not _measured("photo", 2085, True).detected
+
+
+def test_a_stream_rests_after_a_frame_it_found_nothing_on(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls: list[int] = []
+    read = Measurer._known_rig_rows
+
+    def counting(self: Measurer, *args: Any) -> Measurement | None:
+        calls.append(1)
+        return read(self, *args)
+
+    monkeypatch.setattr(Measurer, "_known_rig_rows", counting)
+    cam = CameraModel.paper(500, 375)
+    measurer = Measurer(cam, None)
+    blank = np.full((375, 500, 3), 128, np.uint8)
+    for _ in range(measure.SWEEP_REST_FRAMES + 2):
+        assert not measurer.measure(blank, 2.0).detected
+    assert len(calls) == 2  # the first frame and the one after the rest
