@@ -26,6 +26,10 @@ def test_the_face_seen_whole_is_taken() -> None:
 
 def test_without_the_rule_the_strip_stands(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "SWEPT_WHOLE_FACE", False)
+    # with the sweep's whole face not taken, the strip is a band across a taller face the
+    # trials found on a lower foot (NEARER_ACROSS_BAND): that face, its height right but
+    # 33 % too wide, would stand instead of the strip
+    monkeypatch.setattr(measure, "NEARER_ACROSS_BAND", False)
     eh, _ = room_size_errors("photo", 2091, False, with_rig=False)
     assert eh > 0.25
 

@@ -48,6 +48,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     contact_rows,
     face_apart_from_floor,
     face_runs_below,
+    print_runs_below,
     sides_reach_foot,
     sides_run_down,
     sides_run_up,
@@ -251,7 +252,7 @@ class Measurer:
             if log.isEnabledFor(logging.DEBUG):  # up to ~20 trials a frame: format only if read
                 log.debug(
                     "no rig: camera %.3f m, pitch %.1f deg, row %.0f, slack %.0f px%s: %s, "
-                    "h %s, w %s, conf %.2f",
+                    "h %s, w %s, conf %.2f, box %s, doubts %s",
                     height,
                     pitch,
                     row,
@@ -261,6 +262,8 @@ class Measurer:
                     result.height_m,
                     result.width_m,
                     result.confidence or 0.0,
+                    result.box_px and tuple(round(b) for b in result.box_px),
+                    result.doubts,
                 )
             return result
 
@@ -359,6 +362,20 @@ class Measurer:
                         ):
                             log.debug(
                                 "no rig: row %d's face is the upper part of row %d's", row, low_row
+                            )
+                            best, best_row = low, low_row
+                            break
+                        # a line of the face's own print (a row of its pattern) stands the
+                        # face's upper part on it: the print runs on below that foot, to a
+                        # lower face's foot with the same top, which its lowest band's
+                        # likeness to the floor (FLOOR_IN_FACE: a dark print's margin on a
+                        # dark floor) does not stop (print_runs_below)
+                        if PRINT_LINE_FOOT and _print_line_foot(image, result, low):
+                            log.debug(
+                                "no rig: row %d's face stands on a line of its print; row %d's "
+                                "is the face",
+                                row,
+                                low_row,
                             )
                             best, best_row = low, low_row
                             break
@@ -744,7 +761,11 @@ class Measurer:
                 or box is None
                 or not _covers(box, u_axis)
                 or box[3] < foot + MIN_NEARER_DROP_PX
-                or not (off_axis or box[1] >= foot)
+                or not (
+                    off_axis
+                    or box[1] >= foot
+                    or (NEARER_ACROSS_BAND and _band_across(best.box_px, box))
+                )
                 or (other.confidence or 0.0) < NEARER_AXIS_ACCEPT
                 or _small(other)
                 or FOOT_DOUBTS & set(other.doubts)
@@ -1421,6 +1442,10 @@ OUTLINE_MATCH_PX = 3.0
 #: ... that lower face's foot at least this many pixels lower (over twice ROW_JITTER_PX:
 #: nearer feet are one edge's blur, the row jitter's business), is that face's upper part.
 OUTLINE_MIN_DROP_PX = 5.0
+#: A face accepted on a line of its own print gives way to the same face found on a lower
+#: row when the print's texture runs on between the two feet (:func:`_print_line_foot`;
+#: with no rig, the rows are the trials' own guesses).
+PRINT_LINE_FOOT = True
 #: With no rig, the rows this far above and below the chosen floor-contact row are tried
 #: too (pixels); the surest face of the three is kept.
 ROW_JITTER_PX = 2
@@ -1456,6 +1481,12 @@ NEARER_ON_AXIS = True
 #: ... from this confidence up (a trial's, doubts not applied): on the tuning rooms such
 #: faces read right stood at 0.17 and 0.25, and a floor mark's face under one at 0.10.
 NEARER_AXIS_ACCEPT = 0.15
+#: ... and also when the face reported is a band running across that nearer face, past
+#: both its sides (:func:`_band_across`): a wall's band behind a box, read as a face
+#: across the box's own surface. A switch for the tests.
+NEARER_ACROSS_BAND = True
+#: ... the nearer face at least this many times as tall as the band.
+ACROSS_TALLER = 2.0
 #: ... the doubts such a face is reported with (its pitch a guess, the face beside the axis
 #: a rival trial's): one doubted under MIN_DOUBTED_CONFIDENCE with them is not taken (on
 #: the fresh rooms taking one turned a face 23 % off into a refusal).
@@ -1902,6 +1933,37 @@ def _same_outline(
         and abs(upper[2] - lower[2]) <= tol
         and abs(upper[1] - lower[1]) <= tol
         and lower[3] >= upper[3] + OUTLINE_MIN_DROP_PX
+    )
+
+
+def _print_line_foot(image: npt.NDArray[Any], upper: Measurement, lower: Measurement) -> bool:
+    """Whether the face ``upper`` (accepted on a higher tried row) stands on a line of its
+    own print and ``lower`` (found on a lower row, not accepted) is the same face on its
+    floor contact: their tops within OUTLINE_MATCH of the upper face's width (at least
+    OUTLINE_MATCH_PX), the lower face of full size (not :func:`_small`), and the print's
+    texture running on between the two feet (:func:`print_runs_below`)."""
+    up, low = upper.box_px, lower.box_px
+    if up is None or low is None or _small(lower):
+        return False
+    tol = max(OUTLINE_MATCH_PX, OUTLINE_MATCH * (up[2] - up[0]))
+    return abs(up[1] - low[1]) <= tol and print_runs_below(image, up, low)
+
+
+def _band_across(
+    band: tuple[float, float, float, float], face: tuple[float, float, float, float]
+) -> bool:
+    """Whether the face found ``band`` (input pixel boxes x0, y0, x1, y1) is a band running
+    across a nearer, taller face ``face`` (a wall's band, a skirting, a poster's strip seen
+    on both sides of the box in front of it): ``band`` reaches past both of ``face``'s
+    sides, and ``face`` rises above its top and stands below its foot, ACROSS_TALLER times
+    as tall or more. Across the nearer face's columns the band is that face's own surface,
+    so no face stands there but the nearer one."""
+    return (
+        band[0] <= face[0]
+        and band[2] >= face[2]
+        and face[1] < band[1]
+        and face[3] > band[3]
+        and face[3] - face[1] >= ACROSS_TALLER * (band[3] - band[1])
     )
 
 

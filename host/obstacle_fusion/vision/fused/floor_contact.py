@@ -395,6 +395,67 @@ def face_runs_below(
     )
 
 
+#: A print's line taken for a face's foot (:func:`print_runs_below`): the strip between the
+#: two feet is the print running on when its grey spread (standard deviation) is at least
+#: this share of the spread of the band just above the higher foot (as tall as the strip) ...
+PRINT_TEXTURE_SHARE = 0.5
+#: ... and at least this many times the spread of the floor under the lower foot ...
+PRINT_FLOOR_TEXTURE = 3.0
+#: ... and at least this (8-bit grey levels): a plain strip is no print, whatever the
+#: floor's spread.
+PRINT_MIN_SPREAD = 8.0
+#: Rows under the lower foot read as the floor there (from, to).
+PRINT_FLOOR_PX = (3, 9)
+#: The lower foot at least this many rows under the higher one (the strip read between
+#: them, 2 rows clear of the line and 1 of the foot, two rows at least).
+PRINT_MIN_DROP_PX = 5
+
+
+def print_runs_below(
+    image: npt.NDArray[np.uint8],
+    upper: tuple[float, float, float, float],
+    lower: tuple[float, float, float, float],
+) -> bool:
+    """Whether a face found on a higher tried row stands on a line inside its own print (a
+    row of a photograph's pattern, a brick course) and the face found on a lower row is the
+    same face standing on the floor (input pixel boxes x0, y0, x1, y1): the lower face
+    covers the higher one, and the strip between their feet (the middle three fifths of
+    the columns) is as textured as the higher face just above its foot
+    (PRINT_TEXTURE_SHARE of its grey spread) and far more than the floor under the
+    lower foot (PRINT_FLOOR_TEXTURE): the print runs on under the line, the floor does not.
+    Colour alone does not tell it: a dark print's mean matches a dark floor's."""
+    left, _, right, foot = upper
+    low_left, _, low_right, low_foot = lower
+    w = right - left
+    if w <= 0 or not (low_left <= left + COVER_SHARE * w and low_right >= right - COVER_SHARE * w):
+        return False
+    drop = low_foot - foot
+    if drop < PRINT_MIN_DROP_PX:
+        return False
+    c0, c1 = left + 0.2 * w, right - 0.2 * w
+    grey = image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    a, z = PRINT_FLOOR_PX
+
+    def spread(y0: float, y1: float) -> float | None:
+        h_img, w_img = grey.shape[:2]
+        r0, r1 = max(0, int(y0)), min(h_img, int(y1))
+        q0, q1 = max(0, int(c0)), min(w_img, int(c1))
+        if r1 - r0 < 2 or q1 <= q0:
+            return None
+        return float(np.std(grey[r0:r1, q0:q1].astype(np.float32)))
+
+    strip = spread(foot + 2, low_foot - 1)
+    band = spread(foot - drop, foot - 1)
+    floor = spread(low_foot + a, low_foot + z)
+    if strip is None or band is None or floor is None:
+        return False
+    return (
+        strip >= PRINT_MIN_SPREAD
+        and strip >= PRINT_TEXTURE_SHARE * band
+        and strip >= PRINT_FLOOR_TEXTURE * floor
+    )
+
+
 # a face of its own colour, not a patch of the floor before a face: its middle (the middle
 # share FACE_MIDDLE of its box each way) this far (Lab, 8-bit) from the floor under its foot
 # (a gravel patch read as a face stood 6 apart; boxes on the fresh rooms 30-49)
