@@ -56,6 +56,31 @@ static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssi
     }
 }
 
+/* The count of values v..v+15 in the two tables of middles_by_count (whose 16-bit
+ * entries over both tables add up to at most 65535: no 16-bit sum of them wraps). */
+static Py_ssize_t block_count(const unsigned short count[2][256], int v)
+{
+#ifdef __SSE2__
+    __m128i s = _mm_add_epi16(
+        _mm_add_epi16(_mm_loadu_si128((const __m128i *)&count[0][v]),
+                      _mm_loadu_si128((const __m128i *)&count[1][v])),
+        _mm_add_epi16(_mm_loadu_si128((const __m128i *)&count[0][v + 8]),
+                      _mm_loadu_si128((const __m128i *)&count[1][v + 8])));
+    /* eight 16-bit sums to four 32-bit ones (unsigned: the high halves masked), then two,
+     * then one */
+    __m128i lo16 = _mm_and_si128(s, _mm_set1_epi32(0xffff));
+    __m128i t = _mm_add_epi32(lo16, _mm_srli_epi32(s, 16));
+    t = _mm_add_epi32(t, _mm_shuffle_epi32(t, _MM_SHUFFLE(1, 0, 3, 2)));
+    t = _mm_add_epi32(t, _mm_shuffle_epi32(t, _MM_SHUFFLE(2, 3, 0, 1)));
+    return (Py_ssize_t)_mm_cvtsi128_si32(t);
+#else
+    Py_ssize_t block = 0;
+    for (int j = 0; j < 16; j++)
+        block += count[0][v + j] + count[1][v + j];
+    return block;
+#endif
+}
+
 /* The values at sorted positions k - 1 and k (1 <= k < n) of a lane of n bytes ``step``
  * apart, read off counts of its values: one pass over the lane, one over the counts up to
  * the k-th. Counts in 16 bits for lanes of up to 65535 values (a 512-byte table to clear),
@@ -79,9 +104,7 @@ static void middles_by_count(const char *from, Py_ssize_t step, Py_ssize_t n, Py
         /* the 16-value block holding the (k-1)-th, then value by value from there */
         Py_ssize_t below = 0;
         for (; v < 240; v += 16) {
-            int block = 0;
-            for (int j = 0; j < 16; j++)
-                block += count[0][v + j] + count[1][v + j];
+            Py_ssize_t block = block_count(count, v);
             if (below + block > k - 1)
                 break;
             below += block;
@@ -136,12 +159,28 @@ static int middles(const Py_buffer *src, int axis, const unsigned char *net, Py_
     }
     /* each lane's first value: an odometer over the other axes, last fastest (lanes next
      * to each other in memory, as a row of values, are copied a row at a time) */
+    /* (the innermost of the other axes in a plain loop, with the axes outside it that
+     * continue it evenly (a row of pixels' channels and columns: one run), the odometer
+     * over the rest: one step of it per run of lanes) */
     Py_ssize_t index[MAX_DIMS] = {0}, at = 0;
+    int inner = nd - 1 == axis ? nd - 2 : nd - 1;
+    Py_ssize_t run = inner >= 0 ? src->shape[inner] : 1;
+    Py_ssize_t run_step = inner >= 0 ? src->strides[inner] : 0;
+    int outer = inner; /* the odometer's axes: those before it */
+    for (int d = inner - 1; d >= 0; d--) {
+        if (d == axis)
+            continue;
+        if (src->strides[d] != run_step * run)
+            break;
+        run *= src->shape[d];
+        outer = d;
+    }
     int adjacent = 1;
-    for (Py_ssize_t lane = 0; lane < lanes; lane++) {
-        offsets[lane] = at;
-        adjacent &= at == lane;
-        for (int d = nd - 1; d >= 0; d--) {
+    for (Py_ssize_t lane = 0; lane < lanes; lane += run) {
+        for (Py_ssize_t j = 0; j < run; j++)
+            offsets[lane + j] = at + j * run_step;
+        adjacent &= at == lane && (run == 1 || run_step == 1);
+        for (int d = outer - 1; d >= 0; d--) {
             if (d == axis)
                 continue;
             at += src->strides[d];
