@@ -84,3 +84,81 @@ def test_counted_medians_at_the_16_bit_limit(value: int) -> None:
         want = np.median(a.astype(np.float32), axis=0)
         assert np.array_equal(_c_median(a, 0, b""), want), (value, n)
         assert np.array_equal(_c_median(np.ascontiguousarray(a.T), 1, b""), want)
+
+
+def _partitioned_kth(a: npt.NDArray[np.float32], k: int) -> float:
+    flat = a.flatten()
+    flat.partition(k)
+    return float(flat[k])
+
+
+@pytest.mark.parametrize(
+    "shape", [(1,), (2,), (1023,), (4096,), (1, 1), (1, 300), (300, 1), (94, 125), (375, 500)]
+)
+def test_kth_counted_is_the_partition_s_value(shape: tuple[int, ...]) -> None:
+    """Whole float32 values 0..1023 (the frame's |d/dy|): the value a partition leaves
+    at k, for every k at the ends and the middle, on the array and strided, reversed and
+    transposed views of it, one row or column too."""
+    rng = np.random.default_rng(sum(shape))
+    a = rng.integers(0, 1024, shape).astype(np.float32)
+    if a.size > 4:
+        a.flat[:3] = (0.0, 1023.0, 1022.0)  # the table's ends
+    views = [a, a[::-1]]
+    if a.ndim == 2:
+        views += [a[::4, ::4], a.T, a[:, :1], a[:1], a[::-3, 1::2]]
+    for v in views:
+        if v.size == 0:
+            continue
+        for k in {0, 1 % v.size, v.size // 2, v.size - 1}:
+            assert _cmiddle.kth_counted(v, k) == _partitioned_kth(v, k), (v.shape, k)
+
+
+def test_kth_counted_leaves_what_it_cannot_count_to_the_partition() -> None:
+    """None (the caller partitions) for a value past 1023, a fraction, a negative value,
+    negative zero and NaN, and for a k outside the array (an empty one too); a type error
+    for other types and 3-D arrays."""
+    a = np.arange(64, dtype=np.float32).reshape(8, 8)
+    assert _cmiddle.kth_counted(a, 32) == 32.0
+    for bad in (1024.0, 0.5, -1.0, -0.0, np.nan, np.inf):
+        b = a.copy()
+        b[5, 6] = bad
+        assert _cmiddle.kth_counted(b, 32) is None, bad
+    assert _cmiddle.kth_counted(a, 64) is None and _cmiddle.kth_counted(a, -1) is None
+    assert _cmiddle.kth_counted(np.empty(0, np.float32), 0) is None
+    with pytest.raises(TypeError):
+        _cmiddle.kth_counted(a.astype(np.float64), 3)
+    with pytest.raises(TypeError):
+        _cmiddle.kth_counted(a.reshape(4, 4, 4), 3)
+
+
+def test_median_counts_large_whole_arrays_and_partitions_the_rest(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """profiles.median offers arrays of COUNTED_MEDIAN_MIN values and more to the count
+    (just at the limit: counted; one value fewer: partitioned), and takes the partition's
+    value where the count refuses (fractions): the same medians either way."""
+    from obstacle_fusion.vision.fused import profiles
+
+    counted = profiles._c_kth_counted
+    assert counted is not None, "the C accelerator is not built (make setup)"
+    calls: list[int] = []
+
+    def spied(src: object, k: int) -> float | None:
+        calls.append(k)
+        return counted(src, k)
+
+    monkeypatch.setattr(profiles, "_c_kth_counted", spied)
+    rng = np.random.default_rng(5)
+    n = profiles.COUNTED_MEDIAN_MIN
+    whole = rng.integers(0, 1021, (3, n)).astype(np.float32)
+    for arr, offered in [
+        (whole[0], True),  # just at the limit
+        (whole[0, 1:], False),  # just under it
+        (whole[:, ::2], True),  # strided, 2-D
+        (whole + 0.5, True),  # fractions: refused, partitioned
+        (whole.astype(np.float64), False),
+    ]:
+        calls.clear()
+        got = profiles.median(arr)
+        assert bool(calls) is offered, arr.shape
+        assert got == _partitioned_kth(arr, arr.size // 2)

@@ -1674,6 +1674,71 @@ done:
     return result;
 }
 
+/* kth_counted(src, k): the k-th smallest (0-based) value of src (float32, 1-D or 2-D, any
+ * strides) as a Python float, when every value is a whole number in 0..KTH_COUNTED_MAX
+ * (the frame's |d/dy|, under 1021): read off counts of its values, exactly the value a
+ * partition (profiles.median's) leaves at k. None when a value is not such a number
+ * (negative zero, fractions, NaN, larger: the caller partitions), or for a k outside
+ * 0..size-1. */
+#define KTH_COUNTED_MAX 1023
+static PyObject *kth_counted(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *src_obj;
+    Py_ssize_t k;
+    if (!PyArg_ParseTuple(args, "On:kth_counted", &src_obj, &k))
+        return NULL;
+    Py_buffer src;
+    if (PyObject_GetBuffer(src_obj, &src, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    PyObject *result = NULL;
+    if (src.itemsize != 4 || src.format == NULL || strcmp(src.format, "f") != 0 ||
+        src.ndim < 1 || src.ndim > 2) {
+        PyErr_SetString(PyExc_TypeError, "kth_counted: a 1-D or 2-D float32 array");
+        goto done;
+    }
+    Py_ssize_t rows = src.ndim == 2 ? src.shape[0] : 1, cols = src.shape[src.ndim - 1];
+    Py_ssize_t rs = src.ndim == 2 ? src.strides[0] : 0, cs = src.strides[src.ndim - 1];
+    if (k < 0 || k >= rows * cols) {
+        Py_INCREF(Py_None);
+        result = Py_None;
+        goto done;
+    }
+    Py_ssize_t count[KTH_COUNTED_MAX + 1];
+    memset(count, 0, sizeof count);
+    for (Py_ssize_t r = 0; r < rows; r++) {
+        const char *row = (const char *)src.buf + r * rs;
+        for (Py_ssize_t c = 0; c < cols; c++) {
+            float x;
+            memcpy(&x, row + c * cs, sizeof x);
+            /* (NaN fails the first test; -0.0 passes it and is refused by its sign) */
+            if (!(x >= 0.0f && x <= (float)KTH_COUNTED_MAX) || signbit(x)) {
+                Py_INCREF(Py_None);
+                result = Py_None;
+                goto done;
+            }
+            int v = (int)x;
+            if ((float)v != x) {
+                Py_INCREF(Py_None);
+                result = Py_None;
+                goto done;
+            }
+            count[v]++;
+        }
+    }
+    Py_ssize_t below = 0;
+    int v = 0;
+    for (; v < KTH_COUNTED_MAX; v++) {
+        below += count[v];
+        if (below > k)
+            break;
+    }
+    result = PyFloat_FromDouble((double)v);
+done:
+    PyBuffer_Release(&src);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"uncovered", uncovered, METH_VARARGS,
      "uncovered(boxes, r0, r1, c0, c1): None inside a box, else the block's uncovered pieces."},
@@ -1697,6 +1762,8 @@ static PyMethodDef methods[] = {
      "middle_u8(src, network, lo, hi): the two middle values of every last-axis lane."},
     {"median_f32", median_f32, METH_VARARGS,
      "median_f32(src, axis, network, out): the float32 median of every lane along axis."},
+    {"kth_counted", kth_counted, METH_VARARGS,
+     "kth_counted(src, k): the k-th smallest of whole float32 values 0..1023, counted."},
     {"project3", project3, METH_VARARGS,
      "project3(src, m0, m1, m2, m3, dst): cv2.transform of a BGR image by one float32 row."},
     {NULL, NULL, 0, NULL},
