@@ -56,6 +56,31 @@ static void compare(unsigned char *restrict x, unsigned char *restrict y, Py_ssi
     }
 }
 
+/* The count of values v..v+15 in the two tables of middles_by_count (whose 16-bit
+ * entries over both tables add up to at most 65535: no 16-bit sum of them wraps). */
+static Py_ssize_t block_count(const unsigned short count[2][256], int v)
+{
+#ifdef __SSE2__
+    __m128i s = _mm_add_epi16(
+        _mm_add_epi16(_mm_loadu_si128((const __m128i *)&count[0][v]),
+                      _mm_loadu_si128((const __m128i *)&count[1][v])),
+        _mm_add_epi16(_mm_loadu_si128((const __m128i *)&count[0][v + 8]),
+                      _mm_loadu_si128((const __m128i *)&count[1][v + 8])));
+    /* eight 16-bit sums to four 32-bit ones (unsigned: the high halves masked), then two,
+     * then one */
+    __m128i lo16 = _mm_and_si128(s, _mm_set1_epi32(0xffff));
+    __m128i t = _mm_add_epi32(lo16, _mm_srli_epi32(s, 16));
+    t = _mm_add_epi32(t, _mm_shuffle_epi32(t, _MM_SHUFFLE(1, 0, 3, 2)));
+    t = _mm_add_epi32(t, _mm_shuffle_epi32(t, _MM_SHUFFLE(2, 3, 0, 1)));
+    return (Py_ssize_t)_mm_cvtsi128_si32(t);
+#else
+    Py_ssize_t block = 0;
+    for (int j = 0; j < 16; j++)
+        block += count[0][v + j] + count[1][v + j];
+    return block;
+#endif
+}
+
 /* The values at sorted positions k - 1 and k (1 <= k < n) of a lane of n bytes ``step``
  * apart, read off counts of its values: one pass over the lane, one over the counts up to
  * the k-th. Counts in 16 bits for lanes of up to 65535 values (a 512-byte table to clear),
@@ -79,9 +104,7 @@ static void middles_by_count(const char *from, Py_ssize_t step, Py_ssize_t n, Py
         /* the 16-value block holding the (k-1)-th, then value by value from there */
         Py_ssize_t below = 0;
         for (; v < 240; v += 16) {
-            int block = 0;
-            for (int j = 0; j < 16; j++)
-                block += count[0][v + j] + count[1][v + j];
+            Py_ssize_t block = block_count(count, v);
             if (below + block > k - 1)
                 break;
             below += block;
@@ -136,12 +159,28 @@ static int middles(const Py_buffer *src, int axis, const unsigned char *net, Py_
     }
     /* each lane's first value: an odometer over the other axes, last fastest (lanes next
      * to each other in memory, as a row of values, are copied a row at a time) */
+    /* (the innermost of the other axes in a plain loop, with the axes outside it that
+     * continue it evenly (a row of pixels' channels and columns: one run), the odometer
+     * over the rest: one step of it per run of lanes) */
     Py_ssize_t index[MAX_DIMS] = {0}, at = 0;
+    int inner = nd - 1 == axis ? nd - 2 : nd - 1;
+    Py_ssize_t run = inner >= 0 ? src->shape[inner] : 1;
+    Py_ssize_t run_step = inner >= 0 ? src->strides[inner] : 0;
+    int outer = inner; /* the odometer's axes: those before it */
+    for (int d = inner - 1; d >= 0; d--) {
+        if (d == axis)
+            continue;
+        if (src->strides[d] != run_step * run)
+            break;
+        run *= src->shape[d];
+        outer = d;
+    }
     int adjacent = 1;
-    for (Py_ssize_t lane = 0; lane < lanes; lane++) {
-        offsets[lane] = at;
-        adjacent &= at == lane;
-        for (int d = nd - 1; d >= 0; d--) {
+    for (Py_ssize_t lane = 0; lane < lanes; lane += run) {
+        for (Py_ssize_t j = 0; j < run; j++)
+            offsets[lane + j] = at + j * run_step;
+        adjacent &= at == lane && (run == 1 || run_step == 1);
+        for (int d = outer - 1; d >= 0; d--) {
             if (d == axis)
                 continue;
             at += src->strides[d];
@@ -1635,6 +1674,71 @@ done:
     return result;
 }
 
+/* kth_counted(src, k): the k-th smallest (0-based) value of src (float32, 1-D or 2-D, any
+ * strides) as a Python float, when every value is a whole number in 0..KTH_COUNTED_MAX
+ * (the frame's |d/dy|, under 1021): read off counts of its values, exactly the value a
+ * partition (profiles.median's) leaves at k. None when a value is not such a number
+ * (negative zero, fractions, NaN, larger: the caller partitions), or for a k outside
+ * 0..size-1. */
+#define KTH_COUNTED_MAX 1023
+static PyObject *kth_counted(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *src_obj;
+    Py_ssize_t k;
+    if (!PyArg_ParseTuple(args, "On:kth_counted", &src_obj, &k))
+        return NULL;
+    Py_buffer src;
+    if (PyObject_GetBuffer(src_obj, &src, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    PyObject *result = NULL;
+    if (src.itemsize != 4 || src.format == NULL || strcmp(src.format, "f") != 0 ||
+        src.ndim < 1 || src.ndim > 2) {
+        PyErr_SetString(PyExc_TypeError, "kth_counted: a 1-D or 2-D float32 array");
+        goto done;
+    }
+    Py_ssize_t rows = src.ndim == 2 ? src.shape[0] : 1, cols = src.shape[src.ndim - 1];
+    Py_ssize_t rs = src.ndim == 2 ? src.strides[0] : 0, cs = src.strides[src.ndim - 1];
+    if (k < 0 || k >= rows * cols) {
+        Py_INCREF(Py_None);
+        result = Py_None;
+        goto done;
+    }
+    Py_ssize_t count[KTH_COUNTED_MAX + 1];
+    memset(count, 0, sizeof count);
+    for (Py_ssize_t r = 0; r < rows; r++) {
+        const char *row = (const char *)src.buf + r * rs;
+        for (Py_ssize_t c = 0; c < cols; c++) {
+            float x;
+            memcpy(&x, row + c * cs, sizeof x);
+            /* (NaN fails the first test; -0.0 passes it and is refused by its sign) */
+            if (!(x >= 0.0f && x <= (float)KTH_COUNTED_MAX) || signbit(x)) {
+                Py_INCREF(Py_None);
+                result = Py_None;
+                goto done;
+            }
+            int v = (int)x;
+            if ((float)v != x) {
+                Py_INCREF(Py_None);
+                result = Py_None;
+                goto done;
+            }
+            count[v]++;
+        }
+    }
+    Py_ssize_t below = 0;
+    int v = 0;
+    for (; v < KTH_COUNTED_MAX; v++) {
+        below += count[v];
+        if (below > k)
+            break;
+    }
+    result = PyFloat_FromDouble((double)v);
+done:
+    PyBuffer_Release(&src);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     {"uncovered", uncovered, METH_VARARGS,
      "uncovered(boxes, r0, r1, c0, c1): None inside a box, else the block's uncovered pieces."},
@@ -1658,6 +1762,8 @@ static PyMethodDef methods[] = {
      "middle_u8(src, network, lo, hi): the two middle values of every last-axis lane."},
     {"median_f32", median_f32, METH_VARARGS,
      "median_f32(src, axis, network, out): the float32 median of every lane along axis."},
+    {"kth_counted", kth_counted, METH_VARARGS,
+     "kth_counted(src, k): the k-th smallest of whole float32 values 0..1023, counted."},
     {"project3", project3, METH_VARARGS,
      "project3(src, m0, m1, m2, m3, dst): cv2.transform of a BGR image by one float32 row."},
     {NULL, NULL, 0, NULL},
