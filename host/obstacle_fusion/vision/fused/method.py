@@ -359,6 +359,14 @@ SIDES_END_TOP = True
 #: brick face's shadow (procedural/2099 no rig +58 -> +2 % wide; fresh procedural/2183 no
 #: rig 17 -> 6 %, held-out photo 6003 hard no rig 22 -> 5 %). A switch for the tests.
 RISES_EVERY_WALK = True
+#: With the rig, the edge search's face's sides' walk (region.raise_top_by_sides) also
+#: crosses a band up to SIDES_HOLD_BAND_SHARE of the face found where the sides lose their
+#: step but the strips inside them keep the face's colour (region.HELD_BAND_ROWS_SHARE): a
+#: skirting of nearly the face's colour behind it hid its sides, and the top stayed on a
+#: line inside the face (a print's lower edge). A top so raised is doubted as
+#: TOP_FROM_SIDES (no top edge's score chose it).
+SIDES_HOLD_BAND = True
+SIDES_HOLD_BAND_SHARE = 1.5
 
 
 class FusedMethod:
@@ -697,12 +705,26 @@ class FusedMethod:
         ):
             vt = coloured
         walked = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        past_band: int | None = None  # a top the held band's crossing alone reached
+        if SIDES_HOLD_BAND and rig_known:
+            past_band = raise_top_by_sides(
+                seen, v, ay, rb, vt, ul, ur, depth, held_band_share=SIDES_HOLD_BAND_SHARE
+            )
+            if past_band < walked:
+                log.debug(
+                    "top %d: the sides' strips hold the face's colour up to %d", walked, past_band
+                )
+                walked = past_band
+            else:
+                past_band = None
         if COLOUR_TOP_STAYS and colour_top and rig_known:
             walked = vt
         if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True) and not (
             framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
         ):
             vt = walked
+            if past_band is not None and vt == past_band and TOP_FROM_SIDES not in doubts:
+                doubts.append(TOP_FROM_SIDES)  # no top edge's score chose that row
         if HUE_HOLDS_TOP and framed is None and not (COLOUR_TOP_STAYS and colour_top and rig_known):
             # a gloss's highlight across the face stopped both walks: the face's hue goes on
             hued = raise_top_by_hue(seen, v, ay, rb, vt, ul, ur, depth)

@@ -1028,6 +1028,17 @@ SHADED_HUE_STEP = 6.0
 DRIFT_ROWS = 3
 #: How far up the sides' walk may go at least, metres at the face.
 SIDE_WALK_REACH_M = 1.0
+#: With ``held_band_share`` (:func:`raise_top_by_sides`, the edge search's face with the
+#: rig: method.SIDES_HOLD_BAND), a band where the sides lose their step while the strips
+#: just inside both keep the face's own colour is crossed when it is at most that share of
+#: the face found under it and the face comes back above it (TAPE_RETURN_SHARE of as many
+#: rows): a skirting or a wall band behind the face near its colour weakens the step beside
+#: a side, the face itself goes on (procedural/757 hard: a mauve frame's side before a pink
+#: skirting, 8-11 Lab, its strips within 5 of the face's colour; the top stayed on the
+#: print's lower edge, -80 %). Above a real top the strips take the background's colour,
+#: and where the wall is the face's colour nothing beside the sides steps for the return.
+#: At least this share of the band's rows hold the face's colour at both sides.
+HELD_BAND_ROWS_SHARE = 0.9
 
 
 def raise_top_by_sides(
@@ -1040,9 +1051,12 @@ def raise_top_by_sides(
     right: int,
     depth_m: float,
     one_side: bool = False,
+    held_band_share: float = 0.0,
 ) -> int:
     """The face's top row, moved up while both its sides still part the face from what
-    stands beside it (``one_side``: as :func:`raise_top_by_colour`'s).
+    stands beside it (``one_side``: as :func:`raise_top_by_colour`'s; ``held_band_share``:
+    bands of up to that share of the face found where the sides' strips keep the face's
+    colour are crossed, HELD_BAND_ROWS_SHARE).
 
     A band across the whole face (a tape, a label strip, a gloss) changes the face's
     colour in its middle and just inside its sides alike, so the colour walks stop there;
@@ -1071,9 +1085,13 @@ def raise_top_by_sides(
     # first only the rows a first step up reads: most tops do not move, and the whole
     # reach (up to 1 m of rows) would cost most of the stage's time
     short = max(r0, top - need - SNAP_ROWS - 2)
-    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap, read, tape)
+    held = int(held_band_share * (bottom - top))
+    if held > 0:
+        need = max(need, 2 * held)
+        short = max(r0, top - need - SNAP_ROWS - 2)
+    end = _sides_walk(image, view, short, bottom, top, c0, c1, gap, read, tape, held)
     if end is not None and short > r0 and end <= need + 1:  # it may run on above
-        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap, read, tape)
+        end = _sides_walk(image, view, r0, bottom, top, c0, c1, gap, read, tape, held)
         short = r0
     if end is None:
         return top  # a side that does not part the face from its surroundings
@@ -1232,14 +1250,17 @@ def _sides_walk(
     gap: int,
     read: tuple[bool, bool] = (True, True),
     tape: int = 0,
+    held_band: int = 0,
 ) -> int | None:
     """The walk of :func:`raise_top_by_sides` over the view's rows r0..bottom-1: the band
     row it reached (``top - r0`` if none above), or None when a side does not part the
     face from its surroundings along the face. ``read``: the (left, right) sides walked
     (one at the view's border has nothing beside it); ``tape``: the tallest band across
-    the face crossed past ``gap`` (:func:`_cross_bands`)."""
+    the face crossed past ``gap`` (:func:`_cross_bands`); ``held_band``: the tallest band
+    crossed where the strips keep the face's colour (:func:`_cross_held_bands`)."""
     k = top - r0
     on = np.ones(bottom - r0, bool)
+    kept = np.ones(bottom - r0, bool)  # the strips inside both sides hold the face's colour
     span = 2 * (BESIDE_COLUMNS + SIDE_SKIP)  # what is beside a side, its blur, the face
     bands = []
     if read[0]:
@@ -1286,8 +1307,32 @@ def _sides_walk(
                 row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
             )
         on &= held
+        kept &= held
     flags = on.tolist()
-    return _cross_bands(flags, walk_on(flags, k, -1, gap), gap, tape)
+    end = _cross_bands(flags, walk_on(flags, k, -1, gap), gap, tape)
+    if held_band > 0:
+        end = _cross_held_bands(flags, kept.tolist(), end, gap, held_band)
+    return end
+
+
+def _cross_held_bands(on: list[bool], kept: list[bool], end: int, gap: int, band: int) -> int:
+    """The sides' walk (``on``, ``end`` as in :func:`_cross_bands`) carried on across bands
+    of up to ``band`` rows where the sides lose their step but the strips inside both keep
+    the face's colour (``kept`` in at least HELD_BAND_ROWS_SHARE of the band's rows): what
+    is beside the face changed (a skirting near its colour), not the face; the face must
+    come back above the band over TAPE_RETURN_SHARE of as many rows."""
+    while True:
+        j = end - 1
+        while j >= 0 and not on[j]:
+            j -= 1
+        rows = end - 1 - j  # the band's rows
+        if j < 0 or rows <= gap or rows > band or j + 1 < rows:
+            return end
+        if sum(kept[j + 1 : end]) < HELD_BAND_ROWS_SHARE * rows:
+            return end
+        if sum(on[j + 1 - rows : j + 1]) < TAPE_RETURN_SHARE * rows:
+            return end
+        end = walk_on(on, j, -1, gap)
 
 
 #: A frame's side, next to the face's side, is at most this many columns wide (its own
