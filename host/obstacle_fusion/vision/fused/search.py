@@ -383,7 +383,7 @@ class Sides:
             counts = np.empty((rb + 1, 3 * k + 1), np.int32)
             below = np.empty((rb, k), np.int32)
             nxt = np.empty((rb, k), np.intp)
-            csum = np.empty((rb + 1, k), np.float64)
+            csum: npt.NDArray[Any] = np.empty((rb + 1, k), np.float64)
             run_top = _c_side_tables(ax3, cols, thresholds, rb, counts, below, nxt, csum)
             if run_top is not None:
                 self.upto, self.below, self.out = counts[:, :k], below, counts
