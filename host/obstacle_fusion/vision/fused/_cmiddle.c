@@ -14,7 +14,8 @@
  * View.lab's held-block bookkeeping (uncovered), and scoring.score_pairs' top candidates
  * with their features (score_tops: numpy's float operations in numpy's order), and
  * search._rank_sides' ranking of the side columns (rank_sides: the same, None on a tie)
- * and search.Sides' presence tables (side_tables).
+ * and search.Sides' presence tables (side_tables), and search.line_columns' thin lines
+ * (line_columns).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -2090,7 +2091,7 @@ static PyObject *side_tables(PyObject *self, PyObject *args)
         goto done;
     }
     for (Py_ssize_t j = 0; j < k; j++) {
-        Py_ssize_t c = PyLong_AsSsize_t(items[j]);
+        Py_ssize_t c = PyNumber_AsSsize_t(items[j], PyExc_OverflowError);
         if (c == -1 && PyErr_Occurred())
             goto done;
         if (c < 0 || c >= w)
@@ -2184,7 +2185,116 @@ done:
     return result;
 }
 
+/* The float32 mean of column x of an 8-bit strip as numpy's mean: the (whole, exact) sum
+ * divided in float64 by the row count (numpy divides by an intp count), then rounded. */
+static float column_mean(const char *base, Py_ssize_t rows, Py_ssize_t rs, Py_ssize_t cs,
+                         Py_ssize_t x)
+{
+    long sum = 0;
+    for (Py_ssize_t r = 0; r < rows; r++)
+        sum += (unsigned char)base[r * rs + x * cs];
+    return (float)((double)sum / (double)rows);
+}
+
+/* The median of three floats (numpy's sort's middle value: no NaNs here). */
+static float middle3(float a, float b, float c)
+{
+    float lo = a < b ? a : b, hi = a < b ? b : a;
+    return c < lo ? lo : (c > hi ? hi : c);
+}
+
+/* line_columns(strip, cols, beside, contrast, same, same_max): search.line_columns' columns
+ * (a list, in the order of cols; the caller makes it a set). The strip's (uint8, 2-D,
+ * rows >= 1) column means in float32 as numpy's mean (whole sums, divided in float64 and
+ * rounded to float32); per column c with c - beside - 2 >= 0 and c + beside + 3 <= w, the
+ * medians of three of the means at c - beside - 2..c - beside and c + beside..c + beside
+ * + 2, their middle (float64, rounded to float32), the largest float32 |mean - middle|
+ * over c - beside + 2..c + beside - 2 (beside >= 2), kept where that contrast >=
+ * ``contrast`` and the two medians differ by at most min(same * contrast, same_max),
+ * in float64 as numpy. Columns whose window leaves the strip are skipped, as numpy's. */
+static PyObject *line_columns(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *strip_obj, *cols_obj;
+    Py_ssize_t d;
+    double contrast_min, same, same_max;
+    if (!PyArg_ParseTuple(args, "OOnddd:line_columns", &strip_obj, &cols_obj, &d, &contrast_min,
+                          &same, &same_max))
+        return NULL;
+    PyObject *cols = PySequence_Fast(cols_obj, "line_columns: cols must be a sequence");
+    if (cols == NULL)
+        return NULL;
+    Py_buffer strip;
+    if (PyObject_GetBuffer(strip_obj, &strip, PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
+        Py_DECREF(cols);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    float *mean = NULL;
+    unsigned char *known = NULL;
+    if (strip.ndim != 2 || !is_u8(&strip) || strip.shape[0] < 1 || d < 2) {
+        PyErr_SetString(PyExc_TypeError,
+                        "line_columns: a 2-D uint8 strip of one row or more, beside >= 2");
+        goto done;
+    }
+    const Py_ssize_t rows = strip.shape[0], w = strip.shape[1];
+    const Py_ssize_t rs = strip.strides[0], cs = strip.strides[1];
+    const char *base = (const char *)strip.buf;
+    const Py_ssize_t n_cols = PySequence_Fast_GET_SIZE(cols);
+    PyObject **items = PySequence_Fast_ITEMS(cols);
+    mean = PyMem_Malloc((size_t)(w > 0 ? w : 1) * sizeof *mean);
+    known = PyMem_Calloc((size_t)(w > 0 ? w : 1), 1);
+    if (mean == NULL || known == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    result = PyList_New(0);
+    if (result == NULL)
+        goto done;
+/* the float32 mean of column x, computed on first use */
+#define MEAN(x) (known[x] ? mean[x] : (known[x] = 1, mean[x] = column_mean(base, rows, rs, cs, (x))))
+    for (Py_ssize_t i = 0; i < n_cols; i++) {
+        Py_ssize_t c = PyNumber_AsSsize_t(items[i], PyExc_OverflowError);
+        if (c == -1 && PyErr_Occurred())
+            goto fail;
+        if (c - d - 2 < 0 || c + d + 3 > w)
+            continue;
+        const double left = (double)middle3(MEAN(c - d - 2), MEAN(c - d - 1), MEAN(c - d));
+        const double right = (double)middle3(MEAN(c + d), MEAN(c + d + 1), MEAN(c + d + 2));
+        const float mid = (float)(0.5 * (left + right));
+        float top = 0.0f;
+        for (Py_ssize_t x = c - d + 2; x <= c + d - 2; x++) {
+            const float diff = fabsf(MEAN(x) - mid);
+            if (x == c - d + 2 || diff > top)
+                top = diff;
+        }
+        const double contrast = (double)top;
+        const double apart = fabs(left - right);
+        const double most = same * contrast < same_max ? same * contrast : same_max;
+        if (!(contrast >= contrast_min && apart <= most))
+            continue;
+        PyObject *v = PyLong_FromSsize_t(c);
+        if (v == NULL || PyList_Append(result, v) < 0) {
+            Py_XDECREF(v);
+            goto fail;
+        }
+        Py_DECREF(v);
+    }
+#undef MEAN
+    goto done;
+fail:
+    Py_CLEAR(result);
+done:
+    PyMem_Free(mean);
+    PyMem_Free(known);
+    PyBuffer_Release(&strip);
+    Py_DECREF(cols);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"line_columns", line_columns, METH_VARARGS,
+     "line_columns(strip, cols, beside, contrast, same, same_max): search.line_columns' columns."},
     {"side_tables", side_tables, METH_VARARGS,
      "side_tables(ax3, cols, thresholds, rb, counts, below, nxt, csum): search.Sides' tables."},
     {"rank_sides", rank_sides, METH_VARARGS,

@@ -17,6 +17,9 @@ def ramp_spans(
     strip: Any, cols: Any, min_cols: int, beside: int, /
 ) -> list[tuple[int, int, int]]: ...
 def row_norms(x: Any, out: Any, /) -> None: ...
+def line_columns(
+    strip: Any, cols: Any, beside: int, contrast: float, same: float, same_max: float, /
+) -> list[int]: ...
 def side_tables(
     ax3: Any,
     cols: Any,

@@ -53,6 +53,11 @@ try:  # (apart: an accelerator built before it still walks the ramps)
     from obstacle_fusion.vision.fused._cmiddle import rank_sides as _c_rank_sides
 except ImportError:  # pragma: no cover - only where the extension did not build
     _c_rank_sides = None
+_c_line_columns: Callable[..., list[int]] | None
+try:  # (apart, as rank_sides)
+    from obstacle_fusion.vision.fused._cmiddle import line_columns as _c_line_columns
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_line_columns = None
 _c_side_tables: Callable[..., list[int] | None] | None
 try:  # (apart, as rank_sides)
     from obstacle_fusion.vision.fused._cmiddle import side_tables as _c_side_tables
@@ -233,6 +238,16 @@ def line_columns(strip: npt.NDArray[np.uint8], cols: list[int]) -> set[int]:
     it), a seam or joint on the face is the same shade either side of it."""
     if strip.shape[0] == 0 or not cols:
         return set()
+    if (
+        _c_line_columns is not None
+        and strip.dtype == np.uint8
+        and strip.ndim == 2
+        and LINE_BESIDE >= 2
+    ):
+        # in one call of the C accelerator: the same float32 means, medians and contrasts
+        return set(
+            _c_line_columns(strip, cols, LINE_BESIDE, LINE_CONTRAST, LINE_SAME, LINE_SAME_MAX)
+        )
     prof = strip.astype(np.float32).mean(axis=0)
     d = LINE_BESIDE
     c = np.array([c for c in cols if c - d - 2 >= 0 and c + d + 3 <= prof.size], dtype=np.intp)
