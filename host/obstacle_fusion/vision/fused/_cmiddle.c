@@ -12,7 +12,10 @@
  * profiles.next_true's running minimum up them, and search.ramp_columns' gradient walks
  * round the candidate side columns (ramp_spans), profiles.row_norms' norms of colours,
  * View.lab's held-block bookkeeping (uncovered), and scoring.score_pairs' top candidates
- * with their features (score_tops: numpy's float operations in numpy's order).
+ * with their features (score_tops: numpy's float operations in numpy's order), and
+ * search._rank_sides' ranking of the side columns (rank_sides: the same, None on a tie)
+ * and search.Sides' presence tables (side_tables), and search.line_columns' thin lines
+ * (line_columns).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -1739,7 +1742,563 @@ done:
     return result;
 }
 
+/* One candidate in rank_sides' rankings: its value and where it came from. */
+typedef struct {
+    double v;
+    Py_ssize_t at;
+} Ranked;
+
+/* Into best[0..*len) (descending by v, at most keep + 1 entries), a candidate: after those
+ * of equal value (the order of a stable sort), dropped past the kept places. */
+static void rank_insert(Ranked *best, Py_ssize_t *len, Py_ssize_t keep, double v, Py_ssize_t at)
+{
+    Py_ssize_t pos = *len;
+    while (pos > 0 && best[pos - 1].v < v)
+        pos--;
+    if (pos > keep)
+        return;
+    Py_ssize_t end = *len < keep + 1 ? *len : keep;
+    for (Py_ssize_t i = end; i > pos; i--)
+        best[i] = best[i - 1];
+    best[pos] = (Ranked){v, at};
+    if (*len < keep + 1)
+        (*len)++;
+}
+
+/* Whether two equal values hold places from..keep of a ranking (the last kept place and
+ * the one after included): numpy's sort (not stable) may order them either way. */
+static int rank_tied(const Ranked *best, Py_ssize_t len, Py_ssize_t from, Py_ssize_t keep)
+{
+    for (Py_ssize_t p = from; p + 1 < len && p < keep; p++)
+        if (best[p].v == best[p + 1].v)
+            return 1;
+    return 0;
+}
+
+/* A group of columns (1-D int64) as a buffer; 0 with an error set if it is none. */
+static int int64_column_buffer(PyObject *obj, Py_buffer *b)
+{
+    if (PyObject_GetBuffer(obj, b, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return 0;
+    if (b->ndim != 1 || !has_format(b, 8, "lq")) {
+        PyBuffer_Release(b);
+        PyErr_SetString(PyExc_TypeError, "rank_sides: each group a 1-D int64 array");
+        return 0;
+    }
+    return 1;
+}
+
+/* rank_sides(ax3, prof_v, prof_short, groups, rb, cap, low, late_rows, keep):
+ * search._rank_sides whole, one call a side search. Per group of peak columns (1-D int64),
+ * its 3 * keep strongest by prof_v (float32); for all of them the edge run up from row
+ * rb - 2 in ax3 (int16) above the presence threshold floor(max(min(0.25 * prof_short,
+ * cap), low)) taken in float32 as numpy's (cap, low: PRESENCE_CAP * noise and 2.5 * noise,
+ * rounded to float32 as numpy rounds a Python float), its length to the first gap of 3
+ * misses (profiles.first_gap) and, for a column with no run from the floor, its late run
+ * (profiles.late_run); ranks prof_v * sqrt(run) in float64 (late runs' ranks below every
+ * other, as the numpy path: minus their maximum plus 1); per group the keep best of
+ * those with a run of 3 rows or more, as lists of ints. None where numpy's (unstable) sort
+ * could order a tie either way (two equal ranks among a group's keep best, or equal
+ * prof_v across its 3 * keep-th place: a tie within those places orders only what the
+ * distinct ranks then order again), or where a column or rb falls outside the arrays (rb < 2
+ * included: the
+ * caller ranks in numpy then: the same values otherwise, bit for bit). */
+static PyObject *rank_sides(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *ax_obj, *pv_obj, *ps_obj, *groups_obj;
+    Py_ssize_t rb, late_rows, keep;
+    double cap, low;
+    if (!PyArg_ParseTuple(args, "OOOOnddnn:rank_sides", &ax_obj, &pv_obj, &ps_obj, &groups_obj,
+                          &rb, &cap, &low, &late_rows, &keep))
+        return NULL;
+    if (keep < 1) {
+        PyErr_SetString(PyExc_ValueError, "rank_sides: keep must be at least 1");
+        return NULL;
+    }
+    PyObject *groups = PySequence_Fast(groups_obj, "rank_sides: groups must be a sequence");
+    if (groups == NULL)
+        return NULL;
+    const Py_ssize_t n_groups = PySequence_Fast_GET_SIZE(groups);
+    PyObject **items = PySequence_Fast_ITEMS(groups);
+    Py_buffer ax, pv, ps;
+    Py_buffer *gb = PyMem_Calloc((size_t)(n_groups > 0 ? n_groups : 1), sizeof *gb);
+    Py_ssize_t held = 0; /* group buffers acquired */
+    int have_ax = 0, have_pv = 0, have_ps = 0;
+    PyObject *result = NULL;
+    Ranked *best = NULL;
+    Py_ssize_t *cols = NULL, *starts = NULL, *run = NULL, *late = NULL;
+    double *rank = NULL;
+    if (gb == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    if (PyObject_GetBuffer(ax_obj, &ax, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        goto done;
+    have_ax = 1;
+    if (PyObject_GetBuffer(pv_obj, &pv, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        goto done;
+    have_pv = 1;
+    if (PyObject_GetBuffer(ps_obj, &ps, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        goto done;
+    have_ps = 1;
+    if (ax.ndim != 2 || !has_format(&ax, 2, "h") || pv.ndim != 1 || !has_format(&pv, 4, "f") ||
+        ps.ndim != 1 || !has_format(&ps, 4, "f")) {
+        PyErr_SetString(PyExc_TypeError,
+                        "rank_sides: a 2-D int16 ax3 and two 1-D float32 profiles");
+        goto done;
+    }
+    for (; held < n_groups; held++)
+        if (!int64_column_buffer(items[held], &gb[held]))
+            goto done;
+    const Py_ssize_t h = ax.shape[0], w = ax.shape[1];
+    const Py_ssize_t rows = rb - 1; /* rows 0..rb-2, read from the bottom up */
+    const Py_ssize_t many = 3 * keep;
+    if (rows < 1 || rows > h) { /* (numpy's first_gap of no rows is an error) */
+        Py_INCREF(Py_None);
+        result = Py_None;
+        goto done;
+    }
+    Py_ssize_t total = 0;
+    for (Py_ssize_t g = 0; g < n_groups; g++)
+        total += gb[g].shape[0] < many ? gb[g].shape[0] : many;
+    const size_t slots = (size_t)(total > 0 ? total : 1);
+    best = PyMem_Malloc((size_t)(many + 1) * sizeof *best);
+    cols = PyMem_Malloc(slots * sizeof *cols);
+    run = PyMem_Malloc(slots * sizeof *run);
+    late = PyMem_Malloc(slots * sizeof *late);
+    rank = PyMem_Malloc(slots * sizeof *rank);
+    starts = PyMem_Malloc((size_t)(n_groups + 1) * sizeof *starts);
+    if (best == NULL || cols == NULL || run == NULL || late == NULL || rank == NULL ||
+        starts == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+#define PROF(b, c) (*(const float *)((const char *)(b).buf + (c) * (b).strides[0]))
+    /* each group's 3 * keep strongest columns, strongest first */
+    Py_ssize_t n = 0;
+    for (Py_ssize_t g = 0; g < n_groups; g++) {
+        starts[g] = n;
+        Py_ssize_t len = 0;
+        for (Py_ssize_t i = 0; i < gb[g].shape[0]; i++) {
+            long long c = *(const long long *)((const char *)gb[g].buf + i * gb[g].strides[0]);
+            if (c < 0 || c >= w || c >= pv.shape[0] || c >= ps.shape[0])
+                goto numpy;
+            rank_insert(best, &len, many, (double)PROF(pv, (Py_ssize_t)c), (Py_ssize_t)c);
+        }
+        /* a tie within the 3 * keep only orders them (the ranks below decide, where they
+         * differ); one across the last place decides which are taken */
+        if (rank_tied(best, len, many - 1, many))
+            goto numpy;
+        for (Py_ssize_t p = 0; p < len && p < many; p++)
+            cols[n++] = best[p].at;
+    }
+    starts[n_groups] = n;
+    /* edge runs up from the floor-contact row (profiles.first_gap, profiles.late_run) */
+    int any_late = 0;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        const Py_ssize_t c = cols[j];
+        const float a = 0.25f * PROF(ps, c);
+        const float m = a < (float)cap ? a : (float)cap;
+        const float t = m > (float)low ? m : (float)low;
+        if (!(t > -32768.0f && t < 32767.0f))
+            goto numpy; /* (numpy's int16 cast of such a threshold is no value to match) */
+        const int thr = (int)(short)floorf(t);
+        const char *col = (const char *)ax.buf + c * ax.strides[1];
+#define ON(i) (*(const short *)(col + (rb - 2 - (i)) * ax.strides[0]) > thr)
+        Py_ssize_t len = rows;
+        if (rows > 2) {
+            for (Py_ssize_t i = 0; i + 2 < rows; i++)
+                if (!ON(i) && !ON(i + 1) && !ON(i + 2)) {
+                    len = i;
+                    break;
+                }
+        } else {
+            for (Py_ssize_t i = 0; i < rows; i++)
+                if (!ON(i)) {
+                    len = i;
+                    break;
+                }
+        }
+        Py_ssize_t lr = 0;
+        if (len < 3 && rows >= 6 && late_rows >= 1) {
+            Py_ssize_t start = -1;
+            for (Py_ssize_t i = 0; i + 2 < rows && i < late_rows; i++)
+                if (ON(i) && ON(i + 1) && ON(i + 2)) {
+                    start = i;
+                    break;
+                }
+            if (start >= 0) {
+                Py_ssize_t end = rows;
+                for (Py_ssize_t i = start; i + 2 < rows; i++)
+                    if (!ON(i) && !ON(i + 1) && !ON(i + 2)) {
+                        end = i;
+                        break;
+                    }
+                lr = end - start;
+            }
+        }
+#undef ON
+        run[j] = len;
+        late[j] = lr;
+        any_late |= lr >= 3;
+        rank[j] = (double)PROF(pv, c) * sqrt((double)(len > 1 ? len : 1));
+    }
+    if (any_late) {
+        /* runs that start higher up rank below every run from the floor */
+        double top = 0.0;
+        for (Py_ssize_t j = 0; j < n; j++) {
+            double lrank = (double)PROF(pv, cols[j]) * sqrt((double)(late[j] > 1 ? late[j] : 1));
+            if (j == 0 || lrank > top)
+                top = lrank;
+        }
+        const double below_all = top + 1.0;
+        for (Py_ssize_t j = 0; j < n; j++)
+            if (late[j] >= 3) {
+                rank[j] = (double)PROF(pv, cols[j]) * sqrt((double)late[j]) - below_all;
+                run[j] = late[j];
+            }
+    }
+#undef PROF
+    result = PyList_New(n_groups);
+    if (result == NULL)
+        goto done;
+    for (Py_ssize_t g = 0; g < n_groups; g++) {
+        Py_ssize_t len = 0;
+        for (Py_ssize_t j = starts[g]; j < starts[g + 1]; j++)
+            if (run[j] >= 3)
+                rank_insert(best, &len, keep, rank[j], cols[j]);
+        if (rank_tied(best, len, 0, keep)) {
+            Py_CLEAR(result);
+            goto numpy;
+        }
+        const Py_ssize_t k = len < keep ? len : keep;
+        PyObject *list = PyList_New(k);
+        if (list == NULL) {
+            Py_CLEAR(result);
+            goto done;
+        }
+        PyList_SET_ITEM(result, g, list);
+        for (Py_ssize_t p = 0; p < k; p++) {
+            PyObject *c = PyLong_FromSsize_t(best[p].at);
+            if (c == NULL) {
+                Py_CLEAR(result);
+                goto done;
+            }
+            PyList_SET_ITEM(list, p, c);
+        }
+    }
+    goto done;
+numpy:
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyMem_Free(best);
+    PyMem_Free(cols);
+    PyMem_Free(run);
+    PyMem_Free(late);
+    PyMem_Free(rank);
+    PyMem_Free(starts);
+    for (Py_ssize_t g = 0; g < held; g++)
+        PyBuffer_Release(&gb[g]);
+    PyMem_Free(gb);
+    if (have_ps)
+        PyBuffer_Release(&ps);
+    if (have_pv)
+        PyBuffer_Release(&pv);
+    if (have_ax)
+        PyBuffer_Release(&ax);
+    Py_DECREF(groups);
+    return result;
+}
+
+/* A C-contiguous writable output of ``rows`` x ``cols`` items of ``itemsize`` bytes in
+ * one of ``formats``; 0 with an error set if it is none. */
+static int table_out(PyObject *obj, Py_buffer *b, Py_ssize_t rows, Py_ssize_t cols,
+                     Py_ssize_t itemsize, const char *formats)
+{
+    if (PyObject_GetBuffer(obj, b, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+        return 0;
+    if (b->ndim != 2 || b->shape[0] != rows || b->shape[1] != cols ||
+        !has_format(b, itemsize, formats)) {
+        PyBuffer_Release(b);
+        PyErr_SetString(PyExc_TypeError, "side_tables: an output of the wrong shape or type");
+        return 0;
+    }
+    return 1;
+}
+
+/* side_tables(ax3, cols, thresholds, rb, counts, below, nxt, csum): search.Sides' tables
+ * in one pass, or None (the caller builds them in numpy) where a threshold is no int16
+ * value once floored, a column falls outside ax3 (int16, 2-D) or rb outside 1..its rows.
+ * For the k side columns, then each one's column 4 to its left and 4 to its right (clamped
+ * to the frame), the rows 0..rb-1 whose gradient exceeds floor(threshold) (float64, one a
+ * side column, numpy's cast to int16): counts (int32, rb + 1 x 3k + 1) the edge rows above
+ * each row (profiles.running_counts, a last column of zeros), below (int32, rb x k) those
+ * in r..rb-1, nxt (int64, rb x k) the first edge row at or below each row, rb if none
+ * (profiles.next_true), csum (float64, rb + 1 x k) the side column's gradient summed
+ * above each row (whole numbers: exact, as cv2.integral's); returns run_top, per side
+ * column the top row of its edge run up from row rb - 1 (gaps under 3 rows), a list. */
+static PyObject *side_tables(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *ax_obj, *cols_obj, *thr_obj, *counts_obj, *below_obj, *nxt_obj, *csum_obj;
+    Py_ssize_t rb;
+    if (!PyArg_ParseTuple(args, "OOOnOOOO:side_tables", &ax_obj, &cols_obj, &thr_obj, &rb,
+                          &counts_obj, &below_obj, &nxt_obj, &csum_obj))
+        return NULL;
+    PyObject *cols = PySequence_Fast(cols_obj, "side_tables: cols must be a sequence");
+    if (cols == NULL)
+        return NULL;
+    const Py_ssize_t k = PySequence_Fast_GET_SIZE(cols);
+    PyObject **items = PySequence_Fast_ITEMS(cols);
+    Py_buffer ax, thr, counts, below, nxt, csum;
+    int have = 0; /* buffers acquired, in the order above */
+    PyObject *result = NULL;
+    Py_ssize_t *at = NULL;
+    int *limit = NULL;
+    if (PyObject_GetBuffer(ax_obj, &ax, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        goto done;
+    have = 1;
+    if (PyObject_GetBuffer(thr_obj, &thr, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        goto done;
+    have = 2;
+    if (ax.ndim != 2 || !has_format(&ax, 2, "h") || thr.ndim != 1 || !has_format(&thr, 8, "d") ||
+        thr.shape[0] != k) {
+        PyErr_SetString(PyExc_TypeError,
+                        "side_tables: a 2-D int16 ax3 and one float64 threshold a column");
+        goto done;
+    }
+    if (!table_out(counts_obj, &counts, rb + 1, 3 * k + 1, 4, "il"))
+        goto done;
+    have = 3;
+    if (!table_out(below_obj, &below, rb, k, 4, "il"))
+        goto done;
+    have = 4;
+    if (!table_out(nxt_obj, &nxt, rb, k, 8, "lq"))
+        goto done;
+    have = 5;
+    if (!table_out(csum_obj, &csum, rb + 1, k, 8, "d"))
+        goto done;
+    have = 6;
+    const Py_ssize_t h = ax.shape[0], w = ax.shape[1];
+    if (rb < 1 || rb > h || k < 1)
+        goto numpy;
+    at = PyMem_Malloc((size_t)(3 * k) * sizeof *at);
+    limit = PyMem_Malloc((size_t)k * sizeof *limit);
+    if (at == NULL || limit == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (Py_ssize_t j = 0; j < k; j++) {
+        Py_ssize_t c = PyNumber_AsSsize_t(items[j], PyExc_OverflowError);
+        if (c == -1 && PyErr_Occurred())
+            goto done;
+        if (c < 0 || c >= w)
+            goto numpy;
+        at[j] = c;
+        at[k + j] = c - 4 > 0 ? c - 4 : 0;
+        at[2 * k + j] = c + 4 < w - 1 ? c + 4 : w - 1;
+        const double t = floor(*(const double *)((const char *)thr.buf + j * thr.strides[0]));
+        if (!(t >= -32768.0 && t <= 32767.0))
+            goto numpy;
+        limit[j] = (int)t;
+    }
+    {
+        const Py_ssize_t width = 3 * k + 1;
+        int *cnt = (int *)counts.buf;
+        int *bel = (int *)below.buf;
+        long long *next = (long long *)nxt.buf;
+        double *sum = (double *)csum.buf;
+        const char *base = (const char *)ax.buf;
+#define AX(r, j) (*(const short *)(base + (r) * ax.strides[0] + at[j] * ax.strides[1]))
+        for (Py_ssize_t j = 0; j < width; j++)
+            cnt[j] = 0;
+        for (Py_ssize_t j = 0; j < k; j++)
+            sum[j] = 0.0;
+        for (Py_ssize_t r = 0; r < rb; r++) {
+            int *prev = cnt + r * width, *row = prev + width;
+            for (Py_ssize_t j = 0; j < 3 * k; j++)
+                row[j] = prev[j] + (AX(r, j) > limit[j % k]);
+            row[3 * k] = 0;
+            for (Py_ssize_t j = 0; j < k; j++)
+                sum[(r + 1) * k + j] = sum[r * k + j] + (double)AX(r, j);
+        }
+        const int *last = cnt + rb * width;
+        for (Py_ssize_t r = 0; r < rb; r++)
+            for (Py_ssize_t j = 0; j < k; j++)
+                bel[r * k + j] = last[j] - cnt[r * width + j];
+        for (Py_ssize_t j = 0; j < k; j++) {
+            long long low = (long long)rb;
+            for (Py_ssize_t r = rb - 1; r >= 0; r--) {
+                if (AX(r, j) > limit[j])
+                    low = (long long)r;
+                next[r * k + j] = low;
+            }
+        }
+        result = PyList_New(k);
+        if (result == NULL)
+            goto done;
+        for (Py_ssize_t j = 0; j < k; j++) {
+            /* up from row rb - 2 (row rb - 1 left out, as the numpy path's on[:rb - 1]) */
+            Py_ssize_t top = rb - 1;
+            if (rb - 1 >= 3) {
+                const Py_ssize_t n = rb - 1;
+                Py_ssize_t gap = n;
+                for (Py_ssize_t i = 0; i + 2 < n; i++)
+                    if (!(AX(n - 1 - i, j) > limit[j]) && !(AX(n - 2 - i, j) > limit[j]) &&
+                        !(AX(n - 3 - i, j) > limit[j])) {
+                        gap = i;
+                        break;
+                    }
+                top = rb - 1 - gap;
+            }
+#undef AX
+            PyObject *v = PyLong_FromSsize_t(top);
+            if (v == NULL) {
+                Py_CLEAR(result);
+                goto done;
+            }
+            PyList_SET_ITEM(result, j, v);
+        }
+    }
+    goto done;
+numpy:
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyMem_Free(at);
+    PyMem_Free(limit);
+    if (have >= 6)
+        PyBuffer_Release(&csum);
+    if (have >= 5)
+        PyBuffer_Release(&nxt);
+    if (have >= 4)
+        PyBuffer_Release(&below);
+    if (have >= 3)
+        PyBuffer_Release(&counts);
+    if (have >= 2)
+        PyBuffer_Release(&thr);
+    if (have >= 1)
+        PyBuffer_Release(&ax);
+    Py_DECREF(cols);
+    return result;
+}
+
+/* The float32 mean of column x of an 8-bit strip as numpy's mean: the (whole, exact) sum
+ * divided in float64 by the row count (numpy divides by an intp count), then rounded. */
+static float column_mean(const char *base, Py_ssize_t rows, Py_ssize_t rs, Py_ssize_t cs,
+                         Py_ssize_t x)
+{
+    long sum = 0;
+    for (Py_ssize_t r = 0; r < rows; r++)
+        sum += (unsigned char)base[r * rs + x * cs];
+    return (float)((double)sum / (double)rows);
+}
+
+/* The median of three floats (numpy's sort's middle value: no NaNs here). */
+static float middle3(float a, float b, float c)
+{
+    float lo = a < b ? a : b, hi = a < b ? b : a;
+    return c < lo ? lo : (c > hi ? hi : c);
+}
+
+/* line_columns(strip, cols, beside, contrast, same, same_max): search.line_columns' columns
+ * (a list, in the order of cols; the caller makes it a set). The strip's (uint8, 2-D,
+ * rows >= 1) column means in float32 as numpy's mean (whole sums, divided in float64 and
+ * rounded to float32); per column c with c - beside - 2 >= 0 and c + beside + 3 <= w, the
+ * medians of three of the means at c - beside - 2..c - beside and c + beside..c + beside
+ * + 2, their middle (float64, rounded to float32), the largest float32 |mean - middle|
+ * over c - beside + 2..c + beside - 2 (beside >= 2), kept where that contrast >=
+ * ``contrast`` and the two medians differ by at most min(same * contrast, same_max),
+ * in float64 as numpy. Columns whose window leaves the strip are skipped, as numpy's. */
+static PyObject *line_columns(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *strip_obj, *cols_obj;
+    Py_ssize_t d;
+    double contrast_min, same, same_max;
+    if (!PyArg_ParseTuple(args, "OOnddd:line_columns", &strip_obj, &cols_obj, &d, &contrast_min,
+                          &same, &same_max))
+        return NULL;
+    PyObject *cols = PySequence_Fast(cols_obj, "line_columns: cols must be a sequence");
+    if (cols == NULL)
+        return NULL;
+    Py_buffer strip;
+    if (PyObject_GetBuffer(strip_obj, &strip, PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
+        Py_DECREF(cols);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    float *mean = NULL;
+    unsigned char *known = NULL;
+    if (strip.ndim != 2 || !is_u8(&strip) || strip.shape[0] < 1 || d < 2) {
+        PyErr_SetString(PyExc_TypeError,
+                        "line_columns: a 2-D uint8 strip of one row or more, beside >= 2");
+        goto done;
+    }
+    const Py_ssize_t rows = strip.shape[0], w = strip.shape[1];
+    const Py_ssize_t rs = strip.strides[0], cs = strip.strides[1];
+    const char *base = (const char *)strip.buf;
+    const Py_ssize_t n_cols = PySequence_Fast_GET_SIZE(cols);
+    PyObject **items = PySequence_Fast_ITEMS(cols);
+    mean = PyMem_Malloc((size_t)(w > 0 ? w : 1) * sizeof *mean);
+    known = PyMem_Calloc((size_t)(w > 0 ? w : 1), 1);
+    if (mean == NULL || known == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    result = PyList_New(0);
+    if (result == NULL)
+        goto done;
+/* the float32 mean of column x, computed on first use */
+#define MEAN(x) (known[x] ? mean[x] : (known[x] = 1, mean[x] = column_mean(base, rows, rs, cs, (x))))
+    for (Py_ssize_t i = 0; i < n_cols; i++) {
+        Py_ssize_t c = PyNumber_AsSsize_t(items[i], PyExc_OverflowError);
+        if (c == -1 && PyErr_Occurred())
+            goto fail;
+        if (c - d - 2 < 0 || c + d + 3 > w)
+            continue;
+        const double left = (double)middle3(MEAN(c - d - 2), MEAN(c - d - 1), MEAN(c - d));
+        const double right = (double)middle3(MEAN(c + d), MEAN(c + d + 1), MEAN(c + d + 2));
+        const float mid = (float)(0.5 * (left + right));
+        float top = 0.0f;
+        for (Py_ssize_t x = c - d + 2; x <= c + d - 2; x++) {
+            const float diff = fabsf(MEAN(x) - mid);
+            if (x == c - d + 2 || diff > top)
+                top = diff;
+        }
+        const double contrast = (double)top;
+        const double apart = fabs(left - right);
+        const double most = same * contrast < same_max ? same * contrast : same_max;
+        if (!(contrast >= contrast_min && apart <= most))
+            continue;
+        PyObject *v = PyLong_FromSsize_t(c);
+        if (v == NULL || PyList_Append(result, v) < 0) {
+            Py_XDECREF(v);
+            goto fail;
+        }
+        Py_DECREF(v);
+    }
+#undef MEAN
+    goto done;
+fail:
+    Py_CLEAR(result);
+done:
+    PyMem_Free(mean);
+    PyMem_Free(known);
+    PyBuffer_Release(&strip);
+    Py_DECREF(cols);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"line_columns", line_columns, METH_VARARGS,
+     "line_columns(strip, cols, beside, contrast, same, same_max): search.line_columns' columns."},
+    {"side_tables", side_tables, METH_VARARGS,
+     "side_tables(ax3, cols, thresholds, rb, counts, below, nxt, csum): search.Sides' tables."},
+    {"rank_sides", rank_sides, METH_VARARGS,
+     "rank_sides(ax3, prof_v, prof_short, groups, rb, cap, low, late_rows, keep): search._rank_sides."},
     {"uncovered", uncovered, METH_VARARGS,
      "uncovered(boxes, r0, r1, c0, c1): None inside a box, else the block's uncovered pieces."},
     {"row_norms", row_norms, METH_VARARGS,

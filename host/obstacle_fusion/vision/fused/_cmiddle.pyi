@@ -17,6 +17,32 @@ def ramp_spans(
     strip: Any, cols: Any, min_cols: int, beside: int, /
 ) -> list[tuple[int, int, int]]: ...
 def row_norms(x: Any, out: Any, /) -> None: ...
+def line_columns(
+    strip: Any, cols: Any, beside: int, contrast: float, same: float, same_max: float, /
+) -> list[int]: ...
+def side_tables(
+    ax3: Any,
+    cols: Any,
+    thresholds: Any,
+    rb: int,
+    counts: Any,
+    below: Any,
+    nxt: Any,
+    csum: Any,
+    /,
+) -> list[int] | None: ...
+def rank_sides(
+    ax3: Any,
+    prof_v: Any,
+    prof_short: Any,
+    groups: Any,
+    rb: int,
+    cap: float,
+    low: float,
+    late_rows: int,
+    keep: int,
+    /,
+) -> list[list[int]] | None: ...
 def score_tops(
     ay: Any,
     ax3: Any,

@@ -48,6 +48,21 @@ try:  # the optional C accelerator (setup.py): ramp_columns' walks; else numpy's
     from obstacle_fusion.vision.fused._cmiddle import ramp_spans as _c_ramp_spans
 except ImportError:  # pragma: no cover - only where the extension did not build
     _c_ramp_spans = None
+_c_rank_sides: Callable[..., list[list[int]] | None] | None
+try:  # (apart: an accelerator built before it still walks the ramps)
+    from obstacle_fusion.vision.fused._cmiddle import rank_sides as _c_rank_sides
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_rank_sides = None
+_c_line_columns: Callable[..., list[int]] | None
+try:  # (apart, as rank_sides)
+    from obstacle_fusion.vision.fused._cmiddle import line_columns as _c_line_columns
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_line_columns = None
+_c_side_tables: Callable[..., list[int] | None] | None
+try:  # (apart, as rank_sides)
+    from obstacle_fusion.vision.fused._cmiddle import side_tables as _c_side_tables
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_side_tables = None
 
 
 def beam_columns(view: View, range_m: float, depth: float, w_img: int) -> tuple[int, int]:
@@ -223,6 +238,16 @@ def line_columns(strip: npt.NDArray[np.uint8], cols: list[int]) -> set[int]:
     it), a seam or joint on the face is the same shade either side of it."""
     if strip.shape[0] == 0 or not cols:
         return set()
+    if (
+        _c_line_columns is not None
+        and strip.dtype == np.uint8
+        and strip.ndim == 2
+        and LINE_BESIDE >= 2
+    ):
+        # in one call of the C accelerator: the same float32 means, medians and contrasts
+        return set(
+            _c_line_columns(strip, cols, LINE_BESIDE, LINE_CONTRAST, LINE_SAME, LINE_SAME_MAX)
+        )
     prof = strip.astype(np.float32).mean(axis=0)
     d = LINE_BESIDE
     c = np.array([c for c in cols if c - d - 2 >= 0 and c + d + 3 <= prof.size], dtype=np.intp)
@@ -346,7 +371,9 @@ class Sides:
 
     One column of each table per candidate column, built in one pass for all of them
     (per-column arrays cost more in numpy call overhead than in work). Counts are exact
-    integers, so they are the per-column values whatever the summation order.
+    integers, so they are the per-column values whatever the summation order. With the C
+    accelerator, all the tables in one call of it (``side_tables``: the same values,
+    dtypes and shapes; numpy's where it declines).
     """
 
     __slots__ = ("index", "below", "upto", "nxt", "run_top", "out", "out_left", "out_right", "csum")
@@ -356,8 +383,28 @@ class Sides:
     ) -> None:
         k = len(cols)
         w = ax3.shape[1]
-        c = np.array(cols, np.intp)
         self.index = {col: i for i, col in enumerate(cols)}
+        self.out_left = [k + i if cols[i] >= 4 else -1 for i in range(k)]
+        self.out_right = [2 * k + i if cols[i] + 4 < w else -1 for i in range(k)]
+        if (
+            _c_side_tables is not None
+            and ax3.dtype == np.int16
+            and ax3.ndim == 2
+            and 0 < rb <= ax3.shape[0]
+            and k > 0
+            and thresholds.dtype == np.float64
+            and thresholds.shape == (k,)
+        ):
+            counts = np.empty((rb + 1, 3 * k + 1), np.int32)
+            below = np.empty((rb, k), np.int32)
+            nxt = np.empty((rb, k), np.intp)
+            csum: npt.NDArray[Any] = np.empty((rb + 1, k), np.float64)
+            run_top = _c_side_tables(ax3, cols, thresholds, rb, counts, below, nxt, csum)
+            if run_top is not None:
+                self.upto, self.below, self.out = counts[:, :k], below, counts
+                self.nxt, self.run_top, self.csum = nxt, run_top, csum
+                return
+        c = np.array(cols, np.intp)
         # the side columns, then the columns just outside (4 px) as the left or right
         # side, at the side's threshold: background texture there says the edges above
         # a top are not the side's own
@@ -370,8 +417,6 @@ class Sides:
         self.upto = counts[:, :k]
         self.below = self.upto[rb] - self.upto[:rb]  # edge rows in r..rb-1
         self.out = counts  # columns k..2k-1 outside left, 2k..3k-1 outside right
-        self.out_left = [k + i if cols[i] >= 4 else -1 for i in range(k)]
-        self.out_right = [2 * k + i if cols[i] + 4 < w else -1 for i in range(k)]
         # first edge row at or below r (rb if none): the hole under a top candidate
         self.nxt = next_true(on, rb)
         # top row of the edge run from the floor-contact row (gaps under 3 rows)
@@ -404,8 +449,46 @@ def _rank_sides(
     """Strongest columns whose edge runs straight up from the floor-contact row.
 
     One ranking per group of peak columns (the left side's, the right side's); the
-    run lengths of all groups' strongest columns are found in one pass.
+    run lengths of all groups' strongest columns are found in one pass. With the C
+    accelerator, in one call of it (``rank_sides``: the same lists; it leaves to numpy
+    the rankings where two equal values could go either way in numpy's sort, which is
+    not stable, and a Python float ``noise`` only: numpy rounds it to float32 so).
     """
+    if (
+        _c_rank_sides is not None
+        and type(noise) is float
+        and ax3.dtype == np.int16
+        and ax3.ndim == 2
+        and prof_v.dtype == np.float32
+        and prof_short.dtype == np.float32
+        and all(g.dtype == np.intp and g.ndim == 1 for g in groups)
+    ):
+        ranked = _c_rank_sides(
+            ax3,
+            prof_v,
+            prof_short,
+            groups,
+            rb,
+            PRESENCE_CAP * noise,
+            2.5 * noise,
+            late_rows,
+            MAX_SIDE_CANDIDATES,
+        )
+        if ranked is not None:
+            return ranked
+    return _rank_sides_numpy(ax3, prof_v, prof_short, groups, rb, noise, late_rows)
+
+
+def _rank_sides_numpy(
+    ax3: I16,
+    prof_v: F32,
+    prof_short: F32,
+    groups: list[npt.NDArray[np.intp]],
+    rb: int,
+    noise: float,
+    late_rows: int = 0,
+) -> list[list[int]]:
+    """:func:`_rank_sides` in numpy."""
     chosen = [g[(-prof_v[g]).argsort()][: 3 * MAX_SIDE_CANDIDATES] for g in groups]
     cols_all = np.concatenate(chosen)
     if cols_all.size == 0:
