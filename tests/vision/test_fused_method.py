@@ -11,8 +11,8 @@ import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import extent as extent_mod
+from obstacle_fusion.vision.fused import foot_outline, region
 from obstacle_fusion.vision.fused import method as method_mod
-from obstacle_fusion.vision.fused import region
 from obstacle_fusion.vision.fused import scoring as scoring_mod
 from obstacle_fusion.vision.fused import search as search_mod
 from obstacle_fusion.vision.fused import top as top_mod
@@ -236,6 +236,8 @@ def test_without_the_walk_from_the_top_the_rescued_face_stays_one_plank_wide(
 ) -> None:
     """The rule switched off: the face stays a plank or a tape wide; the walk from the top
     moves the width only (the same face, the same height)."""
+    # the width read from the foot's sides (session 37) finds this face by itself
+    monkeypatch.setattr(foot_outline, "WIDTH_FROM_FOOT", False)
     on = no_rig_answer(family, seed, True)
     monkeypatch.setattr(method_mod, "RESCUE_WIDEN_AT_TOP", False)
     off = no_rig_answer(family, seed, True)

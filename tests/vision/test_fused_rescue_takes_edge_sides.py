@@ -15,7 +15,7 @@ high, lies between those sides but lower, and keeps its own.
 from __future__ import annotations
 
 import pytest
-from obstacle_fusion.vision.fused import method
+from obstacle_fusion.vision.fused import foot_outline, method
 
 from tests.vision_fixtures import room_size_errors
 
@@ -28,12 +28,16 @@ def test_the_colour_face_takes_the_edges_sides() -> None:
 def test_without_the_edges_sides_the_highlight_cuts_the_face(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
+    # the width read from the foot's sides (session 37) finds this face by itself
+    monkeypatch.setattr(foot_outline, "WIDTH_FROM_FOOT", False)
     monkeypatch.setattr(method, "RESCUE_TAKES_EDGE_SIDES", False)
     _, ew = room_size_errors("procedural", 2003, True)
     assert ew > 0.4
 
 
 def test_the_slack_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the width read from the foot's sides (session 37) finds this face by itself
+    monkeypatch.setattr(foot_outline, "WIDTH_FROM_FOOT", False)
     # the colour face's right side is a column past the edges': no slack, not between
     monkeypatch.setattr(method, "RESCUE_SIDES_SLACK", 0)
     _, ew = room_size_errors("procedural", 2003, True)

@@ -997,6 +997,8 @@ class FusedMethod:
             return None
         bottom = rb if abs(rb - foot) <= FOOT_SAME_ROWS else foot
         _, top, left, right = grown
+        if top == vt:
+            return bottom, top, left, right  # widened only: the found top, judged already
         # a face lower than the lens shows its top face over its front: the sides' rises
         # end at its back edge, the face's top is the front edge under it
         front, _ = front_top(self.view, depth, dy, bottom, left, right, top, noise)
