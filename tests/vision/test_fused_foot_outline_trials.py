@@ -27,8 +27,6 @@ def test_without_the_rule_the_piece_is_the_answer(monkeypatch: pytest.MonkeyPatc
     monkeypatch.setattr(method, "FOOT_OUTLINE_TRIALS", False)
     # the estimated rig taken as known reads the outline too (measure.ESTIMATED_RIG_AGAIN)
     monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
-    # (its foot row read as with a rig, FOOT_ROW_CHECK, finds the face too: off)
-    monkeypatch.setattr(measure, "FOOT_ROW_CHECK", False)
     eh, _ = room_size_errors("procedural", 2029, False, with_rig=False)
     assert eh > 0.25
 
@@ -38,8 +36,6 @@ def test_a_second_room_goes_the_same_way(monkeypatch: pytest.MonkeyPatch) -> Non
     assert eh < 0.05 and ew < 0.05
     monkeypatch.setattr(method, "FOOT_OUTLINE_TRIALS", False)
     monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
-    # (its foot row read as with a rig, FOOT_ROW_CHECK, finds the face too: off)
-    monkeypatch.setattr(measure, "FOOT_ROW_CHECK", False)
     eh, _ = room_size_errors("procedural", 2046, True, with_rig=False)
     assert eh > 0.25
 
@@ -48,8 +44,6 @@ def test_the_foot_must_be_near_the_trial_s_row(monkeypatch: pytest.MonkeyPatch) 
     monkeypatch.setattr(method, "FOOT_TRIAL_ROWS", 0)
     # (the estimated rig taken as known reads the outline from the foot as well)
     monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
-    # (its foot row read as with a rig, FOOT_ROW_CHECK, finds the face too: off)
-    monkeypatch.setattr(measure, "FOOT_ROW_CHECK", False)
     eh, _ = room_size_errors("procedural", 2046, True, with_rig=False)
     assert eh > 0.25
 
@@ -62,8 +56,6 @@ def test_a_weak_face_before_another_thing_is_not_grown() -> None:
 def test_the_confidence_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # (the estimated rig taken as known reads the outline from the foot as well)
     monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
-    # (its foot row read as with a rig, FOOT_ROW_CHECK, finds the face too: off)
-    monkeypatch.setattr(measure, "FOOT_ROW_CHECK", False)
     monkeypatch.setattr(method, "FOOT_TRIAL_MIN_CONFIDENCE", 0.0)
     eh, _ = room_size_errors("procedural", 2162, True, with_rig=False)
     assert eh > 0.25

@@ -1383,8 +1383,7 @@ def test_with_no_rig_a_skirting_band_is_passed_over_for_the_face_below(
     stand a long low strip along the wall (15 px tall, 350 wide, confidence 0.85) that
     was taken for the face (width +108 %); as a band it stands no face, and the lowest
     row's face is measured within 5 %. (With the band taken, the face wholly under it on
-    the beam's axis stands nearer, and ``NEARER_ON_AXIS`` takes it too, as do the unsure
-    band's rows below read as with a rig, ``FOOT_ROW_CHECK``: both off here.)"""
+    the beam's axis stands nearer, and ``NEARER_ON_AXIS`` takes it too: off here.)"""
     image, truth, _ = render_room("procedural", 346, True, CAM)
     res = Measurer(CAM, None).measure(image, truth["range_m"])
     assert res.detected, res.reason
@@ -1392,7 +1391,6 @@ def test_with_no_rig_a_skirting_band_is_passed_over_for_the_face_below(
     assert res.width_m == pytest.approx(truth["width_m"], rel=0.05)
     monkeypatch.setattr(measure, "BAND_MAX_ASPECT", 0.0)
     monkeypatch.setattr(measure, "NEARER_ON_AXIS", False)
-    monkeypatch.setattr(measure, "FOOT_ROW_CHECK", False)
     band = Measurer(CAM, None).measure(image, truth["range_m"])
     assert band.width_m is not None and band.width_m > 1.5 * truth["width_m"]
 

@@ -1135,149 +1135,57 @@ class Measurer:
         no row does."""
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
+        h_img, w_img = image.shape[:2]
         rows = sorted(
             set(contact_rows(image, view, depth)) | set(weak_contact_rows(image, view, depth)),
             reverse=True,
         )
         for row in rows:
-            face = self._row_as_known(fused, image, range_m, row, timer)
-            if face is not None:
-                timer.lap("known_rig_rows")
-                return face
+            faces: list[Measurement] = []
+            for k, pitch in enumerate(KNOWN_RIG_PITCHES_DEG):
+                if len(faces) + len(KNOWN_RIG_PITCHES_DEG) - k < KNOWN_RIG_AGREE:
+                    break  # too few pitches left to agree
+                height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
+                if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                    continue
+                method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
+                base = method.view
+                rig = dataclasses.replace(self.rig, camera_height_m=height, camera_pitch_deg=pitch)
+                method.view = copy.copy(base)
+                method.view.rig = rig
+                method.view.horizon_slack_px = 0.0
+                try:
+                    result = self._run_rig(method, rig, image, range_m, timer)
+                finally:
+                    method.view = base
+                if not result.detected:
+                    continue
+                # its pitch a guess: doubted so, and refused as the search refuses a face
+                # doubted on every count
+                result.doubts = [*result.doubts, PITCH_UNREAD]
+                if (
+                    sides_reach_foot(image, result.lines)
+                    and not FOOT_DOUBTS.intersection(result.doubts)
+                    and not _small(result)
+                    and _doubted(result, REFUSAL_IGNORES) >= MIN_DOUBTED_CONFIDENCE
+                ):
+                    result.camera_height_m = float(height)
+                    result.camera_pitch_deg = pitch
+                    faces.append(result)
+            for face in sorted(faces, key=lambda f: f.confidence or 0.0, reverse=True):
+                same = [f for f in faces if _same_face(face.box_px, f.box_px)]
+                if len(same) >= KNOWN_RIG_AGREE:
+                    log.debug(
+                        "no rig, row %d as with a rig: %d readings agree, box %s at %.3f",
+                        row,
+                        len(same),
+                        face.box_px,
+                        face.confidence or 0.0,
+                    )
+                    timer.lap("known_rig_rows")
+                    return face
         timer.lap("known_rig_rows")
         return None
-
-    def _row_as_known(
-        self,
-        fused: FusedMethod,
-        image: npt.NDArray[Any],
-        range_m: float,
-        row: float,
-        timer: Timer,
-    ) -> Measurement | None:
-        """One floor-contact ``row`` measured as with a rig at each of
-        KNOWN_RIG_PITCHES_DEG (the camera height that puts the contact there taken as
-        known): the surest of at least KNOWN_RIG_AGREE readings that are one face on one
-        foot (:func:`_same_face`), each standing on its foot (:func:`sides_reach_foot`),
-        none of FOOT_DOUBTS, not small, not doubted on every count (its pitch a guess,
-        PITCH_UNREAD, counted: MIN_DOUBTED_CONFIDENCE); None when they do not agree."""
-        view: View = fused.view
-        depth = self.rig.face_depth(range_m)
-        h_img, w_img = image.shape[:2]
-        faces: list[Measurement] = []
-        for k, pitch in enumerate(KNOWN_RIG_PITCHES_DEG):
-            if len(faces) + len(KNOWN_RIG_PITCHES_DEG) - k < KNOWN_RIG_AGREE:
-                break  # too few pitches left to agree
-            height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
-            if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
-                continue
-            method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
-            base = method.view
-            rig = dataclasses.replace(self.rig, camera_height_m=height, camera_pitch_deg=pitch)
-            method.view = copy.copy(base)
-            method.view.rig = rig
-            method.view.horizon_slack_px = 0.0
-            try:
-                result = self._run_rig(method, rig, image, range_m, timer)
-            finally:
-                method.view = base
-            if not result.detected:
-                continue
-            # its pitch a guess: doubted so, and refused as the search refuses a face
-            # doubted on every count
-            result.doubts = [*result.doubts, PITCH_UNREAD]
-            if (
-                sides_reach_foot(image, result.lines)
-                and not FOOT_DOUBTS.intersection(result.doubts)
-                and not _small(result)
-                and _doubted(result, REFUSAL_IGNORES) >= MIN_DOUBTED_CONFIDENCE
-            ):
-                result.camera_height_m = float(height)
-                result.camera_pitch_deg = pitch
-                faces.append(result)
-        for face in sorted(faces, key=lambda f: f.confidence or 0.0, reverse=True):
-            same = [f for f in faces if _same_face(face.box_px, f.box_px)]
-            if len(same) >= KNOWN_RIG_AGREE:
-                log.debug(
-                    "no rig, row %.0f as with a rig: %d readings agree, box %s at %.3f",
-                    row,
-                    len(same),
-                    face.box_px,
-                    face.confidence or 0.0,
-                )
-                return face
-        return None
-
-    def _foot_row_check(
-        self,
-        fused: FusedMethod,
-        found: Measurement,
-        image: npt.NDArray[Any],
-        range_m: float,
-        timer: Timer,
-    ) -> Measurement:
-        """With no rig, a face ``found`` reported under CHECK_CONFIDENCE: its own foot row
-        read as with a rig (:meth:`_row_as_known`); where those readings agree on a face
-        standing on the same foot (within CHECK_FOOT_ROWS) whose height or width differs
-        from the found one's by more than CHECK_RATIO times, the found face is a piece of
-        that face or another surface the search took on the row, and the agreed face is
-        taken (its pitch a guess). With CHECK_ROWS_BELOW, the rows more than
-        CHECK_NEARER_ROWS below its foot are read so first, lowest first: another face
-        agreed there, at most CHECK_NEARER_WIDER times as wide, is nearer and taken."""
-        sure, _ = reported_confidence(
-            found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
-        )
-        if sure >= CHECK_CONFIDENCE or found.box_px is None:
-            return found
-        if CHECK_ROWS_BELOW:
-            # the sonar ranges the nearest face: a row below the found foot whose readings
-            # as with a rig agree on another face (not the found one's outline with its
-            # foot lower, _same_outline: that moved the tuning rooms both ways) stands it
-            # nearer (the search's trial there found none, or a piece it did not stand on)
-            view: View = fused.view
-            depth = self.rig.face_depth(range_m)
-            below = sorted(
-                {
-                    r
-                    for r in (
-                        *contact_rows(image, view, depth),
-                        *weak_contact_rows(image, view, depth),
-                    )
-                    if r > found.box_px[3] + CHECK_NEARER_ROWS
-                },
-                reverse=True,
-            )
-            width = found.box_px[2] - found.box_px[0]
-            for row in below:
-                nearer = self._row_as_known(fused, image, range_m, row, timer)
-                if (
-                    nearer is not None
-                    and nearer.box_px is not None
-                    and nearer.box_px[3] > found.box_px[3] + CHECK_NEARER_ROWS
-                    and nearer.box_px[2] - nearer.box_px[0] <= CHECK_NEARER_WIDER * width
-                    and not _same_outline(found.box_px, nearer.box_px)
-                ):
-                    log.debug("no rig: row %d below the answer's foot stands a face", row)
-                    timer.lap("foot_row_check")
-                    return nearer
-        agreed = self._row_as_known(fused, image, range_m, found.box_px[3], timer)
-        timer.lap("foot_row_check")
-        if agreed is None or agreed.box_px is None:
-            return found
-        x0, y0, x1, y1 = found.box_px
-        a0, b0, a1, b1 = agreed.box_px
-        ratios = ((b1 - b0) / max(y1 - y0, 1.0), (a1 - a0) / max(x1 - x0, 1.0))
-        differs = any(r > CHECK_RATIO or r < 1.0 / CHECK_RATIO for r in ratios)
-        taken = abs(b1 - y1) <= CHECK_FOOT_ROWS and differs
-        log.debug(
-            "no rig, the answer's foot row as with a rig: box %s at %.3f (found %s at %.3f): %s",
-            agreed.box_px,
-            agreed.confidence or 0.0,
-            found.box_px,
-            found.confidence or 0.0,
-            "taken" if taken else "kept the found face",
-        )
-        return agreed if taken else found
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
@@ -1296,10 +1204,6 @@ class Measurer:
             result = self._run_estimated(impl, image, range_m, timer)
             if ESTIMATED_RIG_AGAIN and result.detected:
                 result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
-            if FOOT_ROW_CHECK and result.detected:
-                result = self._foot_row_check(
-                    cast(FusedMethod, impl), result, image, range_m, timer
-                )
             if KNOWN_RIG_ROWS and not result.detected:
                 # (in a stream where it found nothing, the next SWEEP_REST_FRAMES frames
                 # go without: up to ~130 rig readings a frame)
@@ -1350,34 +1254,6 @@ KNOWN_RIG_ROWS = True
 KNOWN_RIG_PITCHES_DEG = (-2.0, 0.0, 2.0, 4.0)
 #: ... and how many of those readings must be one face on one foot.
 KNOWN_RIG_AGREE = 3
-
-#: With no rig, an unsure answer (FOOT_ROW_CHECK) has the rows below its foot, then its
-#: own foot row, read as with a rig at the guessed pitches; readings agreeing on another
-#: face nearer, or on a face of another size on that foot, replace it
-#: (:meth:`Measurer._foot_row_check`). Session 37, branch ``wt-b-37b``; a switch for the
-#: tests.
-FOOT_ROW_CHECK = True
-#: ... only for a face reported under this confidence (the no-rig doubts applied,
-#: unfloored) ...
-CHECK_CONFIDENCE = 0.06
-#: ... first the rows below its foot, lowest first: the first whose readings agree gives
-#: the face (off: on the full run own moved 2 better / 0 worse with it, photo/2046 hard
-#: 28.8 -> 1.4 %, but fresh 1 / 2, one answer 8.5 -> 45 % off) ...
-CHECK_ROWS_BELOW = False
-#: ... its foot more than this many rows below the found one's (a few rows lower is the
-#: found face's own foot read again, moved both ways on the tuning rooms) ...
-CHECK_NEARER_ROWS = 10.0
-#: ... and at most this many times as wide (a band across the floor, a rug's or a
-#: skirting's edge, stands a wide face on a low row: photo/122 and 2049 hard went 1-12 %
-#: -> 200-960 % off without it).
-CHECK_NEARER_WIDER = 1.5
-#: ... else the found foot's own row: the agreed face's foot within this many rows of the
-#: found one's (photo/2060 hard: the box's foot 3.8 rows above the piece's) ...
-CHECK_FOOT_ROWS = 5.0
-#: ... and its height or width over this many times the found face's, or under its
-#: inverse (1.2 took photo/2071 hard's foot row's reading 1.21 times as tall: 0.7 -> 22.5 %
-#: off).
-CHECK_RATIO = 1.5
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
