@@ -135,6 +135,10 @@ def load(path: Path) -> dict[Key, dict[str, str]]:
         if len(fields) != len(COLUMNS):
             raise ValueError(f"{path}:{n}: {len(fields)} fields, expected {len(COLUMNS)}")
         row = dict(zip(COLUMNS, fields, strict=True))
+        try:
+            float(row["err_h_pct"]), float(row["err_w_pct"])
+        except ValueError:
+            raise ValueError(f"{path}:{n}: the errors are not numbers") from None
         answers[(row["family"], row["seed"], row["kind"], row["rig"])] = row
     return answers
 
@@ -148,6 +152,7 @@ def error_pct(row: dict[str, str]) -> float:
 
 @dataclass
 class SetChange:
+    missing: int = 0  # answers of BEFORE that AFTER lacks (a run cut short)
     unclipped: int = 0
     better: int = 0
     worse: int = 0
@@ -167,10 +172,13 @@ def compare(
     sets: dict[str, SetChange] = {}
     lines = []
     for key, old in before.items():
-        new = after.get(key)
-        if new is None or old["clipped"] == "1":
-            continue
         change = sets.setdefault(old["set"], SetChange())
+        new = after.get(key)
+        if new is None:
+            change.missing += 1
+            continue
+        if old["clipped"] == "1":
+            continue
         change.unclipped += 1
         e0, e1 = error_pct(old), error_pct(new)
         change.gross_before += e0 > GROSS_PCT
@@ -208,7 +216,11 @@ def main(argv: list[str] | None = None) -> int:
             jobs = parse_sets(args.sets)
         except ValueError as exc:
             ap.error(str(exc))
-        run(jobs, args.output, args.processes)
+        try:
+            run(jobs, args.output, args.processes)
+        except OSError as exc:
+            print(f"error: cannot write {args.output}: {exc}", file=sys.stderr)
+            return 2
         return 0
     try:
         before, after = load(args.before), load(args.after)
@@ -217,13 +229,17 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     sets, lines = compare(before, after, args.points)
     for name, s in sets.items():
+        missing = f"; {s.missing} answers missing from AFTER" if s.missing else ""
         print(
             f"{name}: {s.unclipped} unclipped answers; {s.better} better, {s.worse} worse "
             f"(moved > {args.points:g} points); over {GROSS_PCT:g} % off or missed "
-            f"{s.gross_before} -> {s.gross_after}"
+            f"{s.gross_before} -> {s.gross_after}{missing}"
         )
     if args.verbose:
         print("\n".join(lines))
+    if any(s.missing for s in sets.values()):
+        print("error: AFTER lacks answers BEFORE has (a run cut short?)", file=sys.stderr)
+        return 1
     return 0
 
 

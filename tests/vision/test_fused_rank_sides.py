@@ -153,3 +153,19 @@ def test_rank_sides_types() -> None:
         _c(ax3, prof.astype(np.float64), prof, [], 3, 1.0, 0)
     with pytest.raises(TypeError):
         _c(ax3, prof, prof, [np.zeros(2, np.int32)], 3, 1.0, 0)
+
+
+@pytest.mark.filterwarnings("ignore:invalid value encountered in cast")  # numpy's, on NaN
+@pytest.mark.parametrize("profile", [1, 2])  # prof_v, prof_short
+def test_a_nan_in_a_profile_is_left_to_numpy(profile: int) -> None:
+    """A NaN never compares less, so C would order it unlike numpy's sort: it declines."""
+    ax3 = np.zeros((12, 6), np.int16)
+    ax3[:, [1, 2, 4]] = 300
+    prof_v = np.array([5, 9, 7, 3, 8, 2], np.float32)
+    prof_short = prof_v.copy()
+    args: list[Any] = [ax3, prof_v, prof_short, [np.arange(6, dtype=np.intp)], 12, 2.0, 0]
+    assert _c(*args) is not None  # finite: C ranks it
+    args[profile] = args[profile].copy()
+    args[profile][0] = np.nan
+    assert _c(*args) is None
+    assert search._rank_sides(*args) == search._rank_sides_numpy(*args)

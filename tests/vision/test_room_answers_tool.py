@@ -96,6 +96,19 @@ def test_sets_parse_and_bad_ones_are_named() -> None:
             room_answers.parse_sets(bad)
 
 
+def test_answers_missing_from_after_are_counted_and_fail_the_comparison(
+    tmp_path: Path,
+) -> None:
+    before = tsv(tmp_path / "b.tsv", [{}, {}, {"clipped": "1"}])
+    after = tsv(tmp_path / "a.tsv", [{}])
+    sets, _ = room_answers.compare(room_answers.load(before), room_answers.load(after), 2.0)
+    assert (sets["own"].missing, sets["own"].unclipped) == (2, 1)
+    out = cli("compare", str(before), str(after))
+    assert out.returncode == 1 and "2 answers missing from AFTER" in out.stdout
+    full = cli("compare", str(before), str(before))
+    assert full.returncode == 0
+
+
 def test_bad_input_is_a_clear_error_not_a_traceback(tmp_path: Path) -> None:
     out = cli("run", "-o", str(tmp_path / "x.tsv"), "--sets", "kitchen")
     assert out.returncode == 2 and "unknown set 'kitchen'" in out.stderr
@@ -104,3 +117,8 @@ def test_bad_input_is_a_clear_error_not_a_traceback(tmp_path: Path) -> None:
     out = cli("compare", str(junk), str(junk))
     assert out.returncode == 2 and "not a room_answers.py TSV" in out.stderr
     assert "Traceback" not in out.stderr
+    bad_number = tsv(tmp_path / "n.tsv", [{"err_h_pct": "lots"}])
+    out = cli("compare", str(bad_number), str(bad_number))
+    assert out.returncode == 2 and "not numbers" in out.stderr and "Traceback" not in out.stderr
+    out = cli("run", "-o", str(tmp_path / "no" / "such" / "dir.tsv"), "--sets", "photo:1-1")
+    assert out.returncode == 2 and "cannot write" in out.stderr and "Traceback" not in out.stderr

@@ -743,9 +743,11 @@ class Measurer:
         :meth:`_on_axis_trial`), it stands on its foot (:func:`sides_reach_foot`), is not
         small (:func:`_small`), doubts not its foot (FOOT_DOUBTS), reaches
         NEARER_AXIS_ACCEPT, its foot lies at least MIN_NEARER_DROP_PX under ``best``'s and
-        either ``best`` leaves the axis out or the face lies wholly under ``best``'s foot
+        either ``best`` leaves the axis out, the face lies wholly under ``best``'s foot
         (something in front of it: a face overlapping ``best``'s rows may be its own
-        lower part or its shadow). Of those, the lowest foot (within ROW_JITTER_PX),
+        lower part or its shadow), or ``best`` is a band across it (NEARER_ACROSS_BAND:
+        ``best`` reaches past both its sides and it is ACROSS_TALLER times as tall,
+        reaching above and below ``best``). Of those, the lowest foot (within ROW_JITTER_PX),
         the surest with its doubts applied, that the refusal would not turn down with
         PITCH_UNREAD added (its pitch a guess)."""
         if best.box_px is None:
@@ -1206,7 +1208,7 @@ class Measurer:
                 result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
             if KNOWN_RIG_ROWS and not result.detected:
                 # (in a stream where it found nothing, the next SWEEP_REST_FRAMES frames
-                # go without: up to ~130 rig readings a frame)
+                # the search misses go without: up to ~130 rig readings a frame)
                 if self._known_rest > 0:
                     self._known_rest -= 1
                 else:

@@ -1884,6 +1884,9 @@ static PyObject *rank_sides(PyObject *self, PyObject *args)
             long long c = *(const long long *)((const char *)gb[g].buf + i * gb[g].strides[0]);
             if (c < 0 || c >= w || c >= pv.shape[0] || c >= ps.shape[0])
                 goto numpy;
+            /* a NaN orders unlike numpy's sort (it never compares less) */
+            if (isnan(PROF(pv, (Py_ssize_t)c)) || isnan(PROF(ps, (Py_ssize_t)c)))
+                goto numpy;
             rank_insert(best, &len, many, (double)PROF(pv, (Py_ssize_t)c), (Py_ssize_t)c);
         }
         /* a tie within the 3 * keep only orders them (the ranks below decide, where they
