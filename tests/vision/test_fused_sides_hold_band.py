@@ -118,3 +118,30 @@ def test_the_held_rows_share_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     assert abs(walk(band_scene(tape_rows=3)) - FACE_TOP) <= 2
     monkeypatch.setattr(region, "HELD_BAND_ROWS_SHARE", 0.95)
     assert walk(band_scene(tape_rows=3)) >= BAND[1] - 2
+
+
+def test_a_refused_crossing_keeps_the_plain_walks_top(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the held band's crossing reaches a top the face check refuses, the plain
+    walk's top is still tried (procedural 711 hard: the sides' walk raises its top from
+    row 183 to 92). Here the crossing is forced 20 rows above the plain walk and refused:
+    the answer must be the one with the crossing switched off."""
+    monkeypatch.setattr(method, "SIDES_HOLD_BAND", False)
+    plain = room_size_errors("procedural", 711, True)
+    monkeypatch.setattr(method, "SIDES_HOLD_BAND", True)
+    walk, check = method.raise_top_by_sides, method.face_under_raised_top
+    forced: set[int] = set()
+
+    def crossing(*args: object, **kwargs: object) -> int:
+        top = walk(*args, **kwargs)  # type: ignore[arg-type]
+        if kwargs.get("held_band_share") is None:
+            return top
+        forced.add(max(0, top - 20))
+        return max(0, top - 20)
+
+    def refuse(*args: object, **kwargs: object) -> bool:
+        return args[4] not in forced and check(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(method, "raise_top_by_sides", crossing)
+    monkeypatch.setattr(method, "face_under_raised_top", refuse)
+    assert room_size_errors("procedural", 711, True) == plain
+    assert forced  # the crossing ran

@@ -705,8 +705,8 @@ class FusedMethod:
         ):
             vt = coloured
         walked = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
-        past_band: int | None = None  # a top the held band's crossing alone reached
-        if SIDES_HOLD_BAND and rig_known:
+        tops = [walked]  # the tops the sides' walks reached, highest first
+        if SIDES_HOLD_BAND and rig_known and not (COLOUR_TOP_STAYS and colour_top):
             past_band = raise_top_by_sides(
                 seen, v, ay, rb, vt, ul, ur, depth, held_band_share=SIDES_HOLD_BAND_SHARE
             )
@@ -714,17 +714,18 @@ class FusedMethod:
                 log.debug(
                     "top %d: the sides' strips hold the face's colour up to %d", walked, past_band
                 )
-                walked = past_band
-            else:
-                past_band = None
+                tops.insert(0, past_band)
         if COLOUR_TOP_STAYS and colour_top and rig_known:
-            walked = vt
-        if face_under_raised_top(seen, v, rb, vt, walked, ul, ur, one_strip=True) and not (
-            framed is not None and top_face_above(seen, v, rb, vt, walked, ul, ur)
-        ):
-            vt = walked
-            if past_band is not None and vt == past_band and TOP_FROM_SIDES not in doubts:
-                doubts.append(TOP_FROM_SIDES)  # no top edge's score chose that row
+            tops = [vt]
+        # the held band's crossing may be refused where the plain walk's top still holds
+        for k, top in enumerate(tops):
+            if face_under_raised_top(seen, v, rb, vt, top, ul, ur, one_strip=True) and not (
+                framed is not None and top_face_above(seen, v, rb, vt, top, ul, ur)
+            ):
+                vt = top
+                if k < len(tops) - 1 and TOP_FROM_SIDES not in doubts:
+                    doubts.append(TOP_FROM_SIDES)  # no top edge's score chose that row
+                break
         if HUE_HOLDS_TOP and framed is None and not (COLOUR_TOP_STAYS and colour_top and rig_known):
             # a gloss's highlight across the face stopped both walks: the face's hue goes on
             hued = raise_top_by_hue(seen, v, ay, rb, vt, ul, ur, depth)
