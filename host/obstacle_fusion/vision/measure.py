@@ -1058,6 +1058,29 @@ class Measurer:
                     result = again
         return result
 
+    def _run_guessed_rig(
+        self,
+        fused: FusedMethod,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        height: float,
+        pitch: float,
+    ) -> Measurement:
+        """The rig path (:meth:`_run_rig`) with a camera height and pitch guessed from the
+        image taken as known, on the method levelled for that pitch; its view restored."""
+        h_img, w_img = image.shape[:2]
+        method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
+        base = method.view
+        rig = dataclasses.replace(self.rig, camera_height_m=height, camera_pitch_deg=pitch)
+        method.view = copy.copy(base)
+        method.view.rig = rig
+        method.view.horizon_slack_px = 0.0
+        try:
+            return self._run_rig(method, rig, image, range_m, timer)
+        finally:
+            method.view = base
+
     def _as_if_known(
         self,
         fused: FusedMethod,
@@ -1079,19 +1102,7 @@ class Measurer:
         if sure >= AGAIN_CONFIDENCE or found.camera_height_m is None or found.box_px is None:
             return found
         pitch = found.camera_pitch_deg or 0.0
-        h_img, w_img = image.shape[:2]
-        method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
-        base = method.view
-        rig = dataclasses.replace(
-            self.rig, camera_height_m=found.camera_height_m, camera_pitch_deg=pitch
-        )
-        method.view = copy.copy(base)
-        method.view.rig = rig
-        method.view.horizon_slack_px = 0.0
-        try:
-            again = self._run_rig(method, rig, image, range_m, timer)
-        finally:
-            method.view = base
+        again = self._run_guessed_rig(fused, image, range_m, timer, found.camera_height_m, pitch)
         timer.lap("rig_again")
         if not again.detected or again.box_px is None:
             return found
@@ -1137,7 +1148,6 @@ class Measurer:
         no row does."""
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
-        h_img, w_img = image.shape[:2]
         rows = sorted(
             set(contact_rows(image, view, depth)) | set(weak_contact_rows(image, view, depth)),
             reverse=True,
@@ -1150,16 +1160,7 @@ class Measurer:
                 height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
                 if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
                     continue
-                method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
-                base = method.view
-                rig = dataclasses.replace(self.rig, camera_height_m=height, camera_pitch_deg=pitch)
-                method.view = copy.copy(base)
-                method.view.rig = rig
-                method.view.horizon_slack_px = 0.0
-                try:
-                    result = self._run_rig(method, rig, image, range_m, timer)
-                finally:
-                    method.view = base
+                result = self._run_guessed_rig(fused, image, range_m, timer, height, pitch)
                 if not result.detected:
                     continue
                 # its pitch a guess: doubted so, and refused as the search refuses a face
