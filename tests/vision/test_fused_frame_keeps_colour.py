@@ -27,6 +27,8 @@ def test_without_the_colour_check_the_background_is_taken_for_the_frame(
     monkeypatch.setattr(method, "FRAME_KEEPS_COLOUR", False)
     # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
     monkeypatch.setattr(method, "SURFACE_UP_TO_TOP", False)
+    # ... and so does the whole way's judgment (method.WHOLE_RAISE_JUDGED): off
+    monkeypatch.setattr(method, "WHOLE_RAISE_JUDGED", False)
     eh, _ = room_size_errors("photo", 739, False)
     assert eh > 0.25
 

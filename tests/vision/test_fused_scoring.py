@@ -224,6 +224,8 @@ def test_a_column_behind_the_face_in_line_with_one_side_is_not_its_top(
     monkeypatch.setattr(extent, "TOP_LINE_ACROSS", False)
     # the face's surface under the top (method.SURFACE_UP_TO_TOP) brings it down too: off
     monkeypatch.setattr(method, "SURFACE_UP_TO_TOP", False)
+    # ... and so does the whole way's judgment (method.WHOLE_RAISE_JUDGED): off
+    monkeypatch.setattr(method, "WHOLE_RAISE_JUDGED", False)
     res, error = height_error_with_rig("photo", 1484, False)
     assert error <= 0.05 if within else error > 0.3
     assert (TOP_FROM_SIDES in res.doubts) is not within

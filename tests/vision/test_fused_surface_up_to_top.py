@@ -140,5 +140,7 @@ def test_without_the_colour_top_the_walks_run_up_the_rocket(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(method, "COLOUR_TOP_STAYS", False)
+    # the whole way's judgment (method.WHOLE_RAISE_JUDGED) refuses the walks' top too: off
+    monkeypatch.setattr(method, "WHOLE_RAISE_JUDGED", False)
     eh, _ = room_size_errors("photo", 2085, True)
     assert eh > 0.25

@@ -1076,10 +1076,12 @@ class Measurer:
         method.view = copy.copy(base)
         method.view.rig = rig
         method.view.horizon_slack_px = 0.0
+        method.rig_guessed = True
         try:
             return self._run_rig(method, rig, image, range_m, timer)
         finally:
             method.view = base
+            method.rig_guessed = False
 
     def _as_if_known(
         self,

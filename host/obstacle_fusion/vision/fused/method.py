@@ -57,6 +57,7 @@ from obstacle_fusion.vision.fused.region import (
     face_past_foot,
     face_under_raised_top,
     frame_top_by_margin,
+    hue_back_under_top,
     looks_like_top_face,
     lower_top_past_top_face,
     lower_top_to_background,
@@ -201,6 +202,29 @@ def _foot_read(floor_known: bool, rig_known: bool, rb: int, vb0: float, conf: fl
         and abs(rb - vb0) <= FOOT_TRIAL_ROWS
         and conf >= FOOT_TRIAL_MIN_CONFIDENCE
     )
+
+
+def _raise_stands(
+    seen: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    scored: int,
+    top: int,
+    left: int,
+    right: int,
+    depth: float,
+) -> bool:
+    """Whether a top raised from the ``scored`` one up to ``top`` (all the stages' steps
+    together) stands (WHOLE_RAISE_JUDGED): the face no taller than RAISED_FACE_MAX_M at
+    ``depth``, and its colour back under ``top`` (region.face_under_raised_top, which
+    leaves a short or a very long way unjudged) or at least its hue
+    (region.hue_back_under_top: a gloss lightens a face up to its top; procedural/2053
+    hard, a dark blue face lit to a pale blue, 0.8 % with the hue, 34 % without)."""
+    if (bottom - top) * depth / view.fy > RAISED_FACE_MAX_M:
+        return False
+    return face_under_raised_top(
+        seen, view, bottom, scored, top, left, right
+    ) or hue_back_under_top(seen, view, bottom, scored, top, left, right)
 
 
 def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
@@ -367,6 +391,21 @@ RISES_EVERY_WALK = True
 #: TOP_FROM_SIDES (no top edge's score chose it).
 SIDES_HOLD_BAND = True
 SIDES_HOLD_BAND_SHARE = 1.5
+#: With the rig, the edge search's top raised past the scored top (a closing top, the
+#: inner edges', seams', colour's, sides', hue's, rail's or band's walk, one after another)
+#: is judged over the whole way up (session 38, branch ``wt-b-38``, a switch): each step
+#: alone may be a short way that region.face_under_raised_top does not judge (a top
+#: face's, a blurred top's), while together they climb into what stands behind the face in
+#: line with its sides (a rocket in a photograph on the wall: photo/736 ordinary, 203 ->
+#: 182 -> 147, +94 %). The scored top stands where neither the face's colour nor its hue
+#: is back under the raised top, or where the raised face would be taller than
+#: RAISED_FACE_MAX_M at the face's depth (:func:`_raise_stands`). Not on a rig only
+#: guessed with no rig given (``FusedMethod.rig_guessed``): there it moved which trial
+#: wins (photo/2003 ordinary, no rig, 16 -> 169 %) ...
+WHOLE_RAISE_JUDGED = True
+#: ... (m; foot_outline.RISE_REACH_M: a face the sonar ranges is seldom taller; photo/2098
+#: hard's closing top up a rocket's sides behind a panel face: 1.65 m, +369 %).
+RAISED_FACE_MAX_M = 1.5
 
 
 class FusedMethod:
@@ -398,6 +437,9 @@ class FusedMethod:
         self._adx = np.empty((2, h, w), np.int16)  # d/dx, made |dx| in place; its dilation
         self._dy = np.empty((h, w), np.int16)
         self._seen: npt.NDArray[Any] | None = None  # the frame the colour stages read
+        #: the view's rig only guessed from the image (measure's no-rig search, its
+        #: camera height and pitch taken as known): the rules for a rig given alone skip
+        self.rig_guessed = False
 
     def run(
         self,
@@ -750,6 +792,19 @@ class FusedMethod:
                 log.debug("top %d past a band's edge behind the face: %d", vt, band_top)
                 band_from, band_rows, vt = vt, vt - band_top, band_top
 
+        if (
+            WHOLE_RAISE_JUDGED
+            and rig_known
+            and not self.rig_guessed
+            and framed is None
+            and vt < best.vt
+            and not _raise_stands(seen, v, rb, best.vt, vt, ul, ur, depth)
+        ):
+            log.debug("top %d: the whole way up from %d refused", vt, best.vt)
+            vt, print_top, seam_top = best.vt, False, False
+            band_from, band_rows = None, 0
+            doubts = [d for d in doubts if d != TOP_FROM_SIDES]
+
         # confidence
         conf = confidence(best, rivals, parts_agree=floor_known)
         reason = refusal(conf, self.min_confidence)
@@ -916,7 +971,7 @@ class FusedMethod:
             # standing above the floor the rig predicts: a print on the face, whose own
             # sides stand on down to the floor round it
             outline = self._outline(
-                seen, ay, ax3, rb, int(round(vt)), ul, ur, (r0b, r1b), depth, noise
+                seen, ay, ax3, rb, int(round(vt)), ul, ur, (r0b, r1b), depth, noise, rig_known
             )
             if outline is not None:
                 rb, vt, ul, ur = outline
@@ -1075,12 +1130,14 @@ class FusedMethod:
         band: tuple[int, int],
         depth: float,
         noise: float,
+        rig_known: bool = False,
     ) -> tuple[int, int, int, int] | None:
         """The face round a print found standing above the floor-contact ``band`` (with
         the rig known the face's foot is there): its foot the strongest edge in the band
         under the print, its sides where the margin of the face's colour between the two
         ends (:func:`.region.widen_along_margin`), its top where its sides and its colour
-        end; None when no margin of one colour encloses the print."""
+        end (with ``rig_known``, the whole way up from ``vt`` judged: WHOLE_RAISE_JUDGED);
+        None when no margin of one colour encloses the print."""
         v = self.view
         nb = foot_in_band(ay, rb, ul, ur, band, noise)
         if nb is None:
@@ -1095,6 +1152,15 @@ class FusedMethod:
         nt = raise_top_by_colour(seen, v, ay, nb, nt, nl, nr, depth)
         nt = raise_top_by_sides(seen, v, ay, nb, nt, nl, nr, depth)
         nt = min(nt, vt)
+        if (
+            WHOLE_RAISE_JUDGED
+            and rig_known
+            and not self.rig_guessed
+            and nt < vt
+            and not _raise_stands(seen, v, nb, vt, nt, nl, nr, depth)
+        ):
+            log.debug("outline: the whole way up from %d to %d refused", vt, nt)
+            nt = vt
         # the sides ran on up into the background: the frame closes where the margin does
         framed_top = frame_top_by_margin(seen, v, rb, nb, nt, nl, nr)
         if framed_top is not None and framed_top > nt:

@@ -1683,6 +1683,31 @@ def face_under_raised_top(
     return any(strips) if one_strip else all(strips)
 
 
+def hue_back_under_top(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    raised: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether the rows right under ``raised`` (as :func:`face_under_raised_top` reads
+    them) keep the hue (a, b) of the face found between ``top`` and ``bottom`` within
+    SHADED_HUE_STEP, whatever their lightness: a gloss's highlight or the light's fall-off
+    lightens a face up to its top without changing its hue."""
+    if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
+        return True
+    if bottom - top < 6 or top <= raised:
+        return True
+    c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
+    lab = _lab8(image, view, raised, bottom, c0, c1)
+    k, n = top - raised + 2, max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * (top - raised)))
+    face = median_u8(lab[k : bottom - raised - 2].reshape(-1, 3), axis=0).astype(np.float32)
+    under = median_u8(lab[2 : 2 + n].reshape(-1, 3), axis=0).astype(np.float32)
+    return norm(under[1:] - face[1:]) <= SHADED_HUE_STEP
+
+
 #: Rows of the face sampled just under its top (past the top edge's blur) when a short
 #: way up is judged for a top face: a frame's top margin is at least this thick.
 UNDER_TOP_ROWS = (2, 5)
