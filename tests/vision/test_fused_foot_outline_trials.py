@@ -27,6 +27,8 @@ def test_without_the_rule_the_piece_is_the_answer(monkeypatch: pytest.MonkeyPatc
     monkeypatch.setattr(method, "FOOT_OUTLINE_TRIALS", False)
     # the estimated rig taken as known reads the outline too (measure.ESTIMATED_RIG_AGAIN)
     monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
+    # ... and so do the rows read as with a rig over a small unsure face (SMALL_FACE_GROWN)
+    monkeypatch.setattr(measure, "SMALL_FACE_GROWN", False)
     eh, _ = room_size_errors("procedural", 2029, False, with_rig=False)
     assert eh > 0.25
 

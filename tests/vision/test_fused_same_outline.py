@@ -210,6 +210,8 @@ def test_with_no_rig_a_face_with_a_line_across_it_is_measured_whole(
     # the print's-line rule (PRINT_LINE_FOOT) reads 1471's lower face from its foot too:
     # the line across the face has the face's texture under it
     monkeypatch.setattr(measure, "PRINT_LINE_FOOT", False)
+    # ... and so do the rows read as with a rig over a small unsure face (SMALL_FACE_GROWN)
+    monkeypatch.setattr(measure, "SMALL_FACE_GROWN", False)
     off = Measurer(CAM, None).measure(image, truth["range_m"])
     assert off.detected and off.height_m is not None
     assert abs(off.height_m / truth["height_m"] - 1.0) > rule_off_error

@@ -65,6 +65,7 @@ def test_two_agreeing_readings_take_the_row_below(monkeypatch: pytest.MonkeyPatc
 
 def test_four_agreeing_readings_are_too_many(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "KNOWN_RIG_AGREE", 4)
+    monkeypatch.setattr(measure, "SIDE_BAND_ROWS", False)  # (a side band's row agrees 4 times)
     assert not _measured("procedural", 144, True).detected
 
 
@@ -87,3 +88,39 @@ def test_a_stream_rests_after_a_frame_it_found_nothing_on(monkeypatch: pytest.Mo
     for _ in range(measure.SWEEP_REST_FRAMES + 2):
         assert not measurer.measure(blank, 2.0).detected
     assert len(calls) == 2  # the first frame and the one after the rest
+
+
+# Side bands (``measure.SIDE_BAND_ROWS``): photo 702 (hard) has a grey stripe down the face
+# on the beam's axis, of the floor's shade: the axis band shows no step at the face's foot
+# (row 201), the bands a width either side do. That row is so near the horizon that pitches
+# -2 and 0 put the lens under the floor's minimum; read at 6 and 8 degrees instead, the four
+# readings agree on the face. Photo 723 (ordinary): the foot row (237) is a side band's step
+# only. Photo 747 (ordinary): a side band's step (row 197) stands a pole 23 px wide that does
+# not span that band: not taken.
+
+
+def test_a_foot_shown_beside_the_axis_is_read() -> None:
+    eh, ew = room_size_errors("photo", 702, True, with_rig=False)
+    assert eh < 0.05 and ew < 0.05
+    eh, ew = room_size_errors("photo", 723, False, with_rig=False)
+    assert eh < 0.05 and ew < 0.05
+
+
+def test_without_the_side_bands_those_faces_are_missed(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "SIDE_BAND_ROWS", False)
+    assert not _measured("photo", 702, True).detected
+    assert not _measured("photo", 723, False).detected
+
+
+@pytest.mark.parametrize(("step", "found"), [(4.0, True), (4.5, False)])
+def test_a_row_near_the_horizon_is_read_at_steeper_pitches(
+    monkeypatch: pytest.MonkeyPatch, step: float, found: bool
+) -> None:
+    # 4 + 4 = 8 degrees is the steepest pitch the search allows (MAX_ESTIMATED_PITCH_DEG):
+    # a step over 4 leaves row 201 two readings, under KNOWN_RIG_AGREE
+    monkeypatch.setattr(measure, "SIDE_BAND_PITCH_STEP_DEG", step)
+    assert _measured("photo", 702, True).detected is found
+
+
+def test_a_face_not_spanning_the_side_band_is_not_taken() -> None:
+    assert not _measured("photo", 747, False).detected

@@ -37,6 +37,7 @@ from obstacle_fusion.vision.fused.confidence import (
     PITCH_UNREAD,
     SECOND_TOP,
     SKEWED_EDGES,
+    SMALL_FACE,
     TOP_BAND_UNLIKE_FACE,
     TOP_RUNS_ON,
     TRIAL_RIVAL,
@@ -45,6 +46,7 @@ from obstacle_fusion.vision.fused.confidence import (
     reported_confidence,
 )
 from obstacle_fusion.vision.fused.floor_contact import (
+    band_columns,
     contact_rows,
     face_apart_from_floor,
     face_runs_below,
@@ -1155,42 +1157,136 @@ class Measurer:
             reverse=True,
         )
         for row in rows:
-            faces: list[Measurement] = []
-            for k, pitch in enumerate(KNOWN_RIG_PITCHES_DEG):
-                if len(faces) + len(KNOWN_RIG_PITCHES_DEG) - k < KNOWN_RIG_AGREE:
-                    break  # too few pitches left to agree
-                height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
-                if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
-                    continue
-                result = self._run_guessed_rig(fused, image, range_m, timer, height, pitch)
-                if not result.detected:
-                    continue
-                # its pitch a guess: doubted so, and refused as the search refuses a face
-                # doubted on every count
-                result.doubts = [*result.doubts, PITCH_UNREAD]
-                if (
-                    sides_reach_foot(image, result.lines)
-                    and not FOOT_DOUBTS.intersection(result.doubts)
-                    and not _small(result)
-                    and _doubted(result, REFUSAL_IGNORES) >= MIN_DOUBTED_CONFIDENCE
+            face = self._known_rig_row(fused, image, range_m, timer, row, KNOWN_RIG_PITCHES_DEG)
+            if face is not None:
+                timer.lap("known_rig_rows")
+                return face
+        if SIDE_BAND_ROWS:
+            # no row of the band on the beam's axis agrees: a stripe of the floor's shade
+            # down the face on the axis (a seam, a tape, a print's band) shows no foot step
+            # there. The steps of the bands one band width either side, lowest first, and a
+            # row so near the horizon that a guessed pitch would put the lens under
+            # MIN_ESTIMATED_CAMERA_HEIGHT_M is read at steeper pitches instead (a camera
+            # looking down sees the contact there), as many readings as on any other row
+            side: dict[int, list[tuple[int, int]]] = {}
+            for shift in (-1, 1):
+                for r in contact_rows(image, view, depth, 0.0, shift):
+                    if r not in rows:
+                        side.setdefault(r, []).append(band_columns(view, depth, shift))
+            for row in sorted(side, reverse=True):
+                low = [
+                    p
+                    for p in KNOWN_RIG_PITCHES_DEG
+                    if camera_height_for_row(row, depth, p, view.fy, view.cy)
+                    < MIN_ESTIMATED_CAMERA_HEIGHT_M
+                ]
+                top = max(KNOWN_RIG_PITCHES_DEG)
+                step = SIDE_BAND_PITCH_STEP_DEG
+                steeper = tuple(
+                    top + step * (i + 1)
+                    for i in range(len(low))
+                    if top + step * (i + 1) <= MAX_ESTIMATED_PITCH_DEG
+                )
+                pitches = (*(p for p in KNOWN_RIG_PITCHES_DEG if p not in low), *steeper)
+                face = self._known_rig_row(fused, image, range_m, timer, row, pitches)
+                # the face that shows its foot in a band beside the axis spans that band
+                # (a pole or a print's edge standing on the step is no face round a stripe)
+                if face is not None and any(
+                    face.box_px is not None and face.box_px[0] <= c0 and c1 <= face.box_px[2]
+                    for c0, c1 in side[row]
                 ):
-                    result.camera_height_m = float(height)
-                    result.camera_pitch_deg = pitch
-                    faces.append(result)
-            for face in sorted(faces, key=lambda f: f.confidence or 0.0, reverse=True):
-                same = [f for f in faces if _same_face(face.box_px, f.box_px)]
-                if len(same) >= KNOWN_RIG_AGREE:
-                    log.debug(
-                        "no rig, row %d as with a rig: %d readings agree, box %s at %.3f",
-                        row,
-                        len(same),
-                        face.box_px,
-                        face.confidence or 0.0,
-                    )
+                    log.debug("no rig, row %d of a band beside the axis", row)
                     timer.lap("known_rig_rows")
                     return face
         timer.lap("known_rig_rows")
         return None
+
+    def _known_rig_row(
+        self,
+        fused: FusedMethod,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        row: int,
+        pitches: tuple[float, ...],
+    ) -> Measurement | None:
+        """One row of :meth:`_known_rig_rows`: read as with a rig at each of ``pitches``;
+        the surest of KNOWN_RIG_AGREE readings that are one face on one foot, or None."""
+        view: View = fused.view
+        depth = self.rig.face_depth(range_m)
+        faces: list[Measurement] = []
+        for k, pitch in enumerate(pitches):
+            if len(faces) + len(pitches) - k < KNOWN_RIG_AGREE:
+                break  # too few pitches left to agree
+            height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
+            if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
+                continue
+            result = self._run_guessed_rig(fused, image, range_m, timer, height, pitch)
+            if not result.detected:
+                continue
+            # its pitch a guess: doubted so, and refused as the search refuses a face
+            # doubted on every count
+            result.doubts = [*result.doubts, PITCH_UNREAD]
+            if (
+                sides_reach_foot(image, result.lines)
+                and not FOOT_DOUBTS.intersection(result.doubts)
+                and not _small(result)
+                and _doubted(result, REFUSAL_IGNORES) >= MIN_DOUBTED_CONFIDENCE
+            ):
+                result.camera_height_m = float(height)
+                result.camera_pitch_deg = pitch
+                faces.append(result)
+        for face in sorted(faces, key=lambda f: f.confidence or 0.0, reverse=True):
+            same = [f for f in faces if _same_face(face.box_px, f.box_px)]
+            if len(same) >= KNOWN_RIG_AGREE:
+                log.debug(
+                    "no rig, row %d as with a rig: %d readings agree, box %s at %.3f",
+                    row,
+                    len(same),
+                    face.box_px,
+                    face.confidence or 0.0,
+                )
+                return face
+        return None
+
+    def _grown_small_face(
+        self,
+        fused: FusedMethod,
+        found: Measurement,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+    ) -> Measurement:
+        """With no rig, a small face ``found`` reported unsure (under GROWN_CONFIDENCE,
+        SMALL_FACE among its doubts) is often a piece of the obstacle's face (a print's
+        band, the face's lower strip) that the no-rig trials, which leave the rig's stages
+        out, stood on the wrong row or cut short. The rows read as with a rig
+        (:meth:`_known_rig_rows`) then give the face round it: taken when that reading is
+        at least GROWN_SURE, covers ``found``'s middle column and is GROWN_FACTOR times as
+        high or as wide (the same face read again, a few rows off, is no reason to move);
+        else ``found``."""
+        sure, applied = reported_confidence(
+            found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
+        )
+        if sure >= GROWN_CONFIDENCE or SMALL_FACE not in applied or found.box_px is None:
+            return found
+        grown = self._known_rig_rows(fused, image, range_m, timer)
+        if grown is None or grown.box_px is None or (grown.confidence or 0.0) < GROWN_SURE:
+            return found
+        x0, _, x1, _ = found.box_px
+        g0, _, g1, _ = grown.box_px
+        taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
+        wider = (grown.width_px or 0.0) >= GROWN_FACTOR * (found.width_px or 0.0)
+        covers = g0 <= (x0 + x1) / 2.0 <= g1
+        log.debug(
+            "no rig, small face %s at %.3f; rows as with a rig: %s at %.3f: %s",
+            found.box_px,
+            found.confidence or 0.0,
+            grown.box_px,
+            grown.confidence or 0.0,
+            "taken" if covers and (taller or wider) else "kept",
+        )
+        return grown if covers and (taller or wider) else found
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
@@ -1209,6 +1305,10 @@ class Measurer:
             result = self._run_estimated(impl, image, range_m, timer)
             if ESTIMATED_RIG_AGAIN and result.detected:
                 result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
+            if SMALL_FACE_GROWN and result.detected:
+                result = self._grown_small_face(
+                    cast(FusedMethod, impl), result, image, range_m, timer
+                )
             if KNOWN_RIG_ROWS and not result.detected:
                 # (in a stream where it found nothing, the next SWEEP_REST_FRAMES frames
                 # the search misses go without: up to ~130 rig readings a frame)
@@ -1259,6 +1359,26 @@ KNOWN_RIG_ROWS = True
 KNOWN_RIG_PITCHES_DEG = (-2.0, 0.0, 2.0, 4.0)
 #: ... and how many of those readings must be one face on one foot.
 KNOWN_RIG_AGREE = 3
+#: ... when no row agrees, the steps of the bands one band width either side of the beam's
+#: axis read so too, a row near the horizon at pitches this much steeper than
+#: KNOWN_RIG_PITCHES_DEG's steepest in place of those that put the lens under the floor's
+#: minimum (up to MAX_ESTIMATED_PITCH_DEG). Session 38, branch ``wt-d-38``; a switch for
+#: the tests.
+SIDE_BAND_ROWS = True
+SIDE_BAND_PITCH_STEP_DEG = 2.0
+
+#: With no rig, a small face reported unsure is checked against the rows read as with a
+#: rig (:meth:`Measurer._grown_small_face`): the face round it, if they agree on one, is
+#: taken. Session 38, branch ``wt-d-38``; a switch for the tests.
+SMALL_FACE_GROWN = True
+#: ... only for a face reported under this confidence (the no-rig doubts applied,
+#: unfloored), SMALL_FACE among them ...
+GROWN_CONFIDENCE = 0.2
+#: ... the rows' face taken when at least this sure (the wrong faces they read on the
+#: tuning rooms' small answers were at 0.16-0.30, the faces round a piece at 0.40-0.79) ...
+GROWN_SURE = 0.35
+#: ... and at least this many times as high or as wide as the small face.
+GROWN_FACTOR = 1.5
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages

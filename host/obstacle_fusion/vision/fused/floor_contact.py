@@ -31,11 +31,20 @@ FLOOR_NOISE_ROWS = 20  # rows below a step whose own steps give the floor's text
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
 
 
-def band_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> npt.NDArray[np.float32]:
-    """Mean colour (or grey) of each row of the view over a narrow band around the beam axis."""
+def band_columns(view: View, depth_m: float, shift: int = 0) -> tuple[int, int]:
+    """The columns (first, past the last) of the narrow band around the beam's axis, moved
+    by ``shift`` band widths (negative to the left)."""
     half = max(3, int(view.fx * BAND_HALF_M / depth_m))
-    u0 = int(round(view.cx))
-    x0, x1 = max(0, u0 - half), min(view.camera.width, u0 + half + 1)
+    u0 = int(round(view.cx)) + shift * (2 * half + 1)
+    return max(0, u0 - half), min(view.camera.width, u0 + half + 1)
+
+
+def band_rows(
+    image: npt.NDArray[np.uint8], view: View, depth_m: float, shift: int = 0
+) -> npt.NDArray[np.float32]:
+    """Mean colour (or grey) of each row of the view over a narrow band around the beam axis
+    (``shift``: the band moved by that many band widths, negative to the left)."""
+    x0, x1 = band_columns(view, depth_m, shift)
     m1 = view.map1[:, x0:x1]
     m2 = view.map2[:, x0:x1]
     band = cv2.remap(image, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
@@ -44,14 +53,19 @@ def band_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) -> npt.N
 
 
 def contact_rows(
-    image: npt.NDArray[np.uint8], view: View, depth_m: float, above_px: float = 0.0
+    image: npt.NDArray[np.uint8],
+    view: View,
+    depth_m: float,
+    above_px: float = 0.0,
+    shift: int = 0,
 ) -> list[int]:
     """Candidate floor-contact rows (view rows), lowest first; empty when none stands out
     of the band's steps nor of the floor's own texture below it.
 
     ``above_px``: how far above the view's centre row the floor may still show (a camera
-    pitched down lifts the horizon); with no pitch the floor lies below the horizon."""
-    found = _band_steps(image, view, depth_m, above_px)
+    pitched down lifts the horizon); with no pitch the floor lies below the horizon.
+    ``shift``: the band read that many band widths beside the beam's axis."""
+    found = _band_steps(image, view, depth_m, above_px, shift)
     if found is None:
         return []
     rows, v, step, top = found
@@ -79,12 +93,12 @@ def weak_contact_rows(image: npt.NDArray[np.uint8], view: View, depth_m: float) 
 
 
 def _band_steps(
-    image: npt.NDArray[np.uint8], view: View, depth_m: float, above_px: float
+    image: npt.NDArray[np.uint8], view: View, depth_m: float, above_px: float, shift: int = 0
 ) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int64], npt.NDArray[np.float64], int] | None:
     """The band's row colours, the rows a step is read at, the step there (colour distance
     of the STEP_ROWS rows above and below) and the highest row the floor may show; None
     when too few rows lie below it."""
-    rows = band_rows(image, view, depth_m)
+    rows = band_rows(image, view, depth_m, shift)
     n = rows.shape[0]
     k = STEP_ROWS
     top = max(k, int(view.cy - above_px) + 2)

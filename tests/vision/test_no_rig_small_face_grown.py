@@ -1,0 +1,63 @@
+"""With no rig, a small face reported unsure is checked against the rows read as with a rig:
+the face round it, if they agree on one sure enough, covering the small face's middle
+column and 1.5 times as high or as wide, is taken (``measure.SMALL_FACE_GROWN``,
+``measure.Measurer._grown_small_face``).
+
+The rooms are tuning rooms, measured with no rig. Photo 733 (ordinary): the search stood
+a piece of the face (32 x 22 px, reported at 0.017) 78 % short; the rows as with a rig
+agree on the whole face at 0.400, within 3 %. Photo 2070 (ordinary): a strip 9 px high
+(reported at 0.077) 69 % short; the rows give the face under it at 0.53, within 8 %.
+Procedural 2079 (ordinary): a side's strip, 69 % narrow; the face round it within 2 %.
+Procedural 2064 (ordinary): the small face (reported at 0.18) is right; the rows read the
+same face 8 % taller, 7 % off: not grown enough to move.
+"""
+
+from __future__ import annotations
+
+import pytest
+from obstacle_fusion.vision import measure
+
+from tests.vision_fixtures import room_size_errors
+
+
+def _worst(family: str, seed: int, hard: bool) -> float:
+    eh, ew = room_size_errors(family, seed, hard, with_rig=False)
+    return max(eh, ew)
+
+
+@pytest.mark.parametrize(
+    ("family", "seed", "limit"),
+    [("photo", 733, 0.05), ("photo", 2070, 0.10), ("procedural", 2079, 0.05)],
+)
+def test_a_piece_grows_to_the_face_round_it(family: str, seed: int, limit: float) -> None:
+    assert _worst(family, seed, False) < limit
+
+
+def test_without_the_rule_the_pieces_are_kept(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "SMALL_FACE_GROWN", False)
+    assert _worst("photo", 733, False) > 0.5
+    assert _worst("photo", 2070, False) > 0.5
+    assert _worst("procedural", 2079, False) > 0.5
+
+
+def test_only_an_unsure_small_face_is_checked(monkeypatch: pytest.MonkeyPatch) -> None:
+    # photo 2070 ordinary's strip is reported at 0.077
+    monkeypatch.setattr(measure, "GROWN_CONFIDENCE", 0.08)
+    assert _worst("photo", 2070, False) < 0.10
+    monkeypatch.setattr(measure, "GROWN_CONFIDENCE", 0.07)
+    assert _worst("photo", 2070, False) > 0.5
+
+
+def test_the_face_round_it_must_be_sure_enough(monkeypatch: pytest.MonkeyPatch) -> None:
+    # photo 733 ordinary's rows agree on the face at 0.400
+    monkeypatch.setattr(measure, "GROWN_SURE", 0.39)
+    assert _worst("photo", 733, False) < 0.05
+    monkeypatch.setattr(measure, "GROWN_SURE", 0.41)
+    assert _worst("photo", 733, False) > 0.5
+
+
+def test_the_same_face_read_again_does_not_move(monkeypatch: pytest.MonkeyPatch) -> None:
+    # procedural 2064 ordinary: the rows read the small face 1.08 times as high
+    assert _worst("procedural", 2064, False) < 0.02
+    monkeypatch.setattr(measure, "GROWN_FACTOR", 1.05)
+    assert _worst("procedural", 2064, False) > 0.05
