@@ -16,6 +16,13 @@ from obstacle_fusion.vision.fused import method, region
 from tests.vision_fixtures import room_size_errors
 
 
+@pytest.fixture(autouse=True)
+def _no_window_walk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The outline rule alone: the window walk (``method.WINDOW_RESCUE_TOP``) also takes
+    photo 731's print up to 12 % off where this rule is off or moved past a limit."""
+    monkeypatch.setattr(method, "WINDOW_RESCUE_TOP", False)
+
+
 def test_a_photo_print_is_measured_to_its_outline_top() -> None:
     eh, ew = room_size_errors("photo", 731, True)
     assert eh < 0.05 and ew < 0.1

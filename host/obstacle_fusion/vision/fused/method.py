@@ -68,6 +68,7 @@ from obstacle_fusion.vision.fused.region import (
     raise_top_by_hue,
     raise_top_by_outline,
     raise_top_by_sides,
+    raise_top_by_windows,
     raise_top_past_band,
     side_agreement,
     sides_rising,
@@ -406,6 +407,9 @@ WHOLE_RAISE_JUDGED = True
 #: ... (m; foot_outline.RISE_REACH_M: a face the sonar ranges is seldom taller; photo/2098
 #: hard's closing top up a rocket's sides behind a panel face: 1.65 m, +369 %).
 RAISED_FACE_MAX_M = 1.5
+#: With the rig, the colour rescue's top is walked on up by the face's mean colour over
+#: windows of rows (region.raise_top_by_windows; a switch for the tests).
+WINDOW_RESCUE_TOP = True
 
 
 class FusedMethod:
@@ -1241,6 +1245,12 @@ class FusedMethod:
             if outlined < vt:
                 log.debug("rescue: top %d up the print's outline: %d", vt, outlined)
                 vt = outlined
+        if WINDOW_RESCUE_TOP and floor_known and rig_known:
+            # a textured face's pattern stopped the row walks: its windows' mean holds on
+            windowed = raise_top_by_windows(seen, self.view, ay, rb, vt, ul, ur, depth)
+            if windowed < vt:
+                log.debug("rescue: top %d, the face's windows hold up to %d", vt, windowed)
+                vt = windowed
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * agree
         if conf < self.min_confidence:

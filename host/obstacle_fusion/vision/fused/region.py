@@ -23,6 +23,8 @@ to one plank, took a wall line crossing the face for its top and a print for the
   down to where the background stops showing just inside both sides;
 * :func:`raise_top_by_sides`: the top, up while both sides still part the face from what
   stands beside it (a band across the whole face stops the colour walks, not the sides);
+* :func:`raise_top_by_windows`: the colour rescue's top, up while windows of rows keep
+  the face's mean colour (a textured face's courses and lines stop the row walks);
 * :func:`looks_like_top_face`: whether rows under the top are a box's top face;
 * :func:`top_agreement`, :func:`side_agreement`: confidence factors, how clearly the
   colour ends at the top and at the weaker side;
@@ -1221,6 +1223,135 @@ def raise_top_by_hue(
     if e_raised < HUE_TOP_EDGE_GAIN * e_top:
         return top
     return raised
+
+
+#: With the rig, the colour rescue's top walks on up while windows of rows between its sides
+#: keep the face's mean colour (:func:`raise_top_by_windows`): a print's row, a brick course,
+#: a texture line or tape across the face stops the row-by-row walks, which compare each
+#: row's colour with the face's, but not the mean over a window a few texture periods tall.
+WINDOW_TOP_WALK = True
+#: The window's height at the face's depth (brick courses, a print's dots: 2-4 cm), and the
+#: least rows of one.
+WINDOW_M = 0.05
+WINDOW_MIN_ROWS = 5
+#: A window's mean (Lab, 8-bit scale) is the face's within this.
+WINDOW_FACE_TOL = 10.0
+#: ... and is apart from the mean beside the face's sides by this much (on either side):
+#: the wall above a face of its colour runs on past the sides, the face does not.
+WINDOW_BESIDE_STEP = 15.0
+#: Windows not the face's (tape, a print's band) are crossed over at most this share of
+#: the face's rows walked so far.
+WINDOW_GAP_SHARE = 0.35
+#: ... where the face's windows resume for this share of a window's rows at least.
+WINDOW_RESUME_SHARE = 0.5
+#: A pattern coarser than the window is read over windows this many times as tall (where
+#: the face found holds them); a face whose windows stray more than WINDOW_MAX_SPREAD from
+#: its mean has no steady colour to follow.
+WINDOW_WIDER = 2
+WINDOW_MAX_SPREAD = 6.0
+#: A raise shorter than this share of the face as found is not taken (the row walks' own
+#: business), and only to a top above the horizon (below it a top face of the front's
+#: colour shows; as :func:`raise_top_by_hue`).
+WINDOW_MIN_RAISE = 0.5
+
+
+def raise_top_by_windows(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    ay: npt.NDArray[np.float32],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The face's top row, moved up while windows of WINDOW_M of rows between the middle
+    half of its columns keep the face's mean colour and differ from the mean beside a side.
+
+    A textured face (a brick print, a poster's pattern, a plank's grain) changes its
+    colour row by row, so the row walks stop at its first course or pattern row; over a
+    window a few of its periods tall its mean is the face's. Its true top is where the
+    window's mean steps to the background's (or to that beside the sides)."""
+    narrow = right - left < 2 * (SIDE_SKIP + BESIDE_COLUMNS) + 8
+    if image is None or image.ndim != 3 or narrow:
+        return top
+    w_view = view.out.shape[1]
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    read = (c0 >= 0, c1 <= w_view)
+    if not any(read):
+        return top
+    win = max(WINDOW_MIN_ROWS, int(round(view.fy * WINDOW_M / depth_m)))
+    h = bottom - top
+    if h < win + 4 + 2 * EDGE_SKIP:
+        return top
+    r0 = max(0, bottom - int(round(view.fy * SIDE_WALK_REACH_M / depth_m)))
+    k = top - r0
+    if k < WINDOW_MIN_RAISE * h:
+        return top
+    lab = np.asarray(_lab8(image, view, r0, bottom, max(c0, 0), min(c1, w_view)), np.float32)
+    if c0 < 0 or c1 > w_view:
+        lab = np.pad(lab, ((0, 0), (max(0, -c0), max(0, c1 - w_view)), (0, 0)), mode="edge")
+    q = (right - left) // 4
+    a0 = left - c0 + q
+    inner = lab[:, a0 : a0 + right - left - 2 * q].mean(axis=1)
+    outs = [
+        lab[:, sl].mean(axis=1)
+        for seen_side, sl in zip(
+            read, (slice(0, BESIDE_COLUMNS), slice(-BESIDE_COLUMNS, None)), strict=True
+        )
+        if seen_side
+    ]
+
+    def windows(rows: npt.NDArray[np.float32], n: int) -> npt.NDArray[np.float32]:
+        """Window means: row i holds the mean of rows i..i+n-1."""
+        c = np.concatenate([np.zeros((1, 3), np.float32), np.cumsum(rows, axis=0)])
+        return np.asarray((c[n:] - c[:-n]) / n, np.float32)
+
+    ref = inner[k + EDGE_SKIP : h + k - EDGE_SKIP].mean(axis=0)
+
+    def steady(n: int) -> tuple[npt.NDArray[np.float32], float]:
+        """The window means over n rows, and the farthest those inside the face stray."""
+        w = windows(inner, n)
+        inside = w[k + EDGE_SKIP : h + k - EDGE_SKIP - n + 1]
+        return w, float(row_norms(inside - ref).max()) if inside.size else math.inf
+
+    w_in, spread = steady(win)
+    if h >= WINDOW_WIDER * win + 4 + 2 * EDGE_SKIP:
+        # a pattern coarser than the window (a poster's dots): a window twice as tall
+        wide, wide_spread = steady(WINDOW_WIDER * win)
+        if wide_spread < spread:
+            win, w_in, spread = WINDOW_WIDER * win, wide, wide_spread
+    if spread > WINDOW_MAX_SPREAD:
+        return top  # no steady mean to follow
+    on = row_norms(w_in - ref) <= WINDOW_FACE_TOL
+    apart = np.zeros_like(on)
+    for out in outs:
+        apart |= row_norms(windows(out, win) - ref) >= WINDOW_BESIDE_STEP
+    on &= apart
+    end = k
+    i = k - 1
+    while i >= 0:
+        if not on[i]:
+            if end - i > win + WINDOW_GAP_SHARE * (h + k - end):
+                break
+            i -= 1
+            continue
+        j = i
+        while j > 0 and on[j - 1]:
+            j -= 1
+        if i == end - 1 or i - j + 1 >= WINDOW_RESUME_SHARE * win:
+            # the face's windows run on, or resume past a band for half a window's rows
+            # at least (not one window passing from one colour to another on its mean)
+            end = j
+        i = j - 1
+    log.debug("windows from %d: win %d (spread %.1f), to %d", top, win, spread, r0 + end)
+    if k - end < WINDOW_MIN_RAISE * h or r0 + end > view.cy:
+        return top
+    # the top edge within a window above the walk's end (the window reached past it)
+    lo, hi = end, min(k - 1, end + win)
+    cols = slice(left + SIDE_SKIP, right - SIDE_SKIP)
+    rows = np.asarray(ay[r0 + lo : r0 + hi + 1, cols].mean(axis=1))
+    return int(r0 + lo + np.argmax(rows))
 
 
 def _held(
