@@ -41,6 +41,18 @@ def test_without_the_window_walk_a_texture_line_is_the_top(
     assert eh > 0.25
 
 
+def test_a_rig_only_guessed_is_not_walked(monkeypatch: pytest.MonkeyPatch) -> None:
+    # every run of the method taken as on a guessed rig: photo/710 keeps its texture line
+    monkeypatch.setattr(
+        method.FusedMethod,
+        "rig_guessed",
+        property(lambda _: True, lambda _, __: None),
+        raising=False,
+    )
+    eh, _ = room_size_errors("photo", 710, True)
+    assert eh > 0.25
+
+
 # A drawn face (rows FACE_TOP..BOTTOM, columns LEFT..RIGHT) of stripes STRIPE rows apart
 # (a brick course's joints), before a light wall, the walk started at row START inside it.
 # At DEPTH with fy 300 a window is 15 rows.

@@ -408,7 +408,10 @@ WHOLE_RAISE_JUDGED = True
 #: hard's closing top up a rocket's sides behind a panel face: 1.65 m, +369 %).
 RAISED_FACE_MAX_M = 1.5
 #: With the rig, the colour rescue's top is walked on up by the face's mean colour over
-#: windows of rows (region.raise_top_by_windows; a switch for the tests).
+#: windows of rows (region.raise_top_by_windows; a switch for the tests). Not on a rig only
+#: guessed with no rig given (``FusedMethod.rig_guessed``): merged with
+#: measure.SMALL_FACE_GROWN, whose rows are read on guessed rigs, it walked a small face's
+#: top into the wall above it (fresh photo/2189 ordinary, no rig, 1.6 -> 195 %).
 WINDOW_RESCUE_TOP = True
 
 
@@ -1245,7 +1248,7 @@ class FusedMethod:
             if outlined < vt:
                 log.debug("rescue: top %d up the print's outline: %d", vt, outlined)
                 vt = outlined
-        if WINDOW_RESCUE_TOP and floor_known and rig_known:
+        if WINDOW_RESCUE_TOP and floor_known and rig_known and not self.rig_guessed:
             # a textured face's pattern stopped the row walks: its windows' mean holds on
             windowed = raise_top_by_windows(seen, self.view, ay, rb, vt, ul, ur, depth)
             if windowed < vt:
