@@ -14,8 +14,13 @@ same face 8 % taller, 7 % off: not grown enough to move.
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
+from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.measure import Measurement, Measurer
 
 from tests.vision_fixtures import room_size_errors
 
@@ -61,3 +66,20 @@ def test_the_same_face_read_again_does_not_move(monkeypatch: pytest.MonkeyPatch)
     assert _worst("procedural", 2064, False) < 0.02
     monkeypatch.setattr(measure, "GROWN_FACTOR", 1.05)
     assert _worst("procedural", 2064, False) > 0.05
+
+
+def test_a_stream_rests_after_rows_that_found_nothing(monkeypatch: pytest.MonkeyPatch) -> None:
+    # photo 2070 ordinary's strip, the same frame again and again, the rows finding nothing
+    calls: list[int] = []
+
+    def nothing(self: Measurer, *args: Any) -> Measurement | None:
+        calls.append(1)
+        return None
+
+    monkeypatch.setattr(Measurer, "_known_rig_rows", nothing)
+    cam = CameraModel.paper(500, 375)
+    image, truth, _ = render_room("photo", 2070, False, cam)
+    measurer = Measurer(cam, None)
+    for _ in range(measure.SWEEP_REST_FRAMES + 2):
+        assert measurer.measure(image, truth["range_m"]).detected
+    assert len(calls) == 2  # the first frame and the one after the rest

@@ -1264,14 +1264,21 @@ class Measurer:
         (:meth:`_known_rig_rows`) then give the face round it: taken when that reading is
         at least GROWN_SURE, covers ``found``'s middle column and is GROWN_FACTOR times as
         high or as wide (the same face read again, a few rows off, is no reason to move);
-        else ``found``."""
+        else ``found``. In a stream, rows that found nothing rest for the next
+        SWEEP_REST_FRAMES frames that would read them (up to ~130 rig readings a frame)."""
         sure, applied = reported_confidence(
             found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
         )
         if sure >= GROWN_CONFIDENCE or SMALL_FACE not in applied or found.box_px is None:
             return found
+        if self._known_rest > 0:  # in a stream, as after a miss whose rows found nothing
+            self._known_rest -= 1
+            return found
         grown = self._known_rig_rows(fused, image, range_m, timer)
-        if grown is None or grown.box_px is None or (grown.confidence or 0.0) < GROWN_SURE:
+        if grown is None:
+            self._known_rest = SWEEP_REST_FRAMES
+            return found
+        if grown.box_px is None or (grown.confidence or 0.0) < GROWN_SURE:
             return found
         x0, _, x1, _ = found.box_px
         g0, _, g1, _ = grown.box_px
