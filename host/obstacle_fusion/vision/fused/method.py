@@ -39,6 +39,7 @@ from obstacle_fusion.vision.fused.extent import (
     raise_top_along_seams,
     raise_top_past_inner_edges,
     top_line_across,
+    trim_to_top_line,
     widen_across_seams,
 )
 from obstacle_fusion.vision.fused.foot_outline import grows_face, outline_from_foot
@@ -875,6 +876,12 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known)
+        # ... and its top line runs from side to side: a side with none next to it over a
+        # part of the width stands on something beside the face (extent.TOP_LINE_SPANS)
+        trimmed = trim_to_top_line(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        if trimmed != (ul, ur):
+            log.debug("top line ends inside %d-%d: %s", ul, ur, trimmed)
+            ul, ur = trimmed
         # ... and stand on the floor-contact row: no side beyond where the face's foot ends
         # (a print's frame is a margin's colour run already: its sides are that margin's)
         if framed is None:
