@@ -66,6 +66,7 @@ def test_two_agreeing_readings_take_the_row_below(monkeypatch: pytest.MonkeyPatc
 def test_four_agreeing_readings_are_too_many(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "KNOWN_RIG_AGREE", 4)
     monkeypatch.setattr(measure, "SIDE_BAND_ROWS", False)  # (a side band's row agrees 4 times)
+    monkeypatch.setattr(measure, "REFINED_ROWS", False)  # (so does a row by its foot: 3 %)
     assert not _measured("procedural", 144, True).detected
 
 
@@ -108,6 +109,7 @@ def test_a_foot_shown_beside_the_axis_is_read() -> None:
 
 def test_without_the_side_bands_those_faces_are_missed(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "SIDE_BAND_ROWS", False)
+    monkeypatch.setattr(measure, "REFINED_ROWS", False)  # (723 o's row 237 is a step's neighbour)
     assert not _measured("photo", 702, True).detected
     assert not _measured("photo", 723, False).detected
 

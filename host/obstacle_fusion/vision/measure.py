@@ -1148,8 +1148,9 @@ class Measurer:
         first row where at least KNOWN_RIG_AGREE of those readings are one face on one foot
         (:func:`_same_face`), each standing on its foot (:func:`sides_reach_foot`), none
         of FOOT_DOUBTS, not small, not doubted on every count (its pitch a guess,
-        PITCH_UNREAD, counted: MIN_DOUBTED_CONFIDENCE), gives the surest of them; None when
-        no row does."""
+        PITCH_UNREAD, counted: MIN_DOUBTED_CONFIDENCE), gives the surest of them; then the
+        side bands' rows (SIDE_BAND_ROWS) and the rows round the band's lowest step
+        (REFINED_ROWS); None when no row does."""
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
         rows = sorted(
@@ -1161,6 +1162,7 @@ class Measurer:
             if face is not None:
                 timer.lap("known_rig_rows")
                 return face
+        tried: set[int] = set()  # the side bands' rows read
         if SIDE_BAND_ROWS:
             # no row of the band on the beam's axis agrees: a stripe of the floor's shade
             # down the face on the axis (a seam, a tape, a print's band) shows no foot step
@@ -1189,6 +1191,7 @@ class Measurer:
                 )
                 pitches = (*(p for p in KNOWN_RIG_PITCHES_DEG if p not in low), *steeper)
                 face = self._known_rig_row(fused, image, range_m, timer, row, pitches)
+                tried.add(row)
                 # the face that shows its foot in a band beside the axis spans that band
                 # (a pole or a print's edge standing on the step is no face round a stripe)
                 if face is not None and any(
@@ -1196,6 +1199,26 @@ class Measurer:
                     for c0, c1 in side[row]
                 ):
                     log.debug("no rig, row %d of a band beside the axis", row)
+                    timer.lap("known_rig_rows")
+                    return face
+        if REFINED_ROWS:
+            # no row agrees, on the axis or beside it: a step's row is read from rows
+            # averaged either side of it (STEP_ROWS), and a face's foot blurred over a few
+            # rows (its shadow, a gloss) puts the step a row or three off the foot, where
+            # the readings as with a rig lose the face (procedural 709: the step at 278,
+            # only 275 agrees). The lowest REFINED_ROWS_STEPS steps' neighbours, nearest
+            # first (below the face there is only floor: the higher steps are lines on the
+            # face or the wall, whose neighbours agreed on prints and wrong faces)
+            refined = [
+                r + d
+                for r in contact_rows(image, view, depth)[:REFINED_ROWS_STEPS]
+                for d in _refine_offsets(REFINED_ROWS_PX)
+                if r + d not in rows and r + d not in tried
+            ]
+            for row in dict.fromkeys(refined):
+                face = self._known_rig_row(fused, image, range_m, timer, row, KNOWN_RIG_PITCHES_DEG)
+                if face is not None:
+                    log.debug("no rig, row %d refined from a band step", row)
                     timer.lap("known_rig_rows")
                     return face
         timer.lap("known_rig_rows")
@@ -1373,6 +1396,16 @@ KNOWN_RIG_AGREE = 3
 #: the tests.
 SIDE_BAND_ROWS = True
 SIDE_BAND_PITCH_STEP_DEG = 2.0
+
+#: ... when no row agrees there either, the rows within this many pixels of the lowest
+#: steps of the band on the axis (:func:`contact_rows`), nearest first (:func:`_refine_offsets`),
+#: read so too: the step lies a row or three off a blurred foot. Session 38, branch
+#: ``wt-f-38``; a switch for the tests.
+REFINED_ROWS = True
+REFINED_ROWS_PX = 3
+#: ... of the band's this many lowest steps (its next step up, photo 2085's, agreed on a
+#: print's face 47 % off, refused by the search as doubted on every count).
+REFINED_ROWS_STEPS = 1
 
 #: With no rig, a small face reported unsure is checked against the rows read as with a
 #: rig (:meth:`Measurer._grown_small_face`): the face round it, if they agree on one, is
@@ -1668,6 +1701,12 @@ SIDES = ("left", "right", "top", "bottom")
 #: With no rig, after a last-resort pitch sweep that found no face, this many frames of a
 #: stream go without one (a frame with nothing in view would pay ~90 trials each time).
 SWEEP_REST_FRAMES = 10
+
+
+def _refine_offsets(reach: int) -> list[int]:
+    """The offsets from a step's row to its neighbours within ``reach`` rows, nearest
+    first, the lower of each pair first (rows are tried lowest first): +1, -1, +2, -2, ..."""
+    return [sign * d for d in range(1, reach + 1) for sign in (1, -1)]
 
 
 def _covers(box: tuple[float, float, float, float], u: float) -> bool:
