@@ -580,19 +580,7 @@ class FusedMethod:
 
         for rb, pb in bottoms:
             found = side_candidates(
-                v,
-                ax,
-                ax3,
-                rb,
-                depth,
-                noise,
-                u_lo,
-                u_hi,
-                min_w,
-                roi,
-                lab_rows,
-                rig_known,
-                u_axis if floor_known else None,
+                v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows, rig_known
             )
             if found is None:
                 continue

@@ -127,7 +127,6 @@ def side_candidates(
     grey: npt.NDArray[np.uint8] | None = None,
     lab: Callable[[int, int], npt.NDArray[np.uint8] | None] | None = None,
     rig_known: bool = True,
-    u_axis: float | None = None,
 ) -> tuple[Sides, list[tuple[int, int]]] | None:
     """The side columns at floor-contact row ``rb``: their presence tables and the
     (left, right) pairs at least ``min_w`` apart, or None when no side stands there.
@@ -137,9 +136,7 @@ def side_candidates(
     height and pitch given, not tried), where thin lines (:func:`line_columns`) took every
     ranked place of a side, the strongest other columns are its candidates too (where over
     LINE_MOST peaks are lines' edges, a pattern of joints, only those beyond its outermost
-    lines: JOINT_PATTERN_ENDS). ``u_axis``: the beam's axis column, with the floor-contact
-    row known (a rig): a side whose ranked places all lie beyond it gets candidates
-    towards it (AXIS_SIDES)."""
+    lines: JOINT_PATTERN_ENDS)."""
     v = view
     k = int(clamp(round(v.fy * SHORT_STRIP_M / depth), 3, 25))
     top_strip = max(0, rb - 1 - k)
@@ -202,21 +199,6 @@ def side_candidates(
                 left = [*left, *(c for c in more[0] if c not in left)]
             if all_lines[1]:
                 right = [*right, *(c for c in more[1] if c not in right)]
-    if u_axis is not None:
-        left, right = _axis_sides(
-            ax3,
-            prof_v,
-            prof_short,
-            peaks,
-            left,
-            right,
-            rb,
-            noise,
-            rb - 1 - tall,
-            u_lo,
-            u_hi,
-            u_axis,
-        )
     if grey is not None and lab is not None and RAMP_SIDES:
         ramps = ramp_columns(
             grey[top_strip : rb - 1], lambda: lab(top_strip, rb - 1), [*left, *right]
@@ -232,50 +214,6 @@ def side_candidates(
     sides = Sides(ax3, cols, _presence(prof_short[cols].astype(np.float64), noise), rb)
     pairs = [(ul, ur) for ul in left for ur in right if ur - ul >= min_w]
     return sides, pairs
-
-
-#: With the floor-contact row known (a rig), where every ranked place of a side lies on
-#: the far side of the beam's axis (no pair can hold the axis), the AXIS_SIDE_PLACES
-#: strongest columns between the beam's edge and the axis are that side's candidates
-#: too: the sonar ranges what its axis hits, and a face there has one side on each side
-#: of it (procedural/2022 hard: the post's right edge and a box behind it took every
-#: left place, the post's own left edge was never offered).
-AXIS_SIDES = True
-AXIS_SIDE_PLACES = 1
-
-
-def _axis_sides(
-    ax3: I16,
-    prof_v: F32,
-    prof_short: F32,
-    peaks: npt.NDArray[np.intp],
-    left: list[int],
-    right: list[int],
-    rb: int,
-    noise: float,
-    late_rows: int,
-    u_lo: int,
-    u_hi: int,
-    u_axis: float,
-) -> tuple[list[int], list[int]]:
-    """``left`` and ``right`` with, for a side whose ranked places all lie beyond the axis
-    column ``u_axis``, the AXIS_SIDE_PLACES strongest straight-running peaks between the
-    beam's edge (``u_lo`` or ``u_hi``) and the axis added (AXIS_SIDES)."""
-    if not AXIS_SIDES:
-        return left, right
-    need_l = bool(left) and all(c > u_axis for c in left)
-    need_r = bool(right) and all(c < u_axis for c in right)
-    if not (need_l or need_r):
-        return left, right
-    empty = peaks[:0]
-    on_l = peaks[(peaks >= u_lo) & (peaks <= u_axis)] if need_l else empty
-    on_r = peaks[(peaks >= u_axis) & (peaks <= u_hi)] if need_r else empty
-    more = _rank_sides(ax3, prof_v, prof_short, [on_l, on_r], rb, noise, late_rows)
-    add_l = [c for c in more[0] if c not in left][:AXIS_SIDE_PLACES]
-    add_r = [c for c in more[1] if c not in right][:AXIS_SIDE_PLACES]
-    if add_l or add_r:
-        log.debug("bottom %d: sides towards the beam's axis %s, %s", rb, add_l, add_r)
-    return [*left, *add_l], [*right, *add_r]
 
 
 #: A side column is an edge of a thin line (a seam, a panel joint, a strip of tape running
