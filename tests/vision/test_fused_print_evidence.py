@@ -20,15 +20,6 @@ from obstacle_fusion.vision.types import Measurement
 
 from tests.vision_fixtures import room_size_errors
 
-
-@pytest.fixture(autouse=True)
-def _no_far_share(monkeypatch: pytest.MonkeyPatch) -> None:
-    """With the far share off the beam's axis (method.FAR_OFF_AXIS, session 38) this room
-    is missed again (confidence 0.025: 7.6 % -> missed in the full run, one of its two
-    worse answers): off here, for this rule to be tested as it was found."""
-    monkeypatch.setattr(method, "FAR_OFF_AXIS", False)
-
-
 CAM = CameraModel.paper(500, 375)
 
 
