@@ -8,7 +8,7 @@ import numpy.typing as npt
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import search
+from obstacle_fusion.vision.fused import method, search
 from obstacle_fusion.vision.fused.search import ramp_columns
 from obstacle_fusion.vision.measure import Measurer
 
@@ -66,6 +66,9 @@ def test_the_contact_shadow_beside_a_box_is_not_measured() -> None:
 
 def test_without_the_rule_the_shadow_is_measured(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(search, "RAMP_SIDES", False)
+    # the shadow lies in the cone's outer part: the far share (method.FAR_OFF_AXIS) alone
+    # passes it over too
+    monkeypatch.setattr(method, "FAR_OFF_AXIS", False)
     assert _error() > 0.25
 
 

@@ -181,6 +181,8 @@ def test_a_face_before_a_skirting_is_measured_to_its_top(
     too when this one is."""
     monkeypatch.setattr(method_mod, "SKIRTING_WALK", switch)
     monkeypatch.setattr(method_mod, "SEAMS_RAISE_TOP", switch)
+    # (and the far share off the beam's axis, method.FAR_OFF_AXIS, which finds it alone)
+    monkeypatch.setattr(method_mod, "FAR_OFF_AXIS", switch)
     cam = CameraModel.paper(500, 375)
     image, truth, spec = render_room("procedural", 1113, False, cam)
     res = Measurer(cam, spec.rig).measure(image, truth["range_m"])

@@ -229,6 +229,22 @@ def _raise_stands(
     ) or hue_back_under_top(seen, view, bottom, scored, top, left, right)
 
 
+def off_axis_share(
+    ul: float, ur: float, u_axis: float, beam_half: float, rig_given: bool = True
+) -> float:
+    """The share of its score a face candidate spanning columns ``ul``..``ur`` keeps when
+    it leaves the beam's axis column ``u_axis`` out: OFF_AXIS_SHARE, or FAR_OFF_AXIS_SHARE
+    where its nearer side lies more than FAR_OFF_AXIS_BEAM_SHARE of the beam's half-width
+    ``beam_half`` (columns) from the axis (the cone's outer part, where the beam is weak).
+    ``rig_given``: the camera's height and pitch come from a rig, not guessed from the
+    image (under a guessed one the far share made no-rig answers worse only: photo/152
+    hard and 723, 2050 ordinary)."""
+    gap = max(ul - u_axis, u_axis - ur)
+    if FAR_OFF_AXIS and rig_given and gap > FAR_OFF_AXIS_BEAM_SHARE * beam_half:
+        return FAR_OFF_AXIS_SHARE
+    return OFF_AXIS_SHARE
+
+
 def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
     """Whether the width stages moved the sides far from the search's pair ``found``."""
     move = abs(settled[0] - found[0]) + abs(settled[1] - found[1])
@@ -237,6 +253,20 @@ def _moved(found: tuple[int, int], settled: tuple[int, int]) -> bool:
 
 #: A face candidate off the beam's axis keeps this share of its score.
 OFF_AXIS_SHARE = 0.6
+#: With the rig, a face candidate far off the beam's axis keeps only FAR_OFF_AXIS_SHARE
+#: of its score (instead of OFF_AXIS_SHARE): a sonar's beam is strongest on its axis
+#: and weak at the edge of its cone, so a face whose nearest column lies in the cone's
+#: outer part, while the ranking holds a face at the same depth on the axis, is a floor
+#: patch or a neighbour beside the ranged face (procedural/755 hard, photo/152 hard). A
+#: box beside the axis in the cone's inner part keeps OFF_AXIS_SHARE (the first
+#: generator's bench scenes put boxes off the axis: refusing every off-axis face failed
+#: them, session 34).
+FAR_OFF_AXIS = True
+#: "Far": the gap between the face's nearer side and the axis column is more than this
+#: share of the beam's half-width in columns at the face's depth.
+FAR_OFF_AXIS_BEAM_SHARE = 0.5
+#: The share of its score a face far off the axis keeps.
+FAR_OFF_AXIS_SHARE = 0.3
 #: The highest confidence a face found by its colour alone gets (under the 0.5 of a sure
 #: detection: on textured rooms its height was often short of the face's).
 RESCUE_MAX_CONFIDENCE = 0.4
@@ -538,6 +568,9 @@ class FusedMethod:
         # candidate search and scoring, one floor-contact row at a time
         u_lo, u_hi = beam_columns(v, range_m, depth, w_img)
         u_axis = v.cx + v.fx * rig.sonar_right_m / depth
+        xb0, xb1 = rig.beam_x_bounds(range_m)
+        beam_half = 0.5 * v.fx * (xb1 - xb0) / depth  # the cone's half-width in columns
+        rig_given = rig_known and not self.rig_guessed
         bottoms = bottom_candidates(ay, vb0, tol, r0b, r1b, u_lo, u_hi)
         best: Candidate | None = None
         cands: list[Candidate] = []
@@ -561,7 +594,8 @@ class FusedMethod:
                 if floor_known and not cand.ul <= u_axis <= cand.ur:
                     # the beam's axis hits what the sonar ranges: of two faces at its
                     # depth (a box and a can beside it), the one on the axis
-                    cand = dataclasses.replace(cand, score=cand.score * OFF_AXIS_SHARE)
+                    share = off_axis_share(cand.ul, cand.ur, u_axis, beam_half, rig_given)
+                    cand = dataclasses.replace(cand, score=cand.score * share)
                 cands.append(cand)
                 if best is None or cand.score > best.score:
                     best = cand
