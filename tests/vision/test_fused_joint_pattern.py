@@ -32,18 +32,25 @@ def _error(fam: str, seed: int, hard: bool) -> float:
 SCENES = [("photo", 352, False, 0.09), ("photo", 306, True, 0.2), ("photo", 1143, False, 0.25)]
 
 
-@pytest.fixture(autouse=True)
+# The far share off the beam's axis (method.FAR_OFF_AXIS, session 38) moves photo/352
+# ordinary from 0.3 to 10.8 % (its pair of joints inside the face wins again; the room is
+# in no set the full runs count, so it was seen only here): a known regression, kept as a
+# strict xfail at the defaults, and this rule tested alone with the far share off.
+KNOWN_FAR_SHARE_REGRESSION = pytest.mark.xfail(
+    strict=True, reason="method.FAR_OFF_AXIS: photo/352 ordinary 0.3 -> 10.8 % (session 38)"
+)
+DEFAULT_SCENES = [
+    pytest.param(*s, marks=KNOWN_FAR_SHARE_REGRESSION) if s[1] == 352 else s for s in SCENES
+]
+
+
 def _no_far_share(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The far share off the beam's axis (method.FAR_OFF_AXIS, session 38) moves photo/352
-    ordinary both ways: with this rule on, its error 4.5 -> 10.8 % (not looked into: the
-    room is in no set the full runs count); with this rule off, 4.5 % (the far share
-    passes the joints over by itself). Off here, for this rule to be tested alone."""
     from obstacle_fusion.vision.fused import method
 
     monkeypatch.setattr(method, "FAR_OFF_AXIS", False)
 
 
-@pytest.mark.parametrize(("fam", "seed", "hard", "off"), SCENES)
+@pytest.mark.parametrize(("fam", "seed", "hard", "off"), DEFAULT_SCENES)
 def test_a_brick_print_is_measured_by_where_its_joints_end(
     fam: str, seed: int, hard: bool, off: float
 ) -> None:
@@ -51,9 +58,18 @@ def test_a_brick_print_is_measured_by_where_its_joints_end(
 
 
 @pytest.mark.parametrize(("fam", "seed", "hard", "off"), SCENES)
+def test_the_rule_alone_measures_the_brick_prints(
+    monkeypatch: pytest.MonkeyPatch, fam: str, seed: int, hard: bool, off: float
+) -> None:
+    _no_far_share(monkeypatch)
+    assert _error(fam, seed, hard) < 0.05
+
+
+@pytest.mark.parametrize(("fam", "seed", "hard", "off"), SCENES)
 def test_without_the_rule_the_joints_are_the_sides(
     monkeypatch: pytest.MonkeyPatch, fam: str, seed: int, hard: bool, off: float
 ) -> None:
+    _no_far_share(monkeypatch)  # the far share alone passes some joints over
     monkeypatch.setattr(search, "JOINT_PATTERN_ENDS", False)
     assert _error(fam, seed, hard) > off
 

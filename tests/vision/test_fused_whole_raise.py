@@ -12,6 +12,8 @@ try each part of the judgment and its limit.
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 import numpy.typing as npt
@@ -101,19 +103,23 @@ def level_view() -> View:
     return View(CameraModel(k, np.zeros(5), W, H), Rig(), "level")
 
 
-def scene(face_runs_on: bool, gloss: tuple[float, float] | None = None) -> npt.NDArray[np.uint8]:
+def scene(
+    face_runs_on: bool,
+    gloss: tuple[float, float] | None = None,
+    face_lab: tuple[float, float, float] = FACE_LAB,
+) -> npt.NDArray[np.uint8]:
     """The face; above FACE_TOP the column behind it, or (``face_runs_on``) a label across
     the face at LABEL with the face's colour above it up to COLUMN_TOP, or (``gloss``:
     lightness, b) the face's colour with those added, a gloss."""
     lab = np.empty((H, W, 3), np.float64)
     lab[:] = WALL_LAB
     lab[BOTTOM:] = FLOOR_LAB
-    lab[FACE_TOP:BOTTOM, LEFT:RIGHT] = FACE_LAB
+    lab[FACE_TOP:BOTTOM, LEFT:RIGHT] = face_lab
     if face_runs_on:
         lab[COLUMN_TOP:FACE_TOP, LEFT:RIGHT] = FACE_LAB
         lab[LABEL[0] : LABEL[1], LEFT:RIGHT] = LABEL_LAB
     elif gloss is not None:
-        lab[COLUMN_TOP:FACE_TOP, LEFT:RIGHT] = FACE_LAB
+        lab[COLUMN_TOP:FACE_TOP, LEFT:RIGHT] = face_lab
         lab[COLUMN_TOP:FACE_TOP, LEFT:RIGHT, 0] += gloss[0]
         lab[COLUMN_TOP:FACE_TOP, LEFT:RIGHT, 2] += gloss[1]
     else:
@@ -169,3 +175,29 @@ def test_a_gloss_just_inside_the_hue_step_stands() -> None:
 
 def test_a_gloss_just_past_the_hue_step_is_refused() -> None:
     assert not stands(scene(face_runs_on=False, gloss=(40.0, HUE_STEP + 2.0)), FACE_TOP)
+
+
+# A face of little hue (a, b near grey) glossed 40 lighter above FACE_TOP: its hue is no
+# evidence (every grey above a grey face keeps it), so only its colour could hold the top.
+def _greyish(chroma: float) -> tuple[float, float, float]:
+    return (120.0, 128.0 + chroma / math.sqrt(2.0), 128.0 + chroma / math.sqrt(2.0))
+
+
+def test_a_grey_face_under_a_lighter_grey_is_refused() -> None:
+    assert not stands(
+        scene(face_runs_on=False, gloss=(40.0, 0.0), face_lab=_greyish(0.0)), FACE_TOP
+    )
+
+
+def test_a_face_just_past_the_least_chroma_keeps_its_hue() -> None:
+    limit = region.HUE_MIN_CHROMA
+    assert stands(
+        scene(face_runs_on=False, gloss=(40.0, 0.0), face_lab=_greyish(limit + 3)), FACE_TOP
+    )
+
+
+def test_a_face_just_under_the_least_chroma_has_no_hue_to_keep() -> None:
+    limit = region.HUE_MIN_CHROMA
+    assert not stands(
+        scene(face_runs_on=False, gloss=(40.0, 0.0), face_lab=_greyish(limit - 3)), FACE_TOP
+    )

@@ -126,3 +126,12 @@ def test_a_row_near_the_horizon_is_read_at_steeper_pitches(
 
 def test_a_face_not_spanning_the_side_band_is_not_taken() -> None:
     assert not _measured("photo", 747, False).detected
+
+
+@pytest.mark.parametrize("range_m", [0.02, 0.05])
+def test_a_band_beside_the_axis_past_the_image_is_not_read(range_m: float) -> None:
+    # so near, the bands one band width either side of the axis lie outside the view: a
+    # miss with its reason, not an error from an empty band (cv2.remap's empty map)
+    blank = np.full((375, 500, 3), 128, np.uint8)
+    result = Measurer(CameraModel.paper(500, 375), None).measure(blank, range_m)
+    assert not result.detected and "floor contact" in result.reason

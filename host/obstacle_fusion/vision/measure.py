@@ -1078,12 +1078,12 @@ class Measurer:
         method.view = copy.copy(base)
         method.view.rig = rig
         method.view.horizon_slack_px = 0.0
-        method.rig_guessed = True
+        guessed, method.rig_guessed = method.rig_guessed, True
         try:
             return self._run_rig(method, rig, image, range_m, timer)
         finally:
             method.view = base
-            method.rig_guessed = False
+            method.rig_guessed = guessed
 
     def _as_if_known(
         self,
@@ -1139,7 +1139,8 @@ class Measurer:
     def _known_rig_rows(
         self, fused: FusedMethod, image: npt.NDArray[Any], range_m: float, timer: Timer
     ) -> Measurement | None:
-        """With no rig and no face from the search (a miss or a refusal): each floor-contact
+        """With no rig and no face from the search (a miss or a refusal), or a small unsure
+        one (:meth:`_grown_small_face`): each floor-contact
         row and weaker step of the band, lowest first, is measured as with a rig, the camera
         height and pitch that put the contact there at each of KNOWN_RIG_PITCHES_DEG taken
         as known, so the stages that need a rig run (the foot outline, the seams' and the
@@ -1287,7 +1288,7 @@ class Measurer:
         (:meth:`_known_rig_rows`) then give the face round it: taken when that reading is
         at least GROWN_SURE, covers ``found``'s middle column and is GROWN_FACTOR times as
         high or as wide (the same face read again, a few rows off, is no reason to move);
-        else ``found``. In a stream, rows that found nothing rest for the next
+        else ``found``. In a stream, rows that gave no face taken rest for the next
         SWEEP_REST_FRAMES frames that would read them (up to ~130 rig readings a frame)."""
         sure, applied = reported_confidence(
             found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
@@ -1298,10 +1299,8 @@ class Measurer:
             self._known_rest -= 1
             return found
         grown = self._known_rig_rows(fused, image, range_m, timer)
-        if grown is None:
+        if grown is None or grown.box_px is None or (grown.confidence or 0.0) < GROWN_SURE:
             self._known_rest = SWEEP_REST_FRAMES
-            return found
-        if grown.box_px is None or (grown.confidence or 0.0) < GROWN_SURE:
             return found
         x0, _, x1, _ = found.box_px
         g0, _, g1, _ = grown.box_px
@@ -1316,7 +1315,10 @@ class Measurer:
             grown.confidence or 0.0,
             "taken" if covers and (taller or wider) else "kept",
         )
-        return grown if covers and (taller or wider) else found
+        if covers and (taller or wider):
+            return grown
+        self._known_rest = SWEEP_REST_FRAMES
+        return found
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
@@ -1340,8 +1342,9 @@ class Measurer:
                     cast(FusedMethod, impl), result, image, range_m, timer
                 )
             if KNOWN_RIG_ROWS and not result.detected:
-                # (in a stream where it found nothing, the next SWEEP_REST_FRAMES frames
-                # the search misses go without: up to ~130 rig readings a frame)
+                # (in a stream where they gave nothing, here or for a small face, the next
+                # SWEEP_REST_FRAMES frames that would read them go without: up to ~130 rig
+                # readings a frame)
                 if self._known_rest > 0:
                     self._known_rest -= 1
                 else:

@@ -633,7 +633,10 @@ def trim_to_top_line(
         held = (end, right) if step > 0 else (left, end)
         if share(line[held[0] : held[1] + 1]) < TOP_SPAN_HELD:
             continue
-        s0, s1 = max(0, end - SNAP_COLUMNS), min(sides.size - 1, end + SNAP_COLUMNS)
+        # the snap window inside the face: the side's own edge is no place to move in to
+        s0, s1 = max(left + 1, end - SNAP_COLUMNS), min(right - 1, end + SNAP_COLUMNS)
+        if s1 < s0:
+            continue
         best = int(s0 + sides[s0 : s1 + 1].argmax())
         strength = float(sides[best])
         if strength < MIN_EDGE_SNR * noise:

@@ -29,6 +29,7 @@ MAX_CANDIDATES = 8
 MAX_WEAK_CANDIDATES = 24
 FLOOR_NOISE_ROWS = 20  # rows below a step whose own steps give the floor's texture
 BAND_HALF_M = 0.04  # half-width of the column band at the face, metres
+MIN_BAND_COLUMNS = 3  # a band (moved beside the axis) narrower than this in view is not read
 
 
 def band_columns(view: View, depth_m: float, shift: int = 0) -> tuple[int, int]:
@@ -97,7 +98,11 @@ def _band_steps(
 ) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.int64], npt.NDArray[np.float64], int] | None:
     """The band's row colours, the rows a step is read at, the step there (colour distance
     of the STEP_ROWS rows above and below) and the highest row the floor may show; None
-    when too few rows lie below it."""
+    when too few rows lie below it, or the band (moved by ``shift``) lies outside the view
+    (a face so near that the band beside the axis is past the image's edge)."""
+    x0, x1 = band_columns(view, depth_m, shift)
+    if x1 - x0 < MIN_BAND_COLUMNS:
+        return None
     rows = band_rows(image, view, depth_m, shift)
     n = rows.shape[0]
     k = STEP_ROWS

@@ -1229,7 +1229,7 @@ def raise_top_by_hue(
 #: keep the face's mean colour (:func:`raise_top_by_windows`): a print's row, a brick course,
 #: a texture line or tape across the face stops the row-by-row walks, which compare each
 #: row's colour with the face's, but not the mean over a window a few texture periods tall.
-WINDOW_TOP_WALK = True
+#: (Its switch is method.WINDOW_RESCUE_TOP.)
 #: The window's height at the face's depth (brick courses, a print's dots: 2-4 cm), and the
 #: least rows of one.
 WINDOW_M = 0.05
@@ -1347,7 +1347,8 @@ def raise_top_by_windows(
     log.debug("windows from %d: win %d (spread %.1f), to %d", top, win, spread, r0 + end)
     if k - end < WINDOW_MIN_RAISE * h or r0 + end > view.cy:
         return top
-    # the top edge within a window above the walk's end (the window reached past it)
+    # the top edge within the last window held, from the walk's end down (that window's
+    # rows reached past the top)
     lo, hi = end, min(k - 1, end + win)
     cols = slice(left + SIDE_SKIP, right - SIDE_SKIP)
     rows = np.asarray(ay[r0 + lo : r0 + hi + 1, cols].mean(axis=1))
@@ -1814,6 +1815,13 @@ def face_under_raised_top(
     return any(strips) if one_strip else all(strips)
 
 
+#: A face's hue (a, b) at least this far from grey holds a top for :func:`hue_back_under_top`
+#: (session 38's review: a grey face under a white wall kept its hue, and the whole way up
+#: was never refused).
+HUE_MIN_CHROMA = 8.0
+NEUTRAL_AB = np.array([128.0, 128.0], np.float32)  # (a, b) of grey in 8-bit Lab
+
+
 def hue_back_under_top(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -1826,7 +1834,8 @@ def hue_back_under_top(
     """Whether the rows right under ``raised`` (as :func:`face_under_raised_top` reads
     them) keep the hue (a, b) of the face found between ``top`` and ``bottom`` within
     SHADED_HUE_STEP, whatever their lightness: a gloss's highlight or the light's fall-off
-    lightens a face up to its top without changing its hue."""
+    lightens a face up to its top without changing its hue. A face of under HUE_MIN_CHROMA
+    (grey, white, black) has no hue to hold: every grey above it would keep it."""
     if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
         return True
     if bottom - top < 6 or top <= raised:
@@ -1835,6 +1844,8 @@ def hue_back_under_top(
     lab = _lab8(image, view, raised, bottom, c0, c1)
     k, n = top - raised + 2, max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * (top - raised)))
     face = median_u8(lab[k : bottom - raised - 2].reshape(-1, 3), axis=0).astype(np.float32)
+    if norm(face[1:] - NEUTRAL_AB) < HUE_MIN_CHROMA:
+        return False
     under = median_u8(lab[2 : 2 + n].reshape(-1, 3), axis=0).astype(np.float32)
     return norm(under[1:] - face[1:]) <= SHADED_HUE_STEP
 
