@@ -135,3 +135,14 @@ def test_a_band_beside_the_axis_past_the_image_is_not_read(range_m: float) -> No
     blank = np.full((375, 500, 3), 128, np.uint8)
     result = Measurer(CameraModel.paper(500, 375), None).measure(blank, range_m)
     assert not result.detected and "floor contact" in result.reason
+
+
+def test_a_face_spans_a_band_within_the_slack() -> None:
+    # the band's columns mapped to the input image: a box reaching them within
+    # BAND_SPAN_SLACK_PX spans it, a box a tenth of a pixel short of that does not
+    slack = measure.BAND_SPAN_SLACK_PX
+    box = (100.0, 50.0, 200.0, 120.0)
+    assert measure._spans_band(box, [100.0 - slack, 200.0 + slack])
+    assert not measure._spans_band(box, [100.0 - slack - 0.1, 150.0])
+    assert not measure._spans_band(box, [150.0, 200.0 + slack + 0.1])
+    assert not measure._spans_band(None, [150.0, 160.0])

@@ -97,6 +97,15 @@ METHODS: dict[str, Callable[[CameraModel, Rig, float | None], Method]] = {
 }
 
 
+def _spans_band(box_px: tuple[float, float, float, float] | None, band: npt.ArrayLike) -> bool:
+    """Whether a face's box (input pixels) spans a band's first and last columns (input
+    pixels), within BAND_SPAN_SLACK_PX for the mapping's rounding."""
+    if box_px is None:
+        return False
+    first, last = (float(x) for x in np.asarray(band, np.float64)[:2])
+    return box_px[0] <= first + BAND_SPAN_SLACK_PX and last - BAND_SPAN_SLACK_PX <= box_px[2]
+
+
 class Measurer:
     """Measure an obstacle's height and width from one frame and the sonar's range."""
 
@@ -1194,9 +1203,10 @@ class Measurer:
                 face = self._known_rig_row(fused, image, range_m, timer, row, pitches)
                 tried.add(row)
                 # the face that shows its foot in a band beside the axis spans that band
-                # (a pole or a print's edge standing on the step is no face round a stripe)
+                # (a pole or a print's edge standing on the step is no face round a stripe);
+                # the band's columns are the view's, the box the input image's
                 if face is not None and any(
-                    face.box_px is not None and face.box_px[0] <= c0 and c1 <= face.box_px[2]
+                    _spans_band(face.box_px, view.to_input([[c0, row], [c1 - 1, row]])[:, 0])
                     for c0, c1 in side[row]
                 ):
                     log.debug("no rig, row %d of a band beside the axis", row)
@@ -1399,6 +1409,9 @@ KNOWN_RIG_AGREE = 3
 #: the tests.
 SIDE_BAND_ROWS = True
 SIDE_BAND_PITCH_STEP_DEG = 2.0
+#: ... the face read on such a row must span that band (its columns mapped to the input
+#: image's) within this many pixels.
+BAND_SPAN_SLACK_PX = 1.0
 
 #: ... when no row agrees there either, the rows within this many pixels of the lowest
 #: steps of the band on the axis (:func:`contact_rows`), nearest first (:func:`_refine_offsets`),
