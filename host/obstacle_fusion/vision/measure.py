@@ -1316,16 +1316,16 @@ class Measurer:
         g0, _, g1, _ = grown.box_px
         taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
         wider = (grown.width_px or 0.0) >= GROWN_FACTOR * (found.width_px or 0.0)
-        covers = g0 <= (x0 + x1) / 2.0 <= g1
+        taken = g0 <= (x0 + x1) / 2.0 <= g1 and (taller or wider)  # covers it, and grows
         log.debug(
             "no rig, small face %s at %.3f; rows as with a rig: %s at %.3f: %s",
             found.box_px,
             found.confidence or 0.0,
             grown.box_px,
             grown.confidence or 0.0,
-            "taken" if covers and (taller or wider) else "kept",
+            "taken" if taken else "kept",
         )
-        if covers and (taller or wider):
+        if taken:
             return grown
         self._known_rest = SWEEP_REST_FRAMES
         return found
