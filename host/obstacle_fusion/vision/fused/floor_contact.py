@@ -390,6 +390,8 @@ def face_runs_below(
     their feet has the colour of the margin beside the higher face, a colour the floor
     below the lower foot does not have. A print on a box with a margin of the box's own
     colour is a face of its own, surer than the box, standing on the print's lower edge.
+    Where the margin beside fails (MARGIN_ABOVE_PRINT: thinner than MARGIN_COLUMNS, the
+    room read there), the rows above the print up to the lower face's top stand for it.
     A grey image tells no colours apart: False."""
     if image.ndim != 3:
         return False
