@@ -155,6 +155,46 @@ def test_the_margin_must_stand_20_from_the_floor(over: bool) -> None:
     assert face_runs_below(framed(120, floor, strip), PRINT_BOX, FACE_BOX) is over
 
 
+# --- a margin too thin to read beside the print: the margin above it (MARGIN_ABOVE_PRINT)
+
+THIN_PRINT_BOX = (102.0, 80.0, 197.0, 179.0)  # the print, 2 px of margin beside it
+
+
+def thin_framed(above: int = 120) -> np.ndarray:
+    """:func:`framed`'s face (grey 120, on a floor of grey 60) with a print (grey 20)
+    leaving 2 px of margin beside it, read as the wall (230) in the columns 2-6 px out;
+    ``above``: the grey of the margin above the print (rows 60-79)."""
+    img = framed(120, 60)
+    img[80:180, 102:198] = 20
+    img[60:80, 100:200] = above
+    return img
+
+
+def test_a_thin_margin_beside_a_print_is_read_above_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from obstacle_fusion.vision.fused import floor_contact
+
+    assert face_runs_below(thin_framed(), THIN_PRINT_BOX, FACE_BOX)
+    monkeypatch.setattr(floor_contact, "MARGIN_ABOVE_PRINT", False)
+    assert not face_runs_below(thin_framed(), THIN_PRINT_BOX, FACE_BOX)
+
+
+@pytest.mark.parametrize("rows, runs", [(4, True), (3, False)])
+def test_the_margin_above_a_thin_framed_print_is_4_rows_at_least(rows: int, runs: bool) -> None:
+    """MIN_ABOVE_PX = 4: the lower face's top that far above the print's at least."""
+    top = THIN_PRINT_BOX[1] - rows
+    assert face_runs_below(thin_framed(), THIN_PRINT_BOX, (100.0, top, 199.0, 199.0)) is runs
+
+
+@pytest.mark.parametrize("over", [False, True])
+def test_the_margin_above_a_thin_framed_print_must_match_the_strip_within_15(
+    over: bool,
+) -> None:
+    above = grey_at(120, 15.0, -1) + (0 if over else 1)  # just over / under 15 from it
+    assert face_runs_below(thin_framed(above), THIN_PRINT_BOX, FACE_BOX) is not over
+
+
 @pytest.mark.parametrize("below, stands", [(14, True), (17, False)])
 def test_the_foot_is_read_over_the_lowest_fifth_of_the_sides(below: int, stands: bool) -> None:
     """A row ``below`` px under the face's foot: the lowest fifth of the sides (~28-30 px

@@ -359,6 +359,12 @@ FLOOR_APART = 25.0
 MARGIN_FLOOR_APART = 20.0
 #: Pixels beside the higher face read as its margin (from, to).
 MARGIN_COLUMNS = (2, 6)
+#: Whether, where no margin shows beside the higher face (thinner than MARGIN_COLUMNS),
+#: the margin above it counts (:func:`face_runs_below`): the lower face's top at least
+#: MIN_ABOVE_PX above the higher face's, the rows between them the strip's colour (and
+#: apart from the floor's, as the margin beside must be).
+MARGIN_ABOVE_PRINT = True
+MIN_ABOVE_PX = 4
 
 
 def _lab_pixels(
@@ -384,6 +390,8 @@ def face_runs_below(
     their feet has the colour of the margin beside the higher face, a colour the floor
     below the lower foot does not have. A print on a box with a margin of the box's own
     colour is a face of its own, surer than the box, standing on the print's lower edge.
+    Where the margin beside fails (MARGIN_ABOVE_PRINT: thinner than MARGIN_COLUMNS, the
+    room read there), the rows above the print up to the lower face's top stand for it.
     A grey image tells no colours apart: False."""
     if image.ndim != 3:
         return False
@@ -407,10 +415,28 @@ def face_runs_below(
     if not (len(strip) and len(margin) and len(floor)):
         return False
     s_m, m_m, f_m = (np.median(px, axis=0) for px in (strip, margin, floor))
-    return bool(
+    if np.linalg.norm(s_m - f_m) < FLOOR_APART:
+        return False
+    if (
         np.linalg.norm(s_m - m_m) <= MARGIN_MATCH
-        and np.linalg.norm(s_m - f_m) >= FLOOR_APART
         and np.linalg.norm(m_m - f_m) >= MARGIN_FLOOR_APART
+    ):
+        return True
+    if not MARGIN_ABOVE_PRINT:
+        return False
+    # a margin too thin beside the print to read (the room beyond it in those columns):
+    # the face's colour runs on above the print too, up to the lower face's top (one
+    # surface round the print on its rows above and below it)
+    low_top = lower[1]
+    if top - low_top < MIN_ABOVE_PX:
+        return False
+    above = _lab_pixels(image, low_top + 2, top - 1, left + 0.2 * w, right - 0.2 * w)
+    if not len(above):
+        return False
+    a_m = np.median(above, axis=0)
+    return bool(
+        np.linalg.norm(a_m - s_m) <= MARGIN_MATCH
+        and np.linalg.norm(a_m - f_m) >= MARGIN_FLOOR_APART
     )
 
 
