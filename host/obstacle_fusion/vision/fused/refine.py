@@ -30,6 +30,7 @@ from obstacle_fusion.vision.fused.profiles import (
     median,
     subpixel,
 )
+from obstacle_fusion.vision.fused.region import MarginLine
 from obstacle_fusion.vision.types import Line, Measurement, Timer, View
 
 log = logging.getLogger(__name__)
@@ -82,6 +83,7 @@ def refine(
     timer: Timer,
     span: tuple[int, int] | None = None,
     fits: VerticalFits | None = None,
+    margin: MarginLine | None = None,
 ) -> Measurement:
     """The measurement of the chosen face (floor-contact row rb, sides ul..ur, top vt).
 
@@ -92,7 +94,9 @@ def refine(
     sub-pixel top row predicted by :func:`~obstacle_fusion.vision.fused.top.front_from_back`
     (used as is), else None. Height and width at the face depth ``depth``. ``fits``: the
     frame's side fits over ``ax`` (the verification's, reused when the face kept its rows
-    and sides).
+    and sides). ``margin``: a print's thin margin line's outer edges
+    (:func:`~obstacle_fusion.vision.fused.region.margin_line_out`): the face's edges
+    there, parallel to the print's fitted edges (never moved inwards).
     """
     v = view
     h_roi, w_img = ay.shape
@@ -105,11 +109,20 @@ def refine(
     (bottom_a, bottom_b), (top_a, top_b) = fit_horizontal([(ay, rb), (top_edge, vt)], cols, h_roi)
     if top_row is not None:  # predicted by front_from_back, not refined
         top_a = top_row - top_b * 0.5 * float(cols[0] + cols[-1])
+    if margin is not None:
+        # a print's thin margin line: the face's edges are its outer edges (parallel to
+        # the print's: the line is read at one column, the middle of the print's)
+        bottom_a = max(bottom_a, margin.foot - bottom_b * margin.col)
+        if top_row is None:
+            top_a = min(top_a, margin.top - top_b * margin.col)
     # vertical edges: per-row sub-pixel peaks near ul and ur
     mv = max(1, (rb - vt) // 10)
     rows = np.arange(vt + mv, rb - mv + 1)
     fit = fits if fits is not None else VerticalFits(ax)
     (left_a, left_b), (right_a, right_b) = fit(rows, [ul, ur], w_img)
+    if margin is not None:  # ... and beside it (read at one row, the print's middle)
+        left_a = min(left_a, margin.left - left_b * margin.row)
+        right_a = max(right_a, margin.right - right_b * margin.row)
 
     # A side face (yaw, or a box off the axis) shows beside the front face: the front
     # face's bottom edge is straight, the side face's rises towards the horizon.

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import cv2
 import numpy as np
@@ -2238,6 +2238,13 @@ SHADOW_DARKER = 6.0
 SHADOW_FLOOR_CHROMA = 10.0
 #: Whether a foot in the floor's shadow counts as floor when a face's sides move.
 SHADOW_FOOT = True
+#: Whether a margin of the floor's hue, darker (read as the face's shadow), is a frame
+#: after all where it runs over the print's top too: a shadow lies on the floor round a
+#: face's foot, never over its top (procedural/708 hard with no rig: a dark teal frame
+#: round a yellow brick print on a teal floor, measured as the print, -10 %).
+MARGIN_OVER_NOT_SHADOW = True
+#: Rows the margin's colour runs over the print's top, at least, for that.
+MARGIN_OVER_ROWS = 2
 
 
 def shadow_columns(colour: npt.NDArray[Any], floor: npt.NDArray[Any]) -> npt.NDArray[np.bool_]:
@@ -2259,6 +2266,19 @@ def _shadow_of(colour: npt.NDArray[Any], floor: npt.NDArray[Any]) -> bool:
     """Whether one colour (8-bit Lab) looks like the ``floor``'s in shadow
     (:func:`shadow_columns`)."""
     return bool(shadow_columns(colour, floor)[0])
+
+
+def _margin_over_print(
+    rows: npt.NDArray[Any], first: int, margin: npt.NDArray[Any], reach: int
+) -> bool:
+    """Whether the ``margin``'s colour runs MARGIN_OVER_ROWS or more (and less than
+    ``reach``: no wall of it) up the per-row colours ``rows`` from row ``first`` (over a
+    print's top): the margin is a frame's round the print, not a shadow under a face."""
+    if not MARGIN_OVER_NOT_SHADOW or first < 0:
+        return False
+    ref = np.asarray(margin, np.float32)
+    run = _run_length(np.asarray(rows[first::-1][:reach], np.float32), ref, MARGIN_AGREE)
+    return MARGIN_OVER_ROWS <= run < reach
 
 
 def _run_length(colour: npt.NDArray[np.float32], ref: npt.NDArray[np.float32], limit: float) -> int:
@@ -2333,8 +2353,10 @@ def enclose_by_margin(
     # a face's shadow round its foot is no margin: the floor past where it ends below,
     # darker, its chroma scaled down with its lightness (a margin is the face's own paint)
     past = bottom + 2 + out_below - r0
-    if past < below_rows.shape[0] and _shadow_of(
-        margin, median_u8(below_rows[past : past + m], axis=0)
+    if (
+        past < below_rows.shape[0]
+        and _shadow_of(margin, median_u8(below_rows[past : past + m], axis=0))
+        and not _margin_over_print(below_rows, top - 2 - r0, margin, reach_v)
     ):
         return None
     above = median_u8(below_rows[max(0, top - 2 - m - r0) : top - 2 - r0 + 1], axis=0)
@@ -3393,3 +3415,134 @@ def lower_top_where_sides_end(
     if strength[at] < SIDES_END_EDGE * below:
         return top
     return top + at
+
+
+#: Whether a thin margin line round a print (a few rows or columns of the face's own
+#: colour round it) moves the face's edges out to it.
+MARGIN_LINE_OUT = True
+#: The most rows such a margin line may be (wider ones are the frame rules' to find).
+MARGIN_LINE_ROWS = 3
+#: Rows of what lies past the line read for its colour.
+MARGIN_LINE_PAST = 2
+#: What lies past the line's outer step is one colour: its first two rows differ by at
+#: most this share of that step (a blurred step's tail; a wider band's own step beyond
+#: a weak one is larger).
+MARGIN_LINE_SETTLED = 0.6
+#: Rows inside the print's edge row read too (the print's side of its blurred edge).
+MARGIN_LINE_INNER = 2
+#: The line's own colour (its row at the blur's dip) stands this far (Lab) from both the
+#: print's and what lies past the line.
+MARGIN_LINE_APART = 20.0
+#: The lines at the print's edges agree within this (Lab): one margin (the foot's line
+#: darker by the floor's blur; a top face and a shadow are farther apart).
+MARGIN_LINE_AGREE = 30.0
+#: Whether the sides move out to that margin's line beside the print too.
+MARGIN_LINE_SIDES = True
+#: The line shows with an outer edge of its own at this many of the print's edges.
+MARGIN_LINE_EDGES = 2
+
+
+def _margin_edge(
+    rows: npt.NDArray[np.float32], print_colour: npt.NDArray[np.float32]
+) -> tuple[float, npt.NDArray[np.float32]] | None:
+    """A thin line outward from a print's edge (``rows``: colours from MARGIN_LINE_INNER
+    rows inside the print's edge row outward): where its outer edge lies (sub-pixel
+    entry of ``rows``) and its colour. The print's edge is the larger colour step into
+    or out of its row; then the steps shrink to the blur's dip, in the line; the line's
+    outer edge is the largest step from there within MARGIN_LINE_ROWS, past which the
+    colour settles. None: no line, or one the blur leaves no step of its own (the steps
+    only shrink past the print's)."""
+    n, k = MARGIN_LINE_ROWS, MARGIN_LINE_INNER
+    end = k + 1 + n  # the first row past the line's reach
+    steps = row_norms(np.diff(rows[: end + 2], axis=0))  # steps[r]: entry r to r + 1
+    p = k - 1 + int(np.argmax(steps[k - 1 : k + 1]))
+    # the blur's dip between the two steps: where the steps stop shrinking past the print's
+    q = p + 1
+    while q < end - 1 and steps[q + 1] < steps[q]:
+        q += 1
+    o = q + int(np.argmax(steps[q:end]))
+    if norm(rows[o + 1] - rows[o + 2]) > MARGIN_LINE_SETTLED * float(steps[o]):
+        return None  # the colour runs on changing past the step: no thin line's end
+    past = np.asarray(median_of(rows[o + 1 : o + 1 + MARGIN_LINE_PAST], axis=0), np.float32)
+    # the line's own colour: at the dip, its row farther from the print's (blur the least)
+    line = np.asarray(max(rows[q], rows[q + 1], key=lambda c: norm(c - print_colour)), np.float32)
+    if min(norm(line - print_colour), norm(line - past)) < MARGIN_LINE_APART:
+        return None
+    if o == q and not steps[o] > steps[o - 1]:
+        return None  # no dip before it: the steps only shrink past the print's
+    den = float(steps[o - 1] - 2.0 * steps[o] + steps[o + 1])
+    off = 0.5 * float(steps[o - 1] - steps[o + 1]) / den if den < 0.0 else 0.0
+    return o + 0.5 + clamp(off, -0.5, 0.5), line
+
+
+class MarginLine(NamedTuple):
+    """A print's thin margin line's outer edges, sub-pixel (an edge the line leaves as
+    found: -inf for the foot and the right side, +inf for the top and the left side)."""
+
+    foot: float
+    top: float
+    left: float
+    right: float
+    col: float  # the column the foot and top are read at
+    row: float  # the row the sides are read at
+
+
+def margin_line_out(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+) -> MarginLine | None:
+    """A print's thin margin line's outer edges; None where there is no such line.
+
+    A print (bricks, a poster) on a face with a margin of the face's own colour one to
+    three pixels wide: the edges found are the print's, the margin lies in their blur and
+    no frame rule reads it. Where a line of one colour, unlike the print's and unlike
+    what lies past it, shows with an outer edge of its own at MARGIN_LINE_EDGES or more of
+    the print's four edges (one margin round the print: a top face's strip over a front
+    alone is no margin, nor is a top face lighter over it and a shadow darker under it,
+    of two colours), the face's edges are the line's outer edges there; the others stay
+    as found. The sides take part with MARGIN_LINE_SIDES."""
+    if not MARGIN_LINE_OUT or image is None or image.ndim != 3:
+        return None
+    h, w = view.out.shape
+    n = MARGIN_LINE_ROWS + MARGIN_LINE_PAST + 2
+    i = MARGIN_LINE_INNER
+    k_u = max(1, (right - left) // 5)
+    k_v = max(1, (bottom - top) // 5)
+    if right - left < 10 or bottom - top < 2 * k_v + 4 or top - n < 0 or bottom + n + 1 > h:
+        return None
+    band = _lab8(image, view, top - n, bottom + n + 1, left + k_u, right - k_u)
+    rows = np.asarray(median_u8(band, axis=1), np.float32)
+    t, b = n, bottom - top + n  # the top and foot rows in the band
+    inner = band[t + k_v : b - k_v + 1].reshape(-1, 3)
+    print_colour = np.asarray(median_u8(inner, axis=0), np.float32)
+    # each edge's line: (where its outer edge lies, its colour), outward from the edge
+    found = {
+        "top": _margin_edge(rows[t + i :: -1], print_colour),
+        "foot": _margin_edge(rows[b - i :], print_colour),
+    }
+    if MARGIN_LINE_SIDES and left - n >= 0 and right + n + 1 <= w:
+        across = _lab8(image, view, top + k_v, bottom - k_v + 1, left - n, right + n + 1)
+        cols = np.asarray(median_u8(across, axis=0), np.float32)
+        lc, rc = n, right - left + n  # the sides' columns in the band
+        found["left"] = _margin_edge(cols[lc + i :: -1], print_colour)
+        found["right"] = _margin_edge(cols[rc - i :], print_colour)
+    edges = {k: e for k, e in found.items() if e is not None}
+    if len(edges) < MARGIN_LINE_EDGES:
+        return None
+    colours = [c for _, c in edges.values()]
+    if max(norm(c - d) for c in colours for d in colours) > MARGIN_LINE_AGREE:
+        return None  # lines of more than one colour: no one margin
+    out = MarginLine(
+        bottom - i + edges["foot"][0] if "foot" in edges else -math.inf,
+        top + i - edges["top"][0] if "top" in edges else math.inf,
+        left + i - edges["left"][0] if "left" in edges else math.inf,
+        right - i + edges["right"][0] if "right" in edges else -math.inf,
+        0.5 * (left + k_u + right - k_u - 1),
+        0.5 * (top + k_v + bottom - k_v),
+    )
+    log.debug("a margin line round the print %d-%d x %d-%d: %s", left, right, top, bottom, out)
+    return out
