@@ -24,8 +24,11 @@ small, reported at 0.19, +192 %; the rows read the poster under it at 0.30 (with
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.measure import Measurement, Measurer
 
 from tests.vision_fixtures import room_size_errors
 
@@ -118,3 +121,26 @@ def test_only_small_faces_without_the_any_unsure_switch(monkeypatch: pytest.Monk
     monkeypatch.setattr(measure, "UNDER_ANY_UNSURE", False)
     assert _worst("photo", 2088, True) > 1.0
     assert _worst("photo", 726, False) < 0.05  # a small face: still looked under
+
+
+def test_under_a_face_that_is_not_small_only_lower_rows_are_read(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # photo 2088 hard: the drum's foot at row 246.5; the poster stands on row 277
+    rows: list[int] = []
+    read = Measurer._known_rig_row
+
+    def recording(self: Measurer, *args: Any) -> Measurement | None:
+        rows.append(args[4])
+        return read(self, *args)
+
+    monkeypatch.setattr(Measurer, "_known_rig_row", recording)
+    assert _worst("photo", 2088, True) < 0.06
+    assert rows and min(rows) > 246.5 - measure.UNDER_ROWS_SLACK_PX
+
+
+def test_the_rows_slack_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "UNDER_ROWS_SLACK_PX", -30.0)  # rows from 276.5 down
+    assert _worst("photo", 2088, True) < 0.06
+    monkeypatch.setattr(measure, "UNDER_ROWS_SLACK_PX", -31.0)  # row 277 left out
+    assert _worst("photo", 2088, True) > 1.0
