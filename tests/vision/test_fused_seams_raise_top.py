@@ -203,8 +203,10 @@ def test_without_the_rule_the_skirting_is_the_top(
 def test_the_rule_runs_with_the_rig_only(monkeypatch: pytest.MonkeyPatch) -> None:
     """With no rig the camera's height and pitch are only tried (rig_known False): a seam
     top found on a guessed row is not reported; the rule is not asked (nor in the second
-    reading with the estimated rig taken as known, measure.ESTIMATED_RIG_AGAIN: off)."""
+    reading with the estimated rig taken as known, measure.ESTIMATED_RIG_AGAIN, nor the
+    rows read as with a rig under an unsure face, measure.UNDER_ANY_UNSURE: off)."""
     monkeypatch.setattr(measure, "ESTIMATED_RIG_AGAIN", False)
+    monkeypatch.setattr(measure, "UNDER_ANY_UNSURE", False)
     calls: list[int] = []
 
     def spy(*args: object) -> int:

@@ -33,6 +33,7 @@ from obstacle_fusion.vision.fused.confidence import (
     FOOT_ABOVE_CONTACT,
     FOOT_OFF_FLOOR,
     FRAMED,
+    NEAR_RIVALS,
     PITCH_RERUN_DISAGREES,
     PITCH_UNREAD,
     SECOND_TOP,
@@ -700,6 +701,12 @@ class Measurer:
                 f"{_doubted(best, REFUSAL_IGNORES):.3f}, under {MIN_DOUBTED_CONFIDENCE}; "
                 "give --rig (obstacle-fusion calibrate-rig writes one)",
             )
+        if CLEAN_WHOLE_FACE and best.detected:
+            whole = _clean_whole_face(best, readings, lambda r: sides_reach_foot(image, r.lines))
+            if whole is not None:
+                self._last_rig = None
+                self._last_pitch_doubts = []
+                return whole
         return best
 
     def _on_axis_trial(
@@ -1146,7 +1153,12 @@ class Measurer:
         return again
 
     def _known_rig_rows(
-        self, fused: FusedMethod, image: npt.NDArray[Any], range_m: float, timer: Timer
+        self,
+        fused: FusedMethod,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        below: float = -math.inf,
     ) -> Measurement | None:
         """With no rig and no face from the search (a miss or a refusal), or a small unsure
         one (:meth:`_grown_small_face`): each floor-contact
@@ -1160,7 +1172,9 @@ class Measurer:
         of FOOT_DOUBTS, not small, not doubted on every count (its pitch a guess,
         PITCH_UNREAD, counted: MIN_DOUBTED_CONFIDENCE), gives the surest of them; then the
         side bands' rows (SIDE_BAND_ROWS) and the rows round the band's lowest step
-        (REFINED_ROWS); None when no row does."""
+        (REFINED_ROWS); None when no row does. Only rows under ``below`` (a pixel row of the
+        input image) are read: a face wholly under a found face's foot stands on none
+        higher (SMALL_FACE_UNDER), and each row read costs up to four rig readings."""
         view: View = fused.view
         depth = self.rig.face_depth(range_m)
         rows = sorted(
@@ -1168,6 +1182,8 @@ class Measurer:
             reverse=True,
         )
         for row in rows:
+            if row <= below:
+                break  # (lowest first)
             face = self._known_rig_row(fused, image, range_m, timer, row, KNOWN_RIG_PITCHES_DEG)
             if face is not None:
                 timer.lap("known_rig_rows")
@@ -1186,6 +1202,8 @@ class Measurer:
                     if r not in rows:
                         side.setdefault(r, []).append(band_columns(view, depth, shift))
             for row in sorted(side, reverse=True):
+                if row <= below:
+                    break
                 low = [
                     p
                     for p in KNOWN_RIG_PITCHES_DEG
@@ -1226,7 +1244,7 @@ class Measurer:
                 for d in _refine_offsets(REFINED_ROWS_PX)
                 if r + d not in rows and r + d not in tried
             ]
-            for row in dict.fromkeys(refined):
+            for row in dict.fromkeys(r for r in refined if r > below):
                 face = self._known_rig_row(fused, image, range_m, timer, row, KNOWN_RIG_PITCHES_DEG)
                 if face is not None:
                     log.debug("no rig, row %d refined from a band step", row)
@@ -1298,27 +1316,54 @@ class Measurer:
         (:meth:`_known_rig_rows`) then give the face round it: taken when that reading is
         at least GROWN_SURE, covers ``found``'s middle column and is GROWN_FACTOR times as
         high or as wide (the same face read again, a few rows off, is no reason to move);
-        else ``found``. In a stream, rows that gave no face taken rest for the next
-        SWEEP_REST_FRAMES frames that would read them (up to ~130 rig readings a frame)."""
+        else ``found``. A face the rows read wholly under ``found``'s foot (SMALL_FACE_UNDER)
+        is taken too, for any unsure face (UNDER_ANY_UNSURE), small or not. In a stream,
+        rows that gave no face taken rest for the next SWEEP_REST_FRAMES frames that would
+        read them (up to ~130 rig readings a frame)."""
         sure, applied = reported_confidence(
             found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
         )
-        if sure >= GROWN_CONFIDENCE or SMALL_FACE not in applied or found.box_px is None:
+        small = SMALL_FACE in applied
+        if sure >= GROWN_CONFIDENCE or found.box_px is None:
+            return found
+        if not small and not (SMALL_FACE_UNDER and UNDER_ANY_UNSURE):
             return found
         if self._known_rest > 0:  # in a stream, as after a miss whose rows found nothing
             self._known_rest -= 1
             return found
-        grown = self._known_rig_rows(fused, image, range_m, timer)
-        if grown is None or grown.box_px is None or (grown.confidence or 0.0) < GROWN_SURE:
+        # an unsure face that is not small is only looked under: the rows below its foot
+        # (the rows are the level view's, the box the input image's: UNDER_ROWS_SLACK_PX)
+        below = -math.inf if small else found.box_px[3] - UNDER_ROWS_SLACK_PX
+        grown = self._known_rig_rows(fused, image, range_m, timer, below)
+        if grown is None or grown.box_px is None:
             self._known_rest = SWEEP_REST_FRAMES
             return found
-        x0, _, x1, _ = found.box_px
-        g0, _, g1, _ = grown.box_px
+        x0, _, x1, y1 = found.box_px
+        g0, gy0, g1, _ = grown.box_px
+        # a face wholly under the found face's foot, spanning its columns, stands nearer
+        # the robot on the beam's axis: the surface the sonar ranged, the found one a thing
+        # behind it (photo 726 ordinary: a 28 px patch on the wall above a brick face),
+        # where the lens it stands for is a small robot's (photo 721 hard: a row near the
+        # image's foot stood a face under a lens 1.1 m up, 237 % off)
+        under = (
+            SMALL_FACE_UNDER
+            and gy0 >= y1
+            and g0 <= x0
+            and g1 >= x1
+            and (grown.confidence or 0.0) >= UNDER_SURE
+            and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+        )
+        if (grown.confidence or 0.0) < GROWN_SURE and not under:
+            self._known_rest = SWEEP_REST_FRAMES
+            return found
         taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
         wider = (grown.width_px or 0.0) >= GROWN_FACTOR * (found.width_px or 0.0)
         taken = g0 <= (x0 + x1) / 2.0 <= g1 and (taller or wider)  # covers it, and grows
+        if not small:  # only the face under it
+            taken = under
         log.debug(
-            "no rig, small face %s at %.3f; rows as with a rig: %s at %.3f: %s",
+            "no rig, %s face %s at %.3f; rows as with a rig: %s at %.3f: %s",
+            "small" if small else "unsure",
             found.box_px,
             found.confidence or 0.0,
             grown.box_px,
@@ -1435,6 +1480,23 @@ GROWN_CONFIDENCE = 0.2
 GROWN_SURE = 0.35
 #: ... and at least this many times as high or as wide as the small face.
 GROWN_FACTOR = 1.5
+#: ... or, the rows' face lying wholly under the found face's foot and spanning its
+#: columns (nearer the robot on the beam's axis), from this confidence up. Session 39,
+#: branch ``wt-c-39``; a switch for the tests.
+SMALL_FACE_UNDER = True
+UNDER_SURE = 0.15
+#: ... the camera height that row stands for at most this (metres): the issue's robots
+#: carry the lens 0.12-0.5 m up.
+UNDER_MAX_CAMERA_HEIGHT_M = 0.6
+#: ... and the face under is looked for below any unsure face, small or not (a thing
+#: standing behind the obstacle on its top edge: photo 2088 hard, a drum on a poster's
+#: top, +192 %). A switch for the tests.
+UNDER_ANY_UNSURE = True
+#: ... reading for such a face only the rows this many pixels above its foot and lower
+#: (the rows' view and the input image part by a pixel or two near the middle; a face
+#: under the foot stands on a row lower by its height): on 20 of own's unsure answers
+#: that are not small, all rows read doubled the frame's time.
+UNDER_ROWS_SLACK_PX = 6.0
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -1525,6 +1587,24 @@ FOOT_DOUBTS = frozenset({FOOT_OFF_FLOOR, FLOOR_IN_FACE})
 #: off (procedural 2033 h, 942 h, 1137 o, photo 735 h; fresh: procedural 2116 o, 3 %);
 #: the rest stay refused, 35 of the 48 rightly (over 25 % off). A switch for the tests.
 WHOLE_FACE_READING = True
+#: With no rig, an unsure face its own outline doubts gives way to another trial's
+#: undoubted reading of a face that takes it in whole on the same foot
+#: (:func:`_clean_whole_face`). Session 39, branch ``wt-c-39``; a switch for the tests.
+CLEAN_WHOLE_FACE = True
+#: ... that reading at least this sure (a trial's raw confidence) ...
+CLEAN_WHOLE_SURE = 0.05
+#: ... its doubts, and the doubts that make ``best`` a doubted face, counted without these
+#: (about the rig's guess, or other faces near it, not about the face's own outline).
+CLEAN_WHOLE_IGNORES = frozenset({NEAR_RIVALS})
+#: ... or, whatever ``best``'s own confidence, an undoubted reading on its foot sharing
+#: its columns, from this confidence up and surer than ``best`` with its face doubts
+#: applied. A switch for the tests.
+CLEAN_RIVAL = True
+CLEAN_RIVAL_SURE = 0.3
+#: ... and at least this many times as wide as ``best`` (the same face read a few pixels
+#: off, undoubted, moved five right answers of the tuning rooms by 2.4-13 points, none
+#: of them better: procedural 130 ordinary 3.3 -> 16.4 %).
+CLEAN_RIVAL_WIDER = 1.5
 #: ... its box holding the refused face's box within this many pixels on every side, its
 #: foot no more than this many pixels under the refused face's either (the same floor
 #: contact; a guessed pitch moves one face's top and foot by a few pixels: procedural/942
@@ -1816,6 +1896,79 @@ def _whole_face_reading(
     if chosen is not None:
         log.debug("no rig: the refused face is a part of a face another trial read whole")
     return chosen
+
+
+def _clean_whole_face(
+    best: Measurement,
+    readings: list[Measurement],
+    stands: Callable[[Measurement], bool],
+) -> Measurement | None:
+    """With no rig, a face ``best`` that its own outline doubts (a doubt of its face, not
+    of the rig's guess, nor CLEAN_WHOLE_IGNORES) gives way to another trial's reading of an
+    undoubted face standing on its foot (``stands``), no more than WHOLE_FACE_MAX_ASPECT
+    times as tall as wide, not the same face read again (:func:`_same_face`), either
+
+    - taking ``best`` in whole on the same foot when ``best`` is unsure (raw confidence
+      under ESTIMATE_ACCEPT), as :func:`_whole_face_reading` asks (its box holding
+      ``best``'s within WHOLE_FACE_MARGIN_PX, its foot no further under,
+      WHOLE_FACE_MIN_GROWTH times the area), from CLEAN_WHOLE_SURE up: ``best`` is a patch
+      of that face (photo 2060 hard: a brick face's middle panel, 71 % narrow, the whole
+      face undoubted on the same foot); or
+    - (CLEAN_RIVAL) on ``best``'s foot within WHOLE_FACE_MARGIN_PX, sharing its columns
+      (not :func:`_beside` it), CLEAN_RIVAL_WIDER times as wide, from CLEAN_RIVAL_SURE
+      up and surer than ``best`` with its face doubts applied: one face read two ways on
+      one foot, the undoubted reading the face (photo 2022 ordinary: a face run up a pole
+      behind it, doubted thrice, 58 % off).
+
+    The surest such reading, ``best``'s doubts about the rig search added; else None."""
+    if best.box_px is None:
+        return None
+    if not set(best.doubts) - SEARCH_DOUBTS - CLEAN_WHOLE_IGNORES:
+        return None
+    unsure = (best.confidence or 0.0) < ESTIMATE_ACCEPT
+    face_only = dataclasses.replace(best, doubts=[d for d in best.doubts if d not in SEARCH_DOUBTS])
+    doubted = _doubted(face_only, REFUSAL_IGNORES)
+    search = [d for d in best.doubts if d in SEARCH_DOUBTS]
+    chosen: Measurement | None = None
+    for other in readings:
+        box = other.box_px
+        if (
+            other is best
+            or not other.detected
+            or box is None
+            or set(other.doubts) - SEARCH_DOUBTS - CLEAN_WHOLE_IGNORES
+            or _same_face(best.box_px, box)
+            or box[3] - box[1] > WHOLE_FACE_MAX_ASPECT * (box[2] - box[0])
+        ):
+            continue
+        conf = other.confidence or 0.0
+        whole = (
+            unsure
+            and conf >= CLEAN_WHOLE_SURE
+            and _holds(box, best.box_px, WHOLE_FACE_MARGIN_PX)
+            and box[3] <= best.box_px[3] + WHOLE_FACE_MARGIN_PX
+            and _area(box) >= WHOLE_FACE_MIN_GROWTH * _area(best.box_px)
+        )
+        rival = (
+            CLEAN_RIVAL
+            and conf >= CLEAN_RIVAL_SURE
+            and conf > doubted
+            and abs(box[3] - best.box_px[3]) <= WHOLE_FACE_MARGIN_PX
+            and not _beside(best.box_px, box)
+            and box[2] - box[0] >= CLEAN_RIVAL_WIDER * (best.box_px[2] - best.box_px[0])
+        )
+        if not (whole or rival):
+            continue
+        if (chosen is None or conf > (chosen.confidence or 0.0)) and stands(other):
+            chosen = other
+    if chosen is None:
+        return None
+    log.debug(
+        "no rig: the doubted face %s gives way to the undoubted face %s on its foot",
+        best.box_px,
+        chosen.box_px,
+    )
+    return dataclasses.replace(chosen, doubts=[*chosen.doubts, *search])
 
 
 def _area(box: tuple[float, float, float, float]) -> float:
