@@ -424,3 +424,56 @@ def test_side_walk_refuses_what_it_cannot_read() -> None:
     with pytest.raises(ValueError):
         cmiddle.side_walk(strip.astype(np.int16), strip, 2, consts, flags, flags.copy())
     assert region._side_in_c(strip, strip, 8) is None  # numpy's answer for no face rows
+
+
+def _up_to_floor_by_steps(on: list[bool], through: list[bool], start: int, step: int) -> list[bool]:
+    """region._up_to_floor as the plain loop it replaces."""
+    col, n = start, len(on)
+    while 0 <= col < n and not through[col]:
+        col += step
+    if not 0 <= col < n:
+        return on
+    out = list(on)
+    if step > 0:
+        out[col:] = [False] * (n - col)
+    else:
+        out[: col + 1] = [False] * (col + 1)
+    return out
+
+
+def test_up_to_floor_by_index_is_the_loop_s() -> None:
+    rng = np.random.default_rng(14)
+    for _ in range(3000):
+        n = int(rng.integers(0, 30))
+        on = (rng.random(n) < 0.5).tolist()
+        through = (rng.random(n) < rng.choice([0.0, 0.05, 0.3, 1.0])).tolist()
+        start, step = int(rng.integers(-3, n + 3)), int(rng.choice([-2, -1, 1, 2]))
+        got = region._up_to_floor(on, through, start, step)
+        assert got == _up_to_floor_by_steps(on, through, start, step)
+
+
+def test_narrow_max_is_numpy_s() -> None:
+    rng = np.random.default_rng(15)
+    ax = rng.integers(-300, 1020, (60, 40)).astype(np.int16)
+    for rows in (0, 1, 7, 60):
+        for c0, c1 in ((3, 4), (3, 5), (3, 6), (3, 7), (5, 13)):
+            x = ax[:rows, c0:c1]
+            got, want = profiles.narrow_max(x), x.max(axis=1)
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+    f = rng.normal(size=(9, 3)).astype(np.float32)  # floats: numpy's own reduction
+    assert np.array_equal(profiles.narrow_max(f), f.max(axis=1))
+    with pytest.raises(ValueError):
+        profiles.narrow_max(ax[:, 3:3])  # no columns: numpy's error
+
+
+def test_colour_steps_of_a_block_by_row_norms_are_numpy_s_sum() -> None:
+    """foot_outline's per-pixel colour steps: row_norms over the pixels of a rows x columns
+    x 3 float32 block are numpy's root of its sum over the last axis, bit for bit."""
+    rng = np.random.default_rng(16)
+    for _ in range(100):
+        r, c = int(rng.integers(0, 80)), int(rng.integers(0, 90))
+        d = rng.normal(0, rng.choice([1.0, 30.0, 100.0]), (r, c, 3)).astype(np.float32)
+        if rng.random() < 0.5:
+            d = (np.round(d * 8) / 8).astype(np.float32)
+        got = profiles.row_norms(d.reshape(-1, 3)).reshape(d.shape[:2])
+        assert np.array_equal(got, np.sqrt((d * d).sum(axis=2)))

@@ -20,6 +20,7 @@ import numpy.typing as npt
 from obstacle_fusion.vision.fused.profiles import (
     column_means,
     median_of,
+    narrow_max,
     partitioned,
     share,
     walk_on,
@@ -322,7 +323,7 @@ def raise_top_past_inner_edges(
     cols = []
     for side in (left, right):
         c0, c1 = max(0, side - 1), min(ax.shape[1], side + 2)
-        cols.append(np.asarray(ax[:bottom, c0:c1].max(axis=1), np.float32))
+        cols.append(np.asarray(narrow_max(ax[:bottom, c0:c1]), np.float32))
     strength = [float(median_of(c[top:bottom])) for c in cols]
     if min(strength) < MIN_EDGE_SNR * noise:
         return top
@@ -482,7 +483,7 @@ def raise_top_along_seams(
         peaks.append(c)
     ends: list[tuple[int, int]] = []  # (row where the seam ends, its column)
     for c in peaks:
-        col = np.asarray(ax[:bottom, c0 + c - 1 : c0 + c + 2].max(axis=1), np.float32)
+        col = np.asarray(narrow_max(ax[:bottom, c0 + c - 1 : c0 + c + 2]), np.float32)
         strength = float(median_of(col[top + 1 : bottom]))
         on = col >= SIDE_SHARE * strength
         if strength < need or share(on[top + 1 : bottom]) < SEAM_COVERAGE:
@@ -591,8 +592,8 @@ def _runs_on_above(ax: npt.NDArray[np.int16], bottom: int, row: int, col: int) -
     c0, c1 = max(0, col - 1), min(ax.shape[1], col + 2)
     if row - n - 1 < 0:
         return False
-    below = np.asarray(ax[row + 2 : bottom, c0:c1].max(axis=1), np.float32)
-    above = np.asarray(ax[row - n - 1 : row - 1, c0:c1].max(axis=1), np.float32)
+    below = np.asarray(narrow_max(ax[row + 2 : bottom, c0:c1]), np.float32)
+    above = np.asarray(narrow_max(ax[row - n - 1 : row - 1, c0:c1]), np.float32)
     return share(above >= SIDE_SHARE * float(median_of(below))) > ACROSS_ABOVE_SHARE
 
 

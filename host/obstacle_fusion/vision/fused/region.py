@@ -48,6 +48,7 @@ from obstacle_fusion.vision.fused.profiles import (
     column_means,
     median_of,
     median_u8,
+    narrow_max,
     norm,
     row_norms,
     share,
@@ -466,6 +467,12 @@ def _up_to_floor(on: list[bool], through: list[bool], start: int, step: int) -> 
     """``on`` with every column from the first ``through`` one (from ``start`` towards
     ``step``) onwards turned off: a walk over ``on`` ends before the floor shows."""
     col, n = start, len(on)
+    if step in (1, -1) and 0 <= col < n:
+        # the first true flag from ``start`` by list.index (C) rather than a Python loop
+        try:
+            col = through.index(True, col) if step > 0 else col - through[col::-1].index(True)
+        except ValueError:  # none: the walk runs to the end
+            return on
     while 0 <= col < n and not through[col]:
         col += step
     if not 0 <= col < n:
@@ -664,7 +671,7 @@ def _stands_on_foot(ax: npt.NDArray[np.int16], top: int, bottom: int, column: in
     """The side's |d/dx| (strongest of 3 columns) over the foot's rows against its median
     along the face."""
     c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
-    col = ax[max(top, 0) : bottom, c0:c1].max(axis=1)
+    col = narrow_max(ax[max(top, 0) : bottom, c0:c1])
     if col.size <= FOOT_ROWS + EDGE_SKIP:
         return True
     along = float(median_of(col.astype(np.float32)))
@@ -772,7 +779,7 @@ def _stands_up(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) ->
     """The column's |d/dx| (strongest of 3) over the face's upper half is at least
     OUTLINE_UPPER_SHARE of that over its lower half."""
     c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
-    col = ax[max(top, 0) : bottom + 1, c0:c1].max(axis=1).astype(np.float32)
+    col = narrow_max(ax[max(top, 0) : bottom + 1, c0:c1]).astype(np.float32)
     half = col.size // 2
     if half < 2:
         return False
