@@ -846,14 +846,15 @@ def _top_step_columns(
     faint = (step >= OUTLINE_TOP_STEP) & (d_foot <= OUTLINE_SAME_SURFACE)
     probes = (slice(cl - OUTLINE_PROBE_WIDTH + 1, cl + 1), slice(cr, cr + OUTLINE_PROBE_WIDTH))
     # the surface beside each side: a faint top step on it, its colour down to its foot
+    # (median_of and norm: np.median's and np.linalg.norm's values, without their wrappers)
     if any(
-        float(np.median(step[p])) < OUTLINE_TOP_STEP
-        or float(np.median(d_foot[p])) > OUTLINE_SAME_SURFACE
+        float(median_of(step[p])) < OUTLINE_TOP_STEP
+        or float(median_of(d_foot[p])) > OUTLINE_SAME_SURFACE
         for p in probes
     ):
         return strong.tolist()
     left_c, right_c = (median_of(below[p], axis=0) for p in probes)
-    if float(np.linalg.norm(left_c - right_c)) > OUTLINE_SAME_SURFACE:
+    if norm(left_c - right_c) > OUTLINE_SAME_SURFACE:
         return strong.tolist()  # another surface on either side: no strip down one face
     beside = row_norms(below - 0.5 * (left_c + right_c)) <= OUTLINE_SAME_SURFACE
     return (strong | (faint & beside)).tolist()
