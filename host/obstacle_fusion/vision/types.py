@@ -177,6 +177,7 @@ class View:
         # so far, in one buffer (made on the first hold), and their (r0, r1, c0, c1)
         self._held: npt.NDArray[Any] | None = None
         self._lab: npt.NDArray[np.uint8] | None = None
+        self._lab_read: npt.NDArray[np.uint8] | None = None  # a read-only view of it
         self._lab_boxes: list[Block] = []
         # a method's faster remap of a colour block (:meth:`use_colour_remap`)
         self._colour_remap: ColourRemap | None = None
@@ -251,6 +252,10 @@ class View:
         self._lab_boxes = []
         if self._held is not None and self._lab is None:
             self._lab = np.empty((*self.out.shape, 3), np.uint8)
+            # the blocks handed out are slices of a read-only view (the frame's cache: a
+            # write would spoil it), made once rather than per block
+            self._lab_read = self._lab.view()
+            self._lab_read.flags.writeable = False
 
     def lab(
         self,
@@ -271,8 +276,8 @@ class View:
         conversion of its own map entry, whatever block it is converted in, so the values
         are the same either way."""
         rows, cols = slice(r0, r1, step), slice(c0, c1, step)
-        lab = self._lab
-        if image is not self._held or step != 1 or lab is None:
+        lab, read = self._lab, self._lab_read
+        if image is not self._held or step != 1 or lab is None or read is None:
             return self._to_lab(image, rows, cols)
         h, w = self.out.shape
         ra, rb, _ = rows.indices(h)
@@ -281,18 +286,14 @@ class View:
             return self._to_lab(image, rows, cols)  # OpenCV's answer to an empty block
         pieces = self._uncovered(self._lab_boxes, ra, rb, ca, cb)
         if pieces is None:  # inside one block before
-            held = lab[ra:rb, ca:cb]
-            held.flags.writeable = False
-            return held
+            return read[ra:rb, ca:cb]
         # each piece remapped and converted in place in the frame's Lab buffer (no block
         # of its own to copy in: the same values)
         for p0, p1, q0, q1 in pieces:
             self._lab_into(image, lab[p0:p1, q0:q1], p0, p1, q0, q1)
         if pieces:
             self._lab_boxes.append((ra, rb, ca, cb))  # whole now: a block inside it is one test
-        held = lab[ra:rb, ca:cb]
-        held.flags.writeable = False  # the frame's cache: a write would spoil it
-        return held
+        return read[ra:rb, ca:cb]  # read only: the frame's cache, a write would spoil it
 
     def _lab_into(
         self,

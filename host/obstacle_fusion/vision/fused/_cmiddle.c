@@ -2295,7 +2295,593 @@ done:
     return result;
 }
 
+/* The k-th smallest (0-based) of v[0..n-1], NaN-free, by quickselect (v is reordered:
+ * every entry before k is <= v[k]). Order statistics are values, whatever the selection
+ * (numpy's sort gives the same ones), so long as no two entries are equal but told apart
+ * (signed zeros: the callers leave such lanes to numpy). */
+static float select_kth(float *v, Py_ssize_t n, Py_ssize_t k)
+{
+    Py_ssize_t lo = 0, hi = n - 1;
+    while (hi - lo > 16) {
+        /* the median of three as the pivot, then Hoare's partition */
+        Py_ssize_t mid = lo + (hi - lo) / 2;
+        float a = v[lo], b = v[mid], c = v[hi];
+        float p = a < b ? (b < c ? b : (a < c ? c : a)) : (a < c ? a : (b < c ? c : b));
+        Py_ssize_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < p)
+                i++;
+            while (p < v[j])
+                j--;
+            if (i <= j) {
+                float t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+                i++;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return v[k]; /* between the two parts: entries equal to the pivot */
+    }
+    for (Py_ssize_t i = lo + 1; i <= hi; i++) { /* a short stretch: insertion sort */
+        float t = v[i];
+        Py_ssize_t j = i - 1;
+        while (j >= lo && t < v[j]) {
+            v[j + 1] = v[j];
+            j--;
+        }
+        v[j + 1] = t;
+    }
+    return v[k];
+}
+
+/* median_float32(src, axis, out): profiles.median_of of a float32 array of 1 or 2
+ * dimensions (any strides) along ``axis`` (its lanes: at least one value each) into out
+ * (C-contiguous float32, one entry per lane): the middle value of an odd count, the two
+ * middle ones averaged in float32 ((a + b) / 2, as np.median) for an even one. Returns
+ * False (out unspecified) when a lane holds a NaN or a negative zero (numpy's sort places
+ * those; the caller sorts then), else True. One call for numpy's copy, sort and picks:
+ * the stages take ~70 medians of short float lanes a frame. */
+static PyObject *median_float32(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *src_obj, *out_obj;
+    int axis;
+    if (!PyArg_ParseTuple(args, "OiO:median_float32", &src_obj, &axis, &out_obj))
+        return NULL;
+    Py_buffer src, out;
+    if (PyObject_GetBuffer(src_obj, &src, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) <
+        0) {
+        PyBuffer_Release(&src);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    float *buf = NULL;
+    const int nd = src.ndim;
+    if (src.format == NULL || strcmp(src.format, "f") != 0 || src.itemsize != 4 ||
+        out.format == NULL || strcmp(out.format, "f") != 0 || out.itemsize != 4) {
+        PyErr_SetString(PyExc_TypeError, "median_float32: float32 source and output");
+        goto done;
+    }
+    if (nd < 1 || nd > 2 || axis < 0 || axis >= nd || src.shape[axis] < 1) {
+        PyErr_SetString(PyExc_ValueError, "median_float32: 1-D or 2-D, lanes of a value or more");
+        goto done;
+    }
+    const Py_ssize_t n = src.shape[axis];
+    const Py_ssize_t lanes = nd == 1 ? 1 : src.shape[1 - axis];
+    const Py_ssize_t along = src.strides[axis];
+    const Py_ssize_t across = nd == 1 ? 0 : src.strides[1 - axis];
+    if (out.len != lanes * 4) {
+        PyErr_SetString(PyExc_ValueError, "median_float32: one output entry per lane");
+        goto done;
+    }
+    buf = PyMem_Malloc((size_t)(n > 0 ? n : 1) * sizeof *buf);
+    if (buf == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    float *o = (float *)out.buf;
+    const Py_ssize_t k = n / 2;
+    int plain = 1;
+    for (Py_ssize_t lane = 0; lane < lanes && plain; lane++) {
+        const char *p = (const char *)src.buf + lane * across;
+        for (Py_ssize_t i = 0; i < n; i++) {
+            float v = *(const float *)(p + i * along);
+            if (v != v || (v == 0.0f && signbit(v))) {
+                plain = 0; /* a NaN or a -0: numpy's sort decides its place */
+                break;
+            }
+            buf[i] = v;
+        }
+        if (!plain)
+            break;
+        float upper = select_kth(buf, n, k);
+        if (n % 2) {
+            o[lane] = upper;
+        } else {
+            float lower = buf[0]; /* the largest entry before k */
+            for (Py_ssize_t i = 1; i < k; i++)
+                lower = buf[i] > lower ? buf[i] : lower;
+            float sum = lower + upper;
+            o[lane] = sum / 2.0f;
+        }
+    }
+    result = PyBool_FromLong(plain);
+done:
+    PyMem_Free(buf);
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&src);
+    return result;
+}
+
+/* lines_on_rows(x, b, a, e, edge_min, contrast, out): extent._lines_on_rows' flags for the
+ * n = len(x) - 2b rows of the float32 |d/dy| block x (rows r - b .. r + b of each row r,
+ * any strides; no NaN) into out (C-contiguous n x columns bool): per entry, the largest of
+ * the 2e + 1 rows round the row at least float32(edge_min) and at least float32(contrast)
+ * times the smaller of the means of the rows b..a above and a..b below (each a float32 sum
+ * added from the nearest-first row's far end as the numpy loop adds them, divided by the
+ * count in float32). ~7 calls a frame of a dozen numpy passes each. */
+static PyObject *lines_on_rows(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *x_obj, *out_obj;
+    Py_ssize_t b, a, e;
+    double edge_min_d, contrast_d;
+    if (!PyArg_ParseTuple(args, "OnnnddO:lines_on_rows", &x_obj, &b, &a, &e, &edge_min_d,
+                          &contrast_d, &out_obj))
+        return NULL;
+    Py_buffer x, out;
+    if (PyObject_GetBuffer(x_obj, &x, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) <
+        0) {
+        PyBuffer_Release(&x);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    if (x.ndim != 2 || x.format == NULL || strcmp(x.format, "f") != 0 || x.itemsize != 4 ||
+        out.itemsize != 1 || out.format == NULL || strcmp(out.format, "?") != 0) {
+        PyErr_SetString(PyExc_TypeError, "lines_on_rows: a 2-D float32 block, bool flags");
+        goto done;
+    }
+    if (a < 0 || b < a || e < 0 || e > b || x.shape[0] < 2 * b) {
+        PyErr_SetString(PyExc_ValueError, "lines_on_rows: 0 <= a <= b, e <= b, 2b rows or more");
+        goto done;
+    }
+    const Py_ssize_t n = x.shape[0] - 2 * b, w = x.shape[1];
+    if (out.len != n * w) {
+        PyErr_SetString(PyExc_ValueError, "lines_on_rows: one flag per row and column");
+        goto done;
+    }
+    const float edge_min = (float)edge_min_d, contrast = (float)contrast_d;
+    const float count = (float)(b - a + 1);
+    const Py_ssize_t rs = x.strides[0], cs = x.strides[1];
+    const char *base = (const char *)x.buf;
+    unsigned char *o = (unsigned char *)out.buf;
+    if (cs == (Py_ssize_t)sizeof(float) && b - a <= 15 && e <= 15) {
+        /* packed rows: per output row, the column loop innermost over row pointers (gcc
+         * vectorises it; each entry's sums and maxima in the same order as below) */
+        for (Py_ssize_t r = 0; r < n; r++) {
+            const float *restrict rows_e[31], *restrict rows_a[16], *restrict rows_b[16];
+            for (Py_ssize_t k = 0; k <= 2 * e; k++)
+                rows_e[k] = (const float *)(base + (r + b - e + k) * rs);
+            for (Py_ssize_t k = 0; k <= b - a; k++) {
+                rows_a[k] = (const float *)(base + (r + k) * rs);
+                rows_b[k] = (const float *)(base + (r + b + a + k) * rs);
+            }
+            unsigned char *restrict orow = o + r * w;
+            for (Py_ssize_t c = 0; c < w; c++) {
+                float edge = rows_e[0][c];
+                for (Py_ssize_t k = 1; k <= 2 * e; k++) {
+                    float v = rows_e[k][c];
+                    edge = v > edge ? v : edge;
+                }
+                float above = rows_a[0][c], below = rows_b[0][c];
+                for (Py_ssize_t k = 1; k <= b - a; k++) {
+                    above = above + rows_a[k][c];
+                    below = below + rows_b[k][c];
+                }
+                above = above / count;
+                below = below / count;
+                float low = below < above ? below : above;
+                float scaled = contrast * low;
+                orow[c] = edge >= edge_min && edge >= scaled;
+            }
+        }
+        Py_INCREF(Py_None);
+        result = Py_None;
+        goto done;
+    }
+#define AT(r, c) (*(const float *)(base + (r) * rs + (c) * cs))
+    for (Py_ssize_t r = 0; r < n; r++) {
+        for (Py_ssize_t c = 0; c < w; c++) {
+            float edge = AT(r + b - e, c);
+            for (Py_ssize_t k = 1; k <= 2 * e; k++) {
+                float v = AT(r + b - e + k, c);
+                edge = v > edge ? v : edge;
+            }
+            float above = AT(r, c), below = AT(r + b + a, c);
+            for (Py_ssize_t k = 1; k <= b - a; k++) {
+                above = above + AT(r + k, c);
+                below = below + AT(r + b + a + k, c);
+            }
+            above = above / count;
+            below = below / count;
+            float low = below < above ? below : above;
+            float scaled = contrast * low;
+            o[r * w + c] = edge >= edge_min && edge >= scaled;
+        }
+    }
+#undef AT
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&x);
+    return result;
+}
+
+/* The float32 norm of (x, y), as row_norms takes it: the squares added from the left. */
+static float norm2f(float x, float y)
+{
+    float acc = x * x;
+    float sq = y * y;
+    acc = acc + sq;
+    return sqrtf(acc);
+}
+
+/* region.shadow_columns of one colour (l, a, b) over one floor colour (fl, fa, fb), in
+ * float32 step by step as numpy takes it. */
+static int shadow_of(float l, float a, float b, float fl, float fa, float fb, float darker,
+                     float chroma, float floor_chroma)
+{
+    float k = l / (fl > 1.0f ? fl : 1.0f);
+    float fa0 = fa - 128.0f, fb0 = fb - 128.0f;
+    float ka = k * fa0, kb = k * fb0;
+    float off = norm2f((a - 128.0f) - ka, (b - 128.0f) - kb);
+    int hued = norm2f(fa0, fb0) >= floor_chroma;
+    return (fl - l >= darker) && (off <= chroma) && hued;
+}
+
+/* floor_chroma(foot, floor, ref, near_share, far, chroma, face_step, shadow, darker,
+ * floor_chroma_min, out): region.floor_chroma's flags (with region.shadow_columns' where
+ * ``shadow``) for the W x 3 float32 Lab colours foot and floor (any strides) and the
+ * face's float32 colour ref (3 values, any stride) into out (W bools, contiguous); the
+ * thresholds taken to float32 as numpy compares Python floats with float32 arrays. Every
+ * step in float32 in numpy's order (ISO C99: no FMA), so the same flags. Three calls a
+ * frame of two dozen numpy passes each. */
+static PyObject *floor_chroma(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *foot_obj, *floor_obj, *ref_obj, *out_obj;
+    double near_share_d, far_d, chroma_d, face_step_d, darker_d, floor_chroma_d;
+    int shadow;
+    if (!PyArg_ParseTuple(args, "OOOddddpddO:floor_chroma", &foot_obj, &floor_obj, &ref_obj,
+                          &near_share_d, &far_d, &chroma_d, &face_step_d, &shadow, &darker_d,
+                          &floor_chroma_d, &out_obj))
+        return NULL;
+    Py_buffer foot, floor, ref, out;
+    if (PyObject_GetBuffer(foot_obj, &foot, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    if (PyObject_GetBuffer(floor_obj, &floor, PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&foot);
+        return NULL;
+    }
+    if (PyObject_GetBuffer(ref_obj, &ref, PyBUF_STRIDES | PyBUF_FORMAT) < 0) {
+        PyBuffer_Release(&floor);
+        PyBuffer_Release(&foot);
+        return NULL;
+    }
+    if (PyObject_GetBuffer(out_obj, &out, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) <
+        0) {
+        PyBuffer_Release(&ref);
+        PyBuffer_Release(&floor);
+        PyBuffer_Release(&foot);
+        return NULL;
+    }
+    PyObject *result = NULL;
+#define IS_F32(v) ((v).format != NULL && strcmp((v).format, "f") == 0 && (v).itemsize == 4)
+    if (!IS_F32(foot) || !IS_F32(floor) || !IS_F32(ref) || out.itemsize != 1 ||
+        out.format == NULL || strcmp(out.format, "?") != 0) {
+        PyErr_SetString(PyExc_TypeError, "floor_chroma: float32 colours, bool flags");
+        goto done;
+    }
+#undef IS_F32
+    if (foot.ndim != 2 || floor.ndim != 2 || foot.shape[1] != 3 || floor.shape[1] != 3 ||
+        foot.shape[0] != floor.shape[0] || ref.ndim != 1 || ref.shape[0] != 3 ||
+        out.len != foot.shape[0]) {
+        PyErr_SetString(PyExc_ValueError, "floor_chroma: W x 3 foot and floor, 3 ref, W flags");
+        goto done;
+    }
+    const float near_share = (float)near_share_d, far = (float)far_d, chroma = (float)chroma_d;
+    const float face_step = (float)face_step_d, darker = (float)darker_d;
+    const float floor_chroma_min = (float)floor_chroma_d;
+    const char *rp = (const char *)ref.buf;
+    const float rl = *(const float *)rp, ra = *(const float *)(rp + ref.strides[0]),
+                rb = *(const float *)(rp + 2 * ref.strides[0]);
+    unsigned char *o = (unsigned char *)out.buf;
+    for (Py_ssize_t c = 0; c < foot.shape[0]; c++) {
+        const char *p = (const char *)foot.buf + c * foot.strides[0];
+        const char *q = (const char *)floor.buf + c * floor.strides[0];
+        const float l = *(const float *)p, a = *(const float *)(p + foot.strides[1]),
+                    b = *(const float *)(p + 2 * foot.strides[1]);
+        const float fl = *(const float *)q, fa = *(const float *)(q + floor.strides[1]),
+                    fb = *(const float *)(q + 2 * floor.strides[1]);
+        const float foot_step = norm2f(a - fa, b - fb);
+        const float face_floor = norm2f(ra - fa, rb - fb);
+        const float to_face = near_share * norm2f(a - ra, b - rb);
+        const int near = foot_step < to_face && foot_step < far;
+        int on = (foot_step < chroma || near) && face_floor >= face_step;
+        if (shadow && !on)
+            on = shadow_of(l, a, b, fl, fa, fb, darker, chroma, floor_chroma_min) &&
+                 !shadow_of(rl, ra, rb, fl, fa, fb, darker, chroma, floor_chroma_min);
+        o[c] = (unsigned char)on;
+    }
+    Py_INCREF(Py_None);
+    result = Py_None;
+done:
+    PyBuffer_Release(&out);
+    PyBuffer_Release(&ref);
+    PyBuffer_Release(&floor);
+    PyBuffer_Release(&foot);
+    return result;
+}
+
+/* The float32 median of the 8-bit values v[0], v[s], ... v[(n-1)s] (n of 1..16), as
+ * profiles.median_u8 takes it: the middle one, or the two middle ones averaged in float32. */
+#define CE6(a, b)                                                                          \
+    do {                                                                                   \
+        int lo_ = t6[a] < t6[b] ? t6[a] : t6[b], hi_ = t6[a] < t6[b] ? t6[b] : t6[a];      \
+        t6[a] = lo_;                                                                       \
+        t6[b] = hi_;                                                                       \
+    } while (0)
+static float median_u8_lane(const unsigned char *v, Py_ssize_t s, int n)
+{
+    if (n == 6) { /* the strips' 6 columns: an optimal sorting network (12 exchanges) */
+        int t6[6];
+        for (int i = 0; i < 6; i++)
+            t6[i] = v[i * s];
+        CE6(0, 5);
+        CE6(1, 3);
+        CE6(2, 4);
+        CE6(1, 2);
+        CE6(3, 4);
+        CE6(0, 3);
+        CE6(2, 5);
+        CE6(0, 1);
+        CE6(2, 3);
+        CE6(4, 5);
+        CE6(1, 2);
+        CE6(3, 4);
+        float sum6 = (float)t6[2] + (float)t6[3];
+        return sum6 / 2.0f;
+    }
+    unsigned char t[16];
+    for (int i = 0; i < n; i++) {
+        unsigned char x = v[i * s];
+        int j = i - 1;
+        while (j >= 0 && t[j] > x) {
+            t[j + 1] = t[j];
+            j--;
+        }
+        t[j + 1] = x;
+    }
+    if (n % 2)
+        return (float)t[n / 2];
+    float sum = (float)t[n / 2 - 1] + (float)t[n / 2];
+    return sum / 2.0f;
+}
+
+/* The float32 norm of a 3-vector, as row_norms takes it. */
+static float norm3f(float x, float y, float z)
+{
+    float acc = x * x;
+    float sq = y * y;
+    acc = acc + sq;
+    sq = z * z;
+    acc = acc + sq;
+    return sqrtf(acc);
+}
+
+/* median_of of n float32 values (n >= 1, no NaN, no negative zero) as a double. */
+static double median_f(float *buf, Py_ssize_t n)
+{
+    const Py_ssize_t k = n / 2;
+    float upper = select_kth(buf, n, k);
+    if (n % 2)
+        return upper;
+    float lower = buf[0];
+    for (Py_ssize_t i = 1; i < k; i++)
+        lower = buf[i] > lower ? buf[i] : lower;
+    float sum = lower + upper;
+    return (double)(sum / 2.0f);
+}
+
+static double clamp_d(double x, double lo, double hi)
+{
+    return x < lo ? lo : x > hi ? hi : x;
+}
+
+/* side_walk(inside, outside, k, consts, stands, held): region._sides_walk's reading of one
+ * side: ``inside`` and ``outside`` (rows x columns x 3 uint8 Lab, 1-16 columns, any
+ * strides) the strip just inside the side and what is beside it; ``k`` the band row of
+ * the face's top (the rows from k + 2 down are the face's); ``consts`` a float64 array of
+ * the rule's constants in the order region._SIDE_WALK_CONSTANTS names them. Fills
+ * ``stands`` (the side parts the face from what is beside it, per row) and ``held`` (the
+ * strip holds the face's colour) and returns True; False when the side's step along the
+ * face is under MIN_BESIDE_STEP (the walk gives None). Every step as numpy takes it:
+ * float32 medians, norms and comparisons with thresholds taken to float32, the limits'
+ * products and clamps in double, the colour weights' hypotenuses by the C library's
+ * hypot (correctly rounded here: the same as Python's on these quarter-unit colours). */
+static PyObject *side_walk(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *in_obj, *out_obj, *c_obj, *st_obj, *hd_obj;
+    Py_ssize_t k;
+    if (!PyArg_ParseTuple(args, "OOnOOO:side_walk", &in_obj, &out_obj, &k, &c_obj, &st_obj,
+                          &hd_obj))
+        return NULL;
+    Py_buffer in, ou, cs, st, hd;
+    int got = 0;
+    PyObject *result = NULL;
+    float *work = NULL;
+    if (PyObject_GetBuffer(in_obj, &in, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        return NULL;
+    got = 1;
+    if (PyObject_GetBuffer(out_obj, &ou, PyBUF_STRIDES | PyBUF_FORMAT) < 0)
+        goto release;
+    got = 2;
+    if (PyObject_GetBuffer(c_obj, &cs, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0)
+        goto release;
+    got = 3;
+    if (PyObject_GetBuffer(st_obj, &st, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+        goto release;
+    got = 4;
+    if (PyObject_GetBuffer(hd_obj, &hd, PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE | PyBUF_FORMAT) < 0)
+        goto release;
+    got = 5;
+    if (!is_u8(&in) || !is_u8(&ou) || in.ndim != 3 || ou.ndim != 3 || in.shape[2] != 3 ||
+        ou.shape[2] != 3 || in.shape[0] != ou.shape[0] || in.shape[1] < 1 ||
+        in.shape[1] > 16 || ou.shape[1] < 1 || ou.shape[1] > 16) {
+        PyErr_SetString(PyExc_ValueError, "side_walk: rows x 1-16 x 3 uint8 strips of one height");
+        goto done;
+    }
+    const Py_ssize_t rows = in.shape[0];
+    if (cs.format == NULL || strcmp(cs.format, "d") != 0 || cs.len != 13 * 8 || st.itemsize != 1 ||
+        st.format == NULL || strcmp(st.format, "?") != 0 || hd.itemsize != 1 ||
+        hd.format == NULL || strcmp(hd.format, "?") != 0 || st.len != rows || hd.len != rows) {
+        PyErr_SetString(PyExc_ValueError, "side_walk: 13 float64 constants, one bool per row");
+        goto done;
+    }
+    const double *c = (const double *)cs.buf;
+    const double walk_share = c[0], min_beside = c[1], clear_step = c[2], min_top = c[3];
+    const double spread = c[4], max_face = c[5], held_colour = c[6], shaded = c[7];
+    const double hue_step = c[8], chromatic = c[9], hue_apart = c[10], shade_weight = c[11];
+    const double drift_d = c[12];
+    const Py_ssize_t drift = (Py_ssize_t)drift_d;
+    const Py_ssize_t first = k + 2, m = rows - first; /* the face's rows */
+    if (m < 1 || first < 0 || drift < 1 || (double)drift != drift_d) {
+        PyErr_SetString(PyExc_ValueError, "side_walk: face rows below k + 2, a whole drift");
+        goto done;
+    }
+    work = PyMem_Malloc((size_t)rows * 9 * sizeof *work);
+    if (work == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    float *strip = work, *beside = work + 3 * rows, *step = work + 6 * rows;
+    float *d_strip = work + 7 * rows, *tmp = work + 8 * rows;
+    const int ni = (int)in.shape[1], no = (int)ou.shape[1];
+    for (Py_ssize_t r = 0; r < rows; r++)
+        for (int ch = 0; ch < 3; ch++) {
+            strip[3 * r + ch] = median_u8_lane((const unsigned char *)in.buf + r * in.strides[0] +
+                                                   ch * in.strides[2],
+                                               in.strides[1], ni);
+            beside[3 * r + ch] = median_u8_lane((const unsigned char *)ou.buf + r * ou.strides[0] +
+                                                    ch * ou.strides[2],
+                                                ou.strides[1], no);
+        }
+    for (Py_ssize_t r = 0; r < rows; r++)
+        step[r] = norm3f(strip[3 * r] - beside[3 * r], strip[3 * r + 1] - beside[3 * r + 1],
+                         strip[3 * r + 2] - beside[3 * r + 2]);
+    memcpy(tmp, step + first, (size_t)m * sizeof *tmp);
+    const double level = median_f(tmp, m);
+    if (level < min_beside) {
+        Py_INCREF(Py_False);
+        result = Py_False;
+        goto done;
+    }
+    const float stand_at = (float)clamp_d(walk_share * level, min_beside, clear_step);
+    float own[3], floor_c[3];
+    for (int ch = 0; ch < 3; ch++) {
+        for (Py_ssize_t i = 0; i < m; i++)
+            tmp[i] = strip[3 * (first + i) + ch];
+        own[ch] = (float)median_f(tmp, m);
+        for (Py_ssize_t i = 0; i < m; i++)
+            tmp[i] = beside[3 * (first + i) + ch];
+        floor_c[ch] = (float)median_f(tmp, m);
+    }
+    for (Py_ssize_t r = 0; r < rows; r++)
+        d_strip[r] = norm3f(strip[3 * r] - own[0], strip[3 * r + 1] - own[1],
+                            strip[3 * r + 2] - own[2]);
+    memcpy(tmp, d_strip + first, (size_t)m * sizeof *tmp);
+    const double limit = clamp_d(spread * median_f(tmp, m), min_top, max_face);
+    const float limit_f = (float)limit, max_face_f = (float)max_face;
+    const float min_beside_f = (float)min_beside;
+    unsigned char *so = (unsigned char *)st.buf, *ho = (unsigned char *)hd.buf;
+    for (Py_ssize_t r = 0; r < rows; r++) {
+        int s = step[r] >= stand_at;
+        if (held_colour != 0.0)
+            s = s || (step[r] >= min_beside_f && d_strip[r] <= limit_f);
+        so[r] = (unsigned char)s;
+        float dr = 0.0f;
+        if (r + drift < rows) {
+            const float *a = strip + 3 * r, *b = strip + 3 * (r + drift);
+            dr = norm3f((a[0] - b[0]) * 1.0f, (a[1] - b[1]) * 1.0f, (a[2] - b[2]) * 1.0f);
+        }
+        ho[r] = (unsigned char)(d_strip[r] <= limit_f || (d_strip[r] <= max_face_f && dr <= limit_f));
+    }
+    /* the face's colour weights (region._face_colour_weights), in double as Python */
+    const double chroma = hypot((double)own[1] - 128.0, (double)own[2] - 128.0);
+    const double apart = hypot((double)own[1] - (double)floor_c[1],
+                               (double)own[2] - (double)floor_c[2]);
+    const float w0 = chroma >= chromatic && apart >= hue_apart ? (float)shade_weight : 1.0f;
+    if (shaded != 0.0 && (double)w0 < 1.0) {
+        float *d_sh = tmp; /* reused: the shaded distances, then their face rows' copy */
+        float *d_copy = beside; /* beside is read no more */
+        for (Py_ssize_t r = 0; r < rows; r++)
+            d_sh[r] = norm3f((strip[3 * r] - own[0]) * w0, (strip[3 * r + 1] - own[1]) * 1.0f,
+                             (strip[3 * r + 2] - own[2]) * 1.0f);
+        memcpy(d_copy, d_sh + first, (size_t)m * sizeof *d_copy);
+        const double limit_s = clamp_d(spread * median_f(d_copy, m), min_top, max_face);
+        const float limit_sf = (float)limit_s, hue_f = (float)hue_step;
+        for (Py_ssize_t r = 0; r < rows; r++) {
+            float dr = 0.0f;
+            if (r + drift < rows) {
+                const float *a = strip + 3 * r, *b = strip + 3 * (r + drift);
+                dr = norm3f((a[0] - b[0]) * w0, (a[1] - b[1]) * 1.0f, (a[2] - b[2]) * 1.0f);
+            }
+            const int held_s = d_sh[r] <= limit_sf || (d_sh[r] <= max_face_f && dr <= limit_sf);
+            const float hx = strip[3 * r + 1] - own[1], hy = strip[3 * r + 2] - own[2];
+            const int hue_ok = norm2f(hx, hy) <= hue_f;
+            if (held_s && hue_ok)
+                ho[r] = 1;
+        }
+    }
+    Py_INCREF(Py_True);
+    result = Py_True;
+done:
+    PyMem_Free(work);
+release:
+    if (got >= 5)
+        PyBuffer_Release(&hd);
+    if (got >= 4)
+        PyBuffer_Release(&st);
+    if (got >= 3)
+        PyBuffer_Release(&cs);
+    if (got >= 2)
+        PyBuffer_Release(&ou);
+    if (got >= 1)
+        PyBuffer_Release(&in);
+    return got == 5 ? result : NULL;
+}
+
 static PyMethodDef methods[] = {
+    {"side_walk", side_walk, METH_VARARGS,
+     "side_walk(inside, outside, k, consts, stands, held): region._sides_walk's reading of a side."},
+    {"floor_chroma", floor_chroma, METH_VARARGS,
+     "floor_chroma(foot, floor, ref, ..., out): region.floor_chroma's flags."},
+    {"median_float32", median_float32, METH_VARARGS,
+     "median_float32(src, axis, out): profiles.median_of of float32 lanes (False: numpy sorts)."},
+    {"lines_on_rows", lines_on_rows, METH_VARARGS,
+     "lines_on_rows(x, b, a, e, edge_min, contrast, out): extent._lines_on_rows' flags."},
     {"line_columns", line_columns, METH_VARARGS,
      "line_columns(strip, cols, beside, contrast, same, same_max): search.line_columns' columns."},
     {"side_tables", side_tables, METH_VARARGS,

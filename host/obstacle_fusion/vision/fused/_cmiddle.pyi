@@ -67,3 +67,24 @@ def score_tops(
 def uncovered(
     boxes: Any, r0: int, r1: int, c0: int, c1: int, /
 ) -> list[tuple[int, int, int, int]] | None: ...
+def median_float32(src: Any, axis: int, out: Any, /) -> bool: ...
+def lines_on_rows(
+    x: Any, b: int, a: int, e: int, edge_min: float, contrast: float, out: Any, /
+) -> None: ...
+def floor_chroma(
+    foot: Any,
+    floor: Any,
+    ref: Any,
+    near_share: float,
+    far: float,
+    chroma: float,
+    face_step: float,
+    shadow: bool,
+    darker: float,
+    floor_chroma_min: float,
+    out: Any,
+    /,
+) -> None: ...
+def side_walk(
+    inside: Any, outside: Any, k: int, consts: Any, stands: Any, held: Any, /
+) -> bool: ...

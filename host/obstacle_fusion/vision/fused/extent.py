@@ -11,16 +11,26 @@ and collapsed the width to one plank on independently made rooms.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.profiles import (
     column_means,
     median_of,
+    narrow_max,
     partitioned,
     share,
     walk_on,
 )
+
+_c_lines_on_rows: Callable[[Any, int, int, int, float, float, Any], None] | None
+try:  # the optional C accelerator (setup.py); without it numpy takes the lines' passes
+    from obstacle_fusion.vision.fused._cmiddle import lines_on_rows as _c_lines_on_rows
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_lines_on_rows = None
 
 #: The edges count as running on while their strength stays above this share of the face's.
 CONTINUE_SHARE = 0.5
@@ -120,6 +130,18 @@ def _lines_on_rows(
     a, b = LINE_SIDE_ROWS
     n = r1 - r0
     x = np.asarray(ay[r0 - b : r1 + b], np.float32)  # row r at r - r0 + b
+    edge_min = MIN_EDGE_SNR * noise
+    if (
+        _c_lines_on_rows is not None
+        and n >= 0
+        and x.ndim == 2
+        and x.shape[0] == n + 2 * b
+        and type(edge_min) in (float, np.float32)  # compared in float32, as numpy does
+    ):
+        # the same passes in one C call (its float32 sums in the loop's order)
+        out = np.empty((n, x.shape[1]), bool)
+        _c_lines_on_rows(x, b, a, EDGE_ROWS, float(edge_min), LINE_CONTRAST, out)
+        return out
 
     def rows(first: int) -> npt.NDArray[np.float32]:  # each row's row + first - b
         return x[first : first + n]
@@ -133,7 +155,7 @@ def _lines_on_rows(
         below += rows(b + a + k)
     above /= b - a + 1
     below /= b - a + 1
-    return (edge >= MIN_EDGE_SNR * noise) & (edge >= LINE_CONTRAST * np.minimum(above, below))
+    return (edge >= edge_min) & (edge >= LINE_CONTRAST * np.minimum(above, below))
 
 
 def _stands(present: npt.NDArray[np.bool_]) -> bool:
@@ -301,7 +323,7 @@ def raise_top_past_inner_edges(
     cols = []
     for side in (left, right):
         c0, c1 = max(0, side - 1), min(ax.shape[1], side + 2)
-        cols.append(np.asarray(ax[:bottom, c0:c1].max(axis=1), np.float32))
+        cols.append(np.asarray(narrow_max(ax[:bottom, c0:c1]), np.float32))
     strength = [float(median_of(c[top:bottom])) for c in cols]
     if min(strength) < MIN_EDGE_SNR * noise:
         return top
@@ -461,7 +483,7 @@ def raise_top_along_seams(
         peaks.append(c)
     ends: list[tuple[int, int]] = []  # (row where the seam ends, its column)
     for c in peaks:
-        col = np.asarray(ax[:bottom, c0 + c - 1 : c0 + c + 2].max(axis=1), np.float32)
+        col = np.asarray(narrow_max(ax[:bottom, c0 + c - 1 : c0 + c + 2]), np.float32)
         strength = float(median_of(col[top + 1 : bottom]))
         on = col >= SIDE_SHARE * strength
         if strength < need or share(on[top + 1 : bottom]) < SEAM_COVERAGE:
@@ -570,8 +592,8 @@ def _runs_on_above(ax: npt.NDArray[np.int16], bottom: int, row: int, col: int) -
     c0, c1 = max(0, col - 1), min(ax.shape[1], col + 2)
     if row - n - 1 < 0:
         return False
-    below = np.asarray(ax[row + 2 : bottom, c0:c1].max(axis=1), np.float32)
-    above = np.asarray(ax[row - n - 1 : row - 1, c0:c1].max(axis=1), np.float32)
+    below = np.asarray(narrow_max(ax[row + 2 : bottom, c0:c1]), np.float32)
+    above = np.asarray(narrow_max(ax[row - n - 1 : row - 1, c0:c1]), np.float32)
     return share(above >= SIDE_SHARE * float(median_of(below))) > ACROSS_ABOVE_SHARE
 
 

@@ -252,7 +252,10 @@ def outline_from_foot(
     half = SIDE_STRIP // 2 + 1
     steps = np.zeros(block.shape[:2], np.float32)
     diff = mean[:, 2 * half :] - mean[:, : -2 * half]
-    steps[:, half:-half] = np.sqrt((diff * diff).sum(axis=2))
+    # each pixel's colour step: row_norms (the squares added from the left in float32,
+    # as numpy's sum over the 3 channels adds them) rather than numpy's reduction over a
+    # 3-wide last axis, which costs ~1 ms on this block
+    steps[:, half:-half] = row_norms(diff.reshape(-1, 3)).reshape(diff.shape[:2])
     rise_gap = max(2, int(round(RISE_GAP_M * ppm_v)))
     on = steps >= FOOT_STEP
     rises = _rises(on, rise_gap)

@@ -42,6 +42,11 @@ try:  # (apart, as median_f32)
     from obstacle_fusion.vision.fused._cmiddle import row_norms as _c_row_norms
 except ImportError:  # pragma: no cover - only where the extension did not build
     _c_row_norms = None
+_c_median_float32: Callable[[Any, int, Any], bool] | None
+try:  # (apart, as median_f32)
+    from obstacle_fusion.vision.fused._cmiddle import median_float32 as _c_median_float32
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_median_float32 = None
 
 F32 = npt.NDArray[Any]  # float32 gradient images (OpenCV returns loosely typed arrays)
 I16 = npt.NDArray[np.int16]  # int16 gradient images
@@ -120,7 +125,15 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     a few rows of a 500-column band by rows: 0.09 against 0.2-0.3 ms). The middle element,
     or the mean of the two middle ones computed as np.median does ((a + b) / 2 in the
     array's own float type).
+
+    A float32 array of one or two dimensions is done in C where the accelerator built (one
+    call for the copy, the sort and the picks; a lane with a NaN or a negative zero, whose
+    place numpy's sort decides, is left to it): the same values, the same types.
     """
+    if _c_median_float32 is not None and a.dtype == np.float32 and 0 < a.ndim <= 2:
+        c = _c_median_float32_of(a, axis)
+        if c is not None:
+            return c
     if axis is None:
         s = a.flatten()  # np.sort(a, axis=None): a flat copy, sorted
         s.sort()
@@ -134,6 +147,26 @@ def median_of(a: npt.NDArray[Any], axis: int | None = None) -> Any:
     if n % 2:
         return s[..., k]
     return (s[..., k - 1] + s[..., k]) / 2
+
+
+def _c_median_float32_of(a: npt.NDArray[np.float32], axis: int | None) -> Any:
+    """:func:`median_of` of a 1-D or 2-D float32 array by the C selection: an array of the
+    lanes' medians, or None where it does not take
+    the lanes (empty ones, a NaN, a negative zero: numpy's answer stands)."""
+    if _c_median_float32 is None or a.size == 0:
+        return None
+    if axis is None:
+        src, ax, shape = (a if a.ndim == 1 else a.reshape(-1)), 0, ()
+    else:
+        if not -a.ndim <= axis < a.ndim:
+            return None  # numpy's error
+        ax = axis % a.ndim
+        src, shape = a, a.shape[:ax] + a.shape[ax + 1 :]
+    out = np.empty(shape, np.float32)
+    if not _c_median_float32(src, ax, out):
+        return None
+    # (the sorting path's types: a 0-d array, or for an even count its mean, a scalar)
+    return out[()] if not shape and src.shape[ax] % 2 == 0 else out
 
 
 def median_u8(a: npt.NDArray[np.uint8], axis: int | None = None) -> Any:
@@ -277,6 +310,23 @@ def lanes_first(a: npt.NDArray[Any], axis: int) -> npt.NDArray[Any]:
     if axis == 0:
         return a
     return a.transpose([axis] + [i for i in range(nd) if i != axis])
+
+
+#: The widest rows :func:`narrow_max` takes column by column.
+NARROW_MAX_COLUMNS = 4
+
+
+def narrow_max(a: npt.NDArray[Any]) -> npt.NDArray[Any]:
+    """``a.max(axis=1)`` of a 2-D integer array (the |d/dx| of a side's 3 columns): over 1
+    to NARROW_MAX_COLUMNS columns, np.maximum of the columns in turn (numpy's reduction
+    over so short a last axis costs several times more; a maximum is exact, in any order,
+    so the same values and type)."""
+    if a.ndim == 2 and 1 <= a.shape[1] <= NARROW_MAX_COLUMNS and a.dtype.kind in "iu":
+        out = a[:, 0].copy()
+        for j in range(1, a.shape[1]):
+            np.maximum(out, a[:, j], out=out)
+        return out
+    return np.asarray(a.max(axis=1))
 
 
 def column_means(a: npt.NDArray[np.int16]) -> npt.NDArray[np.float32]:

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from typing import Any, NamedTuple
 
 import cv2
@@ -47,6 +48,7 @@ from obstacle_fusion.vision.fused.profiles import (
     column_means,
     median_of,
     median_u8,
+    narrow_max,
     norm,
     row_norms,
     share,
@@ -55,6 +57,17 @@ from obstacle_fusion.vision.fused.profiles import (
 from obstacle_fusion.vision.types import View
 
 log = logging.getLogger(__name__)
+
+_c_floor_chroma: Callable[..., None] | None
+try:  # the optional C accelerator (setup.py); without it numpy takes floor_chroma's passes
+    from obstacle_fusion.vision.fused._cmiddle import floor_chroma as _c_floor_chroma
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_floor_chroma = None
+_c_side_walk: Callable[..., bool] | None
+try:  # (apart, as floor_chroma): one side's reading in the sides' walk
+    from obstacle_fusion.vision.fused._cmiddle import side_walk as _c_side_walk
+except ImportError:  # pragma: no cover - only where the extension did not build
+    _c_side_walk = None
 
 #: Rows just above (face) and below (floor) the contact row skipped (the edge's blur).
 EDGE_SKIP = 2
@@ -454,6 +467,12 @@ def _up_to_floor(on: list[bool], through: list[bool], start: int, step: int) -> 
     """``on`` with every column from the first ``through`` one (from ``start`` towards
     ``step``) onwards turned off: a walk over ``on`` ends before the floor shows."""
     col, n = start, len(on)
+    if step in (1, -1) and 0 <= col < n:
+        # the first true flag from ``start`` by list.index (C) rather than a Python loop
+        try:
+            col = through.index(True, col) if step > 0 else col - through[col::-1].index(True)
+        except ValueError:  # none: the walk runs to the end
+            return on
     while 0 <= col < n and not through[col]:
         col += step
     if not 0 <= col < n:
@@ -652,7 +671,7 @@ def _stands_on_foot(ax: npt.NDArray[np.int16], top: int, bottom: int, column: in
     """The side's |d/dx| (strongest of 3 columns) over the foot's rows against its median
     along the face."""
     c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
-    col = ax[max(top, 0) : bottom, c0:c1].max(axis=1)
+    col = narrow_max(ax[max(top, 0) : bottom, c0:c1])
     if col.size <= FOOT_ROWS + EDGE_SKIP:
         return True
     along = float(median_of(col.astype(np.float32)))
@@ -691,7 +710,34 @@ def floor_chroma(
     foot: npt.NDArray[Any], floor: npt.NDArray[Any], ref: npt.NDArray[Any]
 ) -> npt.NDArray[np.bool_]:
     """Per column (W x 3 Lab): the foot shows the floor's chroma where the face's colour
-    ``ref`` does not: floor above the contact row (farther back, or shadowed), not the face."""
+    ``ref`` does not: floor above the contact row (farther back, or shadowed), not the face.
+    In C where the accelerator built, for float32 colours (the stages' medians): the same
+    steps in float32, one call."""
+    if (
+        _c_floor_chroma is not None
+        and foot.dtype == np.float32
+        and floor.dtype == np.float32
+        and ref.dtype == np.float32
+        and foot.ndim == 2
+        and foot.shape[1] == 3
+        and floor.shape == foot.shape
+        and ref.shape == (3,)
+    ):
+        flags = np.empty(foot.shape[0], bool)
+        _c_floor_chroma(
+            foot,
+            floor,
+            ref,
+            FLOOR_CHROMA_NEAR_SHARE,
+            FLOOR_CHROMA_FAR,
+            FLOOR_CHROMA,
+            FACE_CHROMA_STEP,
+            SHADOW_FOOT,
+            SHADOW_DARKER,
+            SHADOW_FLOOR_CHROMA,
+            flags,
+        )
+        return flags
     foot_step = row_norms(foot[:, 1:] - floor[:, 1:])
     face_step = row_norms(ref[None, 1:] - floor[:, 1:])
     # a floor of two shades (a plank's stripe, a seam crossing the contact row) moves
@@ -733,7 +779,7 @@ def _stands_up(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) ->
     """The column's |d/dx| (strongest of 3) over the face's upper half is at least
     OUTLINE_UPPER_SHARE of that over its lower half."""
     c0, c1 = max(column - 1, 0), min(column + 2, ax.shape[1])
-    col = ax[max(top, 0) : bottom + 1, c0:c1].max(axis=1).astype(np.float32)
+    col = narrow_max(ax[max(top, 0) : bottom + 1, c0:c1]).astype(np.float32)
     half = col.size // 2
     if half < 2:
         return False
@@ -800,14 +846,15 @@ def _top_step_columns(
     faint = (step >= OUTLINE_TOP_STEP) & (d_foot <= OUTLINE_SAME_SURFACE)
     probes = (slice(cl - OUTLINE_PROBE_WIDTH + 1, cl + 1), slice(cr, cr + OUTLINE_PROBE_WIDTH))
     # the surface beside each side: a faint top step on it, its colour down to its foot
+    # (median_of and norm: np.median's and np.linalg.norm's values, without their wrappers)
     if any(
-        float(np.median(step[p])) < OUTLINE_TOP_STEP
-        or float(np.median(d_foot[p])) > OUTLINE_SAME_SURFACE
+        float(median_of(step[p])) < OUTLINE_TOP_STEP
+        or float(median_of(d_foot[p])) > OUTLINE_SAME_SURFACE
         for p in probes
     ):
         return strong.tolist()
     left_c, right_c = (median_of(below[p], axis=0) for p in probes)
-    if float(np.linalg.norm(left_c - right_c)) > OUTLINE_SAME_SURFACE:
+    if norm(left_c - right_c) > OUTLINE_SAME_SURFACE:
         return strong.tolist()  # another surface on either side: no strip down one face
     beside = row_norms(below - 0.5 * (left_c + right_c)) <= OUTLINE_SAME_SURFACE
     return (strong | (faint & beside)).tolist()
@@ -1371,6 +1418,95 @@ def _held(
     return held
 
 
+def _side_reading(
+    inside: npt.NDArray[np.uint8], outside: npt.NDArray[np.uint8], k: int
+) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | bool:
+    """One side's reading in :func:`_sides_walk` (its strip ``inside``, what is ``outside``
+    it; the face's rows from ``k + 2``): per row, whether the side stands (parts the face
+    from what is beside it) and whether the strip holds the face's colour; False when the
+    side's step along the face is too weak (the walk's None)."""
+    strip = median_u8(inside, axis=1)
+    beside = median_u8(outside, axis=1)
+    step = row_norms(strip - beside)
+    level = float(median_of(step[k + 2 :]))
+    if level < MIN_BESIDE_STEP:
+        return False
+    stands = step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
+    # and the face's own colour there: a background edge in line with a side (a
+    # pole, a shadow) parts two background colours, not the face from one
+    own = median_of(strip[k + 2 :], axis=0)
+    d_strip = row_norms(strip - own)
+    limit = spread_limit(d_strip[k + 2 :], MIN_TOP_DISTANCE)
+    if HELD_COLOUR_SIDE:
+        # the background beside the face changes going up (a bright skirting beside
+        # its foot, a wall of nearly the face's shade above it): the side's step along
+        # the foot says nothing of the wall's; where the strip keeps the face's own
+        # colour (within its spread, no drift) any clear step (MIN_BESIDE_STEP) is a
+        # side, while above the top both the colour and the step go at once
+        stands |= (step >= MIN_BESIDE_STEP) & (d_strip <= limit)
+    # light falling off along a face (a lamp's gradient, vignetting) moves its colour
+    # slowly away from what it is below the top: a row within the face's spread of the
+    # row DRIFT_ROWS under it (and within MAX_FACE_DISTANCE of the colour below the
+    # top) is taken as the face's still, while the background starts with a step
+    held = _held(strip, d_strip, limit, np.ones(3, np.float32))
+    weights = _face_colour_weights(own, median_of(beside[k + 2 :], axis=0))
+    if SHADED_SIDE_WALK and weights[0] < 1.0:
+        # a gloss's highlight or the light's fall-off changes a coloured face's
+        # lightness, not its hue (SHADE_WEIGHT, as along the foot, for a hue apart from
+        # what is beside it): a row of the face's hue (SHADED_HUE_STEP) is the face's
+        # also where its lightness alone left the face's spread
+        d_shaded = row_norms((strip - own) * weights)
+        limit_shaded = spread_limit(d_shaded[k + 2 :], MIN_TOP_DISTANCE)
+        held |= _held(strip, d_shaded, limit_shaded, weights) & (
+            row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
+        )
+    return stands, held
+
+
+def _side_walk_constants() -> npt.NDArray[np.float64]:
+    """The sides' walk's constants for the C reading of a side (read at each call: the
+    tests move them)."""
+    return np.array(
+        [
+            SIDE_WALK_SHARE,
+            MIN_BESIDE_STEP,
+            CLEAR_SIDE_STEP,
+            MIN_TOP_DISTANCE,
+            SPREAD_FACTOR,
+            MAX_FACE_DISTANCE,
+            HELD_COLOUR_SIDE,
+            SHADED_SIDE_WALK,
+            SHADED_HUE_STEP,
+            CHROMATIC_FACE,
+            HUE_APART_FROM_FLOOR,
+            SHADE_WEIGHT,
+            DRIFT_ROWS,
+        ],
+        np.float64,
+    )
+
+
+def _side_in_c(
+    inside: npt.NDArray[np.uint8], outside: npt.NDArray[np.uint8], k: int
+) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | bool | None:
+    """One side's reading in :func:`_sides_walk` (its strip ``inside``, what is ``outside``
+    it; the face's rows from ``k + 2``) by the C accelerator: per row, whether the side
+    stands and whether the strip holds the face's colour, the numpy steps' flags in one
+    call; False when the side's step along the face is too weak (the walk's None); None
+    where the accelerator is missing or does not take the strips (numpy reads them)."""
+    rows = inside.shape[0]
+    if _c_side_walk is None or inside.dtype != np.uint8 or rows - (k + 2) < 1 or k + 2 < 0:
+        return None
+    stands = np.empty(rows, bool)
+    held = np.empty(rows, bool)
+    try:
+        if not _c_side_walk(inside, outside, k, _side_walk_constants(), stands, held):
+            return False
+    except ValueError:  # strips it does not take
+        return None
+    return stands, held
+
+
 def _sides_walk(
     image: npt.NDArray[Any],
     view: View,
@@ -1402,43 +1538,13 @@ def _sides_walk(
         band = _lab8(image, view, r0, bottom, c1 - span, c1)
         bands.append((band[:, :BESIDE_COLUMNS], band[:, -BESIDE_COLUMNS:]))
     for inside, outside in bands:
-        strip = median_u8(inside, axis=1)
-        beside = median_u8(outside, axis=1)
-        step = row_norms(strip - beside)
-        level = float(median_of(step[k + 2 :]))
-        if level < MIN_BESIDE_STEP:
+        reading = _side_in_c(inside, outside, k)
+        if reading is None:  # (the accelerator's flags are these, in one call)
+            reading = _side_reading(inside, outside, k)
+        if not isinstance(reading, tuple):  # (False) too weak a side
             return None
-        stands = step >= clamp(SIDE_WALK_SHARE * level, MIN_BESIDE_STEP, CLEAR_SIDE_STEP)
-        # and the face's own colour there: a background edge in line with a side (a
-        # pole, a shadow) parts two background colours, not the face from one
-        own = median_of(strip[k + 2 :], axis=0)
-        d_strip = row_norms(strip - own)
-        limit = spread_limit(d_strip[k + 2 :], MIN_TOP_DISTANCE)
-        if HELD_COLOUR_SIDE:
-            # the background beside the face changes going up (a bright skirting beside
-            # its foot, a wall of nearly the face's shade above it): the side's step along
-            # the foot says nothing of the wall's; where the strip keeps the face's own
-            # colour (within its spread, no drift) any clear step (MIN_BESIDE_STEP) is a
-            # side, while above the top both the colour and the step go at once
-            stands |= (step >= MIN_BESIDE_STEP) & (d_strip <= limit)
-        on &= stands
-        # light falling off along a face (a lamp's gradient, vignetting) moves its colour
-        # slowly away from what it is below the top: a row within the face's spread of the
-        # row DRIFT_ROWS under it (and within MAX_FACE_DISTANCE of the colour below the
-        # top) is taken as the face's still, while the background starts with a step
-        held = _held(strip, d_strip, limit, np.ones(3, np.float32))
-        weights = _face_colour_weights(own, median_of(beside[k + 2 :], axis=0))
-        if SHADED_SIDE_WALK and weights[0] < 1.0:
-            # a gloss's highlight or the light's fall-off changes a coloured face's
-            # lightness, not its hue (SHADE_WEIGHT, as along the foot, for a hue apart from
-            # what is beside it): a row of the face's hue (SHADED_HUE_STEP) is the face's
-            # also where its lightness alone left the face's spread
-            d_shaded = row_norms((strip - own) * weights)
-            limit_shaded = spread_limit(d_shaded[k + 2 :], MIN_TOP_DISTANCE)
-            held |= _held(strip, d_shaded, limit_shaded, weights) & (
-                row_norms(strip[:, 1:] - own[1:]) <= SHADED_HUE_STEP
-            )
-        on &= held
+        stands, held = reading
+        on &= stands & held
         kept &= held
     flags = on.tolist()
     end = _cross_bands(flags, walk_on(flags, k, -1, gap), gap, tape)
@@ -1524,8 +1630,12 @@ def raise_top_along_frame(
     if seed.shape[0] == 0:
         return top
     rail = median_of(seed, axis=0)
-    limit = spread_limit(row_norms(seed - rail), MIN_TOP_DISTANCE)
-    dist = row_norms((lab - rail).reshape(-1, 3)).reshape(rows, cols)
+    # each pixel's distance from the rail's colour, once over the block with the columns
+    # beside the face (the same values wherever a part below reads them; the seed's
+    # median distance is a median of values, whatever their order)
+    whole = row_norms((block - rail).reshape(-1, 3)).reshape(rows, -1)
+    dist = whole[:, n + 2 : -n - 2]
+    limit = spread_limit(dist[k + 2 : rows - 1, 2 : cols - 2], MIN_TOP_DISTANCE)
     held = dist <= limit
     sides_on = (held[:, 1 : n + 1].sum(axis=1) >= FRAME_SIDE_MIN_COLUMNS) & (
         held[:, cols - n - 1 : cols - 1].sum(axis=1) >= FRAME_SIDE_MIN_COLUMNS
@@ -1537,7 +1647,7 @@ def raise_top_along_frame(
     # the middle is the panel's colour, and beside both sides is no more of the rail's
     # colour (a band of it running on past the sides: a background stripe, no frame)
     quarter = cols // 4
-    beside = row_norms((block[end:k] - rail).reshape(-1, 3)).reshape(k - end, -1)
+    beside = whole[end:k]
     for part in (dist[end:k, quarter : cols - quarter], beside[:, :n], beside[:, -n:]):
         if share(median_of(part, axis=1) > limit) < FRAME_INNER_SHARE:
             return top
