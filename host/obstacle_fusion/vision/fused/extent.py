@@ -11,8 +11,6 @@ and collapsed the width to one plank on independently made rooms.
 
 from __future__ import annotations
 
-import logging
-
 import numpy as np
 import numpy.typing as npt
 
@@ -23,8 +21,6 @@ from obstacle_fusion.vision.fused.profiles import (
     share,
     walk_on,
 )
-
-log = logging.getLogger(__name__)
 
 #: The edges count as running on while their strength stays above this share of the face's.
 CONTINUE_SHARE = 0.5
@@ -652,94 +648,3 @@ def trim_to_top_line(
     if new[1] - new[0] < 4:
         return left, right
     return new[0], new[1]
-
-
-#: With the rig, a side moves out along the face's foot line to its real side (FOOT_LINE_TO_SIDE,
-#: a switch for the tests): the face is one surface at the sonar's depth standing on the
-#: contact row, so its foot is one line on that row (:func:`_line_on_row`) from side to side
-#: across planks of any shade, even where a plank of the wall's shade leaves its top no
-#: line. A seam has the face on both sides of it: the foot line runs on past it. The real
-#: side is where the foot line ends, and its vertical edge runs the face's whole height,
-#: from the foot up to the top. The foot line must stand over LINES_WALKED_SHARE of the
-#: columns walked and over at most LINES_PAST_SHARE just past the new side (as for
-#: LINES_END_TOGETHER); the walk reaches at most FOOT_WALK_REACH of the face's width.
-FOOT_LINE_TO_SIDE = True
-FOOT_WALK_REACH = 0.5
-#: A side moves at least this many columns (the line's end must lie clear of the side's
-#: own edge blur; the line past it decides, not a share of the width).
-FOOT_MIN_MOVE = SNAP_COLUMNS
-#: The new side's edge stands at least this many noise levels (mean |d/dx| over the rows),
-#: present (at SIDE_SHARE of that mean) over SIDE_COVERAGE of the face's rows, of the
-#: lowest FOOT_SHARE of them (its foot) and of the highest FOOT_SHARE (its top).
-FOOT_SIDE_SNR = 3.0
-
-
-def widen_along_foot_line(
-    ay: npt.NDArray[np.float32],
-    ax: npt.NDArray[np.int16],
-    bottom: int,
-    top: int,
-    left: int,
-    right: int,
-    noise: float,
-) -> tuple[int, int]:
-    """The side columns moved out along the face's foot line to where it ends at a
-    vertical edge standing the face's whole height (FOOT_LINE_TO_SIDE; with the rig only:
-    the contact row is then the face's own). Unchanged where no side moves."""
-    if not FOOT_LINE_TO_SIDE or right - left < 8 or bottom - top < 6:
-        return left, right
-    line = _line_on_row(ay, bottom, noise)
-    sides = column_means(ax[top : bottom + 1])
-    rows = ax[top + 1 : bottom]
-    min_move = float(FOOT_MIN_MOVE)
-    reach = int(FOOT_WALK_REACH * (right - left))
-    new = [left, right]
-    for k, (side, step) in enumerate(((left, -1), (right, 1))):
-        moved = _foot_line_side(line, sides, rows, side, step, min_move, reach, noise)
-        if moved is not None:
-            new[k] = moved
-    return new[0], new[1]
-
-
-def _foot_line_side(
-    line: npt.NDArray[np.bool_],
-    sides: npt.NDArray[np.float32],
-    rows: npt.NDArray[np.int16],
-    side: int,
-    step: int,
-    min_move: float,
-    reach: int,
-    noise: float,
-) -> int | None:
-    """The first column past ``side`` (towards ``step``, at least ``min_move`` and at most
-    ``reach`` columns out) where the foot line ``line`` ends, snapped to the strongest
-    vertical edge there that stands from the foot to the top; None where there is none."""
-    width = line.size
-    first = side + step * int(np.ceil(min_move))
-    for end in range(first, side + step * (reach + 1), step):
-        if not 0 <= end < width:
-            return None
-        if not _line_ends_at(line, side, end, step):
-            continue
-        lo, hi = _snap_window(side, end, step, width)
-        best = int(lo + sides[lo : hi + 1].argmax())
-        strength = float(sides[best])
-        if (best - side) * step < min_move:
-            continue  # a gap in the line next to the seam: walk on
-        present = np.asarray(rows[:, best], np.float32) >= SIDE_SHARE * strength
-        head = present[: max(3, int(FOOT_SHARE * present.size))]
-        log.debug(
-            "foot line from %d ends at %d: side %d at %.2f noise levels, rows %.2f, top %.2f",
-            side,
-            end,
-            best,
-            strength / noise,
-            share(present),
-            share(head),
-        )
-        if strength < FOOT_SIDE_SNR * noise:
-            return None
-        if _stands(present) and share(head) >= SIDE_COVERAGE:
-            return best
-        return None
-    return None

@@ -41,7 +41,6 @@ from obstacle_fusion.vision.fused.extent import (
     top_line_across,
     trim_to_top_line,
     widen_across_seams,
-    widen_along_foot_line,
 )
 from obstacle_fusion.vision.fused.foot_outline import grows_face, outline_from_foot
 from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
@@ -911,12 +910,6 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known)
-        if rig_known and framed is None:
-            # ... and its foot line runs on past a seam, ending at its real side
-            along = widen_along_foot_line(ay, ax3, rb, int(round(vt)), ul, ur, noise)
-            if along != (ul, ur):
-                log.debug("foot line runs on past %d-%d: %s", ul, ur, along)
-                ul, ur = along
         # ... and its top line runs from side to side: a side with none next to it over a
         # part of the width stands on something beside the face (extent.TOP_LINE_SPANS)
         trimmed = trim_to_top_line(ay, ax3, rb, int(round(vt)), ul, ur, noise)
