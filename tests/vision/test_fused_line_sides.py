@@ -9,7 +9,7 @@ import numpy.typing as npt
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import search
+from obstacle_fusion.vision.fused import region, search
 from obstacle_fusion.vision.fused.search import line_columns
 from obstacle_fusion.vision.measure import Measurer
 
@@ -64,6 +64,9 @@ def test_without_the_rule_the_seams_are_the_sides(
     monkeypatch: pytest.MonkeyPatch, fam: str, seed: int
 ) -> None:
     monkeypatch.setattr(search, "LINE_SIDES", False)
+    # a strip rising as the face's keeps its side (session 39, region.TRIM_KEEPS_RISING):
+    # with it on, procedural/1172 is measured within 5.1 % even with this rule off
+    monkeypatch.setattr(region, "TRIM_KEEPS_RISING", False)
     assert _error(fam, seed) > 0.25
 
 

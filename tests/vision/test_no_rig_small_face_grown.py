@@ -20,6 +20,7 @@ import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import region
 from obstacle_fusion.vision.measure import Measurement, Measurer
 
 from tests.vision_fixtures import room_size_errors
@@ -58,6 +59,10 @@ def test_the_face_round_it_must_be_sure_enough(monkeypatch: pytest.MonkeyPatch) 
     monkeypatch.setattr(measure, "GROWN_SURE", 0.39)
     assert _worst("photo", 733, False) < 0.05
     monkeypatch.setattr(measure, "GROWN_SURE", 0.41)
+    # with a strip rising as the face's keeping its side (session 39,
+    # region.TRIM_KEEPS_RISING) photo 733 is measured within 1 % past this limit too;
+    # with that rule off, the limit alone decides, as before
+    monkeypatch.setattr(region, "TRIM_KEEPS_RISING", False)
     assert _worst("photo", 733, False) > 0.5
 
 

@@ -939,6 +939,7 @@ class FusedMethod:
             ur,
             depth,
             foot_above=floor_known and vb0 - rb > FOOT_ABOVE_SHARE * tol,
+            rising_kept=rig_known,
         )
 
         def finish(

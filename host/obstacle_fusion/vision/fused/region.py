@@ -117,6 +117,18 @@ MIN_TRIM_FLOORLESS = 0.7
 #: to the cut test (TRIM_KEEPS_FACE_COLOUR: a switch for the tests).
 TRIM_KEEPS_FACE_COLOUR = True
 MAX_TRIM_FACE_SHARE = 0.7
+#: No side comes in where the columns cut off rise as the face's up to its top: the face
+#: is one surface from its foot to its top, and its real side's edge runs the whole height.
+#: A face in the floor's shade shows no foot step over a shaded or lighter strip at its
+#: side, but above the foot that strip is still the face's colour (within TRIM_RISE_NEAR,
+#: Lab) and stands TRIM_RISE_APART or more from what lies just beyond the side (a strip of
+#: background the side search took in matches what lies beyond it instead). Read in the
+#: face's upper rows as RISES_AS_FACE reads them (a switch for the tests). With the rig
+#: only: under a row merely tried, the strip beside may be any band's (no-rig answers on
+#: fresh and held-out rooms moved both ways with it).
+TRIM_KEEPS_RISING = True
+TRIM_RISE_NEAR = 10.0
+TRIM_RISE_APART = 25.0
 #: Columns either side of the colour's end searched for the strongest vertical edge.
 SNAP_COLUMNS = 3
 #: A foot whose chroma (CIE Lab a, b, 8-bit scale) is within this of the floor's just
@@ -216,8 +228,12 @@ def widen_by_colour(
     chroma: bool = True,
     rises: bool = False,
     foot_above: bool = False,
+    rising_kept: bool = False,
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
+
+    ``rising_kept`` (with the rig): no side comes in over columns that rise as the face's
+    up to its top (TRIM_KEEPS_RISING).
 
     ``foot_above``: the foot found stands above the contact rows the rig predicts; no side
     comes in over columns showing the face's colour at the foot (TRIM_KEEPS_FACE_COLOUR).
@@ -352,6 +368,11 @@ def widen_by_colour(
                     and foot_above
                     and float(np.mean(d_face[cut] <= limit)) >= MAX_TRIM_FACE_SHARE
                 )
+                or (
+                    TRIM_KEEPS_RISING
+                    and rising_kept
+                    and _cut_rises_as_face(image, view, bottom, top, (left, right), side, end)
+                )
             ):
                 new.append(side)
                 continue
@@ -359,6 +380,53 @@ def widen_by_colour(
     if rises:
         return sides_rising(image, view, ax, bottom, top, (left, right), (new[0], new[1]))
     return new[0], new[1]
+
+
+def _cut_rises_as_face(
+    image: npt.NDArray[Any],
+    view: View,
+    bottom: int,
+    top: int,
+    face_cols: tuple[int, int],
+    side: int,
+    end: int,
+) -> bool:
+    """Whether the columns a trim would cut off between ``side`` and ``end`` (where the
+    face's colour along its foot ends) rise as the face's (TRIM_KEEPS_RISING): in the
+    face's upper rows they are the face's colour and unlike what lies just beyond
+    ``side``, so ``side`` is the face's own."""
+    step = 1 if side > end else -1
+    r0 = max(top, 0) + RISE_SKIP
+    r1 = min(r0 + max(2, int(RISE_ROWS_SHARE * (bottom - top))), bottom)
+    width = view.out.shape[1]
+    lo, hi = sorted((end + step, side - step * RISE_SKIP))
+    if step > 0:
+        outer = (side + RISE_SKIP + 1, min(side + RISE_SKIP + 1 + RISE_BAND, width))
+        face = (face_cols[0] + RISE_SKIP, min(end, face_cols[1]) - RISE_SKIP + 1)
+    else:
+        outer = (max(side - RISE_SKIP - RISE_BAND, 0), side - RISE_SKIP)
+        face = (max(end, face_cols[0]) + RISE_SKIP, face_cols[1] - RISE_SKIP + 1)
+    inner = (lo, hi + 1)
+    if r1 <= r0 or min(inner[1] - inner[0], outer[1] - outer[0], face[1] - face[0]) < 1:
+        return False  # nothing to read: the trim stands
+    lab = _lab8(image, view, r0, r1)
+
+    def colour(cols: tuple[int, int]) -> npt.NDArray[Any]:
+        return median_of(lab[:, cols[0] : cols[1]].reshape(-1, 3).astype(np.float32), axis=0)
+
+    inside = colour(inner)
+    to_face = float(norm(inside - colour(face)))
+    to_beyond = float(norm(inside - colour(outer)))
+    rises = to_face <= TRIM_RISE_NEAR and to_beyond >= TRIM_RISE_APART
+    log.debug(
+        "side %d: the columns to %d are %.1f from the face, %.1f from beyond%s",
+        side,
+        end,
+        to_face,
+        to_beyond,
+        ": they rise as the face's, not cut" if rises else "",
+    )
+    return rises
 
 
 def sides_rising(
