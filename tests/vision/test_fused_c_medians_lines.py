@@ -56,6 +56,15 @@ def test_median_of_1d_in_c_is_numpy_s(n: int, monkeypatch: pytest.MonkeyPatch) -
             assert np.array_equal(x, before)  # not sorted in place
 
 
+@pytest.mark.parametrize("n", [4001, 30000, 30001])
+def test_median_of_ordered_inputs_in_c_is_numpy_s(n: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    # inputs a quickselect's pivot handles worst (sorted, reversed, organ pipe, sawtooth,
+    # all equal): select_kth sorts what is left after ~2 log2(n) partitions
+    up = np.arange(n, dtype=np.float32)
+    for x in (up, up[::-1], np.minimum(up, up[::-1]), up % 7, np.zeros(n, np.float32)):
+        assert same(profiles.median_of(x, None), numpy_median_of(x, None, monkeypatch))
+
+
 @pytest.mark.parametrize("shape", [(1, 1), (1, 3), (2, 3), (7, 3), (40, 3), (3, 40), (501, 3)])
 def test_median_of_2d_in_c_is_numpy_s(
     shape: tuple[int, int], monkeypatch: pytest.MonkeyPatch

@@ -14,14 +14,16 @@ same face 8 % taller, 7 % off: not grown enough to move.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import region
-from obstacle_fusion.vision.measure import Measurement, Measurer
+from obstacle_fusion.vision.measure import Measurement, Measurer, Timer
 
 from tests.vision_fixtures import room_size_errors
 
@@ -88,3 +90,34 @@ def test_a_stream_rests_after_rows_that_found_nothing(monkeypatch: pytest.Monkey
     for _ in range(measure.SWEEP_REST_FRAMES + 2):
         assert measurer.measure(image, truth["range_m"]).detected
     assert len(calls) == 2  # the first frame and the one after the rest
+
+
+def test_an_under_foot_read_rests_alone(monkeypatch: pytest.MonkeyPatch) -> None:
+    # an unsure face that is not small has only the rows under its foot read; their finding
+    # nothing says nothing of the rows above, so the whole read after a miss is not rested
+    below_read: list[float] = []
+
+    def nothing(self: Measurer, fused: Any, image: Any, range_m: float, timer: Any,
+                below: float = -math.inf) -> Measurement | None:  # fmt: skip
+        below_read.append(below)
+        return None
+
+    monkeypatch.setattr(Measurer, "_known_rig_rows", nothing)
+    cam = CameraModel.paper(500, 375)
+    measurer = Measurer(cam, None)
+    blank = np.full((375, 500, 3), 128, np.uint8)
+    unsure = Measurement(
+        detected=True, method="fused", range_m=1.0, box_px=(190.0, 70.0, 310.0, 220.0),
+        confidence=0.1, height_px=150.0, width_px=120.0,
+    )  # fmt: skip
+    fused = measurer._method_for(500, 375)
+    for _ in range(2):  # the second frame rests: the under-foot read is not repeated
+        assert measurer._grown_small_face(fused, unsure, blank, 1.0, Timer()) is unsure
+    assert below_read == [220.0 - measure.UNDER_ROWS_SLACK_PX]
+    assert not measurer.measure(blank, 1.0).detected  # a miss: every row is read at once
+    assert below_read[1:] == [-math.inf]
+    for _ in range(measure.SWEEP_REST_FRAMES):  # ... and then rests on its own counter
+        measurer.measure(blank, 1.0)
+    assert below_read[1:] == [-math.inf]
+    measurer.measure(blank, 1.0)
+    assert below_read[1:] == [-math.inf, -math.inf]

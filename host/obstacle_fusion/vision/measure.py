@@ -143,6 +143,7 @@ class Measurer:
         self._last_pitch_doubts: list[str] = []
         self._sweep_rest = 0  # frames still to go without the last-resort pitch sweep
         self._known_rest = 0  # ... and without the rows read as with a rig (KNOWN_RIG_ROWS)
+        self._under_rest = 0  # ... and without those rows read under an unsure face only
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
 
@@ -1317,9 +1318,11 @@ class Measurer:
         at least GROWN_SURE, covers ``found``'s middle column and is GROWN_FACTOR times as
         high or as wide (the same face read again, a few rows off, is no reason to move);
         else ``found``. A face the rows read wholly under ``found``'s foot (SMALL_FACE_UNDER)
-        is taken too, for any unsure face (UNDER_ANY_UNSURE), small or not. In a stream,
-        rows that gave no face taken rest for the next SWEEP_REST_FRAMES frames that would
-        read them (up to ~130 rig readings a frame)."""
+        needs only UNDER_SURE: a small face is then still taken only when it grows as
+        above; an unsure face that is not small (UNDER_ANY_UNSURE) has only the rows under
+        its foot read and gives way to such a face alone. In a stream, rows that gave no
+        face taken rest for the next SWEEP_REST_FRAMES frames that would read them (up to
+        ~130 rig readings a frame); the under-foot read rests on its own counter."""
         sure, applied = reported_confidence(
             found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
         )
@@ -1328,15 +1331,17 @@ class Measurer:
             return found
         if not small and not (SMALL_FACE_UNDER and UNDER_ANY_UNSURE):
             return found
-        if self._known_rest > 0:  # in a stream, as after a miss whose rows found nothing
-            self._known_rest -= 1
+        # a read of only the rows under an unsure face rests on its own counter: it read
+        # no row above that foot, so it says nothing of the rows a miss would read
+        if (self._known_rest if small else self._under_rest) > 0:
+            self._count_rest(small)  # in a stream, as after a miss whose rows found nothing
             return found
         # an unsure face that is not small is only looked under: the rows below its foot
         # (the rows are the level view's, the box the input image's: UNDER_ROWS_SLACK_PX)
         below = -math.inf if small else found.box_px[3] - UNDER_ROWS_SLACK_PX
         grown = self._known_rig_rows(fused, image, range_m, timer, below)
         if grown is None or grown.box_px is None:
-            self._known_rest = SWEEP_REST_FRAMES
+            self._start_rest(small)
             return found
         x0, _, x1, y1 = found.box_px
         g0, gy0, g1, _ = grown.box_px
@@ -1354,7 +1359,7 @@ class Measurer:
             and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
         )
         if (grown.confidence or 0.0) < GROWN_SURE and not under:
-            self._known_rest = SWEEP_REST_FRAMES
+            self._start_rest(small)
             return found
         taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
         wider = (grown.width_px or 0.0) >= GROWN_FACTOR * (found.width_px or 0.0)
@@ -1372,8 +1377,22 @@ class Measurer:
         )
         if taken:
             return grown
-        self._known_rest = SWEEP_REST_FRAMES
+        self._start_rest(small)
         return found
+
+    def _start_rest(self, every_row: bool) -> None:
+        """Rows read as with a rig gave no face taken: rest them SWEEP_REST_FRAMES frames
+        (all of them after a whole read, only the under-face read after a partial one)."""
+        if every_row:
+            self._known_rest = SWEEP_REST_FRAMES
+        else:
+            self._under_rest = SWEEP_REST_FRAMES
+
+    def _count_rest(self, every_row: bool) -> None:
+        if every_row:
+            self._known_rest -= 1
+        else:
+            self._under_rest -= 1
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:

@@ -126,7 +126,8 @@ def _lines_on_rows(
     ay: npt.NDArray[np.float32], r0: int, r1: int, noise: float
 ) -> npt.NDArray[np.bool_]:
     """:func:`_line_on_row` for the rows r0..r1-1 at once (row r at r - r0), every row at
-    least LINE_SIDE_ROWS[1] from the array's top and bottom."""
+    least LINE_SIDE_ROWS[1] from the array's top and bottom. ``ay`` holds no NaN (Sobel
+    magnitudes of an 8-bit image): the C path's maximum drops a NaN, numpy's keeps it."""
     a, b = LINE_SIDE_ROWS
     n = r1 - r0
     x = np.asarray(ay[r0 - b : r1 + b], np.float32)  # row r at r - r0 + b

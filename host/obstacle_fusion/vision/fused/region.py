@@ -123,9 +123,12 @@ MAX_TRIM_FACE_SHARE = 0.7
 #: side, but above the foot that strip is still the face's colour (within TRIM_RISE_NEAR,
 #: Lab) and stands TRIM_RISE_APART or more from what lies just beyond the side (a strip of
 #: background the side search took in matches what lies beyond it instead). Read in the
-#: face's upper rows as RISES_AS_FACE reads them (a switch for the tests). With the rig
-#: only: under a row merely tried, the strip beside may be any band's (no-rig answers on
-#: fresh and held-out rooms moved both ways with it).
+#: face's upper rows as RISES_AS_FACE reads them (a switch for the tests). Wherever a rig
+#: is known: one given, and also the rig a no-rig reading guesses for a row and builds the
+#: face with (measure's rows read as with a rig; FusedMethod.rig_guessed is not checked,
+#: and e.g. photo 733 ordinary with no rig leans on it); not in the no-rig trials under a
+#: row merely tried, where the strip beside may be any band's (no-rig answers on fresh and
+#: held-out rooms moved both ways with it there).
 TRIM_KEEPS_RISING = True
 TRIM_RISE_NEAR = 10.0
 TRIM_RISE_APART = 25.0
@@ -232,8 +235,8 @@ def widen_by_colour(
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
 
-    ``rising_kept`` (with the rig): no side comes in over columns that rise as the face's
-    up to its top (TRIM_KEEPS_RISING).
+    ``rising_kept`` (a rig known, given or guessed for a row): no side comes in over
+    columns that rise as the face's up to its top (TRIM_KEEPS_RISING).
 
     ``foot_above``: the foot found stands above the contact rows the rig predicts; no side
     comes in over columns showing the face's colour at the foot (TRIM_KEEPS_FACE_COLOUR).
