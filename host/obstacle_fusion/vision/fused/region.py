@@ -385,6 +385,24 @@ def widen_by_colour(
     return new[0], new[1]
 
 
+def _upper_rows_colours(
+    image: npt.NDArray[Any],
+    view: View,
+    bottom: int,
+    top: int,
+    bands: tuple[tuple[int, int], ...],
+) -> list[npt.NDArray[Any]] | None:
+    """The median Lab colour of each band of columns (first, end) in the face's upper rows
+    (RISE_SKIP under its top, RISE_ROWS_SHARE of its height), where a strip beside a side
+    shows whether it rises as the face's; None when the rows or a band are empty."""
+    r0 = max(top, 0) + RISE_SKIP
+    r1 = min(r0 + max(2, int(RISE_ROWS_SHARE * (bottom - top))), bottom)
+    if r1 <= r0 or min(b1 - b0 for b0, b1 in bands) < 1:
+        return None
+    lab = _lab8(image, view, r0, r1)
+    return [median_of(lab[:, b0:b1].reshape(-1, 3).astype(np.float32), axis=0) for b0, b1 in bands]
+
+
 def _cut_rises_as_face(
     image: npt.NDArray[Any],
     view: View,
@@ -399,8 +417,6 @@ def _cut_rises_as_face(
     face's upper rows they are the face's colour and unlike what lies just beyond
     ``side``, so ``side`` is the face's own."""
     step = 1 if side > end else -1
-    r0 = max(top, 0) + RISE_SKIP
-    r1 = min(r0 + max(2, int(RISE_ROWS_SHARE * (bottom - top))), bottom)
     width = view.out.shape[1]
     lo, hi = sorted((end + step, side - step * RISE_SKIP))
     if step > 0:
@@ -409,17 +425,12 @@ def _cut_rises_as_face(
     else:
         outer = (max(side - RISE_SKIP - RISE_BAND, 0), side - RISE_SKIP)
         face = (max(end, face_cols[0]) + RISE_SKIP, face_cols[1] - RISE_SKIP + 1)
-    inner = (lo, hi + 1)
-    if r1 <= r0 or min(inner[1] - inner[0], outer[1] - outer[0], face[1] - face[0]) < 1:
+    colours = _upper_rows_colours(image, view, bottom, top, ((lo, hi + 1), face, outer))
+    if colours is None:
         return False  # nothing to read: the trim stands
-    lab = _lab8(image, view, r0, r1)
-
-    def colour(cols: tuple[int, int]) -> npt.NDArray[Any]:
-        return median_of(lab[:, cols[0] : cols[1]].reshape(-1, 3).astype(np.float32), axis=0)
-
-    inside = colour(inner)
-    to_face = float(norm(inside - colour(face)))
-    to_beyond = float(norm(inside - colour(outer)))
+    inside, face_colour, beyond = colours
+    to_face = float(norm(inside - face_colour))
+    to_beyond = float(norm(inside - beyond))
     rises = to_face <= TRIM_RISE_NEAR and to_beyond >= TRIM_RISE_APART
     log.debug(
         "side %d: the columns to %d are %.1f from the face, %.1f from beyond%s",
@@ -499,8 +510,6 @@ def _rises_as_face(
     face's upper rows the columns just inside it are the face's colour (the face between
     ``face_cols`` there) or differ from what lies just beyond it. A shadow's or a floor
     patch's edge at the foot has the background beside and above it alike up there."""
-    r0 = max(top, 0) + RISE_SKIP
-    r1 = min(r0 + max(2, int(RISE_ROWS_SHARE * (bottom - top))), bottom)
     width = view.out.shape[1]
     if step > 0:
         inner = (max(column - RISE_SKIP - RISE_BAND, face_cols[1]), column - RISE_SKIP)
@@ -509,16 +518,12 @@ def _rises_as_face(
         inner = (column + RISE_SKIP + 1, min(column + RISE_SKIP + 1 + RISE_BAND, face_cols[0] + 1))
         outer = (max(column - RISE_SKIP - RISE_BAND, 0), column - RISE_SKIP)
     face = (face_cols[0] + RISE_SKIP, face_cols[1] - RISE_SKIP + 1)
-    if r1 <= r0 or min(inner[1] - inner[0], outer[1] - outer[0], face[1] - face[0]) < 1:
+    colours = _upper_rows_colours(image, view, bottom, top, (inner, outer, face))
+    if colours is None:
         return True  # nothing to read: the walk's side stands
-    lab = _lab8(image, view, r0, r1)
-
-    def colour(cols: tuple[int, int]) -> npt.NDArray[Any]:
-        return median_of(lab[:, cols[0] : cols[1]].reshape(-1, 3).astype(np.float32), axis=0)
-
-    inside = colour(inner)
-    like_beyond = float(norm(inside - colour(outer))) <= RISE_NEAR
-    unlike_face = float(norm(inside - colour(face))) >= RISE_FACE_APART
+    inside, beyond, face_colour = colours
+    like_beyond = float(norm(inside - beyond)) <= RISE_NEAR
+    unlike_face = float(norm(inside - face_colour)) >= RISE_FACE_APART
     if not (like_beyond and unlike_face):
         return True
     # the strip's foot (just above the contact row) against the floor just below it
