@@ -387,13 +387,6 @@ FOOT_TRIAL_MIN_CONFIDENCE = 0.15
 #: snapping); a colour face lower than the edges' top is a box in front of an outline of
 #: what stands behind it.
 RESCUE_TAKES_EDGE_SIDES = True
-#: The colour rescue seeks the front top edge under a top face (:func:`.top.front_top`)
-#: in a no-rig trial that allows for a lens looking down more than the guessed pitch
-#: (``View.horizon_slack_px``), as it does with the floor row known: that allowance is
-#: the horizon the search lacked, and the top the colour found is otherwise the top face's
-#: back edge (photo 2061 hard, a tape face +11 -> +1 %; photo 701 hard, a poster face
-#: +22 -> -4 %). Session 40, branch ``wt-c-40``; a switch for the tests.
-SLACK_RESCUE_FRONT = True
 RESCUE_SIDES_SLACK = SNAP_COLUMNS
 RESCUE_SAME_TOP_ROWS = 2
 #: With the rig, the top as settled is lowered to where the face's own surface begins
@@ -706,9 +699,8 @@ class FusedMethod:
             # a box below the lens shows its top face: the colour's top may be that face's
             # back edge, its sides the top face's receding edges; the front top edge under
             # it is the face's top when the rows between differ in colour from the front
-            # (with the rig, or in a trial allowing for a lens looking down more than
-            # guessed: under a row merely tried at a guessed pitch, the horizon is a guess)
-            if floor_known or (SLACK_RESCUE_FRONT and v.horizon_slack_px > 0.0):
+            # (with the rig only: under a row merely tried, the horizon is a guess)
+            if floor_known:
                 front, front_sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
                 log.debug("rescue: top %d, front top %d", vt, front)
                 if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur, pattern=True):
