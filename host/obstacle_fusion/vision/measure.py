@@ -620,7 +620,20 @@ class Measurer:
                     floor_known,
                     unread_slack,
                 )
-                if again.detected and (
+                moved = _top_moved(best.box_px, again.box_px)
+                if again.detected and moved is not None:
+                    # the same face, its top moved: the allowance shows a top face above
+                    # the front, whose front edge is lower; it makes no face taller.
+                    # Lowered, the front edge under the top face the guessed horizon hid,
+                    # however sure (the band cuts the top edge's evidence); raised, a line
+                    # above the face taken in (UNREAD_TOP_FACE_LOWERS)
+                    if UNREAD_TOP_FACE_LOWERS:
+                        if moved < 0.0:
+                            log.debug("no rig: the pitch allowed lowers the top %.1f rows", -moved)
+                            best = again
+                    elif _doubted(again) >= _doubted(best) - UNREAD_PITCH_CONFIDENCE_MARGIN:
+                        best = again
+                elif again.detected and (
                     _doubted(again) >= _doubted(best) - UNREAD_PITCH_CONFIDENCE_MARGIN
                 ):
                     best = again
@@ -1747,6 +1760,20 @@ UNREAD_PITCH_DOWN_DEG = 5.0
 #: ... and the face measured allowing for it is kept unless its confidence (doubts
 #: applied) is lower by more than this.
 UNREAD_PITCH_CONFIDENCE_MARGIN = 0.05
+#: ... but where that face is the guessed pitch's face with its top moved (:func:`_top_moved`):
+#: the allowance shows a top face above the guessed horizon, whose front edge lies under
+#: its back edge, so the face lowered to it is taken however its confidence compares (the
+#: band over the front cuts the top edge's evidence: procedural 147 hard, 0.78 -> 0.61,
+#: +15 -> +1 %; photo 742 hard, 0.41 -> 0.07, +28 -> +3 %), and a face it raised is not
+#: (nothing a steeper pitch changes makes the front taller: procedural 752 hard, raised
+#: 5 rows to a line above the top, +4 -> +22 %). Session 40, branch ``wt-c-40``; a switch
+#: for the tests.
+UNREAD_TOP_FACE_LOWERS = True
+#: ... one face: each side within this many columns of the other's (feet within
+#: ROW_JITTER_PX) ...
+TOP_FACE_SIDES_PX = 3.0
+#: ... its top moved by more than this many rows (a top's sub-pixel fit moves by a pixel).
+TOP_FACE_MOVE_PX = 1.5
 
 #: With no rig, a face whose columns leave the beam's axis out gives way to the surest sure
 #: trial's face covering it (:meth:`Measurer._on_axis_trial`): the sonar ranges what its
@@ -2066,6 +2093,22 @@ def _taller(
     if box is None or level is None:
         return False
     return box[3] - box[1] > SWEPT_MAX_GROWTH * (level[3] - level[1])
+
+
+def _top_moved(
+    box: tuple[float, float, float, float] | None,
+    again: tuple[float, float, float, float] | None,
+) -> float | None:
+    """How many rows ``again``'s top lies above ``box``'s (negative: below) when the two
+    boxes (input pixels) are one face with its top moved: feet within ROW_JITTER_PX rows,
+    each side within TOP_FACE_SIDES_PX columns, the top more than TOP_FACE_MOVE_PX rows
+    off; else None."""
+    if box is None or again is None or abs(box[3] - again[3]) > ROW_JITTER_PX:
+        return None
+    if abs(box[0] - again[0]) > TOP_FACE_SIDES_PX or abs(box[2] - again[2]) > TOP_FACE_SIDES_PX:
+        return None
+    moved = box[1] - again[1]
+    return moved if abs(moved) > TOP_FACE_MOVE_PX else None
 
 
 def _small(found: Measurement) -> bool:
