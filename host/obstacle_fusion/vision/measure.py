@@ -1128,14 +1128,7 @@ class Measurer:
         timer.lap("rig_again")
         if not again.detected or again.box_px is None:
             return found
-        x0, y0, x1, y1 = found.box_px
-        a0, b0, a1, b1 = again.box_px
-        overlap = min(x1, a1) - max(x0, a0)
-        on_found = (
-            abs(b1 - y1) <= AGAIN_FOOT_ROWS
-            and overlap >= AGAIN_SIDES_SHARE * min(x1 - x0, a1 - a0)
-            and not AGAIN_SIDES_DOUBTED.intersection(again.doubts).difference(found.doubts)
-        )
+        on_found = _on_found(found, again)
         same = (
             on_found
             and (again.confidence or 0.0) >= (found.confidence or 0.0)
@@ -2060,6 +2053,22 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
         and overlap >= LOWER_FOOT_SIDES_SHARE * min(x1 - x0, g1 - g0)
         and (grown.confidence or 0.0) >= UNDER_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
+def _on_found(found: Measurement, again: Measurement) -> bool:
+    """Whether a second reading ``again`` stands on ``found``'s foot (within AGAIN_FOOT_ROWS)
+    between its sides (overlapping the narrower by AGAIN_SIDES_SHARE), doubting its sides
+    no more than ``found`` (AGAIN_SIDES_DOUBTED): the same face, its top aside."""
+    if found.box_px is None or again.box_px is None:
+        return False
+    x0, _, x1, y1 = found.box_px
+    a0, _, a1, b1 = again.box_px
+    overlap = min(x1, a1) - max(x0, a0)
+    return (
+        abs(b1 - y1) <= AGAIN_FOOT_ROWS
+        and overlap >= AGAIN_SIDES_SHARE * min(x1 - x0, a1 - a0)
+        and not AGAIN_SIDES_DOUBTED.intersection(again.doubts).difference(found.doubts)
     )
 
 
