@@ -40,6 +40,7 @@ from obstacle_fusion.vision.fused.confidence import (
     SKEWED_EDGES,
     SMALL_FACE,
     TOP_BAND_UNLIKE_FACE,
+    TOP_FROM_SIDES,
     TOP_RUNS_ON,
     TRIAL_RIVAL,
     UNEVEN_SIDES,
@@ -1140,16 +1141,14 @@ class Measurer:
         timer.lap("rig_again")
         if not again.detected or again.box_px is None:
             return found
-        x0, y0, x1, y1 = found.box_px
-        a0, b0, a1, b1 = again.box_px
-        overlap = min(x1, a1) - max(x0, a0)
+        on_found = _on_found(found, again)
         same = (
-            abs(b1 - y1) <= AGAIN_FOOT_ROWS
-            and overlap >= AGAIN_SIDES_SHARE * min(x1 - x0, a1 - a0)
+            on_found
             and (again.confidence or 0.0) >= (found.confidence or 0.0)
             and (again.height_px or 0.0) >= AGAIN_TALLER * (found.height_px or 0.0)
-            and not AGAIN_SIDES_DOUBTED.intersection(again.doubts).difference(found.doubts)
         )
+        if AGAIN_ABOVE_LENS and on_found and not same:
+            same = _top_above_lens(found, again)
         log.debug(
             "no rig, the estimated rig as known: %s box %s at %.3f (found %s at %.3f): %s",
             again.detected,
@@ -1371,7 +1370,12 @@ class Measurer:
             and (grown.confidence or 0.0) >= UNDER_SURE
             and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
         )
-        if (grown.confidence or 0.0) < GROWN_SURE and not under:
+        # a face whose own outline finds its foot off the floor (FOOT_OFF_FLOOR: a print's
+        # lower edge, a band or a shadow's edge taken for the contact) stood on no floor:
+        # the rows' face on the same columns and top with its foot lower, on the floor,
+        # is that face down to its contact (_foot_moves_down)
+        lower = FOOT_OFF_FLOOR_LOWER and _foot_moves_down(found, grown)
+        if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower):
             self._start_rest(small)
             return found
         taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
@@ -1379,6 +1383,7 @@ class Measurer:
         taken = g0 <= (x0 + x1) / 2.0 <= g1 and (taller or wider)  # covers it, and grows
         if not small:  # only the face under it
             taken = under
+        taken = taken or lower
         log.debug(
             "no rig, %s face %s at %.3f; rows as with a rig: %s at %.3f: %s",
             "small" if small else "unsure",
@@ -1529,6 +1534,13 @@ UNDER_ANY_UNSURE = True
 #: under the foot stands on a row lower by its height): on 20 of own's unsure answers
 #: that are not small, all rows read doubled the frame's time.
 UNDER_ROWS_SLACK_PX = 6.0
+#: ... and an unsure face whose outline finds its foot off the floor (FOOT_OFF_FLOOR) gives
+#: way to the rows' face on its columns and top with its foot lower (:func:`_foot_moves_down`):
+#: the face carried down to its floor contact. Session 40, branch ``wt-a-40``; a switch
+#: for the tests.
+FOOT_OFF_FLOOR_LOWER = True
+#: ... the two faces' columns overlapping by at least this share of the narrower.
+LOWER_FOOT_SIDES_SHARE = 0.8
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -1554,6 +1566,18 @@ AGAIN_TALLER = 1.3
 #: hard, a tape face 22 px high, read 36 % taller with both side doubts new, 1.7 -> 37 %
 #: off; set reading that fresh room: the fresh figure is not independent of it).
 AGAIN_SIDES_DOUBTED = frozenset({UNEVEN_SIDES, SKEWED_EDGES})
+#: ... or, whatever the confidences and under AGAIN_TALLER, where the found face's top is
+#: in doubt (TOP_DOUBTS) and stands above the lens the search estimated
+#: (:func:`_top_above_lens`): a face taller than the lens shows no top face, so a reading
+#: reaching higher on the same foot and sides found the face's own top, the found top a
+#: print's upper edge inside it. The top faces that set AGAIN_TALLER (procedural 108, 734,
+#: photo 736 ordinary) all belong to faces lower than the lens. Session 40, branch
+#: ``wt-a-40``; a switch for the tests.
+AGAIN_ABOVE_LENS = True
+#: ... the doubts that put the found top in question ...
+TOP_DOUBTS = frozenset({TOP_FROM_SIDES, SECOND_TOP})
+#: ... and how many times as high the reading must be (a row or two is the same top).
+AGAIN_ABOVE_LENS_TALLER = 1.05
 #: With the rig, a frame where neither the face-floor channel nor luminance gives a face is
 #: tried once more on a channel turned towards the face's colour against the background
 #: beside it (:func:`~obstacle_fusion.vision.fused.channel.face_background_grey`; session
@@ -2034,6 +2058,63 @@ def _holds(
         and box[1] <= part[1] + margin
         and box[2] >= part[2] - margin
         and box[3] >= part[3] - margin
+    )
+
+
+def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig: its readings agree on one face
+    standing on its foot, none doubting it) is ``found`` carried down to its floor contact:
+    ``found``'s outline doubts its foot (FOOT_OFF_FLOOR), ``grown``'s foot lies more than
+    ROW_JITTER_PX rows lower, its top no more than that under ``found``'s, its columns
+    span LOWER_FOOT_SIDES_SHARE of the narrower face, it is at least UNDER_SURE and its
+    lens at most UNDER_MAX_CAMERA_HEIGHT_M up. A face's sides run down to the floor: a
+    foot found off the floor is a line on the face (a print's lower edge, a band)."""
+    if FOOT_OFF_FLOOR not in found.doubts or found.box_px is None or grown.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    g0, gy0, g1, gy1 = grown.box_px
+    overlap = min(x1, g1) - max(x0, g0)
+    return (
+        gy1 - y1 > ROW_JITTER_PX
+        and gy0 - y0 <= ROW_JITTER_PX
+        and overlap >= LOWER_FOOT_SIDES_SHARE * min(x1 - x0, g1 - g0)
+        and (grown.confidence or 0.0) >= UNDER_SURE
+        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
+def _on_found(found: Measurement, again: Measurement) -> bool:
+    """Whether a second reading ``again`` stands on ``found``'s foot (within AGAIN_FOOT_ROWS)
+    between its sides (overlapping the narrower by AGAIN_SIDES_SHARE), doubting its sides
+    no more than ``found`` (AGAIN_SIDES_DOUBTED): the same face, its top aside."""
+    if found.box_px is None or again.box_px is None:
+        return False
+    x0, _, x1, y1 = found.box_px
+    a0, _, a1, b1 = again.box_px
+    overlap = min(x1, a1) - max(x0, a0)
+    return (
+        abs(b1 - y1) <= AGAIN_FOOT_ROWS
+        and overlap >= AGAIN_SIDES_SHARE * min(x1 - x0, a1 - a0)
+        and not AGAIN_SIDES_DOUBTED.intersection(again.doubts).difference(found.doubts)
+    )
+
+
+def _top_above_lens(found: Measurement, again: Measurement) -> bool:
+    """Whether ``again`` (the found face read once more with its estimated rig taken as
+    known, on its foot and between its sides) is the face whose top ``found`` cut short:
+    ``found``'s top is in doubt (TOP_DOUBTS: another edge under it, or the top put where
+    the sides end), it stands higher than the lens the search estimated (a face taller
+    than the lens shows no top face, so nothing above its front top edge is a top face's
+    back edge), and ``again`` reaches at least AGAIN_ABOVE_LENS_TALLER times as high. The
+    band between the two tops is then the face's own (a print's margin above the print),
+    whatever the two readings' confidences: a face of the box's own colour round a
+    print is as sure read whole as cut at the print's upper edge."""
+    lens = found.camera_height_m
+    return (
+        bool(TOP_DOUBTS.intersection(found.doubts))
+        and lens is not None
+        and (found.height_m or 0.0) > lens
+        and (again.height_px or 0.0) >= AGAIN_ABOVE_LENS_TALLER * (found.height_px or 0.0)
     )
 
 
