@@ -940,6 +940,7 @@ class FusedMethod:
             depth,
             foot_above=floor_known and vb0 - rb > FOOT_ABOVE_SHARE * tol,
             rising_kept=rig_known,
+            outline_past=rig_known,
         )
 
         def finish(

@@ -232,8 +232,12 @@ def widen_by_colour(
     rises: bool = False,
     foot_above: bool = False,
     rising_kept: bool = False,
+    outline_past: bool = False,
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
+
+    ``outline_past`` (the rig given: the contact row known): a side the colour run moved
+    out moves on along the face's outline (OUTLINE_PAST_COLOUR).
 
     ``rising_kept`` (a rig known, given or guessed for a row): no side comes in over
     columns that rise as the face's up to its top (TRIM_KEEPS_RISING).
@@ -320,7 +324,8 @@ def widen_by_colour(
             if outwards
             else side
         )
-        if outwards and (end - side) * step <= min_move:
+        coloured = (end - side) * step > min_move  # the colour run moved the side
+        if outwards and (not coloured or (outline_past and OUTLINE_PAST_COLOUR)):
             # a face of several colours (planks, tape, a print) ends its colour run at
             # the first change; its outline runs on: a foot on the floor and a top
             # against what is behind, where beside the face there is neither
@@ -351,10 +356,19 @@ def widen_by_colour(
                 moved = _snap_side(ax, top, bottom, end_outline)
                 # ... and there the face has a side as clear as the one it ran on from
                 need = _snap_side(ax, top, bottom, side)[1]
-                if moved[1] >= OUTLINE_SIDE_SHARE * need or (
+                grey_side = moved[1] >= OUTLINE_SIDE_SHARE * need or (
                     moved[1] >= OUTLINE_WEAK_SIDE_SHARE * need
                     and _stands_up(ax, top, bottom, moved[0])
+                )
+                if not coloured:
+                    if grey_side:
+                        end = end_outline
+                elif (end_outline - end) * step > 0 and (
+                    (grey_side and _stands_on_foot(ax, top, bottom, moved[0]))
+                    or (OUTLINE_COLOUR_SIDE and _colour_stands(image, view, top, bottom, moved[0]))
                 ):
+                    # past the colour run, to a side standing on the contact row (what
+                    # stands farther back beside the face ends higher up)
                     end = end_outline
         if (end - side) * step <= min_move:
             # not wider: narrower when the face's colour ends well inside the side (the
@@ -956,6 +970,47 @@ MIN_BESIDE_STEP = 12.0
 MIN_TOP_DISTANCE = 6.0
 #: Rows either side of the colour's end searched for the strongest horizontal edge.
 SNAP_ROWS = 3
+
+
+#: With the rig, the outline (a foot that stands out from the floor, a top against what is
+#: behind) carries a side on past where the face's colour run moved it (session 40): that
+#: run ends at the first plank or panel of another colour, the outline at the face's side
+#: (photo/2060 ordinary: -24 -> +1 %). Only out, and only to a side that stands on the
+#: contact row (what stands farther back beside the face, its foot higher up, does not:
+#: procedural/102 hard, a box behind a seam face, 2.2 -> 129 % without) (a switch).
+OUTLINE_PAST_COLOUR = True
+#: ... to a side whose grey edge is as clear as OUTLINE_SIDE_SHARE asks, or (a switch) a
+#: side that parts two colours (:func:`_colour_side`) over the face's rows and its foot's:
+#: a grey plank before a green wall of its lightness has no grey edge to speak of.
+OUTLINE_COLOUR_SIDE = True
+#: A column parts two colours where the mean Lab of the COLOUR_SIDE_STRIP columns just
+#: inside and just outside it (its blur, COLOUR_SIDE_SKIP columns either side, left out)
+#: differ by MIN_BESIDE_STEP over COLOUR_SIDE_ROWS of the rows read.
+COLOUR_SIDE_STRIP = 3
+COLOUR_SIDE_SKIP = 2
+COLOUR_SIDE_ROWS = 0.8
+
+
+def _colour_side(image: npt.NDArray[Any], view: View, r0: int, r1: int, column: int) -> bool:
+    """Whether ``column`` parts two colours over COLOUR_SIDE_ROWS of the rows r0..r1-1
+    (see COLOUR_SIDE_STRIP)."""
+    reach = COLOUR_SIDE_SKIP + COLOUR_SIDE_STRIP
+    c0, c1 = column - reach, column + reach + 1
+    if c0 < 0 or c1 > view.out.shape[1] or r0 < 0 or r1 - r0 < 3:
+        return False
+    block = _lab8(image, view, r0, r1, c0, c1).astype(np.float32)
+    inner = block[:, :COLOUR_SIDE_STRIP].mean(axis=1)
+    outer = block[:, -COLOUR_SIDE_STRIP:].mean(axis=1)
+    return share(row_norms(inner - outer) >= MIN_BESIDE_STEP) >= COLOUR_SIDE_ROWS
+
+
+def _colour_stands(image: npt.NDArray[Any], view: View, top: int, bottom: int, column: int) -> bool:
+    """Whether ``column`` parts two colours (:func:`_colour_side`) over the face's rows
+    and over its foot's (the FOOT_ROWS rows EDGE_SKIP over the contact row ``bottom``)."""
+    foot = bottom - EDGE_SKIP
+    return _colour_side(image, view, top + 1, bottom, column) and _colour_side(
+        image, view, foot - FOOT_ROWS, foot, column
+    )
 
 
 #: A face running off the view's side (nothing beside one side to read) has its top
