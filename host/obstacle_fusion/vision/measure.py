@@ -1578,8 +1578,9 @@ class Measurer:
 #: the tests.
 RIG_CHECKED_BY_SEARCH = True
 #: ... the search without the rows read as with a rig (`_grown_small_face`,
-#: `_known_rig_rows`): with them a checked frame took 1.1-1.3 s instead of 0.15 s, for
-#: one own answer more (procedural 108 hard, 33 -> 3.1 %) ...
+#: `_known_rig_rows`): with them a checked frame took twice as long (20 own frames:
+#: 0.76-0.80 s instead of 0.36-0.38 s, loaded machine), for one own answer more
+#: (procedural 108 hard, 33 -> 3.1 %) ...
 CHECK_READS_ROWS = False
 #: ... a rig face reported under this (its doubts applied, unfloored) is checked ...
 CHECK_CONFIDENCE = 0.1
