@@ -1444,7 +1444,8 @@ class Measurer:
     ) -> Measurement:
         """With the rig, a miss or an unsure face (reported under CHECK_CONFIDENCE, its
         doubts applied, unfloored) checked by the no-rig search (:meth:`_search_floor`,
-        the rig's sonar mounting kept, its camera height and pitch sought in the image):
+        the rig's sonar mounting kept, its camera height and pitch sought in the image,
+        the rows read as with a rig only with CHECK_READS_ROWS):
         the search's face is taken where its foot stands near the floor-contact row the
         rig predicts at the sonar's depth (:func:`_foot_off_rig_row` within
         CHECK_FOOT_SHARE; a face on another row is some other surface), it is a plausible
@@ -1454,8 +1455,9 @@ class Measurer:
         The rig's search keeps a few side columns per floor-contact row, ranked by
         strength (a narrow face beside a stronger edge loses its side: photo 2078); the
         no-rig search reads each contact row of the image, and a face it finds standing
-        on the rig's row is one more reading of the surface the range measured. The rig
-        path is then never worse than guessing where guessing finds such a face."""
+        on the rig's row is one more reading of the surface the range measured: where
+        guessing finds such a face and the rig's path does not, the rig's path answers
+        with it."""
         if result.detected:
             sure, _ = reported_confidence(
                 result.confidence or 0.0,
