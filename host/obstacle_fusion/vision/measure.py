@@ -58,7 +58,13 @@ from obstacle_fusion.vision.fused.floor_contact import (
     sides_run_up,
     weak_contact_rows,
 )
-from obstacle_fusion.vision.fused.method import stands_for_strip, thin_strip
+from obstacle_fusion.vision.fused.method import (
+    RAISED_FACE_MAX_M,
+    contact_band,
+    stands_for_strip,
+    thin_strip,
+)
+from obstacle_fusion.vision.fused.tuning import MIN_SIZE_M
 from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
@@ -67,7 +73,7 @@ from obstacle_fusion.vision.pitch import (
     refit_side,
 )
 from obstacle_fusion.vision.rig import Rig, check_range
-from obstacle_fusion.vision.types import Line, Measurement, Method, Timer, View
+from obstacle_fusion.vision.types import Box, Line, Measurement, Method, Timer, View
 
 log = logging.getLogger(__name__)
 
@@ -147,6 +153,8 @@ class Measurer:
         self._under_rest = 0  # ... and without those rows read under an unsure face only
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
+        # with a rig: the no-rig search that checks an unsure face (RIG_CHECKED_BY_SEARCH)
+        self._searcher: Measurer | None = None
 
     def _method_for(self, width: int, height: int) -> Method:
         key = (width, height)
@@ -1412,6 +1420,128 @@ class Measurer:
         else:
             self._under_rest -= 1
 
+    def _search_floor(
+        self,
+        impl: Method,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+        rows: bool = True,
+    ) -> Measurement:
+        """With no rig: the floor-contact rows sought in the image (:meth:`_run_estimated`),
+        then an unsure face read as with its estimated rig, and (``rows``) a small or
+        unsure one grown and a miss read on every row as with a rig (confidence as the
+        method decided, unreported)."""
+        result = self._run_estimated(impl, image, range_m, timer)
+        if ESTIMATED_RIG_AGAIN and result.detected:
+            result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
+        if not rows:
+            return result
+        if SMALL_FACE_GROWN and result.detected:
+            result = self._grown_small_face(cast(FusedMethod, impl), result, image, range_m, timer)
+        if KNOWN_RIG_ROWS and not result.detected:
+            # (in a stream where they gave nothing, here or for a small face, the next
+            # SWEEP_REST_FRAMES frames that would read them go without: up to ~130 rig
+            # readings a frame)
+            if self._known_rest > 0:
+                self._known_rest -= 1
+            else:
+                found = self._known_rig_rows(cast(FusedMethod, impl), image, range_m, timer)
+                self._known_rest = SWEEP_REST_FRAMES if found is None else 0
+                if found is not None:
+                    result = found
+        return result
+
+    def _checked_by_search(
+        self,
+        fused: FusedMethod,
+        result: Measurement,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+    ) -> Measurement:
+        """With the rig, a miss or an unsure face (reported under CHECK_CONFIDENCE, its
+        doubts applied, unfloored) checked by the no-rig search (:meth:`_search_floor`,
+        the rig's sonar mounting kept, its camera height and pitch sought in the image,
+        the rows read as with a rig only with CHECK_READS_ROWS):
+        the search's face is taken where its foot stands near the floor-contact row the
+        rig predicts at the sonar's depth (:func:`_foot_off_rig_row` within
+        CHECK_FOOT_SHARE; a face on another row is some other surface), it is a plausible
+        obstacle (:func:`_plausible_face`), reported surer than the rig's by CHECK_SURER
+        (the no-rig doubts applied), and another face than the rig's (overlapping it under
+        CHECK_SAME_FACE: one face read twice keeps the rig's reading, at its true pitch).
+        The rig's search keeps a few side columns per floor-contact row, ranked by
+        strength (a narrow face beside a stronger edge loses its side: photo 2078); the
+        no-rig search reads each contact row of the image, and a face it finds standing
+        on the rig's row is one more reading of the surface the range measured: where
+        guessing finds such a face and the rig's path does not, the rig's path answers
+        with it."""
+        if result.detected:
+            sure, _ = reported_confidence(
+                result.confidence or 0.0,
+                result.doubts,
+                result.height_px,
+                result.width_px,
+                0.0,
+                rig_given=True,
+            )
+            if sure >= CHECK_CONFIDENCE:
+                return result
+        else:
+            sure = 0.0
+        h_img, w_img = image.shape[:2]
+        searcher = self._searcher
+        if searcher is None:
+            searcher = Measurer(self.camera, None, self.method, self.min_confidence)
+            searcher.rig = dataclasses.replace(
+                self.rig, camera_height_m=Rig().camera_height_m, camera_pitch_deg=0.0
+            )
+            self._searcher = searcher
+        # each frame searched afresh: a stream's rig is given, not carried from a search
+        searcher._last_rig = None
+        searcher._last_pitch_doubts = []
+        searcher._sweep_rest = searcher._known_rest = searcher._under_rest = 0
+        impl = searcher._method_for(w_img, h_img)
+        found = searcher._search_floor(impl, image, range_m, timer, CHECK_READS_ROWS)
+        timer.lap("rig_checked")
+        if not found.detected:
+            return result
+        found_sure, _ = reported_confidence(
+            found.confidence or 0.0,
+            found.doubts,
+            found.height_px,
+            found.width_px,
+            0.0,
+            rig_given=False,
+        )
+        off = _foot_off_rig_row(fused.view, found, range_m)
+        plausible = _plausible_face(found, w_img)
+        overlap = box_overlap(result.box_px, found.box_px) if result.detected else 0.0
+        log.debug(
+            "rig checked by the search: rig face %s at %.3f, search's %s at %.3f, "
+            "foot off the rig's row %s bands, plausible %s, overlap %.2f",
+            result.box_px,
+            sure,
+            found.box_px,
+            found_sure,
+            off,
+            plausible,
+            overlap,
+        )
+        if (
+            off is None
+            or off > CHECK_FOOT_SHARE
+            or not plausible
+            or found_sure <= CHECK_SURER * sure
+        ):
+            return result
+        if overlap >= CHECK_SAME_FACE:
+            return result  # one face read twice: the rig's reading (its true pitch) stands
+        # the search's own rig was a guess; the reported face stands on the given one
+        found.camera_height_m = None
+        found.camera_pitch_deg = None
+        return found
+
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
             raise UserError("image must be a non-empty grey or BGR array")
@@ -1426,26 +1556,13 @@ class Measurer:
         impl = self._method_for(image.shape[1], image.shape[0])
         timer.lap("setup")
         if self.find_floor:
-            result = self._run_estimated(impl, image, range_m, timer)
-            if ESTIMATED_RIG_AGAIN and result.detected:
-                result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
-            if SMALL_FACE_GROWN and result.detected:
-                result = self._grown_small_face(
-                    cast(FusedMethod, impl), result, image, range_m, timer
-                )
-            if KNOWN_RIG_ROWS and not result.detected:
-                # (in a stream where they gave nothing, here or for a small face, the next
-                # SWEEP_REST_FRAMES frames that would read them go without: up to ~130 rig
-                # readings a frame)
-                if self._known_rest > 0:
-                    self._known_rest -= 1
-                else:
-                    found = self._known_rig_rows(cast(FusedMethod, impl), image, range_m, timer)
-                    self._known_rest = SWEEP_REST_FRAMES if found is None else 0
-                    if found is not None:
-                        result = found
+            result = self._search_floor(impl, image, range_m, timer)
         elif self.method == "fused":
             result = self._run_rig(cast(FusedMethod, impl), self.rig, image, range_m, timer)
+            if RIG_CHECKED_BY_SEARCH:
+                result = self._checked_by_search(
+                    cast(FusedMethod, impl), result, image, range_m, timer
+                )
         else:
             result = impl.run(image, range_m, timer)
         result.rig_source = self.rig_source
@@ -1473,6 +1590,77 @@ class Measurer:
         result.timings_ms = dict(timer.ms)
         result.timings_ms["total"] = sum(timer.ms.values())
         return result
+
+
+#: With the rig, a miss or an unsure face is checked by the no-rig search, whose face is
+#: taken where it stands on the rig's contact band, is a plausible obstacle and is surer
+#: (:meth:`Measurer._checked_by_search`). Session 40, branch ``wt-d-40``; a switch for
+#: the tests.
+RIG_CHECKED_BY_SEARCH = True
+#: ... the search without the rows read as with a rig (`_grown_small_face`,
+#: `_known_rig_rows`): with them a checked frame took twice as long (20 own frames:
+#: 0.76-0.80 s instead of 0.36-0.38 s, loaded machine), for one own answer more
+#: (procedural 108 hard, 33 -> 3.1 %) ...
+CHECK_READS_ROWS = False
+#: ... a rig face reported under this (its doubts applied, unfloored) is checked ...
+CHECK_CONFIDENCE = 0.1
+#: ... and the search's face taken when reported (with the no-rig doubts) over this many
+#: times the rig face's confidence (a miss: 0).
+CHECK_SURER = 1.0
+#: ... its foot within the rig's contact band (:func:`contact_band`) widened by this many
+#: rows (the two views' mapping)
+CHECK_BAND_SLACK_PX = 1.0
+#: ... its foot within this share of the band's half-height of the row the rig predicts
+#: (the band allows for the range's and the rig's errors in finding the rig's own
+#: contact edge; a face the search stood elsewhere, nearer its edge, is some other
+#: surface: photo 110 hard's poster piece at 0.73, -53 %) ...
+CHECK_FOOT_SHARE = 0.6
+#: ... where the two boxes overlap (intersection over union) by less than this: over it
+#: they are one face read twice, and the rig's reading (at its true pitch) stands ...
+CHECK_SAME_FACE = 0.7
+#: ... and its box narrower than the image by this share (a face as wide as the image is
+#: clipped, not measured) ...
+CHECK_MAX_WIDTH_SHARE = 0.9
+
+
+def _foot_off_rig_row(view: View, found: Measurement, range_m: float) -> float | None:
+    """How far a face's foot (its bottom line's middle, input pixels) lies from the
+    contact row the view's rig predicts for the sonar's depth, in the band's half-heights
+    (:func:`contact_band`; its row seen in the view levelled for the rig's pitch, the band
+    widened by CHECK_BAND_SLACK_PX); None for a face with no bottom line."""
+    if not found.lines:
+        return None
+    x0, y0, x1, y1 = found.lines[0]
+    ray = view.camera.unproject([[0.5 * (x0 + x1), 0.5 * (y0 + y1)]])[0]
+    level = view.rotation @ ray  # camera -> level frame
+    if level[2] <= 0.0:
+        return None
+    row = view.cy + view.fy * level[1] / level[2]
+    vb0, tol = contact_band(view, view.rig.face_depth(range_m))
+    return float(abs(row - vb0) / (tol + CHECK_BAND_SLACK_PX))
+
+
+def box_overlap(a: Box | None, b: Box | None) -> float:
+    """Intersection over union of two boxes (x0, y0, x1, y1); 0 when either is None."""
+    if a is None or b is None:
+        return 0.0
+    w = min(a[2], b[2]) - max(a[0], b[0])
+    h = min(a[3], b[3]) - max(a[1], b[1])
+    if w <= 0.0 or h <= 0.0:
+        return 0.0
+    inter = w * h
+    union = (a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter
+    return inter / union if union > 0.0 else 0.0
+
+
+def _plausible_face(found: Measurement, w_img: int) -> bool:
+    """A face the size of an obstacle: its box narrower than CHECK_MAX_WIDTH_SHARE of the
+    image, its height and width from MIN_SIZE_M to RAISED_FACE_MAX_M."""
+    if found.box_px is None or found.height_m is None or found.width_m is None:
+        return False
+    if found.box_px[2] - found.box_px[0] > CHECK_MAX_WIDTH_SHARE * w_img:
+        return False
+    return all(MIN_SIZE_M <= s <= RAISED_FACE_MAX_M for s in (found.height_m, found.width_m))
 
 
 #: With no rig, when the search gives no face (a miss or a refusal), each floor-contact

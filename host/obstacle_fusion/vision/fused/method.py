@@ -452,6 +452,13 @@ RAISED_FACE_MAX_M = 1.5
 WINDOW_RESCUE_TOP = True
 
 
+def contact_band(view: View, depth: float) -> tuple[float, float]:
+    """The floor-contact row the view's rig predicts for a face at ``depth`` (working-view
+    rows) and the band's half-height about it (the range's and the rig's errors)."""
+    vb0 = view.cy + view.fy * view.rig.camera_height_m / depth
+    return vb0, 3.0 + (vb0 - view.cy) * (0.03 + 0.01 / depth)
+
+
 class FusedMethod:
     """The sonar-guided method for one camera and image size (buffers reused per frame)."""
 
@@ -537,8 +544,7 @@ class FusedMethod:
             fail.reason = "the face depth from this range and the rig is not in front of the lens"
             return fail
         h_img, w_img = self._h, self._w
-        vb0 = v.cy + v.fy * rig.camera_height_m / depth
-        tol = 3.0 + (vb0 - v.cy) * (0.03 + 0.01 / depth)
+        vb0, tol = contact_band(v, depth)
         r0b, r1b = int(math.floor(vb0 - tol)), int(math.ceil(vb0 + tol))
         r0b, r1b = max(r0b, 4), min(r1b, h_img - 4)
         if r0b > r1b:
