@@ -153,8 +153,10 @@ class Measurer:
         self._under_rest = 0  # ... and without those rows read under an unsure face only
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
-        # with a rig: the no-rig search that checks an unsure face (RIG_CHECKED_BY_SEARCH)
+        # with a rig: the no-rig search that checks an unsure face (RIG_CHECKED_BY_SEARCH),
+        # and the frames still to go without it after a check that took nothing
         self._searcher: Measurer | None = None
+        self._check_rest = 0
 
     def _method_for(self, width: int, height: int) -> Method:
         key = (width, height)
@@ -1054,6 +1056,8 @@ class Measurer:
         channel, then luminance, then the channel turned against the background."""
         view: View = fused.view
         depth = rig.face_depth(range_m)
+        if depth <= 0.0:
+            return fused.run(image, range_m, timer)  # its miss names the depth (no contact row)
         contact = view.cy + view.fy * rig.camera_height_m / depth
         grey = face_floor_grey(image, view, contact, depth)
         timer.lap("face_channel")
@@ -1489,21 +1493,14 @@ class Measurer:
                 return result
         else:
             sure = 0.0
-        h_img, w_img = image.shape[:2]
-        searcher = self._searcher
-        if searcher is None:
-            searcher = Measurer(self.camera, None, self.method, self.min_confidence)
-            searcher.rig = dataclasses.replace(
-                self.rig, camera_height_m=Rig().camera_height_m, camera_pitch_deg=0.0
-            )
-            self._searcher = searcher
-        # each frame searched afresh: a stream's rig is given, not carried from a search
-        searcher._last_rig = None
-        searcher._last_pitch_doubts = []
-        searcher._sweep_rest = searcher._known_rest = searcher._under_rest = 0
-        impl = searcher._method_for(w_img, h_img)
-        found = searcher._search_floor(impl, image, range_m, timer, CHECK_READS_ROWS)
-        timer.lap("rig_checked")
+        if self.rig.face_depth(range_m) <= 0.0:
+            return result  # nothing in front of the lens to search for (the miss says so)
+        if self._check_rest > 0:
+            # a stream held on a face the search did not better: ~10x a frame's time each
+            self._check_rest -= 1
+            return result
+        self._check_rest = CHECK_REST_FRAMES  # until a check takes its face
+        found = self._searched(image, range_m, timer)
         if not found.detected:
             return result
         found_sure, _ = reported_confidence(
@@ -1515,7 +1512,7 @@ class Measurer:
             rig_given=False,
         )
         off = _foot_off_rig_row(fused.view, found, range_m)
-        plausible = _plausible_face(found, w_img)
+        plausible = _plausible_face(found, image.shape[1])
         overlap = box_overlap(result.box_px, found.box_px) if result.detected else 0.0
         log.debug(
             "rig checked by the search: rig face %s at %.3f, search's %s at %.3f, "
@@ -1537,10 +1534,39 @@ class Measurer:
             return result
         if overlap >= CHECK_SAME_FACE:
             return result  # one face read twice: the rig's reading (its true pitch) stands
-        # the search's own rig was a guess; the reported face stands on the given one
+        # the face keeps the size read at the search's guessed pitch; the camera height
+        # and pitch reported are the given rig's, not the search's guess
         found.camera_height_m = None
         found.camera_pitch_deg = None
+        self._check_rest = 0
         return found
+
+    def _searched(self, image: npt.NDArray[Any], range_m: float, timer: Timer) -> Measurement:
+        """The no-rig search of the frame with the rig's sonar mounting kept (the rig
+        check's reading), its time under ``rig_checked`` (its stages kept apart from the
+        rig path's)."""
+        h_img, w_img = image.shape[:2]
+        searcher = self._searcher
+        if searcher is None:
+            searcher = Measurer(self.camera, None, self.method, self.min_confidence)
+            searcher.rig = dataclasses.replace(
+                self.rig, camera_height_m=Rig().camera_height_m, camera_pitch_deg=0.0
+            )
+            self._searcher = searcher
+        searcher.reset_stream()  # each frame searched afresh: a stream's rig is given
+        found = searcher._search_floor(
+            searcher._method_for(w_img, h_img), image, range_m, Timer(), CHECK_READS_ROWS
+        )
+        timer.lap("rig_checked")  # the whole search (its stages timed apart)
+        return found
+
+    def reset_stream(self) -> None:
+        """Forget what earlier frames gave (the no-rig camera height and pitch, the
+        readings' rests): the next frame is searched as a stream's first."""
+        self._last_rig = None
+        self._last_pitch_doubts = []
+        self._sweep_rest = self._known_rest = self._under_rest = 0
+        self._check_rest = 0
 
     def measure(self, image: npt.NDArray[Any], range_m: float) -> Measurement:
         if not isinstance(image, np.ndarray) or image.ndim not in (2, 3) or image.size == 0:
@@ -1597,6 +1623,9 @@ class Measurer:
 #: (:meth:`Measurer._checked_by_search`). Session 40, branch ``wt-d-40``; a switch for
 #: the tests.
 RIG_CHECKED_BY_SEARCH = True
+#: ... resting this many frames of a stream after a check that took nothing (the check
+#: costs about ten times a rig frame: 0.3-0.4 s against 20-40 ms, loaded machine) ...
+CHECK_REST_FRAMES = 10
 #: ... the search without the rows read as with a rig (`_grown_small_face`,
 #: `_known_rig_rows`): with them a checked frame took twice as long (20 own frames:
 #: 0.76-0.80 s instead of 0.36-0.38 s, loaded machine), for one own answer more
@@ -1723,7 +1752,8 @@ UNDER_ANY_UNSURE = True
 #: that are not small, all rows read doubled the frame's time.
 UNDER_ROWS_SLACK_PX = 6.0
 #: ... and an unsure face whose outline finds its foot off the floor (FOOT_OFF_FLOOR) gives
-#: way to the rows' face on its columns and top with its foot lower (:func:`_foot_moves_down`):
+#: way to the rows' face over its columns, its top no lower, its foot lower
+#: (:func:`_foot_moves_down`):
 #: the face carried down to its floor contact. Session 40, branch ``wt-a-40``; a switch
 #: for the tests.
 FOOT_OFF_FLOOR_LOWER = True

@@ -946,7 +946,7 @@ class FusedMethod:
             depth,
             foot_above=floor_known and vb0 - rb > FOOT_ABOVE_SHARE * tol,
             rising_kept=rig_known,
-            outline_past=rig_known,
+            outline_past=rig_given,  # the rig given, not guessed for a trial
         )
 
         def finish(
