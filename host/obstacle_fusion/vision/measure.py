@@ -620,6 +620,20 @@ class Measurer:
                 if levelled is not None:
                     best = levelled
                     pitch_read = True
+            if best is not None and best.detected and pitch_read and READ_PITCH_TOP_FACE:
+                # a read pitch may be a few degrees too level: a top face it hides above
+                # the horizon lowers the top when allowed for; nothing else is taken
+                again = trial(
+                    best.camera_height_m or 0.0,
+                    None,
+                    best.camera_pitch_deg or 0.0,
+                    floor_known,
+                    unread_slack,
+                )
+                moved = _top_moved(best.box_px, again.box_px)
+                if again.detected and moved is not None and moved < 0.0:
+                    log.debug("no rig: a read pitch allowed down lowers the top %.1f rows", -moved)
+                    best = again
             if best is not None and best.detected and not pitch_read:
                 # the pitch is a guess: a lens looking down more than guessed sees the box's
                 # top face above the guessed horizon, where the level view allows none.
@@ -2011,6 +2025,15 @@ UNREAD_PITCH_CONFIDENCE_MARGIN = 0.05
 #: 5 rows to a line above the top, +4 -> +22 %). Session 40, branch ``wt-c-40``; a switch
 #: for the tests.
 UNREAD_TOP_FACE_LOWERS = True
+#: ... and where the pitch was read (from the face's sides, a few degrees off on a small or
+#: near-centre face): the face measured at the read pitch allowing the lens
+#: UNREAD_PITCH_DOWN_DEG more down is taken only where it is the read face with its top
+#: lowered (:func:`_top_moved` < 0: a top face's front edge under its back edge; a box lower
+#: than the lens shows one, and a read pitch too level hides it above the horizon). Never
+#: raised, and no other face: the read pitch stands otherwise. Session 40, branch
+#: ``wt-f-40`` (new rooms procedural 3034 ordinary +12 -> +1.6 %, 3042 hard +13 -> -0.6 %,
+#: photo 3023 ordinary +28 -> +2.5 %); a switch for the tests.
+READ_PITCH_TOP_FACE = True
 #: ... one face: each side within this many columns of the other's (feet within
 #: ROW_JITTER_PX) ...
 TOP_FACE_SIDES_PX = 3.0
