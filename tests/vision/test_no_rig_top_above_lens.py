@@ -37,7 +37,10 @@ def test_without_the_rule_the_print_s_edge_is_the_top(monkeypatch: pytest.Monkey
 
 
 def test_the_reading_must_reach_higher(monkeypatch: pytest.MonkeyPatch) -> None:
-    # procedural 2026 hard: read again 1.09 times as high
+    # procedural 2026 hard: read again 1.09 times as high (the unread pitch's allowance,
+    # UNREAD_TOP_FACE_LOWERS, also lowers its top onto the face's front: off, to see this
+    # rule's limit alone)
+    monkeypatch.setattr(measure, "UNREAD_TOP_FACE_LOWERS", False)
     monkeypatch.setattr(measure, "AGAIN_ABOVE_LENS_TALLER", 1.08)
     assert _eh("procedural", 2026, True) < 0.03
     monkeypatch.setattr(measure, "AGAIN_ABOVE_LENS_TALLER", 1.10)
