@@ -1024,6 +1024,9 @@ class Measurer:
         height = camera_height_for_row(row, depth, pitch, view.fy, view.cy)
         if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
             return None
+        if not _robot_lens(height):
+            log.debug("pitch %.1f deg read puts the lens %.2f m up: not a robot's", pitch, height)
+            return None
         if found.camera_pitch_deg:
             # found in a view levelled for a guessed pitch: measured again at this one and
             # the camera height its floor-contact row gives
@@ -1401,6 +1404,10 @@ class Measurer:
         # the rows' face on the same columns and top with its foot lower, on the floor,
         # is that face down to its contact (_foot_moves_down)
         lower = FOOT_OFF_FLOOR_LOWER and _foot_moves_down(found, grown)
+        # the rows' face on the same columns and top, its foot a few rows higher and surer
+        # than the found face: the found foot a shadow's or a bevel's lower edge under the
+        # contact (_foot_moves_up, SURER_FOOT_RAISES)
+        lower = lower or (SURER_FOOT_RAISES and _foot_moves_up(found, grown))
         if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower):
             self._start_rest(small)
             return found
@@ -1773,6 +1780,14 @@ UNDER_ROWS_SLACK_PX = 6.0
 FOOT_OFF_FLOOR_LOWER = True
 #: ... the two faces' columns overlapping by at least this share of the narrower.
 LOWER_FOOT_SIDES_SHARE = 0.8
+#: With no rig, an unsure answer gives way likewise to the rows' face (read as with a rig:
+#: readings that agree on one face, each standing on its foot) on the same top (within
+#: ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its foot more than
+#: ROW_JITTER_PX rows higher, when that face is surer than the answer and its lens at most
+#: UNDER_MAX_CAMERA_HEIGHT_M up: the no-rig rows stood the face on a shadow's or a bevel's
+#: lower edge under the contact (procedural 750 hard, photo 2056 hard: 3-4 rows low,
+#: +9 %). Session 40, branch ``wt-e-40``; a switch for the tests.
+SURER_FOOT_RAISES = True
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -1942,6 +1957,16 @@ SWEPT_PITCH_MARGIN = 0.15
 #: ... nor one over this many times as tall as the level face (on the tuning rooms the
 #: faces taken stood 0.58-1.25 times as tall; a wall print above the box taken in, 2.4).
 SWEPT_MAX_GROWTH = 1.5
+#: With no rig, the pitch the face's sides read (their lean) is taken only where the camera
+#: height it and the face's floor-contact row stand for is one a robot carries (at most
+#: UNDER_MAX_CAMERA_HEIGHT_M; the issue's robots carry the lens 0.12-0.5 m up): the pitch
+#: the sides give must agree with the lens height the foot row implies. A lens pitched
+#: down further raises that height; a lean read the wrong way (a seam, a shadow's edge
+#: along a side) stands the lens too high and reads a line above the face as its top
+#: (photo 2089 ordinary: the sides read 2.2 degrees down against 3.7 up, the lens 0.71 m
+#: up against 0.49 m, the top 35 rows high, +19 %). Session 40, branch ``wt-e-40``; a
+#: switch for the tests.
+SIDES_PITCH_LENS_BOUND = True
 #: With no rig, a trial's face whose pixel factor (:func:`~obstacle_fusion.vision.fused.
 #: confidence.pixel_factor`) is under this is small: a stone or a mark on the floor before
 #: a face of full size settles no floor-contact row (on the fresh rooms the floor's marks
@@ -2324,6 +2349,27 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
     )
 
 
+def _foot_moves_up(found: Measurement, grown: Measurement) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig) is ``found`` standing on its
+    contact: its foot more than ROW_JITTER_PX rows higher, its top within ROW_JITTER_PX of
+    ``found``'s, its columns spanning LOWER_FOOT_SIDES_SHARE of the narrower face, surer
+    than ``found`` and its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. The rows read the
+    contact where each reading's sides stand; the band under it, which the no-rig rows took
+    in, is a shadow's or a bevel's."""
+    if found.box_px is None or grown.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    g0, gy0, g1, gy1 = grown.box_px
+    overlap = min(x1, g1) - max(x0, g0)
+    return (
+        y1 - gy1 > ROW_JITTER_PX
+        and abs(gy0 - y0) <= ROW_JITTER_PX
+        and overlap >= LOWER_FOOT_SIDES_SHARE * min(x1 - x0, g1 - g0)
+        and (grown.confidence or 0.0) > (found.confidence or 0.0)
+        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
 def _on_found(found: Measurement, again: Measurement) -> bool:
     """Whether a second reading ``again`` stands on ``found``'s foot (within AGAIN_FOOT_ROWS)
     between its sides (overlapping the narrower by AGAIN_SIDES_SHARE), doubting its sides
@@ -2401,6 +2447,13 @@ def _beside(
     narrower = min(box[2] - box[0], other[2] - other[0])
     shared = min(box[2], other[2]) - max(box[0], other[0])
     return narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower
+
+
+def _robot_lens(height: float) -> bool:
+    """Whether the camera height ``height`` (metres) a pitch read from the sides stands
+    for is one a robot carries (at most UNDER_MAX_CAMERA_HEIGHT_M; any, with
+    SIDES_PITCH_LENS_BOUND off)."""
+    return not SIDES_PITCH_LENS_BOUND or height <= UNDER_MAX_CAMERA_HEIGHT_M
 
 
 def _taller(
