@@ -80,6 +80,15 @@ def test_the_columns_must_be_the_found_face_s() -> None:
     )
 
 
+def test_a_narrower_face_does_not_take_the_width() -> None:
+    # a plank of the face, its foot lower: the overlap counts against the wider face
+    share = measure.LOWER_FOOT_SIDES_SHARE
+    assert measure._foot_moves_down(FOUND, _face((100, 100, 100 + 100 * share, 210), 0.5, []))
+    assert not measure._foot_moves_down(
+        FOUND, _face((100, 100, 100 + 100 * share - 0.1, 210), 0.5, [])
+    )
+
+
 def test_the_face_below_must_be_sure_enough() -> None:
     sure = measure.UNDER_SURE
     assert measure._foot_moves_down(FOUND, _face((100, 100, 200, 210), sure, []))

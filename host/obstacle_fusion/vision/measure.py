@@ -148,6 +148,9 @@ class Measurer:
         # camera height, pitch and whether the known-floor cues found the face
         self._last_rig: tuple[float, float, bool] | None = None
         self._last_pitch_doubts: list[str] = []
+        # ... and whether its face was read allowing the lens to look further down than
+        # its read pitch (READ_PITCH_TOP_FACE): the next frame reads it so again
+        self._last_slack = False
         self._sweep_rest = 0  # frames still to go without the last-resort pitch sweep
         self._known_rest = 0  # ... and without the rows read as with a rig (KNOWN_RIG_ROWS)
         self._under_rest = 0  # ... and without those rows read under an unsure face only
@@ -311,14 +314,17 @@ class Measurer:
         sure_trials: list[Measurement] = []  # every trial's face of at least ESTIMATE_ACCEPT
         readings: list[Measurement] = []  # every trial's face
         bands: list[tuple[float, float, float, float]] = []  # wall bands the trials found
+        slack_best: Measurement | None = None  # best, when read with the top face allowed for
         try:
             last = self._last_rig
             if last is not None:
-                # a pitch the last frame did not read: its top face allowed for as there
-                unread = PITCH_UNREAD in self._last_pitch_doubts
-                first = trial(last[0], None, last[1], last[2], unread_slack if unread else 0.0)
+                # a pitch the last frame did not read, or read and its top face allowed
+                # for: the top face allowed for as there
+                slack = PITCH_UNREAD in self._last_pitch_doubts or self._last_slack
+                first = trial(last[0], None, last[1], last[2], unread_slack if slack else 0.0)
                 if accepted(first):
                     best, floor_known = first, last[2]
+                    slack_best = first if slack else None
                     best.doubts = [*best.doubts, *self._last_pitch_doubts]
                     pitch_read = True  # (its doubts are the last frame's)
                     return best
@@ -622,7 +628,8 @@ class Measurer:
                     pitch_read = True
             if best is not None and best.detected and pitch_read and READ_PITCH_TOP_FACE:
                 # a read pitch may be a few degrees too level: a top face it hides above
-                # the horizon lowers the top when allowed for; nothing else is taken
+                # the horizon lowers the top when allowed for; no other face takes its place (the
+                # trial stays among the frame's readings, as the unread pitch's does)
                 again = trial(
                     best.camera_height_m or 0.0,
                     None,
@@ -633,7 +640,7 @@ class Measurer:
                 moved = _top_moved(best.box_px, again.box_px)
                 if again.detected and moved is not None and moved < 0.0:
                     log.debug("no rig: a read pitch allowed down lowers the top %.1f rows", -moved)
-                    best = again
+                    best = slack_best = again
             if best is not None and best.detected and not pitch_read:
                 # the pitch is a guess: a lens looking down more than guessed sees the box's
                 # top face above the guessed horizon, where the level view allows none.
@@ -695,6 +702,7 @@ class Measurer:
                 if best is not None and accepted(best) and (pitch_read or not pitch_swept)
                 else None
             )
+            self._last_slack = self._last_rig is not None and best is slack_best
             self._last_pitch_doubts = [
                 d for d in (best.doubts if best is not None else []) if d in PITCH_DOUBTS
             ]
@@ -1586,6 +1594,7 @@ class Measurer:
         readings' rests): the next frame is searched as a stream's first."""
         self._last_rig = None
         self._last_pitch_doubts = []
+        self._last_slack = False
         self._sweep_rest = self._known_rest = self._under_rest = 0
         self._check_rest = 0
 
@@ -1761,7 +1770,7 @@ GROWN_FACTOR = 1.5
 SMALL_FACE_UNDER = True
 UNDER_SURE = 0.15
 #: ... the camera height that row stands for at most this (metres): the issue's robots
-#: carry the lens 0.12-0.5 m up.
+#: carry the lens 0.2-0.5 m up.
 UNDER_MAX_CAMERA_HEIGHT_M = 0.6
 #: ... and the face under is looked for below any unsure face, small or not (a thing
 #: standing behind the obstacle on its top edge: photo 2088 hard, a drum on a poster's
@@ -1778,7 +1787,8 @@ UNDER_ROWS_SLACK_PX = 6.0
 #: the face carried down to its floor contact. Session 40, branch ``wt-a-40``; a switch
 #: for the tests.
 FOOT_OFF_FLOOR_LOWER = True
-#: ... the two faces' columns overlapping by at least this share of the narrower.
+#: ... the two faces' columns overlapping by at least this share of the wider (no narrower
+#: face, a plank of it, takes the width; since the review of session 40).
 LOWER_FOOT_SIDES_SHARE = 0.8
 #: With no rig, an unsure answer gives way likewise to the rows' face (read as with a rig:
 #: readings that agree on one face, each standing on its foot) on the same top (within
@@ -1959,7 +1969,7 @@ SWEPT_PITCH_MARGIN = 0.15
 SWEPT_MAX_GROWTH = 1.5
 #: With no rig, the pitch the face's sides read (their lean) is taken only where the camera
 #: height it and the face's floor-contact row stand for is one a robot carries (at most
-#: UNDER_MAX_CAMERA_HEIGHT_M; the issue's robots carry the lens 0.12-0.5 m up): the pitch
+#: UNDER_MAX_CAMERA_HEIGHT_M; the issue's robots carry the lens 0.2-0.5 m up): the pitch
 #: the sides give must agree with the lens height the foot row implies. A lens pitched
 #: down further raises that height; a lean read the wrong way (a seam, a shadow's edge
 #: along a side) stands the lens too high and reads a line above the face as its top
@@ -2331,8 +2341,9 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
     """Whether ``grown`` (the rows' face read as with a rig: its readings agree on one face
     standing on its foot, none doubting it) is ``found`` carried down to its floor contact:
     ``found``'s outline doubts its foot (FOOT_OFF_FLOOR), ``grown``'s foot lies more than
-    ROW_JITTER_PX rows lower, its top no more than that under ``found``'s, its columns
-    span LOWER_FOOT_SIDES_SHARE of the narrower face, it is at least UNDER_SURE and its
+    ROW_JITTER_PX rows lower, its top no more than that under ``found``'s (it may reach
+    higher), the two faces' columns overlapping by LOWER_FOOT_SIDES_SHARE of the wider (no
+    narrower face takes the width), it is at least UNDER_SURE and its
     lens at most UNDER_MAX_CAMERA_HEIGHT_M up. A face's sides run down to the floor: a
     foot found off the floor is a line on the face (a print's lower edge, a band)."""
     if FOOT_OFF_FLOOR not in found.doubts or found.box_px is None or grown.box_px is None:
@@ -2343,7 +2354,7 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
     return (
         gy1 - y1 > ROW_JITTER_PX
         and gy0 - y0 <= ROW_JITTER_PX
-        and overlap >= LOWER_FOOT_SIDES_SHARE * min(x1 - x0, g1 - g0)
+        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
         and (grown.confidence or 0.0) >= UNDER_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
@@ -2351,9 +2362,11 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
 
 def _foot_moves_up(found: Measurement, grown: Measurement) -> bool:
     """Whether ``grown`` (the rows' face read as with a rig) is ``found`` standing on its
-    contact: its foot more than ROW_JITTER_PX rows higher, its top within ROW_JITTER_PX of
-    ``found``'s, its columns spanning LOWER_FOOT_SIDES_SHARE of the narrower face, surer
-    than ``found`` and its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. The rows read the
+    contact: its foot more than ROW_JITTER_PX and at most UNDER_ROWS_SLACK_PX rows higher,
+    its top within ROW_JITTER_PX of ``found``'s, the two faces' columns overlapping by
+    LOWER_FOOT_SIDES_SHARE of the wider (no narrower face takes the width: a plank of the
+    face), surer than ``found`` and at least UNDER_SURE, its lens at most
+    UNDER_MAX_CAMERA_HEIGHT_M up. The rows read the
     contact where each reading's sides stand; the band under it, which the no-rig rows took
     in, is a shadow's or a bevel's."""
     if found.box_px is None or grown.box_px is None:
@@ -2362,10 +2375,11 @@ def _foot_moves_up(found: Measurement, grown: Measurement) -> bool:
     g0, gy0, g1, gy1 = grown.box_px
     overlap = min(x1, g1) - max(x0, g0)
     return (
-        y1 - gy1 > ROW_JITTER_PX
+        ROW_JITTER_PX < y1 - gy1 <= UNDER_ROWS_SLACK_PX
         and abs(gy0 - y0) <= ROW_JITTER_PX
-        and overlap >= LOWER_FOOT_SIDES_SHARE * min(x1 - x0, g1 - g0)
+        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
         and (grown.confidence or 0.0) > (found.confidence or 0.0)
+        and (grown.confidence or 0.0) >= UNDER_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
 
