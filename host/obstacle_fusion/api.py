@@ -90,7 +90,7 @@ class LazyMeasurer:
         if self._impl is not None:
             return
         from obstacle_fusion.vision.camera import CameraModel, CameraModelError
-        from obstacle_fusion.vision.measure import Measurer
+        from obstacle_fusion.vision.measure import STREAM_RIG_CHECK, Measurer
 
         h, w = image.shape[:2]
         if self.camera is None:
@@ -116,6 +116,7 @@ class LazyMeasurer:
                     f"--calib {self.calib}: it does not fit the camera's {w}x{h} frames: {exc}"
                 ) from None
         self._impl = Measurer(camera, self.rig, self.method)
+        self._impl.rig_check = STREAM_RIG_CHECK  # built for a stream's frames
         self._impl.prepare_size(w, h)
         self.camera_model = camera
 
@@ -130,14 +131,13 @@ class LazyMeasurer:
             online_rig = self.rig_provider()
             if online_rig is not None:
                 if self._online is None or _rig_moved(self._online[0], online_rig):
-                    from obstacle_fusion.vision.measure import Measurer
+                    from obstacle_fusion.vision.measure import STREAM_RIG_CHECK, Measurer
 
-                    self._online = (
-                        online_rig,
-                        Measurer(
-                            self.camera_model, online_rig, self.method, rig_source="estimated"
-                        ),
+                    online = Measurer(
+                        self.camera_model, online_rig, self.method, rig_source="estimated"
                     )
+                    online.rig_check = STREAM_RIG_CHECK  # a stream's frames
+                    self._online = (online_rig, online)
                 return self._online[1].measure(image, range_m)
         return self._impl.measure(image, range_m)
 

@@ -185,6 +185,10 @@ class App:
             median_window=settings.median_window,
         )
         span = settings.per_sensor_span()
+        if hasattr(measurer, "rig_check"):
+            from obstacle_fusion.vision.measure import STREAM_RIG_CHECK
+
+            measurer.rig_check = STREAM_RIG_CHECK  # a stream's frames: see the constant
         self.fusion = Fusion(
             measurer=measurer,
             pairer=RangePairer(settings.pair_tolerance_s, settings.max_gap_s * span),

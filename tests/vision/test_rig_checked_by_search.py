@@ -249,3 +249,19 @@ def test_a_sound_unsure_answer_is_kept(
     eh, ew = room_size_errors(family, seed, hard)
     assert calls, "the answer is unsure: it must have been checked"
     assert eh < 0.03 and ew < 0.03
+
+
+def test_a_stream_does_not_check(monkeypatch: pytest.MonkeyPatch) -> None:
+    # run and replay measure a stream: the check's ~10x a frame and its search's memory
+    # are left out there (STREAM_RIG_CHECK); a single image is checked
+    from obstacle_fusion.api import LazyMeasurer
+
+    calls = _count_searches(monkeypatch)
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = render_room("photo", 2078, False, cam)
+    lazy = LazyMeasurer(cam, spec.rig, "fused")
+    lazy.measure(image, truth["range_m"])
+    assert not calls
+    assert Measurer(cam, spec.rig).rig_check and not measure.STREAM_RIG_CHECK
+    Measurer(cam, spec.rig).measure(image, truth["range_m"])
+    assert len(calls) == 1

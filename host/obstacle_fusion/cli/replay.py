@@ -326,7 +326,7 @@ def _replay(
     from obstacle_fusion.protocol.generated import Range
     from obstacle_fusion.sonar import SonarConverter
     from obstacle_fusion.sources.frames import Frame
-    from obstacle_fusion.vision.measure import Measurer
+    from obstacle_fusion.vision.measure import STREAM_RIG_CHECK, Measurer
 
     measurer: Any = None
     index = 0
@@ -375,6 +375,7 @@ def _replay(
 
                     cam = synthetic_camera_model(image.shape[1], image.shape[0])
                 measurer = Measurer(cam, rig, method)
+                measurer.rig_check = STREAM_RIG_CHECK  # as `run` measured the stream
                 fusion.measurer = measurer
                 online.camera_of = lambda w, h, c=cam: c.scaled_to(w, h)
                 if ros2 is not None:

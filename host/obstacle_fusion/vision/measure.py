@@ -156,10 +156,13 @@ class Measurer:
         self._under_rest = 0  # ... and without those rows read under an unsure face only
         # with no rig: fused methods levelled for the pitches recent frames gave
         self._pitched: dict[tuple[int, int, float], FusedMethod] = {}
+        self._views_kept = PITCHED_VIEWS_KEPT  # how many of them
         # with a rig: the no-rig search that checks an unsure face (RIG_CHECKED_BY_SEARCH),
         # and the frames still to go without it after a check that took nothing
         self._searcher: Measurer | None = None
         self._check_rest = 0
+        # whether this measurer runs the rig check (a stream turns it off: STREAM_RIG_CHECK)
+        self.rig_check = True
 
     def _method_for(self, width: int, height: int) -> Method:
         key = (width, height)
@@ -184,7 +187,7 @@ class Measurer:
             rig = dataclasses.replace(self.rig, camera_pitch_deg=pitch_deg)
             impl = _fused(cam, rig, self.min_confidence, eager_tables=False)
         self._pitched[key] = impl  # most recent last
-        while len(self._pitched) > PITCHED_VIEWS_KEPT:
+        while len(self._pitched) > self._views_kept:
             del self._pitched[next(iter(self._pitched))]
         return impl
 
@@ -1575,19 +1578,27 @@ class Measurer:
         check's reading), its time under ``rig_checked`` (its stages kept apart from the
         rig path's)."""
         h_img, w_img = image.shape[:2]
-        searcher = self._searcher
-        if searcher is None:
-            searcher = Measurer(self.camera, None, self.method, self.min_confidence)
-            searcher.rig = dataclasses.replace(
-                self.rig, camera_height_m=Rig().camera_height_m, camera_pitch_deg=0.0
-            )
-            self._searcher = searcher
+        searcher = self._rig_searcher()
         searcher.reset_stream()  # each frame searched afresh: a stream's rig is given
         found = searcher._search_floor(
             searcher._method_for(w_img, h_img), image, range_m, Timer(), CHECK_READS_ROWS
         )
         timer.lap("rig_checked")  # the whole search (its stages timed apart)
         return found
+
+    def _rig_searcher(self) -> Measurer:
+        """The rig check's no-rig searcher (the rig's sonar mounting kept), made once; it
+        keeps CHECK_PITCHED_VIEWS_KEPT levelled views (each is a view's maps, megabytes;
+        a view rebuilt costs milliseconds against the check's ~0.3 s)."""
+        searcher = self._searcher
+        if searcher is None:
+            searcher = Measurer(self.camera, None, self.method, self.min_confidence)
+            searcher.rig = dataclasses.replace(
+                self.rig, camera_height_m=Rig().camera_height_m, camera_pitch_deg=0.0
+            )
+            searcher._views_kept = CHECK_PITCHED_VIEWS_KEPT
+            self._searcher = searcher
+        return searcher
 
     def reset_stream(self) -> None:
         """Forget what earlier frames gave (the no-rig camera height and pitch, the
@@ -1615,7 +1626,7 @@ class Measurer:
             result = self._search_floor(impl, image, range_m, timer)
         elif self.method == "fused":
             result = self._run_rig(cast(FusedMethod, impl), self.rig, image, range_m, timer)
-            if RIG_CHECKED_BY_SEARCH:
+            if RIG_CHECKED_BY_SEARCH and self.rig_check:
                 result = self._checked_by_search(
                     cast(FusedMethod, impl), result, image, range_m, timer
                 )
@@ -1656,6 +1667,15 @@ RIG_CHECKED_BY_SEARCH = True
 #: ... resting this many frames of a stream after a check that took nothing (the check
 #: costs about ten times a rig frame: 0.3-0.4 s against 20-40 ms, loaded machine) ...
 CHECK_REST_FRAMES = 10
+#: ... in a single image's measurement (`measure`, the API's one-shot calls, the
+#: benchmarks), not in a stream (`run`, `replay`: :data:`STREAM_RIG_CHECK`): on the frames
+#: it runs on it costs ~10 times a rig frame (0.3-0.4 s, a live stream's frames dropped
+#: meanwhile) and its search's working memory (tools/soak.py: RSS +35 % on the first
+#: check, past the warm-up, then flat); a stream's rig is refined online instead.
+STREAM_RIG_CHECK = False
+#: ... its searcher keeping this many levelled views (PITCHED_VIEWS_KEPT's 8 took ~40 MB
+#: on a stream's first unsure frame: tools/soak.py's flat-memory check) ...
+CHECK_PITCHED_VIEWS_KEPT = 2
 #: ... the search without the rows read as with a rig (`_grown_small_face`,
 #: `_known_rig_rows`): with them a checked frame took twice as long (20 own frames:
 #: 0.76-0.80 s instead of 0.36-0.38 s, loaded machine), for one own answer more
