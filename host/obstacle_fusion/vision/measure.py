@@ -629,10 +629,10 @@ class Measurer:
                 if levelled is not None:
                     best = levelled
                     pitch_read = True
-            if best is not None and best.detected and pitch_read and READ_PITCH_TOP_FACE:
-                # a read pitch may be a few degrees too level: a top face it hides above
-                # the horizon lowers the top when allowed for; no other face takes its place (the
-                # trial stays among the frame's readings, as the unread pitch's does)
+            if best is not None and best.detected and (READ_PITCH_TOP_FACE or not pitch_read):
+                # a lens looking down more than its pitch says sees the box's top face above
+                # that pitch's horizon, where the level view allows none: measured again
+                # allowing for it (the trial stays among the frame's readings)
                 again = trial(
                     best.camera_height_m or 0.0,
                     None,
@@ -641,27 +641,18 @@ class Measurer:
                     unread_slack,
                 )
                 moved = _top_moved(best.box_px, again.box_px)
-                if again.detected and moved is not None and moved < 0.0:
-                    log.debug("no rig: a read pitch allowed down lowers the top %.1f rows", -moved)
-                    best = slack_best = again
-            if best is not None and best.detected and not pitch_read:
-                # the pitch is a guess: a lens looking down more than guessed sees the box's
-                # top face above the guessed horizon, where the level view allows none.
-                # Measured again allowing it; kept unless clearly less sure.
-                again = trial(
-                    best.camera_height_m or 0.0,
-                    None,
-                    best.camera_pitch_deg or 0.0,
-                    floor_known,
-                    unread_slack,
-                )
-                moved = _top_moved(best.box_px, again.box_px)
-                if again.detected and moved is not None:
-                    # the same face, its top moved: the allowance shows a top face above
-                    # the front, whose front edge is lower; it makes no face taller.
-                    # Lowered, the front edge under the top face the guessed horizon hid,
-                    # however sure (the band cuts the top edge's evidence); raised, a line
-                    # above the face taken in (UNREAD_TOP_FACE_LOWERS)
+                if pitch_read:
+                    # a read pitch a few degrees too level: only the same face with its top
+                    # lowered is taken (READ_PITCH_TOP_FACE)
+                    if again.detected and moved is not None and moved < 0.0:
+                        log.debug("no rig: a read pitch allowed down lowers the top %.1f", -moved)
+                        best = slack_best = again
+                elif again.detected and moved is not None:
+                    # a guessed pitch, the same face, its top moved: the allowance shows a top
+                    # face above the front, whose front edge is lower; it makes no face
+                    # taller. Lowered, the front edge under the top face the guessed horizon
+                    # hid, however sure (the band cuts the top edge's evidence); raised, a
+                    # line above the face taken in (UNREAD_TOP_FACE_LOWERS)
                     if UNREAD_TOP_FACE_LOWERS:
                         if moved < 0.0:
                             log.debug("no rig: the pitch allowed lowers the top %.1f rows", -moved)
@@ -671,7 +662,7 @@ class Measurer:
                 elif again.detected and (
                     _doubted(again) >= _doubted(best) - UNREAD_PITCH_CONFIDENCE_MARGIN
                 ):
-                    best = again
+                    best = again  # a guessed pitch: kept unless clearly less sure
             if AXIS_PICKS_TRIAL and best is not None and best.detected:
                 # the sonar ranges what its beam's axis hits: a face beside the axis is
                 # another surface the guessed rig stood (a print, a can beside the box);
