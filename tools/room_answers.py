@@ -8,7 +8,8 @@ of the height and width errors, a miss counting as infinitely wrong), which way,
 many unclipped answers are over 25 % off or missed. Sets: ``own`` (the tuning and
 validation rooms, procedural and photo seeds 100-159, 700-759, 2000-2099), ``fresh``
 (seeds 2100-2199, for checking), ``ho`` (the held-out families, seeds 6000-6024), ``new``
-(procedural and photo seeds 3000-3049, opened for diagnosis at session 40), or
+(procedural and photo seeds 3000-3049, opened for diagnosis at session 40), ``new2``
+(seeds 3050-3099, opened at session 41), or
 ``FAMILY:FIRST-LAST``.
 
     .venv/bin/python tools/room_answers.py run -o /tmp/before.tsv --sets own,fresh,ho -j 2
@@ -37,6 +38,8 @@ SETS: dict[str, list[tuple[str, int, int]]] = {
     "ho": [(f, 6000, 6024) for f in HELD_OUT],
     # opened for diagnosis at session 40: failures the tuned seeds no longer show
     "new": [(f, 3000, 3049) for f in TUNED],
+    # opened for diagnosis at session 41, after "new" had been used for tuning
+    "new2": [(f, 3050, 3099) for f in TUNED],
 }
 COLUMNS = (
     "set family seed kind rig detected clipped flagged err_h_pct err_w_pct confidence "
