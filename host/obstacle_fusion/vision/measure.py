@@ -1370,8 +1370,15 @@ class Measurer:
             found.confidence or 0.0, found.doubts, found.height_px, found.width_px, 0.0, False
         )
         small = SMALL_FACE in applied
-        if sure >= GROWN_CONFIDENCE or found.box_px is None:
+        if found.box_px is None:
             return found
+        # a face the method saw in a margin of another colour (FRAMED) is read under its
+        # foot however sure: the frame's foot lay past the tried row's view, and the face
+        # round the print stands there (PRINT_HELD_BELOW)
+        framed_only = sure >= GROWN_CONFIDENCE
+        if framed_only and not (PRINT_HELD_BELOW and FRAMED_READ_SURE and FRAMED in found.doubts):
+            return found
+        small = small and not framed_only
         if not small and not (SMALL_FACE_UNDER and UNDER_ANY_UNSURE):
             return found
         # a read of only the rows under an unsure face rests on its own counter: it read
@@ -1410,7 +1417,25 @@ class Measurer:
         # than the found face: the found foot a shadow's or a bevel's lower edge under the
         # contact (_foot_moves_up, SURER_FOOT_RAISES)
         lower = lower or (SURER_FOOT_RAISES and _foot_moves_up(found, grown))
-        if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower):
+        # the rows' face holding the found face inside its sides and top, its foot lower:
+        # the found face stands on no floor (a print, a label, a panel on the face: its
+        # lower edge above the contact), the rows' face is the surface round it
+        # (only a face read as a piece already: small, in a margin of another colour, or
+        # the strip between the two feet the margin's colour beside it, not the floor's:
+        # face_runs_below; a plain face gives way to no box round it, which may be the
+        # background's outline round the face on a floor line: photo 3050 ordinary)
+        held = (
+            PRINT_HELD_BELOW
+            and _holds_print(found, grown)
+            and (
+                small
+                or FRAMED in found.doubts
+                or (HELD_BY_MARGIN and face_runs_below(image, found.box_px, grown.box_px))
+            )
+        )
+        if framed_only:
+            under = lower = False  # a sure face gives way to the face round it alone
+        if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower or held):
             self._start_rest(small)
             return found
         taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
@@ -1418,7 +1443,7 @@ class Measurer:
         taken = g0 <= (x0 + x1) / 2.0 <= g1 and (taller or wider)  # covers it, and grows
         if not small:  # only the face under it
             taken = under
-        taken = taken or lower
+        taken = taken or lower or held
         log.debug(
             "no rig, %s face %s at %.3f; rows as with a rig: %s at %.3f: %s",
             "small" if small else "unsure",
@@ -1801,6 +1826,20 @@ FOOT_OFF_FLOOR_LOWER = True
 #: ... the two faces' columns overlapping by at least this share of the wider (no narrower
 #: face, a plank of it, takes the width; since the review of session 40).
 LOWER_FOOT_SIDES_SHARE = 0.8
+#: With no rig, an unsure answer (or a framed one: FRAMED_READ_SURE) read as a piece
+#: (small, framed, or the strip under its foot the margin's colour: face_runs_below) gives
+#: way to the rows' face (read as with a rig) that holds it inside its sides and top with
+#: its foot lower (:func:`_holds_print`): the answer is a print, a label or a panel on
+#: that face, its lower edge above the floor contact (procedural 3057, 3092, 3097 hard).
+#: Session 41, branch ``wt-b-41``; a switch for the tests.
+PRINT_HELD_BELOW = True
+#: ... a framed answer (FRAMED: a margin of another colour round it, whose foot the tried
+#: row's view cut off) checked so however sure it is reported.
+FRAMED_READ_SURE = True
+#: ... an answer neither small nor framed counted a piece where the strip between the two
+#: feet has the colour of the margin beside it, not the floor's (:func:`face_runs_below`;
+#: photo 3076 hard, a brick print). A switch for the tests.
+HELD_BY_MARGIN = True
 #: With no rig, an unsure answer gives way likewise to the rows' face (read as with a rig:
 #: readings that agree on one face, each standing on its foot) on the same top (within
 #: ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its foot more than
@@ -2366,6 +2405,30 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
         gy1 - y1 > ROW_JITTER_PX
         and gy0 - y0 <= ROW_JITTER_PX
         and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
+        and (grown.confidence or 0.0) >= UNDER_SURE
+        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
+def _holds_print(found: Measurement, grown: Measurement) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig: its readings agree on one face
+    standing on its foot) holds ``found`` as a face holds a print on it: its foot more than
+    ROW_JITTER_PX rows lower, each side more than ROW_JITTER_PX columns outside ``found``'s
+    (not the same sides read again), its top no more than ROW_JITTER_PX rows under
+    ``found``'s, at least UNDER_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. A face
+    is one surface whose sides run down to the floor-contact row; a box inside it whose
+    foot ends above that row is something on the surface (a print, a label, a panel), and
+    a lower foot is a nearer one, the surface the sonar ranged (a thing behind the face,
+    farther, stands on a higher row)."""
+    if found.box_px is None or grown.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    g0, gy0, g1, gy1 = grown.box_px
+    return (
+        gy1 - y1 > ROW_JITTER_PX
+        and x0 - g0 > ROW_JITTER_PX
+        and g1 - x1 > ROW_JITTER_PX
+        and gy0 - y0 <= ROW_JITTER_PX
         and (grown.confidence or 0.0) >= UNDER_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
