@@ -133,10 +133,6 @@ SETTLED_MOVE_SHARE = 0.1
 #: ... and the top decided again is taken only where it moves by at least this share of
 #: the face's height (nearer, it is the same edge: the answer is left as it was).
 SETTLED_TOP_MOVE = 0.15
-#: With the rig, the top decided again between the settled sides starts from the search's
-#: own top, not from where the raises between the search's sides took it (session 41,
-#: branch ``wt-d-41``, a switch).
-SETTLED_FROM_SEARCH_TOP = False
 #: The top is decided again between the settled sides for a face whose first top (decided
 #: between the search's sides) left it under the minimum confidence too (with the rig).
 SETTLED_REFUSED = True
@@ -1003,12 +999,9 @@ class FusedMethod:
                 first = rescued_once[0]
                 if first is not None and (first.confidence or 0.0) > face_conf:
                     return first
-            start = found_top
-            if SETTLED_FROM_SEARCH_TOP and rig_known and found_top < best.vt:
-                # the raises above the search's top read the search's sides: with the
-                # sides settled elsewhere their reading is the settled top's own
-                start = best.vt
-            settled = self._settled_top(seen, ay, dy, rb, ul, ur, depth, noise, start, colour_top)
+            settled = self._settled_top(
+                seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top
+            )
             decided = finish(settled)
             log.debug("top %d between the settled sides, %d as first found", decided[0], vt)
             if (

@@ -3477,19 +3477,6 @@ SURFACE_STEP = TOP_COLOUR_STEP
 #: floor's just under the foot: a patch of floor between a wall band and a found foot is
 #: no face standing on the floor.
 SURFACE_FLOOR_APART = MIN_FACE_DISTANCE
-#: The face's surface starts where its colour holds from side to side: in the middle and
-#: in both strips inside its sides at once (session 41, branch ``wt-d-41``, a switch). An
-#: object behind the face in line with it (a rocket photographed above a box) may match
-#: the face's colour in the middle alone, over a few rows above the real top; read as the
-#: surface's start, it left the top on the background (photo/3020 ordinary, rig +43 %).
-#: The rows above it count as the face's (not foreign: SURFACE_FOREIGN_SHARE) where most
-#: of the three parts hold it. Off: the first row where any one of the three holds starts
-#: the surface, and any one holding makes a row the face's.
-SURFACE_SIDE_TO_SIDE = False
-#: ... and the colour steps there (SURFACE_STEP) in at least this many of the three parts:
-#: where the object behind has nearly the face's colour, the middle's step is small (17 Lab
-#: on photo/3020) while both strips step by 80-100; a gloss's ramp steps in none of them.
-SURFACE_STEP_PARTS = 2
 
 
 def lower_top_to_surface(
@@ -3527,22 +3514,14 @@ def lower_top_to_surface(
             lab[:, -BESIDE_COLUMNS:],
         )
     ]
-    held = np.zeros((len(parts), h), bool)  # each part's rows in the face's colour
+    face = np.zeros(h, bool)
     refs = []
-    for k, rows in enumerate(parts):
+    for rows in parts:
         seed = rows[h - f0 - ref_rows : h - f0]
         ref = median_of(seed, axis=0)
         refs.append(ref)
-        held[k] = row_norms(rows - ref) <= spread_limit(row_norms(seed - ref), MIN_FACE_DISTANCE)
-    held_parts = held.sum(axis=0)
-    if SURFACE_SIDE_TO_SIDE:
-        # the surface starts where all three hold; a row above it is the face's where
-        # most of them do (a print over the middle keeps both strips in the face's colour)
-        starting = held_parts == len(parts)
-        face = 2 * held_parts > len(parts)
-    else:
-        starting = face = held_parts > 0
-    run = np.convolve(starting.astype(np.int32), np.ones(SURFACE_RUN_ROWS, np.int32), "valid")
+        face |= row_norms(rows - ref) <= spread_limit(row_norms(seed - ref), MIN_FACE_DISTANCE)
+    run = np.convolve(face.astype(np.int32), np.ones(SURFACE_RUN_ROWS, np.int32), "valid")
     starts = np.flatnonzero(run == SURFACE_RUN_ROWS)
     if starts.size == 0:
         return top
@@ -3550,22 +3529,11 @@ def lower_top_to_surface(
     if first < SURFACE_MIN_DROP * h or float(np.mean(~face[:first])) < SURFACE_FOREIGN_SHARE:
         return top
     near, far = STEP_BAND_ROWS
-    stepped = 0
-    for k, rows in enumerate(parts):
-        # (side to side: each part's step read where its own run of the colour starts,
-        # the rows over ``first`` it holds too: its edge's blur ends there, not at first;
-        # a part holding the colour up to within ``far`` rows of the top has no rows of
-        # something else over it, its step there the top edge's own blur: not counted)
-        at = first
-        while SURFACE_SIDE_TO_SIDE and at > 0 and held[k, at - 1]:
-            at -= 1
-        if SURFACE_SIDE_TO_SIDE and at < far:
-            continue
-        above = median_of(rows[max(0, at - far) : at - near + 1], axis=0)
-        below = median_of(rows[at + near : at + far + 1], axis=0)
-        stepped += int(norm(above - below) >= SURFACE_STEP)
-    if stepped < (SURFACE_STEP_PARTS if SURFACE_SIDE_TO_SIDE else len(parts)):
-        return top
+    for rows in parts:
+        above = median_of(rows[max(0, first - far) : first - near + 1], axis=0)
+        below = median_of(rows[first + near : first + far + 1], axis=0)
+        if norm(above - below) < SURFACE_STEP:
+            return top
     f1 = bottom + EDGE_SKIP + 1
     f2 = min(f1 + FLOOR_BAND_ROWS, view.out.shape[0])
     if f2 > f1:
