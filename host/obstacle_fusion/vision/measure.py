@@ -1557,13 +1557,6 @@ class Measurer:
             return result
         if overlap >= CHECK_SAME_FACE:
             return result  # one face read twice: the rig's reading (its true pitch) stands
-        if (
-            CHECK_SAME_OUTLINE
-            and result.detected
-            and found_sure < fused.min_confidence
-            and same_outline(result.box_px, found.box_px)
-        ):
-            return result  # one face on one foot, its top read twice, both unsure: the rig's
         # the face keeps the size read at the search's guessed pitch; the camera height
         # and pitch reported are the given rig's, not the search's guess
         found.camera_height_m = None
@@ -1698,31 +1691,6 @@ CHECK_SAME_FACE = 0.7
 #: ... and its box narrower than the image by this share (a face as wide as the image is
 #: clipped, not measured) ...
 CHECK_MAX_WIDTH_SHARE = 0.9
-
-
-#: ... and where the search's face stands on the rig face's foot between its sides (each
-#: within CHECK_OUTLINE_PX of the rig face's), only its top elsewhere, and is itself too
-#: unsure to be reported on its own (its confidence, the no-rig doubts applied, under the
-#: method's floor ``min_confidence``), the rig's reading stands (session 41, branch
-#: ``wt-d-41``, a switch): it is the same surface on the same contact row, its top read
-#: twice, and of two guesses at that top the rig's, read at the true pitch (and with the
-#: rig-only rules, SURFACE_UP_TO_TOP), is kept. The check is there for a surface the rig's
-#: path did not find. Photo/3026 ordinary: the rig's face at 0.008, the search's at 0.009
-#: with its top raised into a rocket photographed behind the face, +121 %; the rig's
-#: reads -2.6 %. A face the search reads surer than the floor still replaces the rig's
-#: (photo/3056, 3079 ordinary: the rig's top wrong, the search's at 0.18 and 0.069 right);
-#: the floor alone, without the same outline, lost photo/3046 hard (another face, the
-#: search's at 0.048 right, 1.6 -> 215 %).
-CHECK_SAME_OUTLINE = True
-CHECK_OUTLINE_PX = 3.0
-
-
-def same_outline(a: Box | None, b: Box | None) -> bool:
-    """Whether two boxes (x0, y0, x1, y1) share their sides and their foot (each within
-    CHECK_OUTLINE_PX), whatever their tops."""
-    if a is None or b is None:
-        return False
-    return all(abs(a[i] - b[i]) <= CHECK_OUTLINE_PX for i in (0, 2, 3))
 
 
 def _foot_off_rig_row(view: View, found: Measurement, range_m: float) -> float | None:
