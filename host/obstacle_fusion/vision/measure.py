@@ -1180,6 +1180,8 @@ class Measurer:
         )
         if AGAIN_ABOVE_LENS and on_found and not same:
             same = _top_above_lens(found, again)
+        if AGAIN_ENCLOSES and not same:
+            same = _encloses_print(found, again)
         log.debug(
             "no rig, the estimated rig as known: %s box %s at %.3f (found %s at %.3f): %s",
             again.detected,
@@ -1881,6 +1883,17 @@ AGAIN_SIDES_DOUBTED = frozenset({UNEVEN_SIDES, SKEWED_EDGES})
 #: photo 736 ordinary) all belong to faces lower than the lens. Session 40, branch
 #: ``wt-a-40``; a switch for the tests.
 AGAIN_ABOVE_LENS = True
+#: ... or, whatever the confidences, where the reading encloses the found face on all four
+#: sides, its foot under the found one by more than AGAIN_FOOT_ROWS and at most this share
+#: of its own height: the found face a print lying on it, the print's lower edge above the
+#: floor contact (:func:`_encloses_print`; session 41, branch ``wt-a-41``; a switch for
+#: the tests).
+AGAIN_ENCLOSES = True
+AGAIN_ENCLOSE_FOOT_SHARE = 0.15
+#: ... the found face spanning at least this share of the reading's width (a print covers
+#: most of its face: photo 733 ordinary, a 31 px patch on the floor before a box, read
+#: again as 419 px of floor, 1.0 -> 101 % off without it).
+AGAIN_ENCLOSE_WIDTH_SHARE = 0.5
 #: ... the doubts that put the found top in question ...
 TOP_DOUBTS = frozenset({TOP_FROM_SIDES, SECOND_TOP})
 #: ... and how many times as high the reading must be (a row or two is the same top).
@@ -2470,6 +2483,34 @@ def _on_found(found: Measurement, again: Measurement) -> bool:
     return (
         abs(b1 - y1) <= AGAIN_FOOT_ROWS
         and overlap >= AGAIN_SIDES_SHARE * min(x1 - x0, a1 - a0)
+        and not AGAIN_SIDES_DOUBTED.intersection(again.doubts).difference(found.doubts)
+    )
+
+
+def _encloses_print(found: Measurement, again: Measurement) -> bool:
+    """Whether ``again`` (the found face read once more with its estimated rig taken as
+    known) is the surface a print ``found`` lies on: a print lies inside its face, so the
+    face's outline encloses it on all four sides (its sides outside both of ``found``'s,
+    its top above), a print covers most of it (``found`` at least AGAIN_ENCLOSE_WIDTH_SHARE
+    of ``again``'s width: a patch of the floor or the wall is no face's print), and the
+    print's lower edge stands above the face's floor contact
+    (``again``'s foot under ``found``'s by more than AGAIN_FOOT_ROWS, the same foot's
+    jitter, and by at most AGAIN_ENCLOSE_FOOT_SHARE of ``again``'s height: a print's lower
+    margin), ``again`` AGAIN_TALLER times as high and doubting its sides no more
+    (AGAIN_SIDES_DOUBTED). Whatever the confidences: the print's piece, plain or edged by
+    the picture, is read surer than the face it covers. A reading on the found foot itself
+    gives no such evidence (a top walked up into what stands behind is as tall)."""
+    if found.box_px is None or again.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    a0, b0, a1, b1 = again.box_px
+    return (
+        a0 <= x0
+        and a1 >= x1
+        and b0 < y0
+        and x1 - x0 >= AGAIN_ENCLOSE_WIDTH_SHARE * (a1 - a0)
+        and AGAIN_FOOT_ROWS < b1 - y1 <= AGAIN_ENCLOSE_FOOT_SHARE * (b1 - b0)
+        and (again.height_px or 0.0) >= AGAIN_TALLER * (found.height_px or 0.0)
         and not AGAIN_SIDES_DOUBTED.intersection(again.doubts).difference(found.doubts)
     )
 
