@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.fused import method
 from obstacle_fusion.vision.fused.confidence import FOOT_OFF_FLOOR, PITCH_UNREAD
 from obstacle_fusion.vision.measure import Measurement
 
@@ -32,6 +33,9 @@ def test_a_foot_off_the_floor_moves_down_to_the_contact() -> None:
 
 def test_without_the_rule_the_foot_stays_off_the_floor(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(measure, "FOOT_OFF_FLOOR_LOWER", False)
+    # (session 41: method.MARGIN_UNDER_TRIED_ROW takes procedural 101's print frame from
+    # the print's row, 5.7 % off; off here, so this rule alone is read)
+    monkeypatch.setattr(method, "MARGIN_UNDER_TRIED_ROW", False)
     assert _worst("procedural", 101, True) > 0.12
     assert _worst("procedural", 714, True) > 0.15
     assert _worst("photo", 148, False) > 0.15

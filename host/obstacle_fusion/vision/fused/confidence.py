@@ -107,7 +107,8 @@ def refusal(conf: float, min_confidence: float) -> str | None:
 #: tuning scenes had a height error over 5 %).
 TOP_FROM_SIDES = "top_from_sides"
 #: A margin of one colour surrounds the face found, a print's frame
-#: (:func:`~obstacle_fusion.vision.fused.region.enclose_by_margin`; taken as the face, or
+#: (:func:`~obstacle_fusion.vision.fused.region.enclose_by_margin`, with no rig also
+#: :func:`~obstacle_fusion.vision.fused.region.margin_under_print`; taken as the face, or
 #: refused because it runs on below the floor-contact rows). With the floor contact found
 #: in the image (no rig) the print's own lower edge passes for the floor contact and the
 #: print for the face, and nothing ties either to the floor (six of the eight such faces

@@ -65,6 +65,7 @@ from obstacle_fusion.vision.fused.region import (
     lower_top_to_surface,
     lower_top_where_sides_end,
     margin_line_out,
+    margin_under_print,
     raise_top_along_frame,
     raise_top_by_colour,
     raise_top_by_hue,
@@ -297,6 +298,11 @@ PRINT_OUTLINE_TOP = True
 #: found, is tried for a print whose frame shows only beside it
 #: (:func:`.region.enclose_beside_foot`, else only after the texture rescue).
 BESIDE_FOOT_FIRST = True
+#: With no rig, the face found on a tried row, no frame found round it, is checked for a
+#: frame whose margin runs on under that row (:func:`.region.margin_under_print`): the
+#: print's lower edge was taken for the foot. The frame is then the face (as an
+#: enclose_by_margin frame is), FRAMED among its doubts (a switch for the tests).
+MARGIN_UNDER_TRIED_ROW = True
 #: A top where the face's sides stop and a print's texture ends (scoring.closing_top
 #: with scoring.PRINT_ENDS_TEXTURE) is not lowered to where the background seems to show
 #: past a side below it (region.lower_top_to_background): under it is the print, and a
@@ -776,6 +782,12 @@ class FusedMethod:
                 # ... or no margin under the print (its foot the face's own), the margin
                 # beside it running up to the frame's top (as after the texture rescue)
                 framed = enclose_beside_foot(seen, v, rb, vt, ul, ur, (r0b, r1b))
+        if framed is None and MARGIN_UNDER_TRIED_ROW and not floor_known:
+            # no rig: the row tried stands a print whose margin (the face's own colour)
+            # runs on under it to a foot below the row: the frame is the face (where its
+            # foot lies within the rows read; past them the row tried stands as it is)
+            under = margin_under_print(seen, v, rb, int(vt), ul, ur)
+            framed = under if under is not None and under[0] < n - 3 else None
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:

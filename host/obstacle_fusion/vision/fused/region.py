@@ -14,6 +14,8 @@ to one plank, took a wall line crossing the face for its top and a print for the
   with no foot at all);
 * :func:`trim_to_foot`: the sides, in to where the face's foot ends (a face of any colours);
 * :func:`enclose_by_margin`: a print inside a margin of one colour is enclosed by its frame;
+  :func:`margin_under_print` (no rig) the same for a thin frame running on under the row
+  tried, its foot the floor contact;
 * :func:`raise_top_by_colour`: the top, up past a background line crossing the face;
 * :func:`stops_at_colour_top`, :func:`ends_in_colour`: a short raise past a top where the
   face's colour ends is undone (the sides ran on up what stands behind the face);
@@ -2724,6 +2726,109 @@ def enclose_by_ring(
         return None  # no margin beside the print: the ring above it is something else
     return (
         new_bottom,
+        top - RING_SKIP - up,
+        left - RING_SKIP - out[0],
+        right + RING_SKIP + out[1],
+    )
+
+
+#: :func:`margin_under_print`: columns read just outside each side of a print for its side
+#: margins' colour (past RING_SKIP columns of the edge's blur).
+SIDE_MARGIN_COLUMNS = 3
+
+
+def _margin_past_blur(
+    profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], reach: int
+) -> int | None:
+    """How far (entries) a margin of colour ``ring`` runs out along ``profile`` (outward
+    from a print's edge): it starts within the first RING_BLUR entries (the edge's blur)
+    and must end within ``reach`` (and inside the profile) on another colour; None when
+    it does not show, or runs on."""
+    near = row_norms(profile[:RING_BLUR] - ring) <= RING_AGREE
+    if not near.any():
+        return None
+    first = int(np.argmax(near))
+    run = first + _run_length(profile[first:reach], ring, RING_AGREE)
+    if run >= min(reach, profile.shape[0]):
+        return None  # the colour runs on (a floor or wall of it) or past the view
+    if norm(median_of(profile[run : run + 3], axis=0) - ring) <= RING_AGREE:
+        return None
+    return run
+
+
+def margin_under_print(
+    image: npt.NDArray[Any] | None, view: View, bottom: int, top: int, left: int, right: int
+) -> tuple[int, int, int, int] | None:
+    """The frame round a print found for the face (``left``-``right`` x ``top``-``bottom``,
+    working view) whose margin runs on under the print's lower edge, as (bottom, top,
+    left, right), or None: the colour just outside both its sides (one colour, unlike the
+    print's, ending within a margin's reach where the room begins) is also the colour
+    just under its lower edge, where it ends within a margin's reach too, on another
+    colour (the floor), and just over its top, where it ends within the reach too: the
+    frame's top.
+
+    A face stands on the floor: under its foot lies the floor, running on down, not a
+    thin band of the colour that flanks the face. With no rig the row tried for the floor
+    contact may be a print's lower edge over a margin too thin for
+    :func:`enclose_by_margin`'s fixed strips and with too little margin over the print
+    for :func:`enclose_by_ring` (bricks in a frame 2-4 px thick at the top and the foot):
+    the size found is the print's, its foot not the floor contact."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 10:
+        return None
+    h, w = view.out.shape
+    reach_u = int(MAX_MARGIN_SHARE * (right - left)) + RING_SKIP + 3
+    reach_v = int(MAX_MARGIN_SHARE * (bottom - top)) + RING_SKIP + 3
+    # (the frame may end a few columns inside the image's edge: the reach is clamped)
+    c0, c1 = max(0, left - reach_u), min(w, right + reach_u + 1)
+    r0, r1 = max(0, top - reach_v), min(h, bottom + reach_v + 4)
+    least = RING_SKIP + SIDE_MARGIN_COLUMNS + RING_MIN  # a side margin and what ends it
+    if min(left - c0, c1 - right) < least or r1 - bottom < RING_SKIP + RING_BLUR + 3:
+        return None
+    q_u, q_v = max(2, (right - left) // 10), max(2, (bottom - top) // 10)
+    cm, rm = (left + right) // 2, (top + bottom) // 2
+    k_v = max(1, (bottom - top) // 5)
+    band = _lab8(image, view, r0, r1, cm - q_u, cm + q_u + 1)
+    t, b = top - r0, bottom - r0
+    print_colour = median_u8(band[t + k_v : b - k_v].reshape(-1, 3), axis=0)
+    cols = np.asarray(
+        median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
+    )
+    lf, rt = left - c0, right - c0
+    sides = [
+        cols[lf - RING_SKIP - SIDE_MARGIN_COLUMNS + 1 : lf - RING_SKIP + 1],
+        cols[rt + RING_SKIP : rt + RING_SKIP + SIDE_MARGIN_COLUMNS],
+    ]
+    colours = [median_of(c, axis=0) for c in sides]
+    ring = 0.5 * (colours[0] + colours[1])
+    if norm(colours[0] - colours[1]) > RING_AGREE or norm(ring - print_colour) < MARGIN_VS_PRINT:
+        return None
+    out = []
+    for profile in (cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :]):
+        run = _ring_run(profile, ring, min(reach_u, profile.shape[0]))
+        if run < RING_MIN:
+            return None  # no side margin, or a wall of its colour beside the face
+        out.append(run)
+    rows = np.asarray(median_u8(band, axis=1), np.float32)
+    down = _margin_past_blur(rows[b + RING_SKIP :], ring, reach_v)
+    if down is None:
+        return None
+    # ... and over it: a frame is a ring, its margin round the print on all four sides (a
+    # band under a face whose sides a shade's or a seam's blur flanks has none over it)
+    up = _margin_past_blur(rows[t - RING_SKIP :: -1], ring, reach_v) if t > RING_SKIP else None
+    log.debug(
+        "margin under %d-%d x %d-%d: down %d, up %s, sides %s",
+        left,
+        right,
+        top,
+        bottom,
+        down,
+        up,
+        out,
+    )
+    if up is None:
+        return None
+    return (
+        bottom + RING_SKIP + down,
         top - RING_SKIP - up,
         left - RING_SKIP - out[0],
         right + RING_SKIP + out[1],
