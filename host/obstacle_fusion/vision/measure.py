@@ -1034,6 +1034,11 @@ class Measurer:
             # the camera height its floor-contact row gives
             again = trial(height, None, pitch)
             accepted = again.detected and (again.confidence or 0.0) >= ESTIMATE_ACCEPT
+            if accepted and not _reread_confirms(found, again):
+                # another face, no surer, at the pitch the sides read: a pitch changes a
+                # face's metres, not its outline, so the sides' pitch is not confirmed
+                log.debug("pitch %.1f deg read: another face, no surer; unread", pitch)
+                return None
             return again if accepted else None
         h_scale, w_scale = level_scales(found.lines, view.camera, pitch)
         fixed = copy.copy(found)
@@ -1320,7 +1325,7 @@ class Measurer:
             if not MIN_ESTIMATED_CAMERA_HEIGHT_M <= height < MAX_ESTIMATED_CAMERA_HEIGHT_M:
                 continue
             result = self._run_guessed_rig(fused, image, range_m, timer, height, pitch)
-            if not result.detected:
+            if not result.detected or not _obstacle_size(result):
                 continue
             # its pitch a guess: doubted so, and refused as the search refuses a face
             # doubted on every count
@@ -1906,6 +1911,22 @@ BACKGROUND_TURN = True
 #: ... whose face is taken only where it stands on that row: none of these doubts (a foot
 #: above the contact row, off the floor, or floor within the face).
 LAST_TRY_FOOT_DOUBTS = frozenset({FOOT_ABOVE_CONTACT, FOOT_OFF_FLOOR, FLOOR_IN_FACE})
+
+#: With no rig, the rows read as with a rig (:meth:`Measurer._known_rig_row`) count only
+#: readings of a face no taller and no wider than RAISED_FACE_MAX_M at the sonar's depth:
+#: a wider one is the wall's foot or a floor line across the view read under a guessed lens
+#: (photo 3083 hard: a row under the face, 2.0 m wide, +192 %). Session 41, branch
+#: ``wt-c-41``; a switch for the tests.
+KNOWN_RIG_SIZE_BOUND = True
+
+#: With no rig, a face found at a guessed pitch and measured again at the pitch its sides
+#: read is taken only when that reading has the same outline near enough (the boxes
+#: overlapping by SAME_FACE_IOU: procedural 134 hard, its foot 5 rows up, is the face read
+#: better) or is a surer face: a pitch a few degrees off changes a face's metres by a few
+#: percent, not what the face is; another, less sure face there (photo 3065 ordinary: the
+#: top moved down to a skirting band's edge, -50 % at 0.52) leaves the pitch unread.
+#: Session 41, branch ``wt-c-41``; a switch for the tests.
+REREAD_PITCH_SAME_FACE = True
 
 #: With no rig, a floor-contact row that would put the lens lower than this above the floor
 #: is not tried: it is a line on the wall or a print's edge far above the floor, not the
@@ -2532,6 +2553,26 @@ def _top_above_lens(found: Measurement, again: Measurement) -> bool:
         and (found.height_m or 0.0) > lens
         and (again.height_px or 0.0) >= AGAIN_ABOVE_LENS_TALLER * (found.height_px or 0.0)
     )
+
+
+def _reread_confirms(found: Measurement, again: Measurement) -> bool:
+    """Whether ``again`` (``found``, a face read at a guessed pitch, read once more at the
+    pitch its sides gave) confirms that pitch: the same outline, near enough (boxes
+    overlapping by SAME_FACE_IOU or more: a foot or a top a few rows off is that face read
+    better), or a surer face (the levelled view is the lens's geometry as the sides read
+    it); always with REREAD_PITCH_SAME_FACE off."""
+    if not REREAD_PITCH_SAME_FACE or _iou(found.box_px, again.box_px) >= SAME_FACE_IOU:
+        return True
+    return (again.confidence or 0.0) > (found.confidence or 0.0)
+
+
+def _obstacle_size(found: Measurement) -> bool:
+    """Whether a reading's face is one the sonar's beam sees as one obstacle's face: no
+    taller and no wider than RAISED_FACE_MAX_M at the sonar's depth (KNOWN_RIG_SIZE_BOUND;
+    always with it off)."""
+    if not KNOWN_RIG_SIZE_BOUND:
+        return True
+    return all(s is None or s <= RAISED_FACE_MAX_M for s in (found.height_m, found.width_m))
 
 
 def _same_face(
