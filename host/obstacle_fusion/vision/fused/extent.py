@@ -96,6 +96,12 @@ LINES_PAST_GAP = 3
 #: The side's vertical edge must still be present over this share of the face's rows (the
 #: part against the background; the part against a floor of its colour may show none).
 LINES_SIDE_COVERAGE = 0.5
+#: With the rig, a last plank narrower than MIN_WIDEN_SHARE of the face is still the
+#: face's when its top and foot lines stand on the face's own rows across it and end
+#: together at a side standing down to the floor-contact row: the seam left behind has
+#: the face's surface on both sides, the contact edge running on under it, while a side
+#: face's receding strip has its top and foot lines sloping off those rows (a switch).
+NARROW_PLANK_ON_ROWS = True
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -190,10 +196,13 @@ def widen_across_seams(
     right: int,
     noise: float,
     top_alone: bool = False,
+    narrow: bool = False,
 ) -> tuple[int, int]:
     """The face's side columns, moved out to where its top and bottom edges both end
     (``top_alone``: or, with the foot edge too faint, where a strong top edge ends; only
-    with the rig: under a row merely tried, that top is often a background line)."""
+    with the rig: under a row merely tried, that top is often a background line;
+    ``narrow``: a last plank under the minimum move taken on the face's rows, see
+    NARROW_PLANK_ON_ROWS, with the rig only)."""
     if right - left < 4 or bottom - top < 3:
         return left, right
     gb = _edge_profile(ay, bottom)
@@ -237,7 +246,17 @@ def widen_across_seams(
         lines = (_line_on_row(ay, top, noise), _line_on_row(ay, bottom, noise))
     new = []
     for side, step in ((left, -1), (right, 1)):
-        moved = _outer_side(ax[top + 1 : bottom], sides, runs_on, side, step, min_move, need, lines)
+        moved = _outer_side(
+            ax[top + 1 : bottom],
+            sides,
+            runs_on,
+            side,
+            step,
+            min_move,
+            need,
+            lines,
+            narrow and NARROW_PLANK_ON_ROWS,
+        )
         new.append(side if moved is None else moved)
     return new[0], new[1]
 
@@ -259,6 +278,7 @@ def _outer_side(
     min_move: float,
     need: float,
     lines: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | None = None,
+    narrow: bool = False,
 ) -> int | None:
     """Where the edges that run on past ``side`` (towards ``step``) end, the column of the
     face's real side: ``side`` itself when they stop within ``min_move`` columns, None when
@@ -269,6 +289,8 @@ def _outer_side(
     chair's leg behind) is not the face's side either."""
     end = walk_on(runs_on, side, step, MAX_GAP)  # a dark seam dims the top edge across it
     if abs(end - side) <= min_move:
+        if narrow and lines is not None and abs(end - side) > SNAP_COLUMNS // 2:
+            return _narrow_plank(ax_rows, sides, side, end, step, need, lines)
         return side  # the edges stop at (or just past) the side: it is the face's
     lo, hi = _snap_window(side, end, step, sides.size)
     best = int(lo + sides[lo : hi + 1].argmax())
@@ -281,6 +303,31 @@ def _outer_side(
         if all(_line_ends_at(line, side, best, step) for line in lines):
             return best  # the top and foot lines end together: the face's side
     return None
+
+
+def _narrow_plank(
+    ax_rows: npt.NDArray[np.int16],
+    sides: npt.NDArray[np.float32],
+    side: int,
+    end: int,
+    step: int,
+    need: float,
+    lines: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]],
+) -> int:
+    """The side of a last plank past ``side`` (the edges ran on to ``end``, under the
+    minimum move): its column where a side (standing down to the floor, or over
+    LINES_SIDE_COVERAGE of the rows) ends the top and foot lines together, both on the
+    face's rows across the plank; else ``side``."""
+    lo, hi = _snap_window(side, end, step, sides.size)
+    best = int(lo + sides[lo : hi + 1].argmax())
+    if float(sides[best]) < need:
+        return side
+    present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
+    if not _stands(present) and share(present) < LINES_SIDE_COVERAGE:
+        return side  # (a plank of the floor's colour shows no side against the floor)
+    if all(_line_ends_at(line, side, best, step) for line in lines):
+        return best
+    return side
 
 
 def _line_ends_at(line: npt.NDArray[np.bool_], side: int, best: int, step: int) -> bool:

@@ -935,7 +935,9 @@ class FusedMethod:
             sign, top_row = (1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0), None
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
-        ul, ur = widen_across_seams(ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known)
+        ul, ur = widen_across_seams(
+            ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known, narrow=rig_given
+        )
         # ... and its top line runs from side to side: a side with none next to it over a
         # part of the width stands on something beside the face (extent.TOP_LINE_SPANS)
         trimmed = trim_to_top_line(ay, ax3, rb, int(round(vt)), ul, ur, noise)
