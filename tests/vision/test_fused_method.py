@@ -40,7 +40,10 @@ def test_without_the_colour_top_the_sides_run_on(monkeypatch: pytest.MonkeyPatch
     """The same room, with no short raise undone: the top runs up into the top face (and
     stays there when it is not lowered again, by :func:`region.lower_top_to_background`,
     where the floor beside the face shows past it, nor by
-    :func:`region.lower_top_past_top_face`, where it shows past the top face's sides)."""
+    :func:`region.lower_top_past_top_face`, where it shows past the top face's sides, nor
+    refused for ending on no line across the face: ``extent.RAISE_SPANS_FACE``, session 41,
+    which alone keeps this room's top: ``test_fused_raise_spans_face.py``)."""
+    monkeypatch.setattr(extent_mod, "RAISE_SPANS_FACE", False)
     monkeypatch.setattr(region, "SHORT_RAISE", 0.0)
     monkeypatch.setattr(method_mod, "lower_top_to_background", lambda *a: int(a[3]))
     monkeypatch.setattr(method_mod, "lower_top_past_top_face", lambda *a: int(a[3]))

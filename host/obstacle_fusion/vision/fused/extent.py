@@ -384,6 +384,47 @@ def raise_top_past_inner_edges(
     return _snap_top(ay, end, bottom, left, right)
 
 
+#: A raise past the inner edges must end on the face's own top edge (session 41): the face
+#: is one surface square to the beam, its top edge one line on one row from side to side.
+#: Where the found top's line (:func:`top_line_share`) spans the face (over
+#: RAISE_SPAN_HELD of its columns) and the raised top's spans under RAISE_SPAN_SHORT of
+#: them, the sides ran on up an object standing behind in line with the face (a rocket
+#: or a post narrower than the face, rarely of exactly its width), not up to its top, and
+#: the raise is refused (a switch for the tests).
+RAISE_SPANS_FACE = True
+RAISE_SPAN_HELD = 0.8
+RAISE_SPAN_SHORT = 0.5
+#: Rows either side of a top's row read for its line (blur, the snap's one row below).
+RAISE_SPAN_ROWS = 2
+
+
+def top_line_share(
+    ay: npt.NDArray[np.float32], row: int, left: int, right: int, noise: float
+) -> float:
+    """The largest share of the columns between ``left`` and ``right`` where a line
+    (:func:`_line_on_row`) stands, over the rows within RAISE_SPAN_ROWS of ``row``."""
+    _, b = LINE_SIDE_ROWS
+    r0 = max(row - RAISE_SPAN_ROWS, b)
+    r1 = min(row + RAISE_SPAN_ROWS + 1, ay.shape[0] - b)
+    if r1 <= r0 or right - left < 3:
+        return 0.0
+    on = _lines_on_rows(ay, r0, r1, noise)[:, left + 1 : right]
+    return float(on.mean(axis=1).max())
+
+
+def raise_spans_face(
+    ay: npt.NDArray[np.float32], top: int, raised: int, left: int, right: int, noise: float
+) -> bool:
+    """Whether a raise from ``top`` to ``raised`` stands by the face's top line
+    (RAISE_SPANS_FACE): False where the found top's line spans the face and the raised
+    top's does not (an object behind in line with the face, not its top)."""
+    if not RAISE_SPANS_FACE or raised >= top:
+        return True
+    held = top_line_share(ay, top, left, right, noise)
+    reached = top_line_share(ay, raised, left, right, noise)
+    return not (held >= RAISE_SPAN_HELD and reached < RAISE_SPAN_SHORT)
+
+
 def _snap_top(ay: npt.NDArray[np.float32], end: int, bottom: int, left: int, right: int) -> int:
     """The strongest top edge where the face's lines ended (SNAP_ROWS above, or one row
     below: blur), never back down on the edge they ran past: one snap for sides and seams."""

@@ -36,6 +36,7 @@ from obstacle_fusion.vision.fused.extent import (
     SNAP_COLUMNS,
     enclose_inner_frame,
     foot_in_band,
+    raise_spans_face,
     raise_top_along_seams,
     raise_top_past_inner_edges,
     top_line_across,
@@ -341,6 +342,11 @@ FRAME_RAIL_RAISE = True
 #: colour's face is taken when it is surer and reaches THIN_STRIP_TALLER times as high
 #: (the strip was its foot; a face about as high is the strip's own face read again).
 THIN_STRIP_SHARE = 0.3
+#: A raise past the inner edges refused for ending on no line across the face
+#: (``extent.RAISE_SPANS_FACE``, with the rig) is at most this share of the found face's
+#: height: a piece found under a longer raise (procedural/108 hard: 11 rows, raised 88)
+#: is a band or label low on the face, its top line spanning that piece only.
+RAISE_SPAN_MAX_RAISE = 1.0
 THIN_STRIP_MAX_CONFIDENCE = 0.15
 THIN_STRIP_TALLER = 2.0
 
@@ -746,6 +752,17 @@ class FusedMethod:
         if best.closing is not None:
             vt = best.closing
         raised = raise_top_past_inner_edges(ay, ax3, rb, vt, ul, ur, noise)
+        if (
+            rig_known
+            and vt - raised <= RAISE_SPAN_MAX_RAISE * (rb - vt)
+            and not raise_spans_face(ay, vt, raised, ul, ur, noise)
+        ):
+            # the found top's line spans the face, the raised top's does not: the sides
+            # ran on up what stands behind in line with the face (a piece under a raise
+            # longer than itself is a band across the face's foot, a label, a plank: its
+            # line spans the piece only, and the raise is the sides' to make)
+            log.debug("top %d: the raise to %d ends on no line across the face", vt, raised)
+            raised = vt
         seam_top = False  # the top where the face's own seams end
         if SEAMS_RAISE_TOP and rig_known:
             # a face in the wall's shade: its own seams run on past a background line
