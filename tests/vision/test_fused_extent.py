@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.vision.fused import extent, foot_outline, method
+from obstacle_fusion.vision.fused import extent, foot_outline, method, region
 from obstacle_fusion.vision.fused.extent import (
     enclose_inner_frame,
     raise_top_past_inner_edges,
@@ -205,5 +205,7 @@ def test_without_the_line_rule_the_plank_face_is_one_plank(
     monkeypatch.setattr(foot_outline, "WIDTH_FROM_FOOT", False)
     # and the far share off the beam's axis (method.FAR_OFF_AXIS) gives it the face too
     monkeypatch.setattr(method, "FAR_OFF_AXIS", False)
+    # and so does crossing a plank's dark seam as a stripe (region.BRIDGE_STRIPES)
+    monkeypatch.setattr(region, "BRIDGE_STRIPES", False)
     _, ew = room_size_errors("photo", 2143, False)
     assert ew > 0.5

@@ -49,6 +49,7 @@ from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     MIN_TOP_FACE_ROWS,
     TOP_COLOUR_STEP,
+    bridge_stripe,
     enclose_beside_foot,
     enclose_by_margin,
     enclose_by_ring,
@@ -462,6 +463,33 @@ RAISED_FACE_MAX_M = 1.5
 #: measure.SMALL_FACE_GROWN, whose rows are read on guessed rigs, it walked a small face's
 #: top into the wall above it (fresh photo/2189 ordinary, no rig, 1.6 -> 195 %).
 WINDOW_RESCUE_TOP = True
+
+
+def _across_stripe(
+    seen: npt.NDArray[Any],
+    v: View,
+    ay: npt.NDArray[np.float32],
+    ax3: npt.NDArray[np.int16],
+    rb: int,
+    top: int,
+    ul: int,
+    ur: int,
+    depth: float,
+    noise: float,
+    rig_known: bool,
+) -> tuple[int, int]:
+    """The sides past a stripe down the face (:func:`.region.bridge_stripe`), widened on
+    across seams from its far edge; kept only where the face runs on past the stripe by
+    at least the stripe's own width (a stripe at the face's real side is its edge)."""
+    bl, br = bridge_stripe(seen, v, ay, ax3, rb, top, ul, ur, depth, noise)
+    if (bl, br) == (ul, ur):
+        return ul, ur
+    wl, wr = widen_across_seams(ay, ax3, rb, top, bl, br, noise, rig_known)
+    left = wl if bl != ul and bl - wl >= ul - bl else ul
+    right = wr if br != ur and wr - br >= br - ur else ur
+    if (left, right) != (ul, ur):
+        log.debug("across a stripe: %d-%d -> %d-%d", ul, ur, left, right)
+    return left, right
 
 
 def contact_band(view: View, depth: float) -> tuple[float, float]:
@@ -954,6 +982,10 @@ class FusedMethod:
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(
             ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known, narrow=rig_given
+        )
+        # ... and across a stripe down the face (a tape): a marking on it, not a gap
+        ul, ur = _across_stripe(
+            seen, v, ay, ax3, rb, int(round(vt)), ul, ur, depth, noise, rig_known
         )
         # ... and its top line runs from side to side: a side with none next to it over a
         # part of the width stands on something beside the face (extent.TOP_LINE_SPANS)

@@ -44,7 +44,12 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from obstacle_fusion.vision.fused.extent import foot_in_band
+from obstacle_fusion.vision.fused.extent import (
+    MIN_EDGE_SNR,
+    _line_on_row,
+    _stands,
+    foot_in_band,
+)
 from obstacle_fusion.vision.fused.profiles import (
     clamp,
     column_means,
@@ -3892,3 +3897,105 @@ def margin_line_out(
     )
     log.debug("a margin line round the print %d-%d x %d-%d: %s", left, right, top, bottom, out)
     return out
+
+
+#: A stripe down the face (a tape, a painted band) is a marking on it, not a gap between
+#: two faces: its two edges are parallel a few centimetres apart, the face's surface is
+#: the same on both sides, and its foot stands on the same floor-contact row across it.
+#: The side search took the stripe's near edge for a side and the widening across seams
+#: stopped at it (its top edge against a background of its own shade shows no line); the
+#: face is crossed to its far half (a switch for the tests).
+BRIDGE_STRIPES = True
+#: The widest stripe crossed, at the face's depth.
+STRIPE_MAX_M = 0.12
+#: The narrowest stripe (columns; a narrower gap is a seam, the widening's own).
+STRIPE_MIN_COLUMNS = 5
+#: The foot line runs on its row over this share of the stripe's columns ...
+STRIPE_FOOT_SHARE = 0.7
+#: ... and the top and foot lines both stand over this share of the columns past it ...
+STRIPE_PAST_SHARE = 0.7
+#: ... read over this many columns, from STRIPE_PAST_GAP past the stripe's far edge (its blur).
+STRIPE_PAST_COLUMNS = 8
+STRIPE_PAST_GAP = 3
+#: The face's colour (8-bit Lab) on both sides of the stripe apart by at most this.
+STRIPE_SAME_SURFACE = 12.0
+#: Columns read for the face's colour either side of the stripe, from this many columns
+#: inside the side (its blur) ...
+STRIPE_COLOUR_COLUMNS = 6
+STRIPE_COLOUR_GAP = 2
+#: ... over the face's rows but this share at its top and at its foot (their edges).
+STRIPE_COLOUR_MARGIN = 0.25
+#: The stripe's far edge is at least this share of the side's |d/dx| (and MIN_EDGE_SNR
+#: noise levels), and stands down to the floor where present at this share of that.
+STRIPE_EDGE_SHARE = 0.5
+STRIPE_PRESENT_SHARE = 0.5
+#: The fewest rows a face is looked at for a stripe (its colour read over half of them).
+STRIPE_MIN_ROWS = 8
+
+
+def bridge_stripe(
+    image: npt.NDArray[Any],
+    view: View,
+    ay: npt.NDArray[np.float32],
+    ax: npt.NDArray[np.int16],
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth: float,
+    noise: float,
+) -> tuple[int, int]:
+    """The side columns moved past a stripe down the face at either side: to the
+    stripe's far edge where that edge stands down to the floor, the foot line runs on
+    across the stripe, the top and foot lines stand on their rows past it and the face's
+    colour past it is the colour inside the side (the caller widens on from there)."""
+    if (
+        not BRIDGE_STRIPES
+        or right - left < 2 * STRIPE_COLOUR_COLUMNS
+        or bottom - top < STRIPE_MIN_ROWS
+    ):
+        return left, right
+    width = ay.shape[1]
+    most = int(STRIPE_MAX_M * view.fx / max(depth, 1e-6))
+    if most < STRIPE_MIN_COLUMNS:
+        return left, right
+    sides = np.asarray(ax[top + 1 : bottom], np.float32).mean(axis=0)
+    top_line = _line_on_row(ay, top, noise)
+    foot_line = _line_on_row(ay, bottom, noise)
+    h = bottom - top
+    r0, r1 = top + int(STRIPE_COLOUR_MARGIN * h), bottom - int(STRIPE_COLOUR_MARGIN * h)
+    new = [left, right]
+    for i, (side, step) in enumerate(((left, -1), (right, 1))):
+        need = max(STRIPE_EDGE_SHARE * float(sides[side]), MIN_EDGE_SNR * noise)
+        lo = side + step * STRIPE_MIN_COLUMNS
+        hi = side + step * most
+        a, b = sorted((lo, hi))
+        a, b = max(a, 0), min(b, width - 1)
+        if b - a < 1:
+            continue
+        far = int(a + sides[a : b + 1].argmax())
+        if float(sides[far]) < need:
+            continue
+        if not _stands(
+            np.asarray(ax[top + 1 : bottom, far], np.float32) >= STRIPE_PRESENT_SHARE * need
+        ):
+            continue
+        s0, s1 = sorted((side + step, far))
+        if share(foot_line[s0 : s1 + 1]) < STRIPE_FOOT_SHARE:
+            continue  # no foot on the same row across it: a gap between two faces
+        p0 = far + step * STRIPE_PAST_GAP
+        p1 = p0 + step * (STRIPE_PAST_COLUMNS - 1)
+        q0, q1 = min(p0, p1), max(p0, p1)
+        if q0 < 0 or q1 >= width:
+            continue
+        if min(share(top_line[q0 : q1 + 1]), share(foot_line[q0 : q1 + 1])) < STRIPE_PAST_SHARE:
+            continue  # the face's top and foot do not run on past it
+        inside = side - step * (STRIPE_COLOUR_COLUMNS + STRIPE_COLOUR_GAP)
+        c_in = sorted((inside, side - step * STRIPE_COLOUR_GAP))
+        c_out = sorted((p0, p0 + step * (STRIPE_COLOUR_COLUMNS - 1)))
+        face_in = np.median(_band(image, view, r0, r1, c_in[0], c_in[1] + 1).reshape(-1, 3), 0)
+        face_out = np.median(_band(image, view, r0, r1, c_out[0], c_out[1] + 1).reshape(-1, 3), 0)
+        if float(np.linalg.norm(face_in - face_out)) > STRIPE_SAME_SURFACE:
+            continue  # another surface past it: another face
+        new[i] = far
+    return new[0], new[1]
