@@ -1492,11 +1492,15 @@ class Measurer:
         unsure one grown and a miss read on every row as with a rig (confidence as the
         method decided, unreported)."""
         result = self._run_estimated(impl, image, range_m, timer)
+        searched = result
         if ESTIMATED_RIG_AGAIN and result.detected:
             result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
         if not rows:
             return result
-        if SMALL_FACE_GROWN and result.detected:
+        # a reading the estimated rig just gave in place of the search's (AGAIN_TAKEN_KEPT)
+        # is the face read as with a rig already: the rows read as with one do not redo it
+        again_taken = AGAIN_TAKEN_KEPT and result is not searched
+        if SMALL_FACE_GROWN and result.detected and not again_taken:
             result = self._grown_small_face(cast(FusedMethod, impl), result, image, range_m, timer)
         if KNOWN_RIG_ROWS and not result.detected:
             # (in a stream where they gave nothing, here or for a small face, the next
@@ -1894,6 +1898,12 @@ AGAIN_ABOVE_LENS = True
 #: floor contact (:func:`_encloses_print`; session 41, branch ``wt-a-41``; a switch for
 #: the tests).
 AGAIN_ENCLOSES = True
+#: With no rig, a reading :meth:`Measurer._as_if_known` took in place of the search's
+#: face (the estimated rig as known) is kept: :meth:`Measurer._grown_small_face` does not
+#: run on it in the same pass. That reading ran every stage a rig runs (the foot outline
+#: among them) on the face's own foot; reading the floor-contact rows once more as with
+#: a rig would only put the same face up for replacing by a row-by-row guess.
+AGAIN_TAKEN_KEPT = True
 AGAIN_ENCLOSE_FOOT_SHARE = 0.15
 #: ... the found face spanning at least this share of the reading's width (a print covers
 #: most of its face: photo 733 ordinary, a 31 px patch on the floor before a box, read
@@ -2526,8 +2536,8 @@ def _encloses_print(found: Measurement, again: Measurement) -> bool:
     x0, y0, x1, y1 = found.box_px
     a0, b0, a1, b1 = again.box_px
     return (
-        a0 <= x0
-        and a1 >= x1
+        a0 < x0
+        and a1 > x1
         and b0 < y0
         and x1 - x0 >= AGAIN_ENCLOSE_WIDTH_SHARE * (a1 - a0)
         and AGAIN_FOOT_ROWS < b1 - y1 <= AGAIN_ENCLOSE_FOOT_SHARE * (b1 - b0)
