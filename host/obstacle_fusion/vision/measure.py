@@ -1492,15 +1492,14 @@ class Measurer:
         unsure one grown and a miss read on every row as with a rig (confidence as the
         method decided, unreported)."""
         result = self._run_estimated(impl, image, range_m, timer)
-        searched = result
         if ESTIMATED_RIG_AGAIN and result.detected:
             result = self._as_if_known(cast(FusedMethod, impl), result, image, range_m, timer)
         if not rows:
             return result
-        # a reading the estimated rig just gave in place of the search's (AGAIN_TAKEN_KEPT)
-        # is the face read as with a rig already: the rows read as with one do not redo it
-        again_taken = AGAIN_TAKEN_KEPT and result is not searched
-        if SMALL_FACE_GROWN and result.detected and not again_taken:
+        # (on a reading _as_if_known just took too: it is a face read as with a rig on the
+        # search's foot, the rows below it may stand its foot a few rows better: photo 3021
+        # hard, AGAIN_ENCLOSES then the rows, 5.4 -> 1.3 % off)
+        if SMALL_FACE_GROWN and result.detected:
             result = self._grown_small_face(cast(FusedMethod, impl), result, image, range_m, timer)
         if KNOWN_RIG_ROWS and not result.detected:
             # (in a stream where they gave nothing, here or for a small face, the next
@@ -1898,12 +1897,6 @@ AGAIN_ABOVE_LENS = True
 #: floor contact (:func:`_encloses_print`; session 41, branch ``wt-a-41``; a switch for
 #: the tests).
 AGAIN_ENCLOSES = True
-#: With no rig, a reading :meth:`Measurer._as_if_known` took in place of the search's
-#: face (the estimated rig as known) is kept: :meth:`Measurer._grown_small_face` does not
-#: run on it in the same pass. That reading ran every stage a rig runs (the foot outline
-#: among them) on the face's own foot; reading the floor-contact rows once more as with
-#: a rig would only put the same face up for replacing by a row-by-row guess.
-AGAIN_TAKEN_KEPT = True
 AGAIN_ENCLOSE_FOOT_SHARE = 0.15
 #: ... the found face spanning at least this share of the reading's width (a print covers
 #: most of its face: photo 733 ordinary, a 31 px patch on the floor before a box, read

@@ -2827,12 +2827,10 @@ def margin_under_print(
     )
     if up is None:
         return None
-    # (bottom and right are exclusive, the first row or column past the margin; top and
-    # left inclusive, the margin's outermost: the run read outward ends one short of them)
     return (
         bottom + RING_SKIP + down,
-        top - RING_SKIP - up + 1,
-        left - RING_SKIP - out[0] + 1,
+        top - RING_SKIP - up,
+        left - RING_SKIP - out[0],
         right + RING_SKIP + out[1],
     )
 
