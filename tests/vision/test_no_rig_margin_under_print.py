@@ -12,6 +12,7 @@ thin band of the colour flanking the face, ending on the floor, is the frame's f
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
@@ -59,11 +60,71 @@ def frame_of(
 
 
 def test_the_frame_round_a_print_is_found_from_its_sides_and_foot() -> None:
-    found = frame_of(framed())
+    """Sharp edges (no blur): the bottom and right exclusive, exact; the top and left the
+    first row and column without the margin's colour, one outside the face's own (see
+    the blurred case below for why the frame is read so)."""
+    assert frame_of(framed()) == (BOTTOM, TOP - 1, COLUMNS[0] - 1, COLUMNS[1])
+
+
+@pytest.mark.parametrize("sigma", [0.8, 1.0, 1.3])
+def test_on_a_blurred_image_the_frame_is_exact(sigma: float) -> None:
+    """As rendered or photographed, each edge is blurred over a row or two: the margin's
+    run stops short of the blend pixel, the first row or column without the margin's
+    colour, and the face's edge lies inside that pixel. The frame's top and left are read
+    on it, as its bottom is, so top, left and bottom come out exact (and the right within
+    one column): taking top and left a row or column in (``+ 1``, as the rows inside the
+    margin, the bottom being exclusive) reads every blurred frame one row short and one
+    column narrow (procedural 715 o with no rig, the rule's scene: 1.8 -> 7.0 % off)."""
+    margin = {"top": 3, "bottom": 3, "left": 6, "right": 10}
+    img = cv2.GaussianBlur(framed(margin), (0, 0), sigma)
+    found = frame_of(img, margin)
     assert found is not None
     bottom, top, left, right = found
-    assert abs(bottom - BOTTOM) <= 1 and abs(top - TOP) <= 1
-    assert abs(left - COLUMNS[0]) <= 1 and abs(right - COLUMNS[1]) <= 1
+    assert (bottom, top, left) == (BOTTOM, TOP, COLUMNS[0])
+    assert COLUMNS[1] - 1 <= right <= COLUMNS[1]
+
+
+def _at_the_image_s_left(columns: int) -> tuple[npt.NDArray[np.uint8], int]:
+    """A framed print 4 columns of margin wide at the left, cropped so that ``columns``
+    columns lie left of the print's found side; the print's left side in the crop."""
+    margin = {**MARGIN, "left": 4}
+    side = COLUMNS[0] + margin["left"]
+    crop = side - columns
+    return np.ascontiguousarray(framed(margin)[:, crop:]), crop
+
+
+def _frame_at_the_left(columns: int) -> tuple[int, int, int, int] | None:
+    img, crop = _at_the_image_s_left(columns)
+    m = {**MARGIN, "left": 4}
+    return region.margin_under_print(
+        img,
+        level_view(),
+        BOTTOM - m["bottom"],
+        TOP + m["top"],
+        COLUMNS[0] + m["left"] - crop,
+        COLUMNS[1] - m["right"] - crop,
+    )
+
+
+def test_a_side_margin_needs_its_columns_and_what_ends_it_in_the_image() -> None:
+    """The side's margin is read from SIDE_MARGIN_COLUMNS columns past RING_SKIP, and must
+    run RING_MIN on before another colour ends it: a print with fewer than RING_SKIP +
+    SIDE_MARGIN_COLUMNS + RING_MIN (6) columns left of it in the image has no frame read."""
+    least = region.RING_SKIP + region.SIDE_MARGIN_COLUMNS + region.RING_MIN
+    assert least == 6
+    found = _frame_at_the_left(least)
+    assert found is not None and found[2] == 1  # the wall's last column, then the margin
+    assert _frame_at_the_left(least - 1) is None
+
+
+@pytest.mark.parametrize("name", ["SIDE_MARGIN_COLUMNS", "RING_MIN"])
+def test_the_guard_is_what_refuses_the_print_at_the_edge(
+    monkeypatch: pytest.MonkeyPatch, name: str
+) -> None:
+    """With either constant one less, 5 columns are enough (the same 3-column margin and
+    one column of wall are read): the guard, not the runs, refused them."""
+    monkeypatch.setattr(region, name, getattr(region, name) - 1)
+    assert _frame_at_the_left(5) is not None
 
 
 def test_a_face_on_the_floor_has_no_frame_under_it() -> None:

@@ -319,8 +319,8 @@ def _narrow_plank(
     LINES_SIDE_COVERAGE of the rows) ends the top and foot lines together, both on the
     face's rows across the plank; else ``side``."""
     lo, hi = _snap_window(side, end, step, sides.size)
-    best = int(lo + sides[lo : hi + 1].argmax())
-    if float(sides[best]) < need:
+    best = _outermost_peak(sides, lo, hi, step, need)
+    if best is None:
         return side
     present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
     if not _stands(present) and share(present) < LINES_SIDE_COVERAGE:
@@ -328,6 +328,24 @@ def _narrow_plank(
     if all(_line_ends_at(line, side, best, step) for line in lines):
         return best
     return side
+
+
+def _outermost_peak(
+    sides: npt.NDArray[np.float32], lo: int, hi: int, step: int, need: float
+) -> int | None:
+    """The outermost (farthest towards ``step``) side in ``sides[lo..hi]`` at least
+    ``need`` strong, at its own peak: from the outermost column reaching ``need``, inward
+    while the next column is stronger. A plank of 4-5 columns puts the seam's blurred
+    edge, stronger than the plank's side, in the window: the strongest column would be
+    the seam's. None when no column reaches ``need``."""
+    strong = np.flatnonzero(sides[lo : hi + 1] >= need)
+    if strong.size == 0:
+        return None
+    best = lo + int(strong[0] if step < 0 else strong[-1])
+    inward = -step
+    while lo <= best + inward <= hi and sides[best + inward] > sides[best]:
+        best += inward
+    return best
 
 
 def _line_ends_at(line: npt.NDArray[np.bool_], side: int, best: int, step: int) -> bool:
