@@ -102,7 +102,12 @@ def test_a_foot_above_the_predicted_contact_is_doubted_past_half_the_band() -> N
 
 
 def test_a_foot_above_the_predicted_contact_cuts_only_with_a_rig() -> None:
-    assert RIG_ONLY == frozenset({FOOT_ABOVE_CONTACT})
+    assert RIG_ONLY == frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP})
+    # the top face's doubt too: with no rig the horizon is a guessed pitch's
+    assert reported_confidence(0.8, [TOP_FACE_UNDER_TOP], 200.0, 200.0, 0.05, False) == (
+        0.8,
+        [],
+    )
     assert reported_confidence(0.8, [FOOT_ABOVE_CONTACT], 200.0, 200.0, 0.05, True) == (
         0.36,
         [FOOT_ABOVE_CONTACT],
@@ -710,6 +715,26 @@ def test_a_print_s_colour_or_the_edge_s_blur_under_the_top_is_no_top_face() -> N
     band = GREY_FACE + 20.0
     assert top_face_doubts(_lid_image(band, rows=(100, 102)), LINES, True) == []
     assert top_face_doubts(_lid_image(band, rows=(100, 103)), LINES, True) == [TOP_FACE_UNDER_TOP]
+
+
+def test_a_margin_running_on_down_the_sides_is_no_top_face() -> None:
+    assert conf_mod.TOP_FACE_SIDE_SHARE == 0.08
+    band = GREY_FACE + 6.0
+    # a print's margin of the band's colour down both sides (20 columns each): a frame
+    framed = _lid_image(band)
+    framed[100:200, 150:170] = band
+    framed[100:200, 330:350] = band
+    assert top_face_doubts(framed, LINES, True) == []
+    # ... down one side only: still a frame
+    one = _lid_image(band)
+    one[100:200, 330:350] = band
+    assert top_face_doubts(one, LINES, True) == []
+    # a margin narrower than the sides' blur and the strip read (3 + 16 columns): the
+    # strips read the face
+    thin = _lid_image(band)
+    thin[100:200, 150:156] = band
+    thin[100:200, 344:350] = band
+    assert top_face_doubts(thin, LINES, True) == [TOP_FACE_UNDER_TOP]
 
 
 def test_the_top_face_doubt_can_be_switched_off(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -288,7 +288,7 @@ TOP_BAND_MARGIN = 1.5
 #: TOP_FACE_REACH of the face's height (at least TOP_FACE_MIN_ROWS) ...
 TOP_FACE_UNDER_TOP_DOUBT = True
 TOP_FACE_GAP = 1.5
-TOP_FACE_REACH = 0.12
+TOP_FACE_REACH = 0.15
 TOP_FACE_MIN_ROWS = 3
 #: ... a row's colour counts as the face's own scaled while its distance from that is
 #: under this share of its distance from the blur's mixes ...
@@ -514,17 +514,24 @@ def top_face_band(
         lightness.append(lighter)
         if scaled < TOP_FACE_CHROMA_SHARE * off and min(lighter, off) > best:
             best, at = min(lighter, off), r
-    if best > 0.0 and not _band_ends_at_sides(image, bands, face, at):
-        best = 0.0
-    # the band's end: going down from its surest row, where the lightness falls through
-    # half the band's
-    half = 0.5 * lightness[at - first]
-    front = float(last) + 0.5
-    for i in range(at - first + 1, len(lightness)):
-        if lightness[i] < half:
-            hi, lo = lightness[i - 1], lightness[i]
-            front = first + i - 1 + (hi - half) / max(hi - lo, 1e-6)
-            break
+    if best <= 0.0:
+        return 0.0, float(last) + 0.5
+    # one band from the top line down to one step, the face's shade under it: every row
+    # read down to the surest is at least half as light, and a row under it falls under
+    # half, as do all the rows read after it (a band that starts lower is a line on the
+    # face, a brick's mortar; one that does not end, or lightens again, a gloss)
+    i = at - first
+    half = 0.5 * lightness[i]
+    end = next((j for j in range(i + 1, len(lightness)) if lightness[j] < half), None)
+    if (
+        end is None
+        or any(x < half for x in lightness[:i])
+        or any(x >= half for x in lightness[end:])
+        or not _band_ends_at_sides(image, bands, face, at)
+    ):
+        return 0.0, float(last) + 0.5
+    hi, lo = lightness[end - 1], lightness[end]
+    front = first + end - 1 + (hi - half) / max(hi - lo, 1e-6)
     return best, front
 
 

@@ -1594,9 +1594,16 @@ class FusedMethod:
             fits,
             margin,
         )
-        if TOP_FACE_TO_FRONT and self._rig_given and result.lines and vt > v.cy:
+        seen = self._seen
+        if (
+            TOP_FACE_TO_FRONT
+            and self._rig_given
+            and seen is not None
+            and result.lines
+            and vt > v.cy
+        ):
             # the top measured on a top face's back edge: measured again from its front
-            band = top_face_band(self._seen, result.lines)
+            band = top_face_band(seen, result.lines)
             top = result.lines[1]
             x_mid, y_mid = 0.5 * (top[0] + top[2]), 0.5 * (top[1] + top[3])
             if (
