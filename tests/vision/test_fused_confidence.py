@@ -685,7 +685,7 @@ def _lid_image(band: np.ndarray, rows: tuple[int, int] = (101, 105), above=GREEN
 
 def test_a_lighter_band_of_the_face_s_colour_under_the_top_is_a_doubt() -> None:
     assert conf_mod.TOP_FACE_UNDER_TOP_DOUBT
-    assert (conf_mod.TOP_FACE_GAP, conf_mod.TOP_FACE_REACH) == (1.5, 0.12)
+    assert (conf_mod.TOP_FACE_GAP, conf_mod.TOP_FACE_REACH) == (1.5, 0.15)
     assert (conf_mod.TOP_FACE_MIN_ROWS, conf_mod.TOP_FACE_CHROMA_SHARE) == (3, 0.5)
     assert conf_mod.TOP_FACE_STEP == 5.0
     # a face of one colour: no doubt
@@ -715,6 +715,21 @@ def test_a_print_s_colour_or_the_edge_s_blur_under_the_top_is_no_top_face() -> N
     band = GREY_FACE + 20.0
     assert top_face_doubts(_lid_image(band, rows=(100, 102)), LINES, True) == []
     assert top_face_doubts(_lid_image(band, rows=(100, 103)), LINES, True) == [TOP_FACE_UNDER_TOP]
+
+
+def test_a_top_face_is_one_band_from_the_top_line_down_to_one_step() -> None:
+    band = GREY_FACE + 6.0
+    # a lighter line lower on the face (a brick's mortar: rows 103-105, the face's shade
+    # on row 102 read first): no top face
+    assert top_face_doubts(_lid_image(band, rows=(103, 106)), LINES, True) == []
+    # a gloss lighter all the way down the rows read (to 100 + 15): no step, no front edge
+    assert top_face_doubts(_lid_image(band, rows=(101, 116)), LINES, True) == []
+    # ... ending on the last row read: one step, read
+    assert top_face_doubts(_lid_image(band, rows=(101, 115)), LINES, True) == [TOP_FACE_UNDER_TOP]
+    # a band that lightens again under its step (rows 108-109): no one band
+    again = _lid_image(band)
+    again[108:110, 150:350] = band
+    assert top_face_doubts(again, LINES, True) == []
 
 
 def test_a_margin_running_on_down_the_sides_is_no_top_face() -> None:
