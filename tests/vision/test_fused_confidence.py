@@ -35,6 +35,7 @@ from obstacle_fusion.vision.fused.confidence import (
     SMALL_FACE,
     SMALL_FACE_PX,
     TOP_BAND_UNLIKE_FACE,
+    TOP_FACE_UNDER_TOP,
     TOP_FROM_SIDES,
     TOP_RUNS_ON,
     TRIAL_RIVAL,
@@ -47,6 +48,8 @@ from obstacle_fusion.vision.fused.confidence import (
     rival_doubts,
     top_band_doubts,
     top_edge_doubts,
+    top_face_band,
+    top_face_doubts,
 )
 from obstacle_fusion.vision.fused.scoring import Candidate
 from obstacle_fusion.vision.measure import Measurer
@@ -79,6 +82,7 @@ def test_one_doubt_takes_the_surest_face_under_half() -> None:
         TRIAL_RIVAL,
         TOP_BAND_UNLIKE_FACE,
         PRINT_OUTLINE,
+        TOP_FACE_UNDER_TOP,
     }
     for doubt in DOUBT_FACTORS:
         rig = doubt in RIG_ONLY
@@ -98,7 +102,12 @@ def test_a_foot_above_the_predicted_contact_is_doubted_past_half_the_band() -> N
 
 
 def test_a_foot_above_the_predicted_contact_cuts_only_with_a_rig() -> None:
-    assert RIG_ONLY == frozenset({FOOT_ABOVE_CONTACT})
+    assert RIG_ONLY == frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP})
+    # the top face's doubt too: with no rig the horizon is a guessed pitch's
+    assert reported_confidence(0.8, [TOP_FACE_UNDER_TOP], 200.0, 200.0, 0.05, False) == (
+        0.8,
+        [],
+    )
     assert reported_confidence(0.8, [FOOT_ABOVE_CONTACT], 200.0, 200.0, 0.05, True) == (
         0.36,
         [FOOT_ABOVE_CONTACT],
@@ -394,7 +403,7 @@ def test_the_method_records_the_face_s_doubts_and_keeps_its_size(
     before = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     seen: list[tuple] = []
 
-    def doubting(*args: Any) -> list[str]:
+    def doubting(*args: Any, below_horizon: bool = False) -> list[str]:
         _camera, img, _ay, _rb, _ul, _ur, _vt, best, rivals, lines = args
         seen.append((img is image, lines == before.lines, best in rivals))
         return [SECOND_TOP, NEAR_RIVALS]
@@ -656,3 +665,143 @@ def test_band_colours_counted_in_c_are_numpy_s_upper_medians(
                 continue
             assert got is not None and got.dtype == np.float32
             assert np.array_equal(got, want), band
+
+
+# --- a box's top face taken into the face ---------------------------------------------------
+
+GREY_FACE = np.array([100.0, 100.0, 100.0])
+GREEN_WALL = np.array([30.0, 160.0, 60.0])
+
+
+def _lid_image(band: np.ndarray, rows: tuple[int, int] = (101, 105), above=GREEN_WALL):
+    """The face of :func:`_foot_image` (rows 100-200, columns 150-350) in GREY_FACE under
+    ``above``, with its rows ``rows`` (just under the top line at 100) in ``band``."""
+    img = _foot_image(FLOOR)
+    img[:100] = np.round(above)
+    img[100:200, 150:350] = GREY_FACE
+    img[rows[0] : rows[1], 150:350] = np.round(band)
+    return img
+
+
+def test_a_lighter_band_of_the_face_s_colour_under_the_top_is_a_doubt() -> None:
+    assert conf_mod.TOP_FACE_UNDER_TOP_DOUBT
+    assert (conf_mod.TOP_FACE_GAP, conf_mod.TOP_FACE_REACH) == (1.5, 0.15)
+    assert (conf_mod.TOP_FACE_MIN_ROWS, conf_mod.TOP_FACE_CHROMA_SHARE) == (3, 0.5)
+    assert conf_mod.TOP_FACE_STEP == 5.0
+    # a face of one colour: no doubt
+    assert top_face_doubts(_lid_image(GREY_FACE), LINES, True) == []
+    # a top face, the face's grey 6 levels lighter, under the back edge taken for the top
+    lid = _lid_image(GREY_FACE + 6.0)
+    assert top_face_doubts(lid, LINES, True) == [TOP_FACE_UNDER_TOP]
+    # ... 4 levels lighter: within what the noise leaves
+    assert top_face_doubts(_lid_image(GREY_FACE + 4.0), LINES, True) == []
+    # ... a lens below the face's top sees no top face: no doubt
+    assert top_face_doubts(lid, LINES, False) == []
+    # one channel works alike (the wall darker than the face: the band is no mix of them)
+    assert top_face_doubts(lid[:, :, 0].copy(), LINES, True) == [TOP_FACE_UNDER_TOP]
+    # ... in a channel where the wall is lighter, a lighter band may be the blur's mix
+    assert top_face_doubts(lid[:, :, 1].copy(), LINES, True) == []
+
+
+def test_a_print_s_colour_or_the_edge_s_blur_under_the_top_is_no_top_face() -> None:
+    # a band of another hue, lighter (a print, a label): not the face's colour scaled
+    assert top_face_doubts(_lid_image(GREY_FACE + [30.0, 0.0, 0.0]), LINES, True) == []
+    # a light wall: its mix with the face (the top edge's blur) is lighter than the face
+    wall = np.array([200.0, 220.0, 210.0])
+    mix = 0.5 * (wall + GREY_FACE)
+    assert top_face_doubts(_lid_image(mix, above=wall), LINES, True) == []
+    # the band only on the top line's row and the next (within TOP_FACE_GAP of the line
+    # at 100: the edge's blur): not read; one row more (102) is
+    band = GREY_FACE + 20.0
+    assert top_face_doubts(_lid_image(band, rows=(100, 102)), LINES, True) == []
+    assert top_face_doubts(_lid_image(band, rows=(100, 103)), LINES, True) == [TOP_FACE_UNDER_TOP]
+
+
+def test_a_top_face_is_one_band_from_the_top_line_down_to_one_step() -> None:
+    band = GREY_FACE + 6.0
+    # a lighter line lower on the face (a brick's mortar: rows 103-105, the face's shade
+    # on row 102 read first): no top face
+    assert top_face_doubts(_lid_image(band, rows=(103, 106)), LINES, True) == []
+    # a gloss lighter all the way down the rows read (to 100 + 15): no step, no front edge
+    assert top_face_doubts(_lid_image(band, rows=(101, 116)), LINES, True) == []
+    # ... ending on the last row read: one step, read
+    assert top_face_doubts(_lid_image(band, rows=(101, 115)), LINES, True) == [TOP_FACE_UNDER_TOP]
+    # a band that lightens again under its step (rows 108-109): no one band
+    again = _lid_image(band)
+    again[108:110, 150:350] = band
+    assert top_face_doubts(again, LINES, True) == []
+
+
+def test_a_margin_running_on_down_the_sides_is_no_top_face() -> None:
+    assert conf_mod.TOP_FACE_SIDE_SHARE == 0.08
+    band = GREY_FACE + 6.0
+    # a print's margin of the band's colour down both sides (20 columns each): a frame
+    framed = _lid_image(band)
+    framed[100:200, 150:170] = band
+    framed[100:200, 330:350] = band
+    assert top_face_doubts(framed, LINES, True) == []
+    # ... down one side only: still a frame
+    one = _lid_image(band)
+    one[100:200, 330:350] = band
+    assert top_face_doubts(one, LINES, True) == []
+    # a margin narrower than the sides' blur and the strip read (3 + 16 columns): the
+    # strips read the face
+    thin = _lid_image(band)
+    thin[100:200, 150:156] = band
+    thin[100:200, 344:350] = band
+    assert top_face_doubts(thin, LINES, True) == [TOP_FACE_UNDER_TOP]
+
+
+def test_the_top_face_doubt_can_be_switched_off(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(conf_mod, "TOP_FACE_UNDER_TOP_DOUBT", False)
+    assert top_face_doubts(_lid_image(GREY_FACE + 6.0), LINES, True) == []
+
+
+def test_the_top_face_band_ends_at_the_front_top_edge() -> None:
+    # the band on rows 101-104 under the top line at 100: it ends between 104 and 105
+    band = top_face_band(_lid_image(GREY_FACE + 6.0), LINES)
+    assert band is not None
+    assert band[0] == pytest.approx(6.0) and band[1] == pytest.approx(104.5)
+
+
+def test_a_box_s_top_face_taken_into_its_face_is_measured_from_its_front(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """procedural/3146 ordinary, with the rig: the lens 0.13 m above the box's top sees its
+    top face, whose back edge was taken for the top (+6.5 % high). Measured again from
+    the band's end (method.TOP_FACE_TO_FRONT) the face is right; without that the doubt
+    takes the answer under 0.5; without both it stood at 0.91."""
+    image, truth, spec = render_room("procedural", 3146, False, CAM)
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert res.height_m is not None and abs(res.height_m / truth["height_m"] - 1) < 0.02
+    assert TOP_FACE_UNDER_TOP not in res.doubts
+    assert res.confidence is not None and res.confidence > 0.5
+    monkeypatch.setattr(method_mod, "TOP_FACE_TO_FRONT", False)
+    high = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert high.height_m is not None and high.height_m / truth["height_m"] - 1 > 0.05
+    assert TOP_FACE_UNDER_TOP in high.doubts
+    assert high.confidence is not None and high.confidence < 0.5
+    monkeypatch.setattr(conf_mod, "TOP_FACE_UNDER_TOP_DOUBT", False)
+    off = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert TOP_FACE_UNDER_TOP not in off.doubts
+    assert off.confidence is not None and off.confidence > 0.5
+
+
+def test_a_move_under_the_least_keeps_the_top(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The band's end must lie TOP_FACE_MIN_MOVE_PX (0.5) or more under the top measured:
+    on procedural/3146 it lies 2.96 rows under; a least move of 2.9 rows moves it, 3.0 not."""
+    assert method_mod.TOP_FACE_MIN_MOVE_PX == 0.5
+    image, truth, spec = render_room("procedural", 3146, False, CAM)
+    monkeypatch.setattr(method_mod, "TOP_FACE_MIN_MOVE_PX", 2.9)
+    moved = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert moved.height_m is not None and abs(moved.height_m / truth["height_m"] - 1) < 0.02
+    monkeypatch.setattr(method_mod, "TOP_FACE_MIN_MOVE_PX", 3.0)
+    kept = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert kept.height_m is not None and kept.height_m / truth["height_m"] - 1 > 0.05
+
+
+def test_an_input_pixel_s_view_row() -> None:
+    image, truth, spec = render_room("procedural", 3146, False, CAM)
+    view = method_mod.View(CAM, spec.rig, "level")
+    x, y = view.to_input([[230.0, 240.0]])[0]
+    assert method_mod.view_row(view, x, y) == pytest.approx(240.0, abs=0.01)

@@ -189,6 +189,12 @@ FLOOR_IN_FACE = "floor_in_face"
 #: too; either could be the top.
 TOP_BAND_UNLIKE_FACE = "top_band_unlike_face"
 
+#: The lens looks down on the face's top (it lies below the horizon), and just under the top
+#: found runs a band of the face's own colour, lighter (TOP_FACE_STEP): a box's top face,
+#: lit from above, between its back edge (taken for the top) and the front top edge; the
+#: face is measured a band too tall (:func:`top_face_doubts`).
+TOP_FACE_UNDER_TOP = "top_face_under_top"
+
 #: With a rig, the face's floor-contact row lies above the one the rig and the range
 #: predict by more than FOOT_ABOVE_SHARE of the search band's half-width (the band allows
 #: for the rig's own error): the edge taken for the foot is on the face (a print's lower
@@ -216,13 +222,14 @@ DOUBT_FACTORS: dict[str, float] = {
     TOP_BAND_UNLIKE_FACE: DOUBT_FACTOR,
     FOOT_ABOVE_CONTACT: DOUBT_FACTOR,
     TRIAL_RIVAL: DOUBT_FACTOR,
+    TOP_FACE_UNDER_TOP: DOUBT_FACTOR,
 }
 
 #: Doubts that cut the confidence only when the floor contact was found in the image.
 NO_RIG_ONLY = frozenset({FRAMED, TRIAL_RIVAL})
 #: ... and only when it was predicted from a rig file (with no rig the contact row is the
-#: trial's own guess).
-RIG_ONLY = frozenset({FOOT_ABOVE_CONTACT})
+#: trial's own guess, and the horizon a guessed pitch's).
+RIG_ONLY = frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP})
 
 #: A face side of this many pixels or more is measured well enough for a 5 % bound: a
 #: size is the distance between two edges, each found to about half a pixel (the tuning
@@ -276,6 +283,23 @@ TOP_BAND_MIN_STEP = 10.0
 #: times); a poster in line with the face's sides is clearly nearer the wall's colour
 #: than the face's (the one sure face found so, 69 % off on seeds 900-999: 2.0 times).
 TOP_BAND_MARGIN = 1.5
+#: TOP_FACE_UNDER_TOP (a switch for the tests): the rows searched under the top, from
+#: TOP_FACE_GAP rows under the top line (clear of its own blur row) down to
+#: TOP_FACE_REACH of the face's height (at least TOP_FACE_MIN_ROWS) ...
+TOP_FACE_UNDER_TOP_DOUBT = True
+TOP_FACE_GAP = 1.5
+TOP_FACE_REACH = 0.15
+TOP_FACE_MIN_ROWS = 3
+#: ... a row's colour counts as the face's own scaled while its distance from that is
+#: under this share of its distance from the blur's mixes ...
+TOP_FACE_CHROMA_SHARE = 0.5
+#: ... and the band must be this many levels lighter than the face and off the mixes
+#: (a median over the face's columns varies by a level or two with the noise; the right
+#: answers with their top below the horizon on seeds 3050-3149 read up to 4.3).
+TOP_FACE_STEP = 5.0
+#: ... and just inside each side (this share of the face's width) the face's middle rows
+#: must be of the face's colour, not the band's (:func:`_band_ends_at_sides`).
+TOP_FACE_SIDE_SHARE = 0.08
 #: Samples per band and axis at most (a band's colour is a median of a strided sample).
 FOOT_SAMPLES_ROWS = 16
 FOOT_SAMPLES_COLUMNS = 32
@@ -446,6 +470,108 @@ def top_band_doubts(
     return [TOP_BAND_UNLIKE_FACE] if unlike > TOP_BAND_MARGIN * max(TOP_BAND_MIN_STEP, step) else []
 
 
+def top_face_band(
+    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
+) -> tuple[float, float] | None:
+    """How clearly a band of the face's own colour, lighter, lies just under the top edge
+    found (BGR or grey levels; ``lines`` as in :func:`outline_doubts`), and the input
+    row where it ends (its step down to the face's shade, sub-pixel: the front top edge
+    of a box's top face). The first: the largest, over the rows from TOP_FACE_GAP under
+    the top to TOP_FACE_REACH of the face's height under it (at least
+    TOP_FACE_MIN_ROWS), of the lesser of the row's lightness over the face's and its
+    distance from every mix of the colours above the top and of the face (an edge's blur
+    mixes those two only), counted where the row is the face's colour scaled (its
+    distance from that under TOP_FACE_CHROMA_SHARE of the other). Rows are medians over
+    the face's inner columns; the face's colour is read right under the rows searched.
+    None for a face too small to read."""
+    bands = _face_bands(lines)
+    if bands is None:
+        return None
+    c0, c1, vt, k, g = bands.c0, bands.c1, bands.vt, bands.k, bands.g
+    reach = max(TOP_FACE_MIN_ROWS, int(round(TOP_FACE_REACH * bands.height)))
+    last = int(vt) + reach
+    above = _band_colour(image, vt - g - k, vt - g, c0, c1)
+    face = _band_colour(image, last + 1.0, last + 1.0 + k, c0, c1)
+    h, w = image.shape[:2]
+    a, b = max(0, int(c0)), min(w, int(c1))
+    first = int(np.ceil(vt + TOP_FACE_GAP))
+    if above is None or face is None or b - a < 3 or last >= h or first > last:
+        return None
+    step = above - face
+    length = float(np.linalg.norm(step))
+    unit = step / max(length, 1e-6)
+    norm2 = max(float(face @ face), 1e-6)
+    channels = image.shape[2] if image.ndim == 3 else 1
+    best, at = 0.0, first
+    lightness = []
+    for r in range(first, last + 1):
+        colour = upper_middles_u8(np.ascontiguousarray(image[r, a:b].reshape(-1, channels)))
+        d = colour - face
+        t = min(max(float(d @ unit), 0.0), length)
+        off = float(np.linalg.norm(d - t * unit))  # from the blur's mixes
+        scaled = float(np.linalg.norm(colour - float(colour @ face) / norm2 * face))
+        lighter = float(d.mean())
+        lightness.append(lighter)
+        if scaled < TOP_FACE_CHROMA_SHARE * off and min(lighter, off) > best:
+            best, at = min(lighter, off), r
+    if best <= 0.0:
+        return 0.0, float(last) + 0.5
+    # one band from the top line down to one step, the face's shade under it: every row
+    # read down to the surest is at least half as light, and a row under it falls under
+    # half, as do all the rows read after it (a band that starts lower is a line on the
+    # face, a brick's mortar; one that does not end, or lightens again, a gloss)
+    i = at - first
+    half = 0.5 * lightness[i]
+    end = next((j for j in range(i + 1, len(lightness)) if lightness[j] < half), None)
+    if (
+        end is None
+        or any(x < half for x in lightness[:i])
+        or any(x >= half for x in lightness[end:])
+        or not _band_ends_at_sides(image, bands, face, at)
+    ):
+        return 0.0, float(last) + 0.5
+    hi, lo = lightness[end - 1], lightness[end]
+    front = first + end - 1 + (hi - half) / max(hi - lo, 1e-6)
+    return best, front
+
+
+def _band_ends_at_sides(
+    image: npt.NDArray[np.uint8], bands: _FaceBands, face: npt.NDArray[np.float32], row: int
+) -> bool:
+    """Whether the band's colour (its row ``row``) ends at the sides too: just inside each
+    side (TOP_FACE_SIDE_SHARE of the face's width, past the sides' blur), the face's
+    middle rows are nearer the face's colour ``face`` than the band's. A top face ends at
+    the front top edge from side to side; a print's margin of that colour runs on down
+    along the sides."""
+    h, w = image.shape[:2]
+    if not 0 <= row < h:
+        return True
+    s = max(3.0, TOP_FACE_SIDE_SHARE * bands.width)
+    x0, x1, g = bands.x0, bands.x1, bands.g
+    band = _band_colour(image, row, row + 2, bands.c0, bands.c1)
+    m_lo, m_hi = bands.middle_rows
+    if band is None:
+        return True
+    for c0, c1 in ((x0 + g, x0 + g + s), (x1 - g - s, x1 - g)):
+        strip = _band_colour(image, m_lo, m_hi, c0, c1)
+        if strip is not None and np.linalg.norm(strip - band) < np.linalg.norm(strip - face):
+            return False
+    return True
+
+
+def top_face_doubts(
+    image: npt.NDArray[np.uint8],
+    lines: Sequence[tuple[float, float, float, float]],
+    below_horizon: bool,
+) -> list[str]:
+    """TOP_FACE_UNDER_TOP for a face whose top lies below the horizon (``below_horizon``:
+    the lens looks down on it, so a box's top face shows above its front top edge)."""
+    if not TOP_FACE_UNDER_TOP_DOUBT or not below_horizon:
+        return []
+    band = top_face_band(image, lines)
+    return [TOP_FACE_UNDER_TOP] if band is not None and band[0] >= TOP_FACE_STEP else []
+
+
 #: FOOT_ABOVE_CONTACT: the found contact row lies above the predicted one by more than this
 #: share of the search band's half-width (chosen on the tuning rooms with the rig: at
 #: confidence >= 0.5 it took 2 wrong faces and no right one under 0.5 there, 2 wrong and 2
@@ -477,19 +603,22 @@ def face_doubts(
     best: Candidate,
     rivals: list[Candidate],
     lines: Sequence[tuple[float, float, float, float]],
+    below_horizon: bool = False,
 ) -> list[str]:
     """The doubts read off the face the fused method reports (``image``: the input frame,
     BGR or grey; the face's working-view rows and columns before the refinement, the
     candidate it came from and its rivals, and its refined outline):
     :func:`top_edge_doubts`, :func:`outline_doubts`, :func:`foot_doubts`,
-    :func:`top_band_doubts`, :func:`rival_doubts`. They move the reported confidence only,
-    never the face."""
+    :func:`top_band_doubts`, :func:`rival_doubts`, :func:`top_face_doubts` (``below_horizon``:
+    the face's top lies below the view's horizon). They move the reported confidence
+    only, never the face."""
     return [
         *top_edge_doubts(ay, rb, ul, ur, int(round(vt))),
         *outline_doubts(camera, lines),
         *foot_doubts(image, lines),
         *top_band_doubts(image, lines),
         *rival_doubts(best, rivals),
+        *top_face_doubts(image, lines, below_horizon),
     ]
 
 

@@ -23,12 +23,14 @@ from obstacle_fusion.vision.fused.confidence import (
     FOOT_ABOVE_SHARE,
     FRAMED,
     PRINT_OUTLINE,
+    TOP_FACE_STEP,
     TOP_FROM_SIDES,
     confidence,
     contact_doubts,
     face_doubts,
     refusal,
     reported_confidence,
+    top_face_band,
 )
 from obstacle_fusion.vision.fused.extent import (
     OUTLINE_FAR_M,
@@ -163,6 +165,26 @@ RESCUE_RAISE_BY_COLOUR = True
 #: (region.raise_top_by_hue): a gloss's highlight stops those walks inside the face (a
 #: switch for the tests).
 HUE_HOLDS_TOP = True
+
+#: A box lower than the lens shows its top face above its front; where a band of the
+#: face's own colour, lighter, runs just under the top measured
+#: (:func:`~obstacle_fusion.vision.fused.confidence.top_face_band`, at least
+#: ``TOP_FACE_STEP``) and the top lies below the horizon, the top measured is the top
+#: face's back edge: the face is measured again with its top where the band ends (the
+#: front top edge), TOP_FACE_MIN_MOVE_PX rows lower at least. With the rig given only:
+#: with none the horizon is that of a guessed pitch, and whether the lens looks down on
+#: the face's top is a guess (seeds 3000-3049 with no rig: two faces the lens looked up
+#: at moved 8 and 18 rows down onto a brick's and a plank's lighter rows). A switch for
+#: the tests.
+TOP_FACE_TO_FRONT = True
+TOP_FACE_MIN_MOVE_PX = 0.5
+
+
+def view_row(v: View, x: float, y: float) -> float:
+    """The view row of input-image pixel (x, y): undistorted, turned to the view's frame."""
+    ray = v.camera.unproject(np.array([[x, y]], np.float64))[0]
+    level = v.rotation @ np.array([ray[0], ray[1], 1.0])
+    return float(v.fy * level[1] / level[2] + v.cy)
 
 
 def thin_strip(m: Measurement) -> bool:
@@ -1124,7 +1146,19 @@ class FusedMethod:
             ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
         )
         # what the face as measured leaves in doubt (the reported confidence only)
-        faced = face_doubts(v.camera, seen, ay, rb, ul, ur, vt, best, rivals, measured.lines)
+        faced = face_doubts(
+            v.camera,
+            seen,
+            ay,
+            rb,
+            ul,
+            ur,
+            vt,
+            best,
+            rivals,
+            measured.lines,
+            below_horizon=vt > v.cy - v.horizon_slack_px,
+        )
         measured.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
         strip = measured
         if band_rows and measured.height_px is not None:
@@ -1152,6 +1186,7 @@ class FusedMethod:
                     best,
                     rivals,
                     regrown.lines,
+                    below_horizon=g_top > v.cy - v.horizon_slack_px,
                 )
                 regrown.doubts = [*doubts, *faced, *contact_doubts(g_bottom, vb0, tol)]
                 return regrown
@@ -1559,6 +1594,45 @@ class FusedMethod:
             fits,
             margin,
         )
+        seen = self._seen
+        if (
+            TOP_FACE_TO_FRONT
+            and self._rig_given
+            and seen is not None
+            and result.lines
+            and vt > v.cy
+        ):
+            # the top measured on a top face's back edge: measured again from its front
+            band = top_face_band(seen, result.lines)
+            top = result.lines[1]
+            x_mid, y_mid = 0.5 * (top[0] + top[2]), 0.5 * (top[1] + top[3])
+            if (
+                band is not None
+                and band[0] >= TOP_FACE_STEP
+                and band[1] - y_mid >= TOP_FACE_MIN_MOVE_PX
+            ):
+                front = view_row(v, x_mid, band[1])
+                log.debug("top %.1f: a top face's band under it, its front at %.1f", vt, front)
+                result = refine(
+                    v,
+                    self.name,
+                    ax,
+                    ay,
+                    ax3,
+                    top_edge,
+                    rb,
+                    ul,
+                    ur,
+                    vt,  # the top edge's slope as fitted (the back edge parallels the front)
+                    front,
+                    conf,
+                    depth,
+                    range_m,
+                    timer,
+                    span,
+                    fits,
+                    margin,
+                )
         small = min(result.height_m or 0.0, result.width_m or 0.0)
         if small < MIN_SIZE_M:
             # a face that refined down to a sliver is no measurement (the search never

@@ -166,7 +166,11 @@ def refine(
             lower = 0.5 * (d_l + d_r)
             # only a thin top face (thicker ones are separate edges, handled above),
             # seen alike on both sides
-            if 0.75 < lower <= 4.0 and abs(d_l - d_r) < 1.0:
+            if (
+                0.75 < lower <= 4.0
+                and abs(d_l - d_r) < 1.0
+                and edge_at_ends(ay, ul, ur, vt, 0.5 * (end_l + end_r))
+            ):
                 tl = (left_a + left_b * end_l, end_l)
                 tr = (right_a + right_b * end_r, end_r)
     h_left = bl[1] - tl[1]
@@ -351,6 +355,38 @@ def _side_face(
     if not clear_rise:  # no shading edge at the corner and only a slight rise
         return va, vb
     return corner_u - vb * rb, vb
+
+
+#: The sides' ends are taken for the front top corners (under a thin top face) only where
+#: a horizontal edge runs between them (:func:`edge_at_ends`): a switch for the tests.
+ENDS_NEED_EDGE = True
+#: ... at least this share of the top edge's strength (mean |d/dy| over the face's inner
+#: columns, the strongest of three rows round the top, of the two round the ends): a
+#: thin top face, lit otherwise than the front, leaves its front edge in the gradient, or
+#: its blur's tail where the two merge; the face's own colour running on unbroken (a step
+#: of noise, a few hundredths of the top's) is no corner: the sides faded against a
+#: background of the face's shade.
+ENDS_EDGE_SHARE = 0.1
+
+
+def edge_at_ends(ay: F32, ul: int, ur: int, vt: int, end: float) -> bool:
+    """Whether a horizontal edge runs at row ``end`` (the sides' mean end, view rows: the
+    two rows round it) between the face's sides ``ul``..``ur`` at ENDS_EDGE_SHARE of the
+    top's (row ``vt``) strength. True when switched off or unreadable."""
+    n = ay.shape[0]
+    m = max(1, (ur - ul) // 10)
+    r = int(end)
+    if not ENDS_NEED_EDGE or ur - ul - 2 * m < 3 or vt < 1 or r + 2 > n or vt + 2 > n:
+        return True
+    cols = ay[:, ul + m : ur - m + 1]
+    top = float(cols[vt - 1 : vt + 2].mean(axis=1).max())
+    if top <= 0.0:
+        return True
+    at = float(cols[r : r + 2].mean(axis=1).max())
+    if at < ENDS_EDGE_SHARE * top:
+        log.debug("sides end at %.1f with no edge there (%.2f of the top's): kept", end, at / top)
+        return False
+    return True
 
 
 def _edge_end(ax3: I16, a: float, b: float, vt: int, rb: int) -> float | None:
