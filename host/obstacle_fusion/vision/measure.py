@@ -240,6 +240,12 @@ class Measurer:
             floor_known: bool = False,
             slack: float = 0.0,
         ) -> Measurement:
+            if not _robot_row(height, pitch, depth):
+                # no robot's lens, at any usual pitch, images the floor contact there
+                log.debug("no rig: camera %.3f m, pitch %.1f deg: no robot's row", height, pitch)
+                return Measurement(
+                    False, fused.name, range_m, distance_m=range_m, reason=NO_ROBOT_ROW
+                )
             method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
             base = method.view
             method.view = copy.copy(base)
@@ -669,6 +675,10 @@ class Measurer:
                 # the surest sure trial's face on the axis, standing on its foot, is the
                 # sonar's face (its pitch a guess unless read again)
                 on_axis = self._on_axis_trial(best, sure_trials, view, depth, image)
+                if on_axis is None and AXIS_UNSURE_TRIAL:
+                    # no sure face on the axis: the surest unsure one there, still the
+                    # sonar's rather than a face beside its beam
+                    on_axis = self._on_axis_trial(best, readings, view, depth, image, unsure=True)
                 if on_axis is not None:
                     best, pitch_read, floor_known = on_axis, False, False
             if NEARER_ON_AXIS and best is not None and best.detected:
@@ -757,13 +767,16 @@ class Measurer:
         view: View,
         depth: float,
         image: npt.NDArray[Any],
+        unsure: bool = False,
     ) -> Measurement | None:
         """When ``best``'s box (input pixels) leaves the beam's axis column out, the surest
         of the sure no-rig trials (``trials``, each of at least ESTIMATE_ACCEPT) whose box
         covers that column and that stands on its foot (:func:`sides_reach_foot`), and that
         the refusal would not turn down with AXIS_SWAP_DOUBTS added; else None. The column
         is the sonar's lateral offset seen at the face's depth (the rig's default, 0, with
-        none given: the lens beside the sonar)."""
+        none given: the lens beside the sonar). With ``unsure`` (``trials`` every trial's
+        face, AXIS_UNSURE_TRIAL), only a face of full size (not :func:`_small`) whose foot
+        is not doubted (FOOT_DOUBTS) is taken."""
         u_axis = view.camera.cx + view.camera.fx * self.rig.sonar_right_m / depth
         if best.box_px is None or _covers(best.box_px, u_axis):
             return None
@@ -775,6 +788,7 @@ class Measurer:
                 or not _covers(other.box_px, u_axis)
                 or (chosen is not None and (other.confidence or 0.0) <= (chosen.confidence or 0.0))
                 or not sides_reach_foot(image, other.lines)
+                or (unsure and (_small(other) or bool(FOOT_DOUBTS & set(other.doubts))))
             ):
                 continue
             # as it would be reported (its pitch a guess, the face beside it a rival):
@@ -1138,6 +1152,8 @@ class Measurer:
     ) -> Measurement:
         """The rig path (:meth:`_run_rig`) with a camera height and pitch guessed from the
         image taken as known, on the method levelled for that pitch; its view restored."""
+        if not _robot_row(height, pitch, self.rig.face_depth(range_m)):
+            return Measurement(False, fused.name, range_m, distance_m=range_m, reason=NO_ROBOT_ROW)
         h_img, w_img = image.shape[:2]
         method = fused if pitch == 0.0 else self._pitched_method(w_img, h_img, pitch)
         base = method.view
@@ -1939,6 +1955,16 @@ MIN_ESTIMATED_CAMERA_HEIGHT_M = 0.10
 #: mobile robot's camera stands well under it; on the tuning rooms no trial reached it, so
 #: it only keeps rows far below a face from standing one 3-5 m under a guessed lens).
 MAX_ESTIMATED_CAMERA_HEIGHT_M = 1.5
+#: With no rig, a trial's floor-contact row is tried only where a lens at most
+#: UNDER_MAX_CAMERA_HEIGHT_M up, pitched within MAX_ESTIMATED_PITCH_DEG of level, images
+#: the contact at the sonar's depth on it (:func:`_robot_row`); the cap above is one
+#: height for every range, this one follows the range (at 1.5 m a row under 0.86 m of
+#: level lens, at 3 m under 1.05 m). A line far below the face (a floor board's or a
+#: rug's edge) stood a face 2 m wide under a lens 1.2 m up (photo 3141 hard, 430 %).
+#: Session 42, branch ``wt-e-42``; a switch for the tests.
+ROW_FITS_ROBOT = True
+#: The reason a trial on such a row finds no face.
+NO_ROBOT_ROW = "no robot's lens sees the floor contact on that row"
 #: With no rig, a contact row nearer the horizon than that height allows is tried as seen
 #: by a camera this high, pitched down to put the contact there ...
 NOMINAL_CAMERA_HEIGHT_M = 0.3
@@ -2167,6 +2193,12 @@ TOP_FACE_MOVE_PX = 1.5
 #: axis hits. On the tuning rooms none of the 682 no-rig answers within 5 % lay off the
 #: axis; the 11 that did were 24-269 % off. A switch for the tests.
 AXIS_PICKS_TRIAL = True
+#: ... and where no sure trial's face covers the axis, the surest unsure one that does
+#: (of full size, standing on its undoubted foot): the sonar ranges what its axis hits, so
+#: a face beside the beam is not its face however sure (photo 3078 hard: a wall band left
+#: of the beam, 1.6 m wide, +320 %, against the poster box on the axis at 0.15, -15 %).
+#: Session 42, branch ``wt-e-42``; a switch for the tests.
+AXIS_UNSURE_TRIAL = True
 #: With no rig, a face standing on the beam's axis with its foot lower in the image (nearer
 #: the robot) than the face found, wholly under that face's foot or beside a face that
 #: leaves the axis out, is the sonar's face (:meth:`Measurer._nearer_on_axis`): the sonar
@@ -2620,6 +2652,20 @@ def _beside(
     narrower = min(box[2] - box[0], other[2] - other[0])
     shared = min(box[2], other[2]) - max(box[0], other[0])
     return narrower > 0 and shared < RIVAL_SHARED_WIDTH * narrower
+
+
+def _robot_row(height: float, pitch_deg: float, depth: float) -> bool:
+    """Whether the floor-contact row a no-rig trial's lens (``height`` metres up, pitched
+    ``pitch_deg`` down) images at ``depth`` is one a robot's camera can see the floor
+    contact on: some pitch within MAX_ESTIMATED_PITCH_DEG of level puts the lens at most
+    UNDER_MAX_CAMERA_HEIGHT_M up (always, with ROW_FITS_ROBOT off). The row's angle below
+    the optical axis of a level lens is fixed by the image; a lens looking up by the most
+    pitch stands lowest for it (scale consistency: contact row = cy + fy h / D)."""
+    if not ROW_FITS_ROBOT:
+        return True
+    below = math.atan2(height, depth) - math.radians(pitch_deg)  # the row's level angle
+    lowest = depth * math.tan(below - math.radians(MAX_ESTIMATED_PITCH_DEG))
+    return lowest <= UNDER_MAX_CAMERA_HEIGHT_M
 
 
 def _robot_lens(height: float) -> bool:
