@@ -1287,38 +1287,7 @@ def raise_top_by_sides(
         # below the horizon the lens looks down on the face's top: a top face's colour
         # stands apart from the wall beside it as well, so the walk cannot tell its end
         return top
-    walked = _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
-    if SIDES_WALK_SPANS and middle_step(image, view, walked, left, right) < SIDES_WALK_TOP_STEP:
-        # no colour line across the face's middle there: the sides ran on along what
-        # stands beside the face (a poster's edge, a post), the wall runs on above and
-        # below that row between them
-        return top
-    return walked
-
-
-#: The sides' walk (:func:`raise_top_by_sides`) ends on the face's top only where that
-#: row is a colour line across the face's middle (between its side strips) ...
-SIDES_WALK_SPANS = False
-#: ... its rows above and below (TOP_STEP_ROWS off it) at least this far apart (Lab,
-#: 8-bit): the face's top has the face under it and what is behind above it from side to
-#: side; a row where only the strips beside the sides change (a poster's lower edge beside
-#: the face, the wall above and below it between them: photo/3109 hard, 3 against the
-#: face's real top's 24) is no top.
-SIDES_WALK_TOP_STEP = 8.0
-
-
-def middle_step(image: npt.NDArray[Any], view: View, row: int, left: int, right: int) -> float:
-    """The colour step (Lab, 8-bit) across ``row`` between the face's side strips: the
-    median of the rows TOP_STEP_ROWS above it against that of the rows as far below."""
-    a, b = TOP_STEP_ROWS
-    c0, c1 = left + SIDE_SKIP + BESIDE_COLUMNS, right - SIDE_SKIP - BESIDE_COLUMNS
-    if row < b or c1 - c0 < 2 or row + b + 1 > view.out.shape[0]:
-        return float("inf")  # nothing to read: the walk stands as it is
-    lab = _lab8(image, view, row - b, row + b + 1, c0, c1)
-    n = b - a + 1
-    above = median_u8(lab[:n].reshape(-1, 3), axis=0)
-    below = median_u8(lab[-n:].reshape(-1, 3), axis=0)
-    return float(norm(above - below))
+    return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
 
 
 #: The face's hue walk (:func:`raise_top_by_hue`) reads a plain face only: its rows under
