@@ -28,6 +28,7 @@ from typing import Any
 
 import pytest
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.fused import method
 from obstacle_fusion.vision.measure import Measurement, Measurer
 
 from tests.vision_fixtures import room_size_errors
@@ -60,11 +61,17 @@ def test_a_face_run_up_a_pole_gives_way_to_the_undoubted_reading() -> None:
 
 
 def test_without_the_rival_rule_the_pole_is_kept(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the face's surface under the top without the rig (method.SURFACE_ANY_FLOOR) brings
+    # the pole's top down too: off, to test this rule alone
+    monkeypatch.setattr(method, "SURFACE_ANY_FLOOR", False)
     monkeypatch.setattr(measure, "CLEAN_RIVAL", False)
     assert _worst("photo", 2022, False) > 0.5
 
 
 def test_the_rival_reading_must_be_sure_enough(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the face's surface under the top without the rig (method.SURFACE_ANY_FLOOR) brings
+    # the pole's top down too: off, to test this rule alone
+    monkeypatch.setattr(method, "SURFACE_ANY_FLOOR", False)
     # photo 2022 ordinary: the undoubted reading stands at 0.42
     monkeypatch.setattr(measure, "CLEAN_RIVAL_SURE", 0.41)
     assert _worst("photo", 2022, False) < 0.03
@@ -107,6 +114,9 @@ def test_a_face_under_a_tall_lens_is_no_floor_s(monkeypatch: pytest.MonkeyPatch)
 
 
 def test_the_rival_reading_must_be_wider(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the face's surface under the top without the rig (method.SURFACE_ANY_FLOOR) brings
+    # the pole's top down too: off, to test this rule alone
+    monkeypatch.setattr(method, "SURFACE_ANY_FLOOR", False)
     # photo 2022 ordinary: the undoubted reading is 2.38 times as wide as the pole's face
     monkeypatch.setattr(measure, "CLEAN_RIVAL_WIDER", 2.35)
     assert _worst("photo", 2022, False) < 0.03

@@ -430,6 +430,15 @@ RESCUE_SAME_TOP_ROWS = 2
 #: to its top, and a top on a background line in line above it (a rocket's or a
 #: platform's edge, a wall band) has that background between (a switch for the tests).
 SURFACE_UP_TO_TOP = True
+#: ... without the rig too (under a floor row merely tried): the face's surface is read
+#: between its own foot and top, whatever rig gave the row; the no-rig search's top up a
+#: photographed rocket in line above a face was swapped in over the rig's own (photo/3026
+#: ordinary +121 %) (a switch for the tests).
+SURFACE_ANY_FLOOR = True
+#: ... and on the colour rescue's face after its walks up, which nothing judged there: its
+#: sides' walk ran up beside two posters to the image's top (photo/3109 hard, no rig,
+#: +51 %) (a switch for the tests).
+SURFACE_IN_RESCUE = True
 #: With the rig, a top where the face's colour ends (region.stops_at_colour_top: the
 #: inner edges' raise judged short, the rows above unlike those below and the face's
 #: foot, from side to side) is not raised by the colour and sides walks either: their
@@ -1094,7 +1103,7 @@ class FusedMethod:
                 and decided[3] >= self.min_confidence
             ):
                 vt, sign, top_row, face_conf = decided
-        if SURFACE_UP_TO_TOP and rig_known and floor_known:
+        if SURFACE_UP_TO_TOP and (SURFACE_ANY_FLOOR or (rig_known and floor_known)):
             # the face is one surface from its foot up to its top: a top with something
             # else from side to side between it and the face's colour is a line behind
             surface = lower_top_to_surface(seen, v, ay, rb, int(round(vt)), ul, ur)
@@ -1409,6 +1418,14 @@ class FusedMethod:
             if windowed < vt:
                 log.debug("rescue: top %d, the face's windows hold up to %d", vt, windowed)
                 vt = windowed
+        if SURFACE_UP_TO_TOP and SURFACE_IN_RESCUE:
+            # the face is one surface from its foot up to its top: the walks up may have
+            # run on past its top along what stands in line behind it
+            surface = lower_top_to_surface(seen, self.view, ay, rb, vt, ul, ur)
+            if surface > vt:
+                log.debug("rescue: top %d, the face's surface starts at %d", vt, surface)
+                vt = surface
+                agree = min(agree, top_agreement(seen, self.view, vt, ul, ur))
         # without edges to confirm it, a face found by colour alone is never a sure one
         conf = RESCUE_MAX_CONFIDENCE * evidence * agree
         if conf < self.min_confidence:
