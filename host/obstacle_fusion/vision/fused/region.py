@@ -3124,6 +3124,9 @@ RAIL_MAX_SHARE = MAX_MARGIN_SHARE
 #: A side margin's pixel is the rail's colour within this (Lab) on the way up to the
 #: frame's top (the frame's paint shaded along a side: a shadow at one corner of the foot).
 FRAME_CLOSE_AGREE = RING_AGREE
+#: Rows under the frame's top read beside both sides for the room (not the frame's colour;
+#: 0 reads none).
+CLOSE_BESIDE_ROWS = 3
 #: How far above the top found the frame's top is sought, metres at the face.
 FRAME_CLOSE_REACH_M = 1.0
 
@@ -3171,6 +3174,19 @@ def raise_top_to_frame(
     closed = frame_top_by_margin(image, view, print_bottom, bottom, r0, left, right, window=True)
     if closed is None or closed >= top - EDGE_SKIP:
         return top
+    # the frame's top is where its colour ends against the room: beside both sides, just
+    # under that row, the room shows (a wall stripe of the frame's colour right over it
+    # carried the side margins' walk on up past the frame)
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    if CLOSE_BESIDE_ROWS > 0 and c0 >= 0 and c1 <= view.out.shape[1]:
+        under = _lab8(image, view, closed, closed + CLOSE_BESIDE_ROWS, c0, c1)
+        beside = (under[:, :BESIDE_COLUMNS], under[:, -BESIDE_COLUMNS:])
+        if all(
+            norm(np.asarray(median_u8(b.reshape(-1, 3), axis=0), np.float32) - rail)
+            <= FRAME_CLOSE_AGREE
+            for b in beside
+        ):
+            return top
     return closed
 
 
