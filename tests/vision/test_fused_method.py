@@ -310,6 +310,8 @@ def test_without_the_foot_frame_the_print_inside_is_taken(
     # scoring.PRINT_ENDS_TEXTURE: off here, so the texture rescue measures it as before)
     monkeypatch.setattr(scoring_mod, "PRINT_ENDS_TEXTURE", -1.0)
     monkeypatch.setattr(method_mod, "enclose_from_foot", lambda *a: None)
+    # (and the frame closing over the print, method.FRAME_CLOSES_TOP, finds it as well)
+    monkeypatch.setattr(method_mod, "FRAME_CLOSES_TOP", False)
     assert height_error(family, seed, hard=True) > 0.1
 
 

@@ -143,5 +143,7 @@ def test_a_print_found_by_its_texture_has_its_top_walked_up_by_the_sides(
     assert 0.0 < res.confidence <= method.TEXTURE_MAX_CONFIDENCE  # type: ignore[operator]
     monkeypatch.setattr(method, "TEXTURE_SIDES_WALK", False)
     monkeypatch.setattr(method, "enclose_from_foot", lambda *a: None)
+    # (and the frame closing over the print, method.FRAME_CLOSES_TOP, which finds it too)
+    monkeypatch.setattr(method, "FRAME_CLOSES_TOP", False)
     short = Measurer(cam, spec.rig).measure(image, truth["range_m"])
     assert short.detected and short.height_m < 0.6 * truth["height_m"]  # type: ignore[operator]

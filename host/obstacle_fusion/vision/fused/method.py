@@ -77,6 +77,7 @@ from obstacle_fusion.vision.fused.region import (
     raise_top_by_sides,
     raise_top_by_windows,
     raise_top_past_band,
+    raise_top_to_frame,
     side_agreement,
     sides_rising,
     snap_sides_to_steps,
@@ -358,6 +359,11 @@ SEAMS_RAISE_TOP = True
 #: frame's bottom rail: the top is raised to where the frame's sides end
 #: (`region.raise_top_along_frame`; a switch for the tests).
 FRAME_RAIL_RAISE = True
+#: A print lies inside its face: where the face found stands on a frame's bottom rail of
+#: one colour whose side margins run up past the top found and close across over the
+#: print, the top is the frame's (`region.raise_top_to_frame`; with and without the rig,
+#: on the edge search's face and the settled sides' top; a switch for the tests).
+FRAME_CLOSES_TOP = True
 #: With the rig, a face the edges found as a thin strip at its foot (its height under
 #: this share of its width: a floor line or a band's foot taken for its top, a floor-grid
 #: line for a side) at under THIN_STRIP_MAX_CONFIDENCE is weighed against the face its
@@ -924,6 +930,14 @@ class FusedMethod:
             if rail_top != vt:
                 log.debug("frame rail %d-%d: top raised to %d", vt, rb, rail_top)
             vt = rail_top
+        if FRAME_CLOSES_TOP and framed is None:
+            # the print's frame closes over it above the top found: the face's top
+            frame_top = raise_top_to_frame(seen, v, rb, vt, ul, ur, depth)
+            if frame_top < vt:
+                log.debug("top %d: the print's frame closes at %d", vt, frame_top)
+                vt = frame_top
+                if TOP_FROM_SIDES not in doubts:
+                    doubts.append(TOP_FROM_SIDES)
         band_from: int | None = None  # the top the band walk carried up ...
         band_rows = 0  # ... and by how many rows
         if EDGE_SKIRTING_WALK and rig_known:
@@ -1265,6 +1279,11 @@ class FusedMethod:
             if outlined < vt:
                 log.debug("settled top %d up the print's outline: %d", vt, outlined)
                 vt = outlined
+        if FRAME_CLOSES_TOP:
+            framed_top = raise_top_to_frame(seen, v, rb, vt, ul, ur, depth)
+            if framed_top < vt:
+                log.debug("settled top %d up to the print's frame: %d", vt, framed_top)
+                vt = framed_top
         found_top = vt
         # the raises read the face's columns as they are now, up to a top face's back
         # edge or past it: its front edge is sought as far below as from a back edge

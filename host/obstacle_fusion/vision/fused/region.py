@@ -2879,14 +2879,16 @@ FOOT_FRAME_GAP = 3
 FOOT_FRAME_AGREE = 10.0
 
 
-def _margin_run_up(part: npt.NDArray[Any], ring: npt.NDArray[np.float32]) -> int | None:
+def _margin_run_up(
+    part: npt.NDArray[Any], ring: npt.NDArray[np.float32], agree: float | None = None
+) -> int | None:
     """How many rows a frame's side margin of colour ``ring`` runs up ``part`` (rows x
-    columns x Lab, read from its last row up; on each row some pixel within
-    FOOT_FRAME_AGREE): it ends at the first FOOT_FRAME_GAP rows in a row without it. None
-    when it never ends (the colour runs on up past ``part``)."""
+    columns x Lab, read from its last row up; on each row some pixel within ``agree``,
+    FOOT_FRAME_AGREE unless told): it ends at the first FOOT_FRAME_GAP rows in a row
+    without it. None when it never ends (the colour runs on up past ``part``)."""
     rows = np.asarray(part, np.float32)
     near = row_norms((rows - ring).reshape(-1, 3)).reshape(rows.shape[:2]).min(axis=1)
-    margin = (near <= FOOT_FRAME_AGREE)[::-1]
+    margin = (near <= (FOOT_FRAME_AGREE if agree is None else agree))[::-1]
     miss = np.convolve(~margin, np.ones(FOOT_FRAME_GAP, int), mode="valid") >= FOOT_FRAME_GAP
     return int(np.argmax(miss)) if miss.any() else None
 
@@ -3083,6 +3085,7 @@ def frame_top_by_margin(
     top: int,
     left: int,
     right: int,
+    window: bool = False,
 ) -> int | None:
     """The top of a frame round a print, the face (``left``..``right``, its foot
     ``foot``) found round a print whose lower edge is ``print_bottom``, its top ``top``
@@ -3092,7 +3095,9 @@ def frame_top_by_margin(
     inside the face's edges (the frame's side margins) to the face's top, and closes
     across it above the print: the face's top is where that colour ends going up both
     sides, level across the face, with the same colour just under it in the face's middle
-    columns. Returns that row, or None (no frame closing there)."""
+    columns. Returns that row, or None (no frame closing there). ``window``: ``top`` is
+    only how far up to read (the frame's rise is then weighed against the face it
+    closes, not against ``foot - top``)."""
     if image is None or image.ndim != 3 or right - left < 10:
         return None
     h, w = view.out.shape
@@ -3107,15 +3112,20 @@ def frame_top_by_margin(
     )
     tops = []
     far_in = right - left - RING_SKIP
+    # (with ``window``, walked from the rail's top: a shadow at a corner of the foot may
+    # darken the rail's end there)
+    start = r0 + 1 if window else r1
+    agree = FRAME_CLOSE_AGREE if window else None
     for lo, hi in ((RING_SKIP, q + RING_SKIP), (far_in - q, far_in)):
-        up = _margin_run_up(lab[: r1 - top, lo:hi], ring)
+        up = _margin_run_up(lab[: start - top, lo:hi], ring, agree)
         if up is None:
             return None  # the colour runs on up past the top found: no frame's top below it
-        tops.append(r1 - up)
+        tops.append(start - up)
     new_top = max(tops)
     if abs(tops[0] - tops[1]) > max(2, (foot - top) // 20):
         return None  # not level across the face
-    if print_bottom - new_top < max(10, FRAME_MIN_SHARE * (foot - top)):
+    height = foot - (new_top if window else top)  # the face's, as found or as closed
+    if print_bottom - new_top < max(10, FRAME_MIN_SHARE * height):
         return None  # a band along the foot (a plinth, a shadow), no margin up the sides
     # inside the frame a print of another colour (a face of the margin's own colour with a
     # stripe across it is no frame: its top is no stripe's lower edge)
@@ -3132,6 +3142,81 @@ def frame_top_by_margin(
     if norm(np.asarray(median_u8(under.reshape(-1, 3), axis=0), np.float32) - ring) > RING_AGREE:
         return None
     return new_top
+
+
+#: A face's foot rows read for its frame's bottom rail colour (under the top found:
+#: :func:`raise_top_to_frame`), clear of the foot edge's blur (EDGE_SKIP).
+RAIL_SEED_ROWS = 2
+#: The rail (rows up from the foot, the middle half's median within RING_AGREE of its
+#: colour) at most this share of the face's width high: a frame's rail, not the face.
+RAIL_MAX_SHARE = MAX_MARGIN_SHARE
+#: A side margin's pixel is the rail's colour within this (Lab) on the way up to the
+#: frame's top (the frame's paint shaded along a side: a shadow at one corner of the foot).
+FRAME_CLOSE_AGREE = RING_AGREE
+#: Rows under the frame's top read beside both sides for the room (not the frame's colour;
+#: 0 reads none).
+CLOSE_BESIDE_ROWS = 3
+#: How far above the top found the frame's top is sought, metres at the face.
+FRAME_CLOSE_REACH_M = 1.0
+
+
+def raise_top_to_frame(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> int:
+    """The top of a framed print's face, found under the frame's top (the search's top a
+    row of the print, or the print's lower edge over the frame's bottom rail).
+
+    A print lies inside the face: the face is the frame round it, whose bottom rail
+    stands on the floor-contact row, and the frame's side margins (the rail's colour)
+    run up both sides from it past the print to the frame's top, where the rail's colour
+    closes across over the print (:func:`frame_top_by_margin`). The rail is read up from
+    the foot over the face's middle half: rows whose median colour stays within
+    RING_AGREE of the foot's, at most RAIL_MAX_SHARE of the width high. Returns that top
+    where it lies above ``top``, else ``top``."""
+    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 4:
+        return top
+    seed_hi = bottom - EDGE_SKIP
+    seed_lo = seed_hi - RAIL_SEED_ROWS
+    if seed_lo <= top:
+        return top
+    reach = int(round(view.fy * FRAME_CLOSE_REACH_M / depth_m))
+    r0 = max(0, top - reach)
+    if top - r0 < 10:
+        return top
+    q = (right - left) // 4
+    lab = _lab8(image, view, top, seed_hi, left + q, right - q + 1)
+    rows = np.asarray(median_u8(lab, axis=1), np.float32)
+    rail = median_of(rows[seed_lo - top :], axis=0)
+    off = row_norms(rows - rail) > RING_AGREE
+    j = seed_lo - top
+    while j >= 0 and not off[j]:
+        j -= 1
+    print_bottom = top + j + 1  # the lowest row of the rail's colour under the print
+    if bottom - print_bottom > RAIL_MAX_SHARE * (right - left):
+        return top  # the face's own colour from the foot up: no rail, or no frame's
+    closed = frame_top_by_margin(image, view, print_bottom, bottom, r0, left, right, window=True)
+    if closed is None or closed >= top - EDGE_SKIP:
+        return top
+    # the frame's top is where its colour ends against the room: beside both sides, just
+    # under that row, the room shows (a wall stripe of the frame's colour right over it
+    # carried the side margins' walk on up past the frame)
+    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
+    if CLOSE_BESIDE_ROWS > 0 and c0 >= 0 and c1 <= view.out.shape[1]:
+        under = _lab8(image, view, closed, closed + CLOSE_BESIDE_ROWS, c0, c1)
+        beside = (under[:, :BESIDE_COLUMNS], under[:, -BESIDE_COLUMNS:])
+        if all(
+            norm(np.asarray(median_u8(b.reshape(-1, 3), axis=0), np.float32) - rail)
+            <= FRAME_CLOSE_AGREE
+            for b in beside
+        ):
+            return top
+    return closed
 
 
 #: Half the beam's core sampled for the face's colour at its foot, metres at the face.
