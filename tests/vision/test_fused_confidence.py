@@ -841,21 +841,6 @@ def test_a_box_s_top_face_taken_into_its_face_is_measured_from_its_front(
     assert off.confidence is not None and off.confidence > 0.5
 
 
-def test_a_colour_rescue_s_top_is_not_moved_to_a_band_s_end(
-    caplog: pytest.LogCaptureFixture,
-) -> None:
-    """photo/152 hard, with the rig: the face is the colour rescue's, whose own check for a
-    front top edge under its top (front_top) found none; TOP_FACE_TO_FRONT, on the main
-    path only, leaves that top (it moved it 3.7 rows down before; on fresh photo/2121 the
-    same override took -28.8 % to -34.2 %)."""
-    image, truth, spec = render_room("photo", 152, True, CAM)
-    with caplog.at_level("DEBUG", logger="obstacle_fusion.vision.fused.method"):
-        res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
-    assert res.detected
-    assert "rescue: top 192, front top 192" in caplog.text
-    assert "a top face's band under it" not in caplog.text
-
-
 def test_one_gate_says_the_lens_looks_down_on_a_top() -> None:
     """The doubt's and the move's gate: below ``cy``, or within the slack a guessed
     pitch's horizon leaves over it (0 with the rig given)."""

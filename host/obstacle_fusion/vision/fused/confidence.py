@@ -303,12 +303,12 @@ TOP_FACE_STEP = 5.0
 TOP_FACE_SIDE_SHARE = 0.08
 #: ... at least this many columns (a small face's strip clear of its sides' blur) ...
 TOP_FACE_SIDE_MIN_COLUMNS = 3.0
-#: ... in none of which, column by column (a margin may be a few columns wide: a median
-#: over the strip then reads the print), the middle rows' median lies within this share
-#: of the band's step (band to face) of the band's colour: nearer the band than the face
-#: two to one. Half would be "nearer the band"; a photo's side columns, in the blur's
-#: tail or a plank's seam, come within 0.41-0.6 of the band on right top faces (photo
-#: 158, 2006), a drawn margin at 0.
+#: ... over which the middle rows' median is not nearer the band than the face, nor in
+#: any one column (a margin may be a few columns wide: the strip's median then reads the
+#: print) within this share of the band's step (band to face) of the band's colour:
+#: nearer the band than the face two to one. At a half a photo's side columns, in the
+#: blur's tail or a plank's seam (0.41-0.6 of the step), took right moves (photo 158,
+#: 2006); a drawn margin lies at 0.
 TOP_FACE_SIDE_AGREE = 1.0 / 3.0
 #: A band read over fewer of the face's inner columns than this is too narrow to read.
 TOP_FACE_MIN_COLUMNS = 3
@@ -554,11 +554,12 @@ def _band_ends_at_sides(
 ) -> bool:
     """Whether the band's colour (its row ``row``) ends at the sides too: in no column
     just inside each side (TOP_FACE_SIDE_SHARE of the face's width, at least
-    TOP_FACE_SIDE_MIN_COLUMNS, past the sides' blur) is the face's middle rows' median
-    within TOP_FACE_SIDE_AGREE of the band's step from the face's colour ``face`` of the
-    band's colour. A top face ends at the front top edge
-    from side to side; a print's margin of that colour runs on down along the sides, and
-    may be only a few columns wide (a median over the strip then reads the print)."""
+    TOP_FACE_SIDE_MIN_COLUMNS, past the sides' blur) are the face's middle rows nearer the
+    band's colour than the face's colour ``face`` over the strip (a median), nor in any one
+    column within TOP_FACE_SIDE_AGREE of the band's step of the band's colour. A top face
+    ends at the front top edge from side to side; a print's margin of that colour runs on
+    down along the sides, and may be only a few columns wide (a median over the strip
+    then reads the print)."""
     h, w = image.shape[:2]
     if not 0 <= row < h:
         return True
@@ -575,6 +576,9 @@ def _band_ends_at_sides(
     sy = max(1, (r1 - r0) // FOOT_SAMPLES_ROWS)
     agree = TOP_FACE_SIDE_AGREE * float(np.linalg.norm(band - face))
     for c0, c1 in ((x0 + g, x0 + g + s), (x1 - g - s, x1 - g)):
+        strip = _band_colour(image, m_lo, m_hi, c0, c1)
+        if strip is not None and np.linalg.norm(strip - band) < np.linalg.norm(strip - face):
+            return False  # the strip as a whole nearer the band: a wide margin, shaded
         a, b = max(0, int(c0)), min(w, int(c1))
         for c in range(a, b):
             column = upper_middles_u8(

@@ -1174,23 +1174,7 @@ class FusedMethod:
                     rb = down
         timer.lap("extent")
         measured = self._refine(
-            ax,
-            ay,
-            ax3,
-            dy,
-            rb,
-            ul,
-            ur,
-            vt,
-            sign,
-            top_row,
-            conf,
-            depth,
-            range_m,
-            timer,
-            span,
-            fits,
-            to_front=True,
+            ax, ay, ax3, dy, rb, ul, ur, vt, sign, top_row, conf, depth, range_m, timer, span, fits
         )
         # what the face as measured leaves in doubt (the reported confidence only)
         faced = face_doubts(
@@ -1611,12 +1595,10 @@ class FusedMethod:
         timer: Timer,
         span: tuple[int, int] | None,
         fits: VerticalFits | None = None,
-        to_front: bool = False,
     ) -> Measurement:
         """The chosen face measured: the top edge's gradient window, then :func:`refine`.
-        ``to_front``: the edges' own face (not a colour or texture rescue's, whose own
-        front-top check has had its say), open to TOP_FACE_TO_FRONT where no top row was
-        chosen for it already (``top_row``: a top lowered once is not lowered again)."""
+        TOP_FACE_TO_FRONT only where no top row was chosen for the face already
+        (``top_row``: a top lowered once, by front_from_back, is not lowered again)."""
         n = ay.shape[0]
         top_row_given = top_row
         v = self.view
@@ -1664,7 +1646,6 @@ class FusedMethod:
             TOP_FACE_TO_FRONT
             and self._rig_given
             and seen is not None
-            and to_front
             and top_row_given is None
             and result.lines
             and looks_down_on(v, vt)
