@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any
+from types import SimpleNamespace
+from typing import Any, cast
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec, render_room
 from obstacle_fusion.vision import measure as measure_mod
@@ -54,7 +56,7 @@ from obstacle_fusion.vision.fused.confidence import (
 from obstacle_fusion.vision.fused.scoring import Candidate
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.pitch import PitchEstimate
-from obstacle_fusion.vision.types import Measurement
+from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision.rooms import pitched_plain_room
 
@@ -673,7 +675,11 @@ GREY_FACE = np.array([100.0, 100.0, 100.0])
 GREEN_WALL = np.array([30.0, 160.0, 60.0])
 
 
-def _lid_image(band: np.ndarray, rows: tuple[int, int] = (101, 105), above=GREEN_WALL):
+def _lid_image(
+    band: npt.NDArray[np.floating[Any]],
+    rows: tuple[int, int] = (101, 105),
+    above: npt.NDArray[np.floating[Any]] = GREEN_WALL,
+) -> npt.NDArray[np.uint8]:
     """The face of :func:`_foot_image` (rows 100-200, columns 150-350) in GREY_FACE under
     ``above``, with its rows ``rows`` (just under the top line at 100) in ``band``."""
     img = _foot_image(FLOOR)
@@ -744,12 +750,60 @@ def test_a_margin_running_on_down_the_sides_is_no_top_face() -> None:
     one = _lid_image(band)
     one[100:200, 330:350] = band
     assert top_face_doubts(one, LINES, True) == []
-    # a margin narrower than the sides' blur and the strip read (3 + 16 columns): the
-    # strips read the face
+    # a margin narrower than the strip read (3 + 16 columns) is a frame all the same:
+    # some column past the sides' blur (3) holds the band's colour (a median over the
+    # strip read the print there, and a right top moved down onto the rail's lower edge)
     thin = _lid_image(band)
     thin[100:200, 150:156] = band
     thin[100:200, 344:350] = band
-    assert top_face_doubts(thin, LINES, True) == [TOP_FACE_UNDER_TOP]
+    assert top_face_doubts(thin, LINES, True) == []
+
+
+def _framed_lid(margin: int, colour: np.ndarray | None = None) -> np.ndarray:
+    """The lid of :func:`_lid_image` (GREY_FACE + 12, rows 101-104) over a frame of
+    ``colour`` (the band's unless told) ``margin`` columns wide down both sides."""
+    band = GREY_FACE + 12.0
+    img = _lid_image(band)
+    img[100:200, 150 : 150 + margin] = np.round(band if colour is None else colour)
+    img[100:200, 350 - margin : 350] = np.round(band if colour is None else colour)
+    return img
+
+
+@pytest.mark.parametrize("margin", [4, 8, 12])
+def test_a_grey_frame_of_any_margin_is_no_top_face(margin: int) -> None:
+    """A grey frame on a 200-column face: its side margins of 4, 8 and 12 columns all hold
+    the band's colour past the sides' blur (3 columns); read as a median over the 16
+    columns of the strip, the 4 and 8 read the print and the frame's top moved down."""
+    assert top_face_doubts(_framed_lid(margin), LINES, True) == []
+    # margins within the sides' blur only: the face's own strip, a top face
+    assert top_face_doubts(_framed_lid(3), LINES, True) == [TOP_FACE_UNDER_TOP]
+
+
+@pytest.mark.parametrize(("off", "frame"), [(3.0, True), (5.0, False)])
+def test_a_side_column_holds_the_band_s_colour_within_a_third_of_its_step(
+    off: float, frame: bool
+) -> None:
+    """TOP_FACE_SIDE_AGREE (1/3) of the band's step (12 levels a channel: 20.8) is 6.9:
+    margins 3 levels a channel (5.2) off the band's colour are its, 5 levels (8.7) not."""
+    assert conf_mod.TOP_FACE_SIDE_AGREE == pytest.approx(1.0 / 3.0)
+    assert conf_mod.TOP_FACE_SIDE_MIN_COLUMNS == 3.0
+    img = _framed_lid(8, GREY_FACE + 12.0 - off)
+    assert (top_face_doubts(img, LINES, True) == []) is frame
+
+
+def test_a_small_face_s_band_is_read_over_three_rows_at_least() -> None:
+    """A face 20 rows high (15 % of it: 3 rows) with its lid on rows 101-103 under the top
+    line at 100: the rows read start at 102 (TOP_FACE_GAP) and go on to 104, where the
+    lid's step to the face shows (read only to 103 = 100 + 3, no step was seen)."""
+    img = _lid_image(GREY_FACE + 6.0, rows=(101, 104))
+    img[120:, 150:350] = FLOOR
+    small = [(150.0, 120.0, 350.0, 120.0), (150.0, 100.0, 350.0, 100.0)] + [
+        (150.0, 120.0, 150.0, 100.0),
+        (350.0, 120.0, 350.0, 100.0),
+    ]
+    band = top_face_band(img, small)
+    assert band is not None and band[0] == pytest.approx(6.0)
+    assert band[1] == pytest.approx(103.5)
 
 
 def test_the_top_face_doubt_can_be_switched_off(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -785,6 +839,16 @@ def test_a_box_s_top_face_taken_into_its_face_is_measured_from_its_front(
     off = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
     assert TOP_FACE_UNDER_TOP not in off.doubts
     assert off.confidence is not None and off.confidence > 0.5
+
+
+def test_one_gate_says_the_lens_looks_down_on_a_top() -> None:
+    """The doubt's and the move's gate: below ``cy``, or within the slack a guessed
+    pitch's horizon leaves over it (0 with the rig given)."""
+
+    v = cast(View, SimpleNamespace(cy=100.0, horizon_slack_px=0.0))
+    assert method_mod.looks_down_on(v, 100.5) and not method_mod.looks_down_on(v, 100.0)
+    v.horizon_slack_px = 5.0
+    assert method_mod.looks_down_on(v, 95.5) and not method_mod.looks_down_on(v, 95.0)
 
 
 def test_a_move_under_the_least_keeps_the_top(monkeypatch: pytest.MonkeyPatch) -> None:

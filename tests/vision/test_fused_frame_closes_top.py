@@ -169,3 +169,34 @@ def test_the_rail_raise_s_room_by_this_rule_alone(monkeypatch: pytest.MonkeyPatc
     ``FRAME_RAIL_RAISE`` (test_fused_frame_rail turns both off)."""
     monkeypatch.setattr(method, "FRAME_RAIL_RAISE", False)
     assert max(room_size_errors("procedural", 1416, True)) < 0.05
+
+
+# -- the room beside the frame's top read only inside the image ---------------------------
+
+#: Columns kept past each side of the face when the image is cut round it: fewer than the
+#: SIDE_SKIP (3) + BESIDE_COLUMNS (6) read beside a side, so that side's strip lies out.
+CUT = 2
+
+
+def closed_cut(img: npt.NDArray[np.uint8], sides: str) -> int:
+    """:func:`closed` on the image cut CUT columns past the face's right side, or past
+    both ("both"): the strip beside the side(s) cut lies outside the image."""
+    c0 = LEFT - CUT if sides == "both" else 0
+    cut = np.ascontiguousarray(img[:, c0 : RIGHT + CUT])
+    w = cut.shape[1]
+    k = np.array([[300.0, 0.0, w / 2], [0.0, 300.0, H / 2], [0.0, 0.0, 1.0]])
+    view = View(CameraModel(k, np.zeros(5), w, H), Rig(), "level")
+    return region.raise_top_to_frame(cut, view, BOTTOM, FOUND, LEFT - c0, RIGHT - c0, DEPTH)
+
+
+def test_with_one_side_in_the_image_that_side_decides() -> None:
+    """The strip beside the right side lies outside the image: the stripe beside the left
+    one refuses the frame's top (it was taken unchecked), the room beside it lets it."""
+    assert region.SIDE_SKIP + region.BESIDE_COLUMNS > CUT
+    assert closed_cut(striped(), "right") == FOUND
+    assert abs(closed_cut(framed(), "right") - TOP) <= 1
+
+
+def test_with_neither_side_in_the_image_the_top_found_stays() -> None:
+    """No room seen beside the frame's top: it is not taken (it was, unchecked)."""
+    assert closed_cut(framed(), "both") == FOUND

@@ -2201,6 +2201,21 @@ def test_a_frame_closes_at_its_margins_top() -> None:
     assert found is not None and abs(found - TOP) <= 2
 
 
+@pytest.mark.parametrize(("lower", "level"), [(5, True), (6, False)])
+def test_a_window_s_frame_is_level_by_its_own_height(lower: int, level: bool) -> None:
+    """Read from a window far up (``window``: HIGH_TOP), the frame's two side tops must be
+    level within the face's height (foot to the frame's top closed) over
+    FRAME_LEVEL_SHARE (20): a right side 5 rows lower, (200 - 85) // 20 = 5, is level; 6
+    rows lower, (200 - 86) // 20 = 5, not (the window's (200 - 30) // 20 = 8 passed it)."""
+    assert (region.FRAME_LEVEL_MIN_PX, region.FRAME_LEVEL_SHARE) == (2, 20)
+    img = framed_scene()
+    img[TOP : TOP + lower, RIGHT - 2 * MARGIN : RIGHT] = FLOOR  # the right side's top lower
+    found = region.frame_top_by_margin(
+        img, level_view(), BOTTOM - MARGIN, BOTTOM, HIGH_TOP, LEFT, RIGHT, window=True
+    )
+    assert (found is not None and abs(found - (TOP + lower)) <= 1) is level, found
+
+
 def test_a_print_up_to_the_faces_top_closes_no_frame() -> None:
     """The margin runs up both sides but not across the top (the print reaches the face's
     top): no frame's top to take."""

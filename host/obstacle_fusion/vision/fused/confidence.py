@@ -285,7 +285,8 @@ TOP_BAND_MIN_STEP = 10.0
 TOP_BAND_MARGIN = 1.5
 #: TOP_FACE_UNDER_TOP (a switch for the tests): the rows searched under the top, from
 #: TOP_FACE_GAP rows under the top line (clear of its own blur row) down to
-#: TOP_FACE_REACH of the face's height (at least TOP_FACE_MIN_ROWS) ...
+#: TOP_FACE_REACH of the face's height under the line (at least TOP_FACE_MIN_ROWS rows read,
+#: on a small face) ...
 TOP_FACE_UNDER_TOP_DOUBT = True
 TOP_FACE_GAP = 1.5
 TOP_FACE_REACH = 0.15
@@ -300,6 +301,17 @@ TOP_FACE_STEP = 5.0
 #: ... and just inside each side (this share of the face's width) the face's middle rows
 #: must be of the face's colour, not the band's (:func:`_band_ends_at_sides`).
 TOP_FACE_SIDE_SHARE = 0.08
+#: ... at least this many columns (a small face's strip clear of its sides' blur) ...
+TOP_FACE_SIDE_MIN_COLUMNS = 3.0
+#: ... over which the middle rows' median is not nearer the band than the face, nor in
+#: any one column (a margin may be a few columns wide: the strip's median then reads the
+#: print) within this share of the band's step (band to face) of the band's colour:
+#: nearer the band than the face two to one. At a half a photo's side columns, in the
+#: blur's tail or a plank's seam (0.41-0.6 of the step), took right moves (photo 158,
+#: 2006); a drawn margin lies at 0.
+TOP_FACE_SIDE_AGREE = 1.0 / 3.0
+#: A band read over fewer of the face's inner columns than this is too narrow to read.
+TOP_FACE_MIN_COLUMNS = 3
 #: Samples per band and axis at most (a band's colour is a median of a strided sample).
 FOOT_SAMPLES_ROWS = 16
 FOOT_SAMPLES_COLUMNS = 32
@@ -488,14 +500,16 @@ def top_face_band(
     if bands is None:
         return None
     c0, c1, vt, k, g = bands.c0, bands.c1, bands.vt, bands.k, bands.g
-    reach = max(TOP_FACE_MIN_ROWS, int(round(TOP_FACE_REACH * bands.height)))
-    last = int(vt) + reach
+    reach = int(round(TOP_FACE_REACH * bands.height))
+    first = int(np.ceil(vt + TOP_FACE_GAP))
+    # down to TOP_FACE_REACH of the height under the top line, TOP_FACE_MIN_ROWS read at
+    # least (a face under ~27 rows reached only 1-2 rows past the line's blur)
+    last = max(int(vt) + reach, first + TOP_FACE_MIN_ROWS - 1)
     above = _band_colour(image, vt - g - k, vt - g, c0, c1)
     face = _band_colour(image, last + 1.0, last + 1.0 + k, c0, c1)
     h, w = image.shape[:2]
     a, b = max(0, int(c0)), min(w, int(c1))
-    first = int(np.ceil(vt + TOP_FACE_GAP))
-    if above is None or face is None or b - a < 3 or last >= h or first > last:
+    if above is None or face is None or b - a < TOP_FACE_MIN_COLUMNS or last >= h or first > last:
         return None
     step = above - face
     length = float(np.linalg.norm(step))
@@ -538,24 +552,40 @@ def top_face_band(
 def _band_ends_at_sides(
     image: npt.NDArray[np.uint8], bands: _FaceBands, face: npt.NDArray[np.float32], row: int
 ) -> bool:
-    """Whether the band's colour (its row ``row``) ends at the sides too: just inside each
-    side (TOP_FACE_SIDE_SHARE of the face's width, past the sides' blur), the face's
-    middle rows are nearer the face's colour ``face`` than the band's. A top face ends at
-    the front top edge from side to side; a print's margin of that colour runs on down
-    along the sides."""
+    """Whether the band's colour (its row ``row``) ends at the sides too: in no column
+    just inside each side (TOP_FACE_SIDE_SHARE of the face's width, at least
+    TOP_FACE_SIDE_MIN_COLUMNS, past the sides' blur) are the face's middle rows nearer the
+    band's colour than the face's colour ``face`` over the strip (a median), nor in any one
+    column within TOP_FACE_SIDE_AGREE of the band's step of the band's colour. A top face
+    ends at the front top edge from side to side; a print's margin of that colour runs on
+    down along the sides, and may be only a few columns wide (a median over the strip
+    then reads the print)."""
     h, w = image.shape[:2]
     if not 0 <= row < h:
         return True
-    s = max(3.0, TOP_FACE_SIDE_SHARE * bands.width)
+    s = max(TOP_FACE_SIDE_MIN_COLUMNS, TOP_FACE_SIDE_SHARE * bands.width)
     x0, x1, g = bands.x0, bands.x1, bands.g
     band = _band_colour(image, row, row + 2, bands.c0, bands.c1)
     m_lo, m_hi = bands.middle_rows
     if band is None:
         return True
+    channels = image.shape[2] if image.ndim == 3 else 1
+    r0, r1 = max(0, int(m_lo)), min(h, int(m_hi))
+    if r1 - r0 < 2:
+        return True
+    sy = max(1, (r1 - r0) // FOOT_SAMPLES_ROWS)
+    agree = TOP_FACE_SIDE_AGREE * float(np.linalg.norm(band - face))
     for c0, c1 in ((x0 + g, x0 + g + s), (x1 - g - s, x1 - g)):
         strip = _band_colour(image, m_lo, m_hi, c0, c1)
         if strip is not None and np.linalg.norm(strip - band) < np.linalg.norm(strip - face):
-            return False
+            return False  # the strip as a whole nearer the band: a wide margin, shaded
+        a, b = max(0, int(c0)), min(w, int(c1))
+        for c in range(a, b):
+            column = upper_middles_u8(
+                np.ascontiguousarray(image[r0:r1:sy, c].reshape(-1, channels))
+            )
+            if np.linalg.norm(column - band) < agree:
+                return False
     return True
 
 

@@ -181,6 +181,14 @@ TOP_FACE_TO_FRONT = True
 TOP_FACE_MIN_MOVE_PX = 0.5
 
 
+def looks_down_on(v: View, row: float) -> bool:
+    """Whether the lens looks down on a face's top at view row ``row``: below the
+    horizon, or within the rows a guessed pitch's horizon may lie above ``cy``
+    (``horizon_slack_px``, 0 with the rig given). The one gate of TOP_FACE_UNDER_TOP's
+    doubt and of TOP_FACE_TO_FRONT's move."""
+    return row > v.cy - v.horizon_slack_px
+
+
 def view_row(v: View, x: float, y: float) -> float:
     """The view row of input-image pixel (x, y): undistorted, turned to the view's frame."""
     ray = v.camera.unproject(np.array([[x, y]], np.float64))[0]
@@ -1180,7 +1188,7 @@ class FusedMethod:
             best,
             rivals,
             measured.lines,
-            below_horizon=vt > v.cy - v.horizon_slack_px,
+            below_horizon=looks_down_on(v, vt),
         )
         measured.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
         strip = measured
@@ -1209,7 +1217,7 @@ class FusedMethod:
                     best,
                     rivals,
                     regrown.lines,
-                    below_horizon=g_top > v.cy - v.horizon_slack_px,
+                    below_horizon=looks_down_on(v, g_top),
                 )
                 regrown.doubts = [*doubts, *faced, *contact_doubts(g_bottom, vb0, tol)]
                 return regrown
@@ -1588,8 +1596,11 @@ class FusedMethod:
         span: tuple[int, int] | None,
         fits: VerticalFits | None = None,
     ) -> Measurement:
-        """The chosen face measured: the top edge's gradient window, then :func:`refine`."""
+        """The chosen face measured: the top edge's gradient window, then :func:`refine`.
+        TOP_FACE_TO_FRONT only where no top row was chosen for the face already
+        (``top_row``: a top lowered once, by front_from_back, is not lowered again)."""
         n = ay.shape[0]
+        top_row_given = top_row
         v = self.view
         if SIDES_END_TOP:
             # the face's sides end at its top: above them what is behind runs on across
@@ -1635,8 +1646,9 @@ class FusedMethod:
             TOP_FACE_TO_FRONT
             and self._rig_given
             and seen is not None
+            and top_row_given is None
             and result.lines
-            and vt > v.cy
+            and looks_down_on(v, vt)
         ):
             # the top measured on a top face's back edge: measured again from its front
             band = top_face_band(seen, result.lines)

@@ -367,6 +367,10 @@ ENDS_NEED_EDGE = True
 #: of noise, a few hundredths of the top's) is no corner: the sides faded against a
 #: background of the face's shade.
 ENDS_EDGE_SHARE = 0.1
+#: The face's inner columns read: a tenth of its width (ENDS_SIDE_SKIP_PARTS) in from each
+#: side, past the sides' blur; none read (True) for fewer than ENDS_MIN_COLUMNS left.
+ENDS_SIDE_SKIP_PARTS = 10
+ENDS_MIN_COLUMNS = 3
 
 
 def edge_at_ends(ay: F32, ul: int, ur: int, vt: int, end: float) -> bool:
@@ -374,9 +378,15 @@ def edge_at_ends(ay: F32, ul: int, ur: int, vt: int, end: float) -> bool:
     two rows round it) between the face's sides ``ul``..``ur`` at ENDS_EDGE_SHARE of the
     top's (row ``vt``) strength. True when switched off or unreadable."""
     n = ay.shape[0]
-    m = max(1, (ur - ul) // 10)
+    m = max(1, (ur - ul) // ENDS_SIDE_SKIP_PARTS)
     r = int(end)
-    if not ENDS_NEED_EDGE or ur - ul - 2 * m < 3 or vt < 1 or r + 2 > n or vt + 2 > n:
+    if (
+        not ENDS_NEED_EDGE
+        or ur - ul - 2 * m < ENDS_MIN_COLUMNS
+        or vt < 1
+        or r + 2 > n
+        or vt + 2 > n
+    ):
         return True
     cols = ay[:, ul + m : ur - m + 1]
     top = float(cols[vt - 1 : vt + 2].mean(axis=1).max())

@@ -3072,6 +3072,11 @@ def enclose_beside_foot(
 
 #: A frame's side margin read this share of the face's width in from each of its sides.
 FRAME_SIDE_SHARE = 0.1
+#: The frame's top level across the face: its two sides' tops within this many rows, or
+#: the face's height (from its foot to the frame's top closed, with ``window``) over
+#: FRAME_LEVEL_SHARE.
+FRAME_LEVEL_MIN_PX = 2
+FRAME_LEVEL_SHARE = 20
 #: ... and runs up the sides from the print's lower edge at least this share of the height
 #: between the face's foot and the top found above the frame.
 FRAME_MIN_SHARE = 0.3
@@ -3122,9 +3127,9 @@ def frame_top_by_margin(
             return None  # the colour runs on up past the top found: no frame's top below it
         tops.append(start - up)
     new_top = max(tops)
-    if abs(tops[0] - tops[1]) > max(2, (foot - top) // 20):
-        return None  # not level across the face
     height = foot - (new_top if window else top)  # the face's, as found or as closed
+    if abs(tops[0] - tops[1]) > max(FRAME_LEVEL_MIN_PX, height // FRAME_LEVEL_SHARE):
+        return None  # not level across the face
     if print_bottom - new_top < max(10, FRAME_MIN_SHARE * height):
         return None  # a band along the foot (a plinth, a shadow), no margin up the sides
     # inside the frame a print of another colour (a face of the margin's own colour with a
@@ -3156,8 +3161,14 @@ FRAME_CLOSE_AGREE = RING_AGREE
 #: Rows under the frame's top read beside both sides for the room (not the frame's colour;
 #: 0 reads none).
 CLOSE_BESIDE_ROWS = 3
-#: How far above the top found the frame's top is sought, metres at the face.
+#: How far above the top found the frame's top is sought, metres at the face ...
 FRAME_CLOSE_REACH_M = 1.0
+#: ... at least this many rows (the image's top row may cut it shorter: then none).
+CLOSE_MIN_REACH_ROWS = 10
+#: A face narrower than this (columns), or with fewer rows than CLOSE_MIN_FACE_ROWS
+#: between its top and foot, is too small to read a frame round.
+CLOSE_MIN_WIDTH_PX = 10
+CLOSE_MIN_FACE_ROWS = 4
 
 
 def raise_top_to_frame(
@@ -3179,7 +3190,12 @@ def raise_top_to_frame(
     the foot over the face's middle half: rows whose median colour stays within
     RING_AGREE of the foot's, at most RAIL_MAX_SHARE of the width high. Returns that top
     where it lies above ``top``, else ``top``."""
-    if image is None or image.ndim != 3 or right - left < 10 or bottom - top < 4:
+    if (
+        image is None
+        or image.ndim != 3
+        or right - left < CLOSE_MIN_WIDTH_PX
+        or bottom - top < CLOSE_MIN_FACE_ROWS
+    ):
         return top
     seed_hi = bottom - EDGE_SKIP
     seed_lo = seed_hi - RAIL_SEED_ROWS
@@ -3187,7 +3203,7 @@ def raise_top_to_frame(
         return top
     reach = int(round(view.fy * FRAME_CLOSE_REACH_M / depth_m))
     r0 = max(0, top - reach)
-    if top - r0 < 10:
+    if top - r0 < CLOSE_MIN_REACH_ROWS:
         return top
     q = (right - left) // 4
     lab = _lab8(image, view, top, seed_hi, left + q, right - q + 1)
@@ -3206,14 +3222,30 @@ def raise_top_to_frame(
     # the frame's top is where its colour ends against the room: beside both sides, just
     # under that row, the room shows (a wall stripe of the frame's colour right over it
     # carried the side margins' walk on up past the frame)
-    c0, c1 = left - SIDE_SKIP - BESIDE_COLUMNS, right + SIDE_SKIP + BESIDE_COLUMNS + 1
-    if CLOSE_BESIDE_ROWS > 0 and c0 >= 0 and c1 <= view.out.shape[1]:
-        under = _lab8(image, view, closed, closed + CLOSE_BESIDE_ROWS, c0, c1)
-        beside = (under[:, :BESIDE_COLUMNS], under[:, -BESIDE_COLUMNS:])
+    # (the sides inside the image only; with neither in it the room is not seen, and the
+    # frame's top is not taken)
+    if CLOSE_BESIDE_ROWS > 0:
+        w = view.out.shape[1]
+        strips = (
+            (left - SIDE_SKIP - BESIDE_COLUMNS, left - SIDE_SKIP),
+            (right + SIDE_SKIP + 1, right + SIDE_SKIP + BESIDE_COLUMNS + 1),
+        )
+        inside = [(a, b) for a, b in strips if a >= 0 and b <= w]
+        if not inside:
+            return top
         if all(
-            norm(np.asarray(median_u8(b.reshape(-1, 3), axis=0), np.float32) - rail)
+            norm(
+                np.asarray(
+                    median_u8(
+                        _lab8(image, view, closed, closed + CLOSE_BESIDE_ROWS, a, b).reshape(-1, 3),
+                        axis=0,
+                    ),
+                    np.float32,
+                )
+                - rail
+            )
             <= FRAME_CLOSE_AGREE
-            for b in beside
+            for a, b in inside
         ):
             return top
     return closed
