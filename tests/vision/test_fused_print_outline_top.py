@@ -82,3 +82,33 @@ def test_the_middle_check_keeps_the_rail_out(monkeypatch: pytest.MonkeyPatch) ->
     monkeypatch.setattr(region, "OUTLINE_COVER", 0.0)
     eh, _ = room_size_errors("procedural", 1124, True)
     assert eh > 0.25
+
+
+def test_a_face_too_narrow_for_a_middle_is_left_alone_without_warnings() -> None:
+    """A face narrower than its two inside strips has no middle between its sides to read
+    (the median of no columns is a NaN and numpy's "mean of empty slice" warning, seen on
+    a room of bench_rooms seed 13000): its top stays, quietly."""
+    import warnings
+
+    import cv2
+    import numpy as np
+    from obstacle_fusion.vision.camera import CameraModel
+    from obstacle_fusion.vision.rig import Rig
+    from obstacle_fusion.vision.types import View
+
+    h, w, bottom, top = 240, 320, 200, 150
+    left = 150
+    right = left + 2 * (region.BESIDE_COLUMNS + region.SIDE_SKIP) - 4  # no middle columns
+    lab = np.empty((h, w, 3), np.uint8)
+    lab[:bottom] = (90, 150, 160)  # a dark red wall
+    lab[bottom:] = (120, 128, 128)  # a grey floor
+    lab[40:bottom, left : right + 1] = (200, 100, 136)  # a tall light teal post
+    img = cv2.cvtColor(lab, cv2.COLOR_LAB2BGR)
+    grey = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+    ay = np.abs(cv2.Sobel(grey, cv2.CV_32F, 0, 1, ksize=3))
+    k = np.array([[300.0, 0.0, w / 2], [0.0, 300.0, h / 2], [0.0, 0.0, 1.0]])
+    view = View(CameraModel(k, np.zeros(5), w, h), Rig(), "level")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        raised = region.raise_top_by_outline(img, view, ay, bottom, top, left, right, 1.0)
+    assert raised == top

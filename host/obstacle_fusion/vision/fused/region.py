@@ -3626,6 +3626,9 @@ def raise_top_by_outline(
     band = _lab8(image, view, r0, top + 1, c0, c1).astype(np.float32)
     k = top - r0
     span = BESIDE_COLUMNS + SIDE_SKIP
+    if band.shape[1] <= 4 * span:
+        # no middle between the inside strips to read: nothing says it is one print
+        return top
     lo_out = np.median(band[:, :BESIDE_COLUMNS], axis=1)
     lo_in = np.median(band[:, 2 * span - BESIDE_COLUMNS : 2 * span], axis=1)
     hi_in = np.median(band[:, -2 * span : -2 * span + BESIDE_COLUMNS], axis=1)
