@@ -1621,26 +1621,32 @@ class FusedMethod:
         win = top_edge[r0 : r0 + 7]
         np.multiply(dy[r0 : r0 + 7], np.float32(sign), out=win)
         np.maximum(win, 0.0, out=win)
-        result = refine(
-            v,
-            self.name,
-            ax,
-            ay,
-            ax3,
-            top_edge,
-            rb,
-            ul,
-            ur,
-            vt,
-            top_row,
-            conf,
-            depth,
-            range_m,
-            timer,
-            span,
-            fits,
-            margin,
-        )
+
+        def refined(row: float | None) -> Measurement:
+            # the top edge's slope stays as fitted at vt: a top face's back edge parallels
+            # its front, so the re-measure from the front only moves the row
+            return refine(
+                v,
+                self.name,
+                ax,
+                ay,
+                ax3,
+                top_edge,
+                rb,
+                ul,
+                ur,
+                vt,
+                row,
+                conf,
+                depth,
+                range_m,
+                timer,
+                span,
+                fits,
+                margin,
+            )
+
+        result = refined(top_row)
         seen = self._seen
         if (
             TOP_FACE_TO_FRONT
@@ -1661,26 +1667,7 @@ class FusedMethod:
             ):
                 front = view_row(v, x_mid, band[1])
                 log.debug("top %.1f: a top face's band under it, its front at %.1f", vt, front)
-                result = refine(
-                    v,
-                    self.name,
-                    ax,
-                    ay,
-                    ax3,
-                    top_edge,
-                    rb,
-                    ul,
-                    ur,
-                    vt,  # the top edge's slope as fitted (the back edge parallels the front)
-                    front,
-                    conf,
-                    depth,
-                    range_m,
-                    timer,
-                    span,
-                    fits,
-                    margin,
-                )
+                result = refined(front)
         small = min(result.height_m or 0.0, result.width_m or 0.0)
         if small < MIN_SIZE_M:
             # a face that refined down to a sliver is no measurement (the search never
