@@ -9,8 +9,8 @@ many unclipped answers are over 25 % off or missed. Sets: ``own`` (the tuning an
 validation rooms, procedural and photo seeds 100-159, 700-759, 2000-2099), ``fresh``
 (seeds 2100-2199, for checking), ``ho`` (the held-out families, seeds 6000-6024), ``new``
 (procedural and photo seeds 3000-3049, opened for diagnosis at session 40), ``new2``
-(seeds 3050-3099, opened at session 41), ``new3`` (seeds 3100-3149, opened at session 42), or
-``FAMILY:FIRST-LAST``.
+(seeds 3050-3099, opened at session 41), ``new3`` (seeds 3100-3149, opened at session 42),
+``new4`` (seeds 3150-3199, opened at session 43), or ``FAMILY:FIRST-LAST``.
 
     .venv/bin/python tools/room_answers.py run -o /tmp/before.tsv --sets own,fresh,ho -j 2
     .venv/bin/python tools/room_answers.py compare /tmp/before.tsv /tmp/after.tsv -v
@@ -42,6 +42,8 @@ SETS: dict[str, list[tuple[str, int, int]]] = {
     "new2": [(f, 3050, 3099) for f in TUNED],
     # opened for diagnosis at session 42, after "new2" had been used for tuning
     "new3": [(f, 3100, 3149) for f in TUNED],
+    # opened for diagnosis at session 43, after "new3" had been used for tuning
+    "new4": [(f, 3150, 3199) for f in TUNED],
 }
 COLUMNS = (
     "set family seed kind rig detected clipped flagged err_h_pct err_w_pct confidence "
