@@ -51,8 +51,10 @@ def test_the_highlight_is_a_ramp_the_drift_limit_lets_through(
 def test_the_face_ends_at_an_edge_much_stronger_than_the_highlight(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    # the face's top against the lid is about 15 times the highlight's edge
+    # the face's top against the lid is about 15 times the highlight's edge (the ramp test,
+    # which takes the walk's top where the highlight fades as a ramp, off)
     monkeypatch.setattr(region, "HUE_TOP_EDGE_GAIN", 20.0)
+    monkeypatch.setattr(region, "HUE_RAMP_TOP", False)
     eh, _ = room_size_errors("procedural", 757, False)
     assert eh > 0.25
 
@@ -141,6 +143,7 @@ def test_the_drift_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
 
 def test_the_drawn_top_edge_gain_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "HUE_TOP_EDGE_GAIN", 1000.0)
+    monkeypatch.setattr(region, "HUE_RAMP_TOP", False)  # the highlight's lower end is a ramp
     assert raise_by_hue(gloss_scene()) == HIGHLIGHT_LOW
 
 

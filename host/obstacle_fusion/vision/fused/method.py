@@ -345,6 +345,12 @@ CLOSED_TOP_KEPT = True
 #: a print's texture stops the texture's walk at the print's top or inside it, while the
 #: face's margin at both sides parts it from what is beside it up to its real top.
 TEXTURE_SIDES_WALK = True
+#: ... and then the face's hue (region.raise_top_by_hue, with HUE_HOLDS_TOP), as the edge
+#: search's and the colour rescue's faces: a gloss on a grey face of a photographed
+#: texture ends the texture's walk where the highlight starts, while the face's hue holds
+#: up to its top (photo/3168 hard: the top on the highlight, -42 % with the rig and
+#: without; the rig's own face, walked so, was found whole but outscored by this one).
+TEXTURE_HUE_WALK = True
 #: With the rig, a face found standing above the floor-contact band (farther back than
 #: the sonar's range, or on an edge across the face) with no margin round it gives way to
 #: the face its colour finds standing in the band (a switch for the tests)...
@@ -1501,6 +1507,11 @@ class FusedMethod:
         # its real top (the sides' walk, as for the colour rescue's face)
         if TEXTURE_SIDES_WALK:
             vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
+        if HUE_HOLDS_TOP and TEXTURE_HUE_WALK:
+            hued = raise_top_by_hue(seen, self.view, ay, rb, vt, ul, ur, depth)
+            if hued < vt:
+                log.debug("texture: top %d, the face's hue holds up to %d", vt, hued)
+                vt = hued
         conf = TEXTURE_MAX_CONFIDENCE * evidence
         if conf < self.min_confidence:
             return None

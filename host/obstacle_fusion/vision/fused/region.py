@@ -1336,6 +1336,23 @@ HUE_DRIFT = 10.0
 #: face's end against what is behind it is a clear edge, a highlight's a ramp (the raises
 #: under 1.3x on the tuning rooms went past a right top or from a wrong one).
 HUE_TOP_EDGE_GAIN = 2.0
+#: ... unless the top it left is no edge of the face at all (``HUE_RAMP_TOP``): where the
+#: lightness between the sides runs across it as a ramp (a gloss's highlight fading down the
+#: face, or no change), no change over DRIFT_ROWS rows within HUE_RAMP_ROWS rows either side
+#: of it differing from the window's mean change over as many rows by more than
+#: HUE_RAMP_STEP (L, 8-bit Lab: an edge's blur spans 3-4 rows, so a step of its size shows
+#: whole in one such change), nothing ended the face there and the walk's top is taken
+#: however faint its own edge (a face before a wall of nearly its lightness: photo/3009
+#: ordinary, a beige gloss face before a grey photograph, the top on the ramp, -40 %).
+#: Only on a face of at least HUE_RAMP_MIN_CHROMA (a, b from the neutral 128): within
+#: SHADED_HUE_STEP of a grey face's hue lies every grey, so a grey wall or photograph above
+#: it "keeps its hue" (photo/3083 ordinary with no rig: a trial's face on a grey
+#: photograph walked up it and outscored the box, 1 -> 110 %); at twice that step the
+#: greys are well outside the walk's hue band.
+HUE_RAMP_TOP = True
+HUE_RAMP_ROWS = 6
+HUE_RAMP_STEP = 4.0
+HUE_RAMP_MIN_CHROMA = 12.0
 #: The hue walk reads this many gaps' rows above the top first (the whole reach only where
 #: the walk runs on past them): the same top, at a fraction of the rows on most faces.
 HUE_FIRST_ROWS = 4
@@ -1434,9 +1451,28 @@ def raise_top_by_hue(
     cols = slice(left + SIDE_SKIP, right - SIDE_SKIP)
     e_raised = float(ay[max(raised - 1, 0) : raised + 2, cols].mean(axis=1).max())
     e_top = float(ay[max(top - 1, 0) : top + 2, cols].mean(axis=1).max())
-    if e_raised < HUE_TOP_EDGE_GAIN * e_top:
+    chromatic = math.hypot(float(ref[0]) - 128.0, float(ref[1]) - 128.0) >= HUE_RAMP_MIN_CHROMA
+    if e_raised < HUE_TOP_EDGE_GAIN * e_top and not (
+        HUE_RAMP_TOP and chromatic and _lightness_ramps_across(image, view, top, c0 + w, c1 - w)
+    ):
         return top
     return raised
+
+
+def _lightness_ramps_across(
+    image: npt.NDArray[Any], view: View, row: int, c0: int, c1: int
+) -> bool:
+    """Whether the lightness of the rows' medians between columns c0..c1 runs across
+    ``row`` as a ramp (or flat): each change over DRIFT_ROWS rows within HUE_RAMP_ROWS of
+    it is the window's mean change within HUE_RAMP_STEP. A gloss's highlight fades as a
+    ramp; a face's edge, a line or a band across it is a step (:func:`raise_top_by_hue`)."""
+    r0 = max(0, row - HUE_RAMP_ROWS)
+    r1 = min(view.out.shape[0], row + HUE_RAMP_ROWS + 1)
+    if r1 - r0 <= 2 * DRIFT_ROWS:
+        return False
+    light = median_u8(_lab8(image, view, r0, r1, c0, c1)[:, ::SUBSAMPLE, 0], axis=1)
+    change = light[DRIFT_ROWS:].astype(np.float32) - light[:-DRIFT_ROWS]
+    return bool(np.abs(change - change.mean()).max() <= HUE_RAMP_STEP)
 
 
 #: With the rig, the colour rescue's top walks on up while windows of rows between its sides
