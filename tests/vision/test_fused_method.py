@@ -396,6 +396,9 @@ def test_without_the_top_edge_alone_the_panelled_face_is_missed(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(extent_mod, "TOP_ALONE_SNR", 1e9)
+    # (a top under TOP_ALONE_SNR that is one line on its row walks alone too, session 43's
+    # extent.TOP_ALONE_LINE: off)
+    monkeypatch.setattr(extent_mod, "TOP_ALONE_LINE", False)
     # (the candidates beside the panels' joints, search.LINE_SIDES, find it too: off)
     monkeypatch.setattr(search_mod, "LINE_SIDES", False)
     cam = CameraModel.paper(500, 375)

@@ -82,6 +82,9 @@ def test_the_top_edge_alone_from_six_noise_levels(
 ) -> None:
     # the face's top edge stands 6.8 noise levels, its foot under 3
     monkeypatch.setattr(extent, "TOP_ALONE_SNR", snr)
+    # (its top is one line on its row: under TOP_ALONE_SNR, extent.TOP_ALONE_LINE, session
+    # 43, walks it alone too; off to read TOP_ALONE_SNR's own limit)
+    monkeypatch.setattr(extent, "TOP_ALONE_LINE", False)
     assert (_seam_face() < 0.05) is widened
     if not widened:
         assert _seam_face() > 0.25

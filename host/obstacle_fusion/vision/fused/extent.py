@@ -102,6 +102,11 @@ LINES_SIDE_COVERAGE = 0.5
 #: the face's surface on both sides, the contact edge running on under it, while a side
 #: face's receding strip has its top and foot lines sloping off those rows (a switch).
 NARROW_PLANK_ON_ROWS = True
+#: A top edge walked alone (the foot too faint) under TOP_ALONE_SNR is still the face's
+#: when it stands on its row over UNEVEN_LINE_SHARE of the face (a tape's or a seam's
+#: bright foot dims the rest of a face in the floor's shade, not its top line); it then
+#: runs on where it stays a line on that row (a switch for the tests).
+TOP_ALONE_LINE = True
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -199,7 +204,8 @@ def widen_across_seams(
     narrow: bool = False,
 ) -> tuple[int, int]:
     """The face's side columns, moved out to where its top and bottom edges both end
-    (``top_alone``: or, with the foot edge too faint, where a strong top edge ends; only
+    (``top_alone``: or, with the foot edge too faint, where a strong top edge ends, or a
+    fainter one standing on its row across the face, see TOP_ALONE_LINE; only
     with the rig: under a row merely tried, that top is often a background line;
     ``narrow``: a last plank under the minimum move taken on the face's rows, see
     NARROW_PLANK_ON_ROWS, with the rig only)."""
@@ -213,7 +219,13 @@ def widen_across_seams(
     faint_b = top_alone and ref_b < MIN_EDGE_SNR * noise
     if ref_b < MIN_EDGE_SNR * noise and not faint_b:
         return left, right  # too faint to tell a seam from a side
-    if ref_t < MIN_EDGE_SNR * noise or (faint_b and ref_t < TOP_ALONE_SNR * noise):
+    top_line = (
+        TOP_ALONE_LINE
+        and faint_b
+        and MIN_EDGE_SNR * noise <= ref_t < TOP_ALONE_SNR * noise
+        and _one_line(ay, top, inner, noise)
+    )
+    if ref_t < MIN_EDGE_SNR * noise or (faint_b and ref_t < TOP_ALONE_SNR * noise and not top_line):
         return left, right  # too faint to tell a seam from a side
     for profile, ref, row in (
         ((gt, ref_t, top),) if faint_b else ((gb, ref_b, bottom), (gt, ref_t, top))
@@ -226,6 +238,8 @@ def widen_across_seams(
         # a face in the floor's shade shows no foot edge: a strong top edge alone, running
         # on at the face's strength (the sides found must still stand down to the floor)
         runs_on = st >= TOP_ALONE_SHARE
+        if top_line:
+            runs_on |= _line_on_row(ay, top, noise)
     else:
         # both edges run on: together at CONTINUE_SHARE of the face's, neither below
         # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
