@@ -1507,14 +1507,15 @@ class FusedMethod:
         # its real top (the sides' walk, as for the colour rescue's face)
         if TEXTURE_SIDES_WALK:
             vt = raise_top_by_sides(seen, self.view, ay, rb, vt, ul, ur, depth)
+        conf = TEXTURE_MAX_CONFIDENCE * evidence
+        if conf < self.min_confidence:
+            return None
+        # (after the confidence: the walk reads rows, and does not move the confidence)
         if HUE_HOLDS_TOP and TEXTURE_HUE_WALK:
             hued = raise_top_by_hue(seen, self.view, ay, rb, vt, ul, ur, depth)
             if hued < vt:
                 log.debug("texture: top %d, the face's hue holds up to %d", vt, hued)
                 vt = hued
-        conf = TEXTURE_MAX_CONFIDENCE * evidence
-        if conf < self.min_confidence:
-            return None
         # the texture found a print whose margin is not textured: the face is the
         # margin's frame, read from the foot the rig gives up its sides
         framed = enclose_from_foot(seen, self.view, rb, vt, ul, ur, rows)

@@ -1338,12 +1338,19 @@ HUE_DRIFT = 10.0
 HUE_TOP_EDGE_GAIN = 2.0
 #: ... unless the top it left is no edge of the face at all (``HUE_RAMP_TOP``): where the
 #: lightness between the sides runs across it as a ramp (a gloss's highlight fading down the
-#: face, or no change), no change over DRIFT_ROWS rows within HUE_RAMP_ROWS rows either side
-#: of it differing from the window's mean change over as many rows by more than
-#: HUE_RAMP_STEP (L, 8-bit Lab: an edge's blur spans 3-4 rows, so a step of its size shows
-#: whole in one such change), nothing ended the face there and the walk's top is taken
-#: however faint its own edge (a face before a wall of nearly its lightness: photo/3009
-#: ordinary, a beige gloss face before a grey photograph, the top on the ramp, -40 %).
+#: face, or no change), no change over DRIFT_ROWS rows centred within HUE_RAMP_ROWS rows
+#: either side of it standing out by more than HUE_RAMP_STEP (L, 8-bit Lab) from the
+#: changes HUE_RAMP_APART rows before and after it, nothing ended the face there and the
+#: walk's top is taken however faint its own edge (a face before a wall of nearly its
+#: lightness: photo/3009 ordinary, a beige gloss face before a grey photograph, the top on
+#: the ramp, -40 %). A step stands out of its neighbours' changes, which lie clear of it (so
+#: it sets no reference of its own, wherever it lies in the window); a ramp's changes run
+#: evenly or bend where it starts, and stand out of nothing. The limit is on one change:
+#: a step blurred over 4-5 rows (sigma 1 row) shows 0.87 of itself in one, the rows'
+#: medians round to 1 L and a ramp's bend next to the step takes up to its own change, so
+#: on the drawn test face a step of 8 L is refused at every row of the window, 6-7 L at
+#: most, 3 L nowhere (a change over more rows, the blur whole in it, let a photographed
+#: gloss ramp's noise stand out: photo/3009 ordinary lost its top again).
 #: Only on a face of at least HUE_RAMP_MIN_CHROMA (a, b from the neutral 128): within
 #: SHADED_HUE_STEP of a grey face's hue lies every grey, so a grey wall or photograph above
 #: it "keeps its hue" (photo/3083 ordinary with no rig: a trial's face on a grey
@@ -1352,7 +1359,8 @@ HUE_TOP_EDGE_GAIN = 2.0
 HUE_RAMP_TOP = True
 HUE_RAMP_ROWS = 6
 HUE_RAMP_STEP = 4.0
-HUE_RAMP_MIN_CHROMA = 12.0
+HUE_RAMP_APART = DRIFT_ROWS + 1
+HUE_RAMP_MIN_CHROMA = 2 * SHADED_HUE_STEP
 #: The hue walk reads this many gaps' rows above the top first (the whole reach only where
 #: the walk runs on past them): the same top, at a fraction of the rows on most faces.
 HUE_FIRST_ROWS = 4
@@ -1451,7 +1459,7 @@ def raise_top_by_hue(
     cols = slice(left + SIDE_SKIP, right - SIDE_SKIP)
     e_raised = float(ay[max(raised - 1, 0) : raised + 2, cols].mean(axis=1).max())
     e_top = float(ay[max(top - 1, 0) : top + 2, cols].mean(axis=1).max())
-    chromatic = math.hypot(float(ref[0]) - 128.0, float(ref[1]) - 128.0) >= HUE_RAMP_MIN_CHROMA
+    chromatic = float(np.hypot(*(ref - NEUTRAL_AB))) >= HUE_RAMP_MIN_CHROMA
     if e_raised < HUE_TOP_EDGE_GAIN * e_top and not (
         HUE_RAMP_TOP and chromatic and _lightness_ramps_across(image, view, top, c0 + w, c1 - w)
     ):
@@ -1463,16 +1471,31 @@ def _lightness_ramps_across(
     image: npt.NDArray[Any], view: View, row: int, c0: int, c1: int
 ) -> bool:
     """Whether the lightness of the rows' medians between columns c0..c1 runs across
-    ``row`` as a ramp (or flat): each change over DRIFT_ROWS rows within HUE_RAMP_ROWS of
-    it is the window's mean change within HUE_RAMP_STEP. A gloss's highlight fades as a
-    ramp; a face's edge, a line or a band across it is a step (:func:`raise_top_by_hue`)."""
-    r0 = max(0, row - HUE_RAMP_ROWS)
-    r1 = min(view.out.shape[0], row + HUE_RAMP_ROWS + 1)
-    if r1 - r0 <= 2 * DRIFT_ROWS:
+    ``row`` as a ramp (or flat): no change over DRIFT_ROWS rows centred within
+    HUE_RAMP_ROWS of it stands out by more than HUE_RAMP_STEP from the changes
+    HUE_RAMP_APART rows before and after it (outside the interval they span). A gloss's
+    highlight fades as a ramp, its changes running evenly or bending where it starts; a
+    face's edge, a line or a band across it is a step, a change that rises above the
+    changes on both sides of it (:func:`raise_top_by_hue`). The step sets no reference of
+    its own: its neighbours' changes lie clear of it, read past the window's ends where it
+    lies near them."""
+    n, d = DRIFT_ROWS, HUE_RAMP_APART
+    # change k reads rows r0 + k .. r0 + k + n; those centred in the window start at
+    # first .. last
+    first, last = row - HUE_RAMP_ROWS - n // 2, row + HUE_RAMP_ROWS - (n + 1) // 2
+    r0 = max(0, first - d)
+    r1 = min(view.out.shape[0], last + d + n + 1)
+    if r1 - r0 <= 2 * d + n:
         return False
     light = median_u8(_lab8(image, view, r0, r1, c0, c1)[:, ::SUBSAMPLE, 0], axis=1)
-    change = light[DRIFT_ROWS:].astype(np.float32) - light[:-DRIFT_ROWS]
-    return bool(np.abs(change - change.mean()).max() <= HUE_RAMP_STEP)
+    change = light[n:].astype(np.float32) - light[:-n]
+    mid, before, after = change[d:-d], change[: -2 * d], change[2 * d :]
+    start = r0 + d + np.arange(mid.size)
+    inside = (start >= first) & (start <= last)
+    if not inside.any():
+        return False
+    stands_out = np.maximum(mid - np.maximum(before, after), np.minimum(before, after) - mid)
+    return bool(stands_out[inside].max() <= HUE_RAMP_STEP)
 
 
 #: With the rig, the colour rescue's top walks on up while windows of rows between its sides
