@@ -4148,3 +4148,112 @@ def bridge_stripe(
             continue  # another surface past it: another face
         new[i] = far
     return new[0], new[1]
+
+
+#: A face's end that is the floor in its shadow is trimmed off (:func:`trim_shadow_ends`):
+#: a cast shadow is the floor's own chroma at a lower lightness and lies on the floor
+#: beside the face's foot, so a side walked out over it (or a side search's pair that
+#: took it in) measures the face and its shadow together (new4 photo 3174 hard, 3183
+#: ordinary, new3 procedural 3106 ordinary: +35 to +169 % wide). Unlike SHADOW_FLOOR_CHROMA's
+#: frame test, a grey floor counts too: the face's own middle must not read as the floor
+#: in shadow (a grey face on a grey floor leaves the test no say). Session 43, branch
+#: ``wt-a-43``; a switch for the tests.
+SHADOW_ENDS_TRIMMED = True
+#: Rows of the foot band read (above EDGE_SKIP rows over the contact row).
+SHADOW_FOOT_ROWS = 4
+#: The shadow is at least this much darker (Lab lightness, 8-bit) than the floor just
+#: below it (SHADOW_DARKER's figure) ...
+SHADOW_END_DARKER = SHADOW_DARKER
+#: ... its chroma the floor's scaled by the lightness ratio within this (Lab a, b) ...
+SHADOW_END_CHROMA = FLOOR_CHROMA
+#: ... over a run from the side at least this wide (metres at the face; a side's own blur
+#: is narrower) ...
+SHADOW_END_MIN_M = 0.03
+#: ... and trimmed only while it leaves this share of the width, or more.
+SHADOW_END_KEEP_SHARE = 0.5
+#: The run's foot colour (median, Lab) stands at least this far from the face's foot left.
+SHADOW_END_APART = MIN_FLOOR_STEP
+#: The run may start this many columns in from the side (its blur, a line on the floor).
+SHADOW_END_LEAD_PX = 3
+#: The face left reads as the floor in shadow on at most this share of its columns
+#: (else the face is of the floor's colour, and its own foot looks like shade).
+SHADOW_END_FACE_SHARE = 0.2
+
+
+def floor_shade_columns(colour: npt.NDArray[Any], floor: npt.NDArray[Any]) -> npt.NDArray[np.bool_]:
+    """Per entry (N x 3, 8-bit Lab): ``colour`` is the ``floor``'s in shadow, at least
+    SHADOW_END_DARKER darker, its chroma the floor's scaled by the lightness ratio within
+    SHADOW_END_CHROMA (as :func:`shadow_columns`, on a floor of any chroma)."""
+    c = np.asarray(colour, np.float32).reshape(-1, 3)
+    f = np.asarray(floor, np.float32).reshape(-1, 3)
+    lc, lf = c[:, 0], f[:, 0]
+    k = (lc / np.maximum(lf, 1.0))[:, None]
+    off = row_norms((c[:, 1:] - 128.0) - k * (f[:, 1:] - 128.0))
+    out: npt.NDArray[np.bool_] = (lf - lc >= SHADOW_END_DARKER) & (off <= SHADOW_END_CHROMA)
+    return out
+
+
+def _shade_run(shade: npt.NDArray[np.bool_], min_run: int) -> int:
+    """Columns to cut from the start of ``shade`` (per column, from a side inward): a run
+    of shade starting within SHADOW_END_LEAD_PX of the side, up to its last column, when
+    at least ``min_run`` long; else 0."""
+    lead = shade[: SHADOW_END_LEAD_PX + 1]
+    if not lead.any():
+        return 0
+    start = int(np.argmax(lead))
+    off = np.nonzero(~shade[start:])[0]
+    run = int(off[0]) if off.size else shade.shape[0] - start
+    return start + run if run >= min_run else 0
+
+
+def trim_shadow_ends(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    left: int,
+    right: int,
+    depth_m: float,
+) -> tuple[int, int]:
+    """The face's sides ``left``..``right`` (view columns) moved in over a run of columns,
+    from either side, whose foot (SHADOW_FOOT_ROWS just above the contact row ``bottom``)
+    is the floor just below it in shadow (:func:`floor_shade_columns`): the face's cast
+    shadow, or the floor running on farther back in it. A run narrower than
+    SHADOW_END_MIN_M is a side's blur and stays (a run may start SHADOW_END_LEAD_PX in);
+    a face whose part left reads as such shade (SHADOW_END_FACE_SHARE) or that the trim
+    would leave under SHADOW_END_KEEP_SHARE of its width is left as it is."""
+    if not SHADOW_ENDS_TRIMMED or image is None or image.ndim != 3 or right - left < 8:
+        return left, right
+    h_view = view.out.shape[0]
+    r0 = bottom - EDGE_SKIP - SHADOW_FOOT_ROWS
+    r1 = bottom + EDGE_SKIP + FLOOR_BAND_ROWS + 1
+    if r0 < 0 or r1 > h_view:
+        return left, right
+    lab = _lab8(image, view, r0, r1, left, right + 1)
+    # per column, then over SMOOTH_COLUMNS (a textured floor's grain averages out)
+    foot = cv2.blur(median_u8(lab[:SHADOW_FOOT_ROWS], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    foot = foot.astype(np.float32)
+    floor = cv2.blur(median_u8(lab[-FLOOR_BAND_ROWS:], axis=0)[None], (SMOOTH_COLUMNS, 1))[0]
+    shade = floor_shade_columns(foot, floor)
+    n = shade.shape[0]
+    min_run = max(3, int(round(view.fx * SHADOW_END_MIN_M / depth_m)))
+    cut_left = _shade_run(shade, min_run)
+    cut_right = _shade_run(shade[::-1], min_run)
+    kept = shade[cut_left : n - cut_right]
+    if kept.size < SHADOW_END_KEEP_SHARE * n or share(kept) > SHADOW_END_FACE_SHARE:
+        return left, right
+    # a run of the face's own colour at its foot is the face's (a print's end over its
+    # margin, read on a row inside the face), not a shadow beside it
+    face_foot = median_of(foot[cut_left : n - cut_right], axis=0)
+    if cut_left and norm(median_of(foot[:cut_left], axis=0) - face_foot) < SHADOW_END_APART:
+        cut_left = 0
+    if cut_right and norm(median_of(foot[n - cut_right :], axis=0) - face_foot) < SHADOW_END_APART:
+        cut_right = 0
+    if cut_left or cut_right:
+        log.debug(
+            "sides %d-%d: the floor in shadow at the ends, %d-%d",
+            left,
+            right,
+            left + cut_left,
+            right - cut_right,
+        )
+    return left + cut_left, right - cut_right
