@@ -84,7 +84,6 @@ from obstacle_fusion.vision.fused.region import (
     stops_at_colour_top,
     top_agreement,
     top_face_above,
-    trim_shadow_ends,
     trim_to_foot,
     widen_along_margin,
     widen_by_colour,
@@ -1603,8 +1602,6 @@ class FusedMethod:
         n = ay.shape[0]
         top_row_given = top_row
         v = self.view
-        # the face is one surface: the floor in its shadow at an end is no part of it
-        ul, ur = trim_shadow_ends(self._seen, v, rb, ul, ur, depth)
         if SIDES_END_TOP:
             # the face's sides end at its top: above them what is behind runs on across
             ended = lower_top_where_sides_end(self._seen, v, ay, rb, vt, ul, ur)
