@@ -610,7 +610,8 @@ def test_with_no_rig_a_rival_trial_face_takes_the_answer_under_half(
 ) -> None:
     """The doubt reaches the reported confidence: a sure face (0.7) with a sure rival
     beside it from a trial at another guessed pitch is reported under 0.5."""
-
+    # the faked faces lie wholly beside the beam (at 0.9 m, columns ~190-310): that rule apart
+    monkeypatch.setattr(measure, "BEAM_HOLDS_FACE", False)
     image, truth, view, depth = no_rig_room(4001)
     row = int(round(view.cy + view.fy * 0.20 / depth))
 
@@ -1333,8 +1334,9 @@ def test_with_no_rig_a_face_standing_in_a_wall_band_is_no_face(
     the band's lower edge, or lies above a band wholly below it (a floor line, a contact
     shadow as photo/304 hard), or stands beside the band, or over a band under its whole
     width and centred on it (its contact shadow), is kept."""
-    # faked faces beside the axis: that rule apart
+    # faked faces beside the axis, and one wholly beside the beam: those rules apart
     monkeypatch.setattr(measure, "AXIS_UNSURE_TRIAL", False)
+    monkeypatch.setattr(measure, "BEAM_HOLDS_FACE", False)
     image, truth, view, depth = no_rig_room(4001)
     row_at = {h: int(round(view.cy + view.fy * h / depth)) for h in (0.15, 0.20, 0.30)}
     band_foot = float(row_at[0.20])

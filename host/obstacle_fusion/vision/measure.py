@@ -268,6 +268,14 @@ class Measurer:
                 # a band along the wall (its foot, a skirting board) on a row taken for the
                 # floor contact: no obstacle's face; the rows go on as if it found none
                 result = _refused(result, range_m, row, "a band along the wall, not a face")
+            elif (
+                BEAM_HOLDS_FACE
+                and result.detected
+                and _outside_beam(result.box_px, view, self.rig, range_m, depth)
+            ):
+                # the sonar's echo comes from inside its beam: a face wholly beside the
+                # cone at the range is another object than the one ranged
+                result = _refused(result, range_m, row, "a face outside the sonar's beam")
             elif result.detected and _in_wall_band(result.box_px, bands):
                 # the face's foot ends inside a band along the wall another row stood
                 # (the wall's foot, a skirting board): the face is on the wall behind the
@@ -1343,6 +1351,9 @@ class Measurer:
             result = self._run_guessed_rig(fused, image, range_m, timer, height, pitch)
             if not result.detected or not _obstacle_size(result):
                 continue
+            if BEAM_HOLDS_FACE and _outside_beam(result.box_px, view, self.rig, range_m, depth):
+                log.debug("no rig, row %d: a face outside the sonar's beam, %s", row, result.box_px)
+                continue
             # its pitch a guess: doubted so, and refused as the search refuses a face
             # doubted on every count
             result.doubts = [*result.doubts, PITCH_UNREAD]
@@ -1963,6 +1974,17 @@ MAX_ESTIMATED_CAMERA_HEIGHT_M = 1.5
 #: rug's edge) stood a face 2 m wide under a lens 1.2 m up (photo 3141 hard, 430 %).
 #: Session 42, branch ``wt-e-42``; a switch for the tests.
 ROW_FITS_ROBOT = True
+#: With no rig, a trial's face that lies wholly beside the sonar's beam at the range
+#: (:func:`_outside_beam`) is refused: the echo the range comes from is inside the beam
+#: (Rig.beam_width_deg about the sonar's axis, whose columns at the face's depth follow
+#: from the sonar's mounting and the lens's fx and cx alone, not from the camera height
+#: or pitch the search guesses), so such a face is another object (new4 procedural 3183
+#: hard: a bigger box far right measured while the small box on the axis was left).
+#: Session 43, branch ``wt-a-43``; a switch for the tests.
+BEAM_HOLDS_FACE = True
+#: ... the beam's edge columns widened by this many pixels (the lens's distortion near
+#: the beam's edge, a side's blur) before a face counts as beside it.
+BEAM_EDGE_SLACK_PX = 2.0
 #: The reason a trial on such a row finds no face.
 NO_ROBOT_ROW = "no robot's lens sees the floor contact on that row"
 #: With no rig, a contact row nearer the horizon than that height allows is tried as seen
@@ -2262,6 +2284,30 @@ SIDES = ("left", "right", "top", "bottom")
 #: With no rig, after a last-resort pitch sweep that found no face, this many frames of a
 #: stream go without one (a frame with nothing in view would pay ~90 trials each time).
 SWEEP_REST_FRAMES = 10
+
+
+def beam_columns_px(view: View, rig: Rig, range_m: float, depth: float) -> tuple[float, float]:
+    """The input image's columns (first, last) the sonar's beam covers at the face's
+    ``depth`` (its lateral bounds at ``range_m`` seen through the lens's fx and cx)."""
+    xb0, xb1 = rig.beam_x_bounds(range_m)
+    cam = view.camera
+    return cam.cx + cam.fx * xb0 / depth, cam.cx + cam.fx * xb1 / depth
+
+
+def _outside_beam(
+    box: tuple[float, float, float, float] | None,
+    view: View,
+    rig: Rig,
+    range_m: float,
+    depth: float,
+) -> bool:
+    """Whether a face box (input pixels) lies wholly beside the sonar's beam at the face's
+    depth (:func:`beam_columns_px`, widened by BEAM_EDGE_SLACK_PX each side); False when
+    the box is unknown or the depth is not in front of the lens."""
+    if box is None or depth <= 0.0:
+        return False
+    u_lo, u_hi = beam_columns_px(view, rig, range_m, depth)
+    return box[2] < u_lo - BEAM_EDGE_SLACK_PX or box[0] > u_hi + BEAM_EDGE_SLACK_PX
 
 
 def _refine_offsets(reach: int) -> list[int]:
