@@ -15,7 +15,7 @@ from tests.vision_fixtures import gradients, room_size_errors
 H, W = 240, 320
 TOP, BOTTOM, LEFT, RIGHT = 80, 200, 60, 260  # the drawn face
 TAPE, TAPE_W = 200, 8  # a bright strip down the face; the search took its right edge
-FLOOR = 120.0  # the floor's (and the wall's) shade; the face is 2 levels lighter
+FLOOR = 120.0  # the floor's shade; the face 2 levels lighter, the wall above the face
 TOP_STEP = 8.0  # the wall 8 levels over the face: a top edge of ~5 noise levels
 
 

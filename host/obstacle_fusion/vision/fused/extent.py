@@ -103,9 +103,11 @@ LINES_SIDE_COVERAGE = 0.5
 #: face's receding strip has its top and foot lines sloping off those rows (a switch).
 NARROW_PLANK_ON_ROWS = True
 #: A top edge walked alone (the foot too faint) under TOP_ALONE_SNR is still the face's
-#: when it stands on its row over UNEVEN_LINE_SHARE of the face (a tape's or a seam's
-#: bright foot dims the rest of a face in the floor's shade, not its top line); it then
-#: runs on where it stays a line on that row (a switch for the tests).
+#: when it stands on its row over UNEVEN_LINE_SHARE of the face (a face in the floor's
+#: shade against a wall near its shade: its top stands only 3-6 noise levels, but is one
+#: line on one row across it); the walk then runs on at TOP_ALONE_SHARE of its strength as
+#: for a strong top (0.5 x 6 = 3 = MIN_EDGE_SNR, so a column still on the line already
+#: passes that share; a switch for the tests).
 TOP_ALONE_LINE = True
 
 
@@ -238,8 +240,6 @@ def widen_across_seams(
         # a face in the floor's shade shows no foot edge: a strong top edge alone, running
         # on at the face's strength (the sides found must still stand down to the floor)
         runs_on = st >= TOP_ALONE_SHARE
-        if top_line:
-            runs_on |= _line_on_row(ay, top, noise)
     else:
         # both edges run on: together at CONTINUE_SHARE of the face's, neither below
         # EDGE_FLOOR_SHARE (a board of the wall's shade dims the top edge, not both)
