@@ -21,14 +21,6 @@ from obstacle_fusion.vision.measure import Measurement
 from tests.vision_fixtures import room_size_errors
 
 
-@pytest.fixture(autouse=True)
-def _no_jitter_frame(monkeypatch: pytest.MonkeyPatch) -> None:
-    # procedural 2026 hard: the row's neighbour stands a frame round the print found on
-    # the row (measure.JITTER_FRAME_HOLDS, session 43), which takes it first (3.7 % high,
-    # 5.6 % wide): off, to test this rule on its reading
-    monkeypatch.setattr(measure, "JITTER_FRAME_HOLDS", False)
-
-
 def _eh(family: str, seed: int, hard: bool) -> float:
     return room_size_errors(family, seed, hard, with_rig=False)[0]
 

@@ -2175,7 +2175,8 @@ ROW_JITTER_PX = 2
 #: foot, 0.7 %). A switch for the tests.
 JITTER_WEIGHS_FOOT = True
 #: ... but of two faces a row and a neighbour stand, one holding the other inside its
-#: sides and top with its foot lower, a margin of one colour seen round either (FRAMED),
+#: sides and top with its foot lower, a margin of one colour seen round the inner one
+#: (FRAMED),
 #: the outer one is taken and the inner one never replaces it (:func:`_frame_holds`: the
 #: inner one is a print on the face, its lower edge taken for the contact). Session 43,
 #: branch ``wt-e-43``; a switch for the tests.
@@ -2993,8 +2994,8 @@ def _band_across(
 
 def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
     """Whether ``outer`` (a no-rig trial's face on a row next to ``inner``'s) holds
-    ``inner`` as a face holds a framed print: a margin of one colour was seen round one
-    of them (FRAMED), ``outer``'s foot more than ROW_JITTER_PX rows lower, each of its
+    ``inner`` as a face holds a framed print: a margin of one colour was seen round
+    ``inner`` (FRAMED), ``outer``'s foot more than ROW_JITTER_PX rows lower, each of its
     sides more than ROW_JITTER_PX columns outside ``inner``'s, its top no more than
     ROW_JITTER_PX rows under ``inner``'s, and it found at least JITTER_FRAME_SURE. The face
     is the outermost surface at the sonar's depth standing on the floor; a box inside it
@@ -3002,7 +3003,9 @@ def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
     (procedural 3189, photo 3157 hard)."""
     if outer.box_px is None or inner.box_px is None or not outer.detected:
         return False
-    if FRAMED not in outer.doubts and FRAMED not in inner.doubts:
+    if FRAMED not in inner.doubts:
+        # (a margin seen round the outer face only is no print inside it: photo 969 o's
+        # face, held by a box reaching 31 rows over it on its contact shadow, +21 %)
         return False
     x0, y0, x1, y1 = inner.box_px
     g0, gy0, g1, gy1 = outer.box_px
