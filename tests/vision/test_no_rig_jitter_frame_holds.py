@@ -7,15 +7,13 @@ it, its lower edge taken for the floor contact.
 The room is a diagnosis room (new4), measured with no rig. Procedural 3189 (hard): a
 blue text print in a grey-blue frame on a pink floor; the row chosen stands the frame
 (0.92), the row 2 px above stands the print inside it (0.92 by its raw figure, and its
-doubts fewer), -18 / -20 %; with the rule the frame stays, +0.8 / +0.3 %. Both rooms
-are found framed by ``method.FRAME_FOOT_READ`` too; it is turned off here.
+doubts fewer), -18 / -20 %; with the rule the frame stays, +0.8 / +0.3 %.
 """
 
 from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused import method
 from obstacle_fusion.vision.fused.confidence import FRAMED
 from obstacle_fusion.vision.measure import _frame_holds
 from obstacle_fusion.vision.types import Measurement
@@ -30,13 +28,6 @@ def _face(
 ) -> Measurement:
     doubts = [FRAMED] if framed else []
     return Measurement(True, "fused", 2.0, box_px=box, confidence=conf, doubts=doubts)
-
-
-@pytest.fixture(autouse=True)
-def _frame_foot_not_read(monkeypatch: pytest.MonkeyPatch) -> None:
-    # the frame read down to its foot past the tried row's view (method.FRAME_FOOT_READ)
-    # finds both rooms' frames too: off, this rule is tested alone
-    monkeypatch.setattr(method, "FRAME_FOOT_READ", False)
 
 
 def test_the_frame_round_the_print_stays() -> None:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused import method
 from obstacle_fusion.vision.measure import _holds_print
 from obstacle_fusion.vision.types import Measurement
 
@@ -39,8 +38,6 @@ def test_the_face_round_the_print_is_taken(seed: int) -> None:
 @pytest.mark.parametrize("seed", [3057, 3097])
 def test_without_the_rule_the_print_stands(monkeypatch: pytest.MonkeyPatch, seed: int) -> None:
     monkeypatch.setattr(measure, "PRINT_HELD_BELOW", False)
-    # (3057's frame is read down to its foot by method.FRAME_FOOT_READ too: off)
-    monkeypatch.setattr(method, "FRAME_FOOT_READ", False)
     eh, ew = room_size_errors("procedural", seed, True, with_rig=False)
     assert eh > 0.2 and ew > 0.2
 
@@ -50,7 +47,6 @@ def test_a_sure_framed_answer_is_checked_only_with_the_switch(
 ) -> None:
     # 3057's print is reported at 0.35, over GROWN_CONFIDENCE: read under only when framed
     monkeypatch.setattr(measure, "FRAMED_READ_SURE", False)
-    monkeypatch.setattr(method, "FRAME_FOOT_READ", False)  # (as above)
     eh, _ = room_size_errors("procedural", 3057, True, with_rig=False)
     assert eh > 0.2
 

@@ -372,17 +372,6 @@ FRAME_RAIL_RAISE = True
 #: print, the top is the frame's (`region.raise_top_to_frame`; with and without the rig,
 #: on the edge search's face and the settled sides' top; a switch for the tests).
 FRAME_CLOSES_TOP = True
-#: With no rig, a frame of one colour found round the print a tried row stands
-#: (enclose_by_margin, margin_under_print) whose foot lies in the last 3 rows of that row's
-#: view (it ends 4 rows under the row's contact band: too few rows under the foot to
-#: measure it) is measured by the stages once more, the view read down to
-#: FRAME_FOOT_ROWS under the frame's foot:
-#: the face is the frame, standing on the floor, and the print's lower edge only passed
-#: for the contact (photo 3180, 3198 hard). Session 43, branch ``wt-e-43``; a switch for
-#: the tests.
-FRAME_FOOT_READ = True
-#: ... the rows read under the frame's foot (the foot's edge and the floor under it).
-FRAME_FOOT_ROWS = 6
 #: With the rig, a face the edges found as a thin strip at its foot (its height under
 #: this share of its width: a floor line or a band's foot taken for its top, a floor-grid
 #: line for a side) at under THIN_STRIP_MAX_CONFIDENCE is weighed against the face its
@@ -588,7 +577,6 @@ class FusedMethod:
         #: camera height and pitch taken as known): the rules for a rig given alone skip
         self.rig_guessed = False
         self._rig_given = True  # the frame's rig given (not tried, nor guessed)
-        self._rows_to = 0  # the view read down to this row at least (FRAME_FOOT_READ)
 
     def run(
         self,
@@ -656,9 +644,8 @@ class FusedMethod:
                 "image; check the rig's camera height and pitch"
             )
             return fail
-        # only the rows above the floor-contact band (or down to a frame's foot found
-        # past them: FRAME_FOOT_READ)
-        roi_end = min(h_img, max(r1b + 4, self._rows_to))
+        roi_end = min(h_img, r1b + 4)
+        # only the rows above the floor-contact band
         roi = v.warp(image, roi_end, self._remap)
         timer.lap("undistort")
         n = roi.shape[0]
@@ -894,23 +881,6 @@ class FusedMethod:
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:
-            if (
-                FRAME_FOOT_READ
-                and not floor_known
-                and self._rows_to == 0
-                and framed[0] + FRAME_FOOT_ROWS < h_img
-            ):
-                # no rig: the frame round the print stands on a foot in the last rows the
-                # tried row's view reads; the view read down past that foot (once)
-                # measures the frame, the face, on it
-                log.debug("the frame's foot %d past the rows read (%d): read again", framed[0], n)
-                self._rows_to = framed[0] + FRAME_FOOT_ROWS
-                try:
-                    return self._stages(
-                        image, range_m, timer, colour, rescue, floor_known, rig_known
-                    )
-                finally:
-                    self._rows_to = 0
             framed = None
         if framed is not None and floor_known and framed[0] > vb0 + tol:
             # a frame whose foot lies below the contact rows the rig predicts would stand
