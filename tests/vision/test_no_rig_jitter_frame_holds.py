@@ -44,14 +44,16 @@ def test_without_the_rule_the_print_is_taken(monkeypatch: pytest.MonkeyPatch) ->
 @pytest.mark.parametrize(
     ("outer", "conf", "holds"),
     [
-        ((97.9, 40.0, 202.1, 122.1), 0.3, True),  # each just over 2 px outside
-        ((97.9, 40.0, 202.1, 122.0), 0.3, False),  # foot ROW_JITTER_PX lower: same foot
-        ((98.0, 40.0, 202.1, 122.1), 0.3, False),  # left side 2 px out: the same side
-        ((97.9, 40.0, 202.0, 122.1), 0.3, False),  # right side 2 px out: the same side
-        ((97.9, 52.0, 202.1, 122.1), 0.3, True),  # top 2 rows under: the same top
-        ((97.9, 52.1, 202.1, 122.1), 0.3, False),  # lower: it cuts the inner face
-        ((97.9, 40.0, 202.1, 122.1), 0.1, True),  # JITTER_FRAME_SURE
-        ((97.9, 40.0, 202.1, 122.1), 0.09, False),  # less sure
+        ((89.9, 40.0, 210.1, 122.1), 0.3, True),  # each just over 2 px outside
+        ((89.9, 40.0, 210.1, 122.0), 0.3, False),  # foot ROW_JITTER_PX lower: same foot
+        ((98.0, 40.0, 210.1, 122.1), 0.3, False),  # left side 2 px out: the same side
+        ((89.9, 40.0, 202.0, 122.1), 0.3, False),  # right side 2 px out: the same side
+        ((89.9, 52.0, 210.1, 122.1), 0.3, True),  # top 2 rows under: the same top
+        ((89.9, 52.1, 210.1, 122.1), 0.3, False),  # lower: it cuts the inner face
+        ((89.9, 40.0, 210.1, 122.1), 0.1, True),  # JITTER_FRAME_SURE
+        ((89.9, 40.0, 210.1, 122.1), 0.09, False),  # less sure
+        ((90.0, 40.0, 202.1, 122.1), 0.3, True),  # 10 rows over, 10 columns beside
+        ((90.0, 39.9, 202.1, 122.1), 0.3, False),  # reaching up past JITTER_FRAME_TOP_SHARE
     ],
 )
 def test_the_limits(outer: tuple[float, float, float, float], conf: float, holds: bool) -> None:

@@ -2181,8 +2181,10 @@ JITTER_WEIGHS_FOOT = True
 #: inner one is a print on the face, its lower edge taken for the contact). Session 43,
 #: branch ``wt-e-43``; a switch for the tests.
 JITTER_FRAME_HOLDS = True
-#: ... the outer face found (its raw confidence) at least this surely.
+#: ... the outer face found (its raw confidence) at least this surely ...
 JITTER_FRAME_SURE = 0.1
+#: ... its margin over the inner face at most this share of its wider side margin.
+JITTER_FRAME_TOP_SHARE = 1.0
 #: A weaker step tried as a nearer foot lies at least this many rows below the row whose
 #: face was unsure (closer steps are that row's own edge blur, tried by the jitter).
 MIN_NEARER_DROP_PX = 2 * ROW_JITTER_PX
@@ -3000,7 +3002,10 @@ def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
     ROW_JITTER_PX rows under ``inner``'s, and it found at least JITTER_FRAME_SURE. The face
     is the outermost surface at the sonar's depth standing on the floor; a box inside it
     whose foot ends above its foot is a print on it, its lower edge taken for the contact
-    (procedural 3189, photo 3157 hard)."""
+    (procedural 3189, photo 3157 hard). A frame is a ring: its margin over the print is
+    at most JITTER_FRAME_TOP_SHARE times its wider side margin (a box reaching farther up
+    took in what stands over the face: photo 969 o, 31 rows over against 7 and 20 beside,
+    +21 %)."""
     if outer.box_px is None or inner.box_px is None or not outer.detected:
         return False
     if FRAMED not in inner.doubts:
@@ -3014,6 +3019,7 @@ def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
         and x0 - g0 > ROW_JITTER_PX
         and g1 - x1 > ROW_JITTER_PX
         and gy0 - y0 <= ROW_JITTER_PX
+        and y0 - gy0 <= JITTER_FRAME_TOP_SHARE * max(x0 - g0, g1 - x1)
         and (outer.confidence or 0.0) >= JITTER_FRAME_SURE
     )
 
