@@ -353,6 +353,7 @@ class Measurer:
             pitch_tried = False  # the pitch is settled already (a near-horizon face)
             best_row: int | None = None  # the floor-contact row best was found on
             lower_faces: list[tuple[int, Measurement]] = []  # rows' faces not accepted
+            frame_foot = False  # best is a frame taken round a print (JITTER_FRAME_HOLDS)
             for row in rows:
                 height = level_height(row)
                 if height >= MAX_ESTIMATED_CAMERA_HEIGHT_M:
@@ -490,6 +491,16 @@ class Measurer:
                     if not plausible(height):
                         continue
                     result = trial(height, row)
+                    if JITTER_FRAME_HOLDS and result.detected:
+                        # a print in a frame: of the two faces, the one round the other
+                        # standing lower is the surface, the inner one's foot the print's
+                        # lower edge (_frame_holds), however the two are weighed
+                        if _frame_holds(result, best) and sides_reach_foot(image, result.lines):
+                            log.debug("no rig: row %d's face holds row %d's print", row, best_row)
+                            best, best_row, frame_foot = result, row, True
+                            continue
+                        if _frame_holds(best, result):
+                            continue
                     if (
                         result.detected
                         and _foot_weighed(result) > _foot_weighed(best)
@@ -508,6 +519,13 @@ class Measurer:
                 level = best
                 level_conf = best.confidence or 0.0
                 level_box = best.box_px
+                # a frame taken round a print (JITTER_FRAME_HOLDS): a face a pitch stands
+                # higher than the frame's foot stands on the print's lower edge again
+                foot_at_least = (
+                    level_box[3] - ROW_JITTER_PX
+                    if frame_foot and level_box is not None
+                    else -math.inf
+                )
                 for pitch in SWEPT_PITCHES_DEG if level_conf + SWEPT_PITCH_MARGIN < 1.0 else ():
                     height = camera_height_for_row(best_row, depth, pitch, view.fy, view.cy)
                     if not plausible(height):
@@ -519,6 +537,8 @@ class Measurer:
                         and sides_reach_foot(image, result.lines)
                         and not _beside(result.box_px, level_box)
                     ):
+                        continue
+                    if result.box_px is not None and result.box_px[3] < foot_at_least:
                         continue
                     if _taller(result.box_px, level_box):
                         # the level face's top a line on the face (a print's edge, a tape,
@@ -2176,6 +2196,17 @@ ROW_JITTER_PX = 2
 #: its raw figure, 0.38 against 0.28, height -7.6 %; the row 2 px down stood it on its
 #: foot, 0.7 %). A switch for the tests.
 JITTER_WEIGHS_FOOT = True
+#: ... but of two faces a row and a neighbour stand, one holding the other inside its
+#: sides and top with its foot lower, a margin of one colour seen round the inner one
+#: (FRAMED),
+#: the outer one is taken and the inner one never replaces it (:func:`_frame_holds`: the
+#: inner one is a print on the face, its lower edge taken for the contact). Session 43,
+#: branch ``wt-e-43``; a switch for the tests.
+JITTER_FRAME_HOLDS = True
+#: ... the outer face found (its raw confidence) at least this surely ...
+JITTER_FRAME_SURE = 0.1
+#: ... its margin over the inner face at most this share of its wider side margin.
+JITTER_FRAME_TOP_SHARE = 1.0
 #: A weaker step tried as a nearer foot lies at least this many rows below the row whose
 #: face was unsure (closer steps are that row's own edge blur, tried by the jitter).
 MIN_NEARER_DROP_PX = 2 * ROW_JITTER_PX
@@ -3006,6 +3037,36 @@ def _band_across(
         and face[1] < band[1]
         and face[3] > band[3]
         and face[3] - face[1] >= ACROSS_TALLER * (band[3] - band[1])
+    )
+
+
+def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
+    """Whether ``outer`` (a no-rig trial's face on a row next to ``inner``'s) holds
+    ``inner`` as a face holds a framed print: a margin of one colour was seen round
+    ``inner`` (FRAMED), ``outer``'s foot more than ROW_JITTER_PX rows lower, each of its
+    sides more than ROW_JITTER_PX columns outside ``inner``'s, its top no more than
+    ROW_JITTER_PX rows under ``inner``'s, and it found at least JITTER_FRAME_SURE. The face
+    is the outermost surface at the sonar's depth standing on the floor; a box inside it
+    whose foot ends above its foot is a print on it, its lower edge taken for the contact
+    (procedural 3189, photo 3157 hard). A frame is a ring: its margin over the print is
+    at most JITTER_FRAME_TOP_SHARE times its wider side margin (a box reaching farther up
+    took in what stands over the face: photo 969 o, 31 rows over against 7 and 20 beside,
+    +21 %)."""
+    if outer.box_px is None or inner.box_px is None or not outer.detected:
+        return False
+    if FRAMED not in inner.doubts:
+        # (a margin seen round the outer face only is no print inside it: photo 969 o's
+        # face, held by a box reaching 31 rows over it on its contact shadow, +21 %)
+        return False
+    x0, y0, x1, y1 = inner.box_px
+    g0, gy0, g1, gy1 = outer.box_px
+    return (
+        gy1 - y1 > ROW_JITTER_PX
+        and x0 - g0 > ROW_JITTER_PX
+        and g1 - x1 > ROW_JITTER_PX
+        and gy0 - y0 <= ROW_JITTER_PX
+        and y0 - gy0 <= JITTER_FRAME_TOP_SHARE * max(x0 - g0, g1 - x1)
+        and (outer.confidence or 0.0) >= JITTER_FRAME_SURE
     )
 
 
