@@ -44,7 +44,8 @@ def test_without_the_rule_the_print_is_taken(monkeypatch: pytest.MonkeyPatch) ->
 @pytest.mark.parametrize(
     ("outer", "conf", "holds"),
     [
-        ((89.9, 40.0, 210.1, 122.1), 0.3, True),  # each just over 2 px outside
+        ((89.9, 40.0, 210.1, 122.1), 0.3, True),  # foot just over 2 px lower, sides 10 out
+        ((97.9, 50.0, 210.1, 122.1), 0.3, True),  # left side just over 2 px out
         ((89.9, 40.0, 210.1, 122.0), 0.3, False),  # foot ROW_JITTER_PX lower: same foot
         ((98.0, 40.0, 210.1, 122.1), 0.3, False),  # left side 2 px out: the same side
         ((89.9, 40.0, 202.0, 122.1), 0.3, False),  # right side 2 px out: the same side

@@ -520,7 +520,8 @@ class Measurer:
                 level_conf = best.confidence or 0.0
                 level_box = best.box_px
                 # a frame taken round a print (JITTER_FRAME_HOLDS): a face a pitch stands
-                # higher than the frame's foot stands on the print's lower edge again
+                # higher than the frame's foot (by more than the rows' own jitter,
+                # ROW_JITTER_PX) stands on the print's lower edge again
                 foot_at_least = (
                     level_box[3] - ROW_JITTER_PX
                     if frame_foot and level_box is not None
@@ -2203,7 +2204,8 @@ JITTER_WEIGHS_FOOT = True
 #: inner one is a print on the face, its lower edge taken for the contact). Session 43,
 #: branch ``wt-e-43``; a switch for the tests.
 JITTER_FRAME_HOLDS = True
-#: ... the outer face found (its raw confidence) at least this surely ...
+#: ... the outer face found (its raw confidence) at least this surely (photo 3157 hard's
+#: frame reads 0.15; a face under 0.1 is too unsure to overrule the row's own) ...
 JITTER_FRAME_SURE = 0.1
 #: ... its margin over the inner face at most this share of its wider side margin.
 JITTER_FRAME_TOP_SHARE = 1.0

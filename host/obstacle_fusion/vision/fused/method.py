@@ -176,14 +176,14 @@ HUE_HOLDS_TOP = True
 TOP_FACE_TO_FRONT = True
 TOP_FACE_MIN_MOVE_PX = 0.5
 #: ... with no rig too (the no-rig trials and the readings as with a guessed rig), where
-#: the horizon is a guessed pitch's (with the allowance for a lens looking further down,
-#: ``horizon_slack_px``). Session 42 kept the move to the rig given: with no rig two faces
-#: the lens looked up at moved 8 and 18 rows down onto a brick's and a plank's lighter
-#: rows (procedural 3030 ordinary, photo 3034 ordinary). The band's own tests since
-#: (one run from the top line down to one step, ending at the sides too:
-#: ``confidence._band_ends_at_sides``) read neither as a top face, and the guessed
-#: pitch hides a low box's top face above its horizon most often (session 43, branch
-#: ``wt-c-43``). A switch for the tests.
+#: the horizon is a guessed pitch's (in the trials with the allowance for a lens looking
+#: further down, ``horizon_slack_px``; the readings as with a guessed rig use none).
+#: Session 42 kept the move to the rig given: with no rig two faces the lens looked up at
+#: moved 8 and 18 rows down onto a brick's and a plank's lighter rows (procedural 3030
+#: ordinary, photo 3034 ordinary). The band's own tests since (one run from the top line
+#: down to one step, ending at the sides too: ``confidence._band_ends_at_sides``) read
+#: neither as a top face, and the guessed pitch hides a low box's top face above its
+#: horizon most often (session 43, branch ``wt-c-43``). A switch for the tests.
 TOP_FACE_TO_FRONT_NO_RIG = True
 
 
