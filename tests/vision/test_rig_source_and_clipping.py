@@ -610,8 +610,8 @@ def test_with_no_rig_a_rival_trial_face_takes_the_answer_under_half(
 ) -> None:
     """The doubt reaches the reported confidence: a sure face (0.7) with a sure rival
     beside it from a trial at another guessed pitch is reported under 0.5."""
-    # the faked faces lie wholly beside the beam (at 0.9 m, columns ~190-310): that rule apart
-    monkeypatch.setattr(measure, "BEAM_HOLDS_FACE", False)
+    # both faked faces reach into the sonar's beam (BEAM_HOLDS_FACE: at 0.9 m, columns
+    # 188-309, 137-360 with no rig's mounting allowance), so the rule stays on
     image, truth, view, depth = no_rig_room(4001)
     row = int(round(view.cy + view.fy * 0.20 / depth))
 
@@ -619,7 +619,7 @@ def test_with_no_rig_a_rival_trial_face_takes_the_answer_under_half(
         if kwargs.get("floor_known"):
             return Measurement(detected=False, method="fused", range_m=truth["range_m"])
         pitch = self.view.rig.camera_pitch_deg
-        x0 = 100.0 if pitch <= 0 else 300.0  # the guessed pitch decides which face
+        x0 = 130.0 if pitch <= 0 else 300.0  # the guessed pitch decides which face
         return fake_face(truth, True, 0.7 if pitch == 0 else 0.3, box_px=(x0, 100, x0 + 60, 200))
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)

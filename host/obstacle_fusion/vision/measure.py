@@ -140,6 +140,9 @@ class Measurer:
             "file" if rig is not None else ("estimated" if method == "fused" else "default")
         )
         self.rig = rig if rig is not None else Rig()
+        # whether the sonar's mounting is known (a rig given, or the rig check's searcher
+        # keeping the rig's): if not, BEAM_HOLDS_FACE allows BEAM_MOUNT_ALLOWANCE_M for it
+        self._mount_known = rig is not None
         self.method = method
         self.min_confidence = min_confidence  # None: the method's default (fused only)
         self._per_size: dict[tuple[int, int], Method] = {}
@@ -271,7 +274,7 @@ class Measurer:
             elif (
                 BEAM_HOLDS_FACE
                 and result.detected
-                and _outside_beam(result.box_px, view, self.rig, range_m, depth)
+                and _outside_beam(result.box_px, view, self.rig, range_m, depth, self._allowance())
             ):
                 # the sonar's echo comes from inside its beam: a face wholly beside the
                 # cone at the range is another object than the one ranged
@@ -1372,7 +1375,9 @@ class Measurer:
             result = self._run_guessed_rig(fused, image, range_m, timer, height, pitch)
             if not result.detected or not _obstacle_size(result):
                 continue
-            if BEAM_HOLDS_FACE and _outside_beam(result.box_px, view, self.rig, range_m, depth):
+            if BEAM_HOLDS_FACE and _outside_beam(
+                result.box_px, view, self.rig, range_m, depth, self._allowance()
+            ):
                 log.debug("no rig, row %d: a face outside the sonar's beam, %s", row, result.box_px)
                 continue
             # its pitch a guess: doubted so, and refused as the search refuses a face
@@ -1660,6 +1665,11 @@ class Measurer:
         timer.lap("rig_checked")  # the whole search (its stages timed apart)
         return found
 
+    def _allowance(self) -> float:
+        """The sonar's lateral offset BEAM_HOLDS_FACE allows for (m): none when the
+        mounting is known, BEAM_MOUNT_ALLOWANCE_M when Rig()'s is assumed."""
+        return 0.0 if self._mount_known else BEAM_MOUNT_ALLOWANCE_M
+
     def _rig_searcher(self) -> Measurer:
         """The rig check's no-rig searcher (the rig's sonar mounting kept), made once; it
         keeps CHECK_PITCHED_VIEWS_KEPT levelled views (each is a view's maps, megabytes;
@@ -1671,6 +1681,7 @@ class Measurer:
                 self.rig, camera_height_m=Rig().camera_height_m, camera_pitch_deg=0.0
             )
             searcher._views_kept = CHECK_PITCHED_VIEWS_KEPT
+            searcher._mount_known = True  # the rig's sonar mounting, not Rig()'s guess
             self._searcher = searcher
         return searcher
 
@@ -2004,8 +2015,17 @@ ROW_FITS_ROBOT = True
 #: Session 43, branch ``wt-a-43``; a switch for the tests.
 BEAM_HOLDS_FACE = True
 #: ... the beam's edge columns widened by this many pixels (the lens's distortion near
-#: the beam's edge, a side's blur) before a face counts as beside it.
+#: the beam's edge, a side's blur; and the camera's pitch: the columns are the levelled
+#: view's pinhole columns, a box's the input's: a pitch of 20 degrees moves the beam's
+#: edge by 1.9-3.4 px, so the slack covers a pitch of about 10 degrees or less) before a
+#: face counts as beside it.
 BEAM_EDGE_SLACK_PX = 2.0
+#: ... and with no rig the sonar's mounting is unknown: Rig()'s (the sonar on the lens's
+#: column, 15-degree cone) is assumed, so the beam's columns are widened each side by
+#: fx * this / depth px, a sonar mounted up to this far left or right of the lens (a
+#: robot's sonar and camera sit on its front, within ~10 cm of each other). Not applied
+#: when the mounting is known (the rig check's searcher keeps the rig's).
+BEAM_MOUNT_ALLOWANCE_M = 0.10
 #: The reason a trial on such a row finds no face.
 NO_ROBOT_ROW = "no robot's lens sees the floor contact on that row"
 #: With no rig, a contact row nearer the horizon than that height allows is tried as seen
@@ -2319,12 +2339,19 @@ SIDES = ("left", "right", "top", "bottom")
 SWEEP_REST_FRAMES = 10
 
 
-def beam_columns_px(view: View, rig: Rig, range_m: float, depth: float) -> tuple[float, float]:
-    """The input image's columns (first, last) the sonar's beam covers at the face's
-    ``depth`` (its lateral bounds at ``range_m`` seen through the lens's fx and cx)."""
+def beam_columns_px(
+    view: View, rig: Rig, range_m: float, depth: float, allowance_m: float = 0.0
+) -> tuple[float, float]:
+    """The pinhole columns (first, last) of the levelled view the sonar's beam covers at
+    the face's ``depth`` (its lateral bounds at ``range_m``, widened by ``allowance_m``
+    each side, seen through the lens's fx and cx). Not the input's columns: the lens's
+    distortion and the camera's pitch move them slightly (BEAM_EDGE_SLACK_PX)."""
     xb0, xb1 = rig.beam_x_bounds(range_m)
     cam = view.camera
-    return cam.cx + cam.fx * xb0 / depth, cam.cx + cam.fx * xb1 / depth
+    return (
+        cam.cx + cam.fx * (xb0 - allowance_m) / depth,
+        cam.cx + cam.fx * (xb1 + allowance_m) / depth,
+    )
 
 
 def _outside_beam(
@@ -2333,14 +2360,22 @@ def _outside_beam(
     rig: Rig,
     range_m: float,
     depth: float,
+    allowance_m: float = 0.0,
 ) -> bool:
     """Whether a face box (input pixels) lies wholly beside the sonar's beam at the face's
-    depth (:func:`beam_columns_px`, widened by BEAM_EDGE_SLACK_PX each side); False when
-    the box is unknown or the depth is not in front of the lens."""
+    depth (:func:`beam_columns_px` with ``allowance_m``, widened by BEAM_EDGE_SLACK_PX each
+    side); False when the box is unknown, the depth is not in front of the lens, sensor
+    0's axis is yawed (its beam is not about the lens's axis) or the beam's columns miss
+    the image (nothing in view to check against)."""
     if box is None or depth <= 0.0:
         return False
-    u_lo, u_hi = beam_columns_px(view, rig, range_m, depth)
-    return box[2] < u_lo - BEAM_EDGE_SLACK_PX or box[0] > u_hi + BEAM_EDGE_SLACK_PX
+    if any(m.id == 0 and m.yaw_deg != 0.0 for m in rig.sonar_mounts()):
+        return False
+    u_lo, u_hi = beam_columns_px(view, rig, range_m, depth, allowance_m)
+    u_lo, u_hi = u_lo - BEAM_EDGE_SLACK_PX, u_hi + BEAM_EDGE_SLACK_PX
+    if u_hi < 0.0 or u_lo > view.camera.width:
+        return False
+    return box[2] < u_lo or box[0] > u_hi
 
 
 def _refine_offsets(reach: int) -> list[int]:
