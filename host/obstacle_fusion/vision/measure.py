@@ -2593,6 +2593,22 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
     )
 
 
+def _box_round(
+    outer: tuple[float, float, float, float], inner: tuple[float, float, float, float]
+) -> bool:
+    """Whether box ``outer`` holds ``inner`` as a face holds a print on it: its foot more
+    than ROW_JITTER_PX rows lower, each side more than ROW_JITTER_PX columns outside (not
+    the same sides read again), its top no more than ROW_JITTER_PX rows under."""
+    x0, y0, x1, y1 = inner
+    g0, gy0, g1, gy1 = outer
+    return (
+        gy1 - y1 > ROW_JITTER_PX
+        and x0 - g0 > ROW_JITTER_PX
+        and g1 - x1 > ROW_JITTER_PX
+        and gy0 - y0 <= ROW_JITTER_PX
+    )
+
+
 def _holds_print(found: Measurement, grown: Measurement) -> bool:
     """Whether ``grown`` (the rows' face read as with a rig: its readings agree on one face
     standing on its foot) holds ``found`` as a face holds a print on it: its foot more than
@@ -2605,13 +2621,8 @@ def _holds_print(found: Measurement, grown: Measurement) -> bool:
     farther, stands on a higher row)."""
     if found.box_px is None or grown.box_px is None:
         return False
-    x0, y0, x1, y1 = found.box_px
-    g0, gy0, g1, gy1 = grown.box_px
     return (
-        gy1 - y1 > ROW_JITTER_PX
-        and x0 - g0 > ROW_JITTER_PX
-        and g1 - x1 > ROW_JITTER_PX
-        and gy0 - y0 <= ROW_JITTER_PX
+        _box_round(grown.box_px, found.box_px)
         and (grown.confidence or 0.0) >= UNDER_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
@@ -3095,13 +3106,10 @@ def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
         # (a margin seen round the outer face only is no print inside it: photo 969 o's
         # face, held by a box reaching 31 rows over it on its contact shadow, +21 %)
         return False
-    x0, y0, x1, y1 = inner.box_px
-    g0, gy0, g1, gy1 = outer.box_px
+    x0, y0, x1, _ = inner.box_px
+    g0, gy0, g1, _ = outer.box_px
     return (
-        gy1 - y1 > ROW_JITTER_PX
-        and x0 - g0 > ROW_JITTER_PX
-        and g1 - x1 > ROW_JITTER_PX
-        and gy0 - y0 <= ROW_JITTER_PX
+        _box_round(outer.box_px, inner.box_px)
         and y0 - gy0 <= JITTER_FRAME_TOP_SHARE * max(x0 - g0, g1 - x1)
         and (outer.confidence or 0.0) >= JITTER_FRAME_SURE
     )
