@@ -45,6 +45,22 @@ def _right(x0: float) -> tuple[float, float, float, float]:
     return (x0, 150.0, x0 + 60.0, 200.0)
 
 
+def _sure_face(box: tuple[float, float, float, float]) -> Measurement:
+    """What a faked FusedMethod.run finds on every trial: a sure face of box ``box``."""
+    return Measurement(
+        detected=True,
+        method="fused",
+        range_m=RANGE_M,
+        distance_m=RANGE_M,
+        height_m=0.5,
+        width_m=0.45,
+        box_px=box,
+        confidence=0.9,
+        height_px=box[3] - box[1],
+        width_px=box[2] - box[0],
+    )
+
+
 def test_the_beam_s_columns_are_the_cone_s_at_the_range() -> None:
     assert CAM.fx == pytest.approx(458.72, abs=0.01)
     assert CAM.cx == pytest.approx(248.63, abs=0.01)
@@ -156,18 +172,7 @@ def test_no_rig_search_refuses_a_face_beside_the_beam(
     box = (u_hi + 100.0, 120.0, u_hi + 170.0, 205.0)
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
-        return Measurement(
-            detected=True,
-            method="fused",
-            range_m=RANGE_M,
-            distance_m=RANGE_M,
-            height_m=0.5,
-            width_m=0.45,
-            box_px=box,
-            confidence=0.9,
-            height_px=box[3] - box[1],
-            width_px=box[2] - box[0],
-        )
+        return _sure_face(box)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     monkeypatch.setattr(measure, "contact_rows", lambda *a: [205])
@@ -186,18 +191,7 @@ def test_with_a_rig_its_own_reading_beside_the_beam_is_unchanged(
     box = (BEAM_2_8[1] + 100.0, 120.0, BEAM_2_8[1] + 170.0, 205.0)
 
     def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
-        return Measurement(
-            detected=True,
-            method="fused",
-            range_m=RANGE_M,
-            distance_m=RANGE_M,
-            height_m=0.5,
-            width_m=0.45,
-            box_px=box,
-            confidence=0.9,
-            height_px=box[3] - box[1],
-            width_px=box[2] - box[0],
-        )
+        return _sure_face(box)
 
     monkeypatch.setattr(FusedMethod, "run", fake_run)
     image = np.full((375, 500, 3), 120, np.uint8)
