@@ -15,9 +15,11 @@ from __future__ import annotations
 import pytest
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.fused.confidence import FRAMED
-from obstacle_fusion.vision.measure import _frame_holds
+from obstacle_fusion.vision.fused.method import FusedMethod
+from obstacle_fusion.vision.measure import Measurer, _frame_holds
 from obstacle_fusion.vision.types import Measurement
 
+from tests.vision.test_rig_source_and_clipping import CAM, fake_face, no_rig_room
 from tests.vision_fixtures import room_size_errors
 
 INNER = (100.0, 50.0, 200.0, 120.0)
@@ -77,3 +79,82 @@ def test_no_pitch_stands_the_print_again() -> None:
     # +38 % wide) is not taken over the frame (-21 / -22 % -> +4 / +1 %)
     eh, ew = room_size_errors("photo", 3157, True, with_rig=False)
     assert eh < 0.05 and ew < 0.05
+
+
+FRAME = (200.0, 90.0, 300.0, 200.0)  # the chosen row's face, round the print
+PRINT = (210.0, 100.0, 290.0, 180.0)  # the neighbour rows' face, a margin seen round it
+
+
+def _swept_after_frame(
+    monkeypatch: pytest.MonkeyPatch, swept: tuple[float, float, float, float]
+) -> Measurement:
+    """No rig, one contact row whose level view stands the frame, its neighbour rows the
+    print inside it, every swept pitch a surer face (0.7 against 0.3) of box ``swept``.
+    Faces in the sonar's beam (0.9 m: columns 188-309)."""
+    image, truth, view, depth = no_rig_room(4001)
+    row = int(round(view.cy + view.fy * 0.20 / depth))
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        if kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        if self.view.rig.camera_pitch_deg != 0:
+            return fake_face(truth, True, 0.7, box_px=swept)
+        if abs(self.view.rig.camera_height_m - 0.20) < 2e-3:
+            return fake_face(truth, True, 0.3, box_px=FRAME)
+        return fake_face(truth, True, 0.3, box_px=PRINT, doubts=[FRAMED])
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    return Measurer(CAM, None).measure(image, truth["range_m"])
+
+
+def test_a_row_whose_own_face_is_the_frame_is_guarded_too(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the chosen row already stands the frame (procedural 3189 hard): a pitch standing a
+    # face on the print's lower edge (foot 180, the frame's 200) is not taken over it
+    res = _swept_after_frame(monkeypatch, (205.0, 95.0, 295.0, 180.0))
+    assert res.detected and res.box_px == FRAME
+
+
+@pytest.mark.parametrize(
+    ("foot", "taken"),
+    [(200.0 - measure.ROW_JITTER_PX, True), (200.0 - measure.ROW_JITTER_PX - 0.5, False)],
+)
+def test_the_guard_allows_the_rows_own_jitter(
+    monkeypatch: pytest.MonkeyPatch, foot: float, taken: bool
+) -> None:
+    # a swept face standing ROW_JITTER_PX over the frame's foot stands on the same foot
+    swept = (205.0, 95.0, 295.0, foot)
+    res = _swept_after_frame(monkeypatch, swept)
+    assert res.detected and res.box_px == (swept if taken else FRAME)
+
+
+def test_a_frame_given_way_to_a_surer_face_leaves_no_guard(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the row 2 px up stands the frame round the row's print, the row 2 px down a surer
+    # face of its own (0.35, no print in it), which is taken: the frame's guard goes with
+    # the frame, and a swept pitch's face surer still (0.7) is weighed as ever
+    image, truth, view, depth = no_rig_room(4001)
+    row = int(round(view.cy + view.fy * 0.20 / depth))
+    other, swept = (195.0, 80.0, 305.0, 205.0), (200.0, 85.0, 300.0, 190.0)
+
+    def fake_run(self: FusedMethod, *args: object, **kwargs: object) -> Measurement:
+        if kwargs.get("floor_known"):
+            return Measurement(detected=False, method="fused", range_m=truth["range_m"])
+        if self.view.rig.camera_pitch_deg != 0:
+            return fake_face(truth, True, 0.7, box_px=swept)
+        height = self.view.rig.camera_height_m
+        if abs(height - 0.20) < 2e-3:
+            return fake_face(truth, True, 0.3, box_px=PRINT, doubts=[FRAMED])
+        if height < 0.20:
+            return fake_face(truth, True, 0.3, box_px=FRAME)
+        return fake_face(truth, True, 0.35, box_px=other)
+
+    monkeypatch.setattr(FusedMethod, "run", fake_run)
+    monkeypatch.setattr(measure, "contact_rows", lambda *a: [row])
+    monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
+    res = Measurer(CAM, None).measure(image, truth["range_m"])
+    assert res.detected and res.box_px == swept

@@ -503,13 +503,15 @@ class Measurer:
                             best, best_row, frame_foot = result, row, True
                             continue
                         if _frame_holds(best, result):
+                            # the row's own face is the frame: guarded as one found here
+                            frame_foot = True
                             continue
                     if (
                         result.detected
                         and _foot_weighed(result) > _foot_weighed(best)
                         and sides_reach_foot(image, result.lines)
                     ):
-                        best, best_row = result, row
+                        best, best_row, frame_foot = result, row, False
                 # the pitch is not known yet, and a level view's guess of the camera's
                 # height from the row is off by D tan(pitch): a box's top face seen or not
                 # changes with it. The row at a few usual pitches: of the faces clearly
