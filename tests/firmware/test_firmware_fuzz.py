@@ -1,4 +1,4 @@
-"""30 s of libFuzzer on the firmware core's frame parser and command decoder
+"""20 s of libFuzzer on the firmware core's frame parser and command decoder
 (tools/fuzz_firmware.py, harness tests/native/fuzz_core.c): no sanitizer report, no
 disagreement with the reference parser, no bad frame sent, and the seeds from
 protocol/vectors/golden.json reach the command handlers (coverage well above the parser's)."""
@@ -50,7 +50,7 @@ def test_output_parsing() -> None:
     assert tool.parse_output(text) == (58742, 2797, 308, 1335, 316)
 
 
-def test_fuzz_firmware_30s(tmp_path: Path) -> None:
+def test_fuzz_firmware_20s(tmp_path: Path) -> None:
     tool = load_tool()
     try:
         clang = tool.find_clang()
@@ -61,7 +61,7 @@ def test_fuzz_firmware_30s(tmp_path: Path) -> None:
             "clang has no libFuzzer/sanitizer runtime (install libclang-rt-dev; `make setup` does)"
         )
     proc = subprocess.run(
-        [sys.executable, str(SCRIPT), "--seconds", "30", "--work", str(tmp_path)],
+        [sys.executable, str(SCRIPT), "--seconds", "20", "--work", str(tmp_path)],
         capture_output=True,
         text=True,
         timeout=300,
