@@ -31,11 +31,14 @@ from obstacle_fusion.vision.types import View
 Room = tuple[npt.NDArray[np.uint8], dict[str, Any], Rig]
 
 
+def _ordinary_photo_room(seed: int) -> Room:
+    image, truth, spec = render_room("photo", seed, False, CameraModel.paper(500, 375))
+    return image, truth, spec.rig
+
+
 @pytest.fixture(scope="module")
 def room() -> Room:
-    cam = CameraModel.paper(500, 375)
-    image, truth, spec = render_room("photo", 3009, False, cam)
-    return image, truth, spec.rig
+    return _ordinary_photo_room(3009)
 
 
 def height_error(room: Room) -> float:
@@ -49,9 +52,7 @@ def height_error(room: Room) -> float:
 
 @pytest.fixture(scope="module")
 def grey_room() -> Room:
-    cam = CameraModel.paper(500, 375)
-    image, truth, spec = render_room("photo", 3083, False, cam)
-    return image, truth, spec.rig
+    return _ordinary_photo_room(3083)
 
 
 def grey_room_error(room: Room) -> float:

@@ -45,6 +45,16 @@ def _right(x0: float) -> tuple[float, float, float, float]:
     return (x0, 150.0, x0 + 60.0, 200.0)
 
 
+def _assert_edges(
+    lo: float, hi: float, view: View, rig: Rig, depth: float, allow: float = 0.0
+) -> None:
+    """A face ending STEP_PX inside columns lo..hi reaches the beam; STEP_PX outside, not."""
+    assert not _outside_beam(_left(lo + STEP_PX), view, rig, RANGE_M, depth, allow)
+    assert _outside_beam(_left(lo - STEP_PX), view, rig, RANGE_M, depth, allow)
+    assert not _outside_beam(_right(hi - STEP_PX), view, rig, RANGE_M, depth, allow)
+    assert _outside_beam(_right(hi + STEP_PX), view, rig, RANGE_M, depth, allow)
+
+
 def _sure_face(box: tuple[float, float, float, float]) -> Measurement:
     """What a faked FusedMethod.run finds on every trial: a sure face of box ``box``."""
     return Measurement(
@@ -79,10 +89,7 @@ def test_a_face_is_beside_the_beam_only_past_its_edge_and_the_slack() -> None:
     view = _view()
     assert measure.BEAM_EDGE_SLACK_PX == SLACK
     lo, hi = BEAM_2_8[0] - SLACK, BEAM_2_8[1] + SLACK
-    assert not _outside_beam(_left(lo + STEP_PX), view, rig, RANGE_M, RANGE_M)
-    assert _outside_beam(_left(lo - STEP_PX), view, rig, RANGE_M, RANGE_M)
-    assert not _outside_beam(_right(hi - STEP_PX), view, rig, RANGE_M, RANGE_M)
-    assert _outside_beam(_right(hi + STEP_PX), view, rig, RANGE_M, RANGE_M)
+    _assert_edges(lo, hi, view, rig, RANGE_M)
     # a face wider than the beam, or unknown, is not beside it
     wide = (lo - 60.0, 150.0, hi + 60.0, 200.0)
     assert not _outside_beam(wide, view, rig, RANGE_M, RANGE_M)
@@ -93,10 +100,7 @@ def test_the_sonar_ahead_narrows_the_beam_at_the_face() -> None:
     rig = Rig(sonar_ahead_m=0.2)
     view, depth = _view(), 3.0
     lo, hi = BEAM_AHEAD[0] - SLACK, BEAM_AHEAD[1] + SLACK
-    assert not _outside_beam(_left(lo + STEP_PX), view, rig, RANGE_M, depth)
-    assert _outside_beam(_left(lo - STEP_PX), view, rig, RANGE_M, depth)
-    assert not _outside_beam(_right(hi - STEP_PX), view, rig, RANGE_M, depth)
-    assert _outside_beam(_right(hi + STEP_PX), view, rig, RANGE_M, depth)
+    _assert_edges(lo, hi, view, rig, depth)
 
 
 def test_the_sonar_s_offset_moves_the_beam() -> None:
@@ -105,10 +109,7 @@ def test_the_sonar_s_offset_moves_the_beam() -> None:
     view = _view()
     assert beam_columns_px(view, rig, RANGE_M, RANGE_M) == pytest.approx(BEAM_RIGHT, abs=0.01)
     lo, hi = BEAM_RIGHT[0] - SLACK, BEAM_RIGHT[1] + SLACK
-    assert not _outside_beam(_left(lo + STEP_PX), view, rig, RANGE_M, RANGE_M)
-    assert _outside_beam(_left(lo - STEP_PX), view, rig, RANGE_M, RANGE_M)
-    assert not _outside_beam(_right(hi - STEP_PX), view, rig, RANGE_M, RANGE_M)
-    assert _outside_beam(_right(hi + STEP_PX), view, rig, RANGE_M, RANGE_M)
+    _assert_edges(lo, hi, view, rig, RANGE_M)
 
 
 def test_with_no_rig_the_bound_allows_for_the_sonar_s_mounting() -> None:
@@ -120,10 +121,7 @@ def test_with_no_rig_the_bound_allows_for_the_sonar_s_mounting() -> None:
     cols = beam_columns_px(view, rig, RANGE_M, RANGE_M, allow)
     assert cols == pytest.approx(BEAM_ALLOWED, abs=0.01)
     lo, hi = BEAM_ALLOWED[0] - SLACK, BEAM_ALLOWED[1] + SLACK
-    assert not _outside_beam(_left(lo + STEP_PX), view, rig, RANGE_M, RANGE_M, allow)
-    assert _outside_beam(_left(lo - STEP_PX), view, rig, RANGE_M, RANGE_M, allow)
-    assert not _outside_beam(_right(hi - STEP_PX), view, rig, RANGE_M, RANGE_M, allow)
-    assert _outside_beam(_right(hi + STEP_PX), view, rig, RANGE_M, RANGE_M, allow)
+    _assert_edges(lo, hi, view, rig, RANGE_M, allow)
     # the review's case: a sonar 0.1 m right of the lens, a 4 cm pole on its axis at 0.5 m
     # (cx + 458.72 * 0.1 / 0.5 = cx + 91.74, +-18.35 px: columns 322.0-358.7) is kept,
     # though Rig()'s assumed beam ends at cx + 60.39 + 2 = 311.0
