@@ -5,15 +5,19 @@ A change to the vision is judged scene by scene, not by a mean: ``run`` measures
 room of the named sets with the true rig and with none and writes one TSV row per answer;
 ``compare`` tells, per set, how many answers moved by more than ``--points`` (on the larger
 of the height and width errors, a miss counting as infinitely wrong), which way, and how
-many unclipped answers are over 25 % off or missed. Sets: ``own`` (the tuning and
+many unclipped answers are over 25 % off or missed; ``summary`` gives one run's mean errors
+per set, family, kind and rig, and its reliability (of the sure answers, confidence >= 0.5,
+the share with both errors within 5 %). Sets: ``own`` (the tuning and
 validation rooms, procedural and photo seeds 100-159, 700-759, 2000-2099), ``fresh``
 (seeds 2100-2199, for checking), ``ho`` (the held-out families, seeds 6000-6024), ``new``
 (procedural and photo seeds 3000-3049, opened for diagnosis at session 40), ``new2``
 (seeds 3050-3099, opened at session 41), ``new3`` (seeds 3100-3149, opened at session 42),
-``new4`` (seeds 3150-3199, opened at session 43), or ``FAMILY:FIRST-LAST``.
+``new4`` (seeds 3150-3199, opened at session 43), ``new5`` (seeds 3200-3249, opened at
+session 44), or ``FAMILY:FIRST-LAST``.
 
     .venv/bin/python tools/room_answers.py run -o /tmp/before.tsv --sets own,fresh,ho -j 2
     .venv/bin/python tools/room_answers.py compare /tmp/before.tsv /tmp/after.tsv -v
+    .venv/bin/python tools/room_answers.py summary /tmp/after.tsv --sets new5
 """
 
 from __future__ import annotations
@@ -44,12 +48,16 @@ SETS: dict[str, list[tuple[str, int, int]]] = {
     "new3": [(f, 3100, 3149) for f in TUNED],
     # opened for diagnosis at session 43, after "new3" had been used for tuning
     "new4": [(f, 3150, 3199) for f in TUNED],
+    # opened for diagnosis at session 44, after "new4" had been used for tuning
+    "new5": [(f, 3200, 3249) for f in TUNED],
 }
 COLUMNS = (
     "set family seed kind rig detected clipped flagged err_h_pct err_w_pct confidence "
     "reason doubts face_kind"
 ).split()
 GROSS_PCT = 25.0  # an answer this far off counts with the misses
+SURE = 0.5  # the confidence at which the issue's reliability is judged
+RELIABLE_PCT = 5.0  # a sure answer is right when both errors are within this
 MOVED_POINTS = 2.0  # default: a smaller move of the larger error is noise
 
 
@@ -206,6 +214,54 @@ def compare(
     return sets, lines
 
 
+@dataclass
+class Group:
+    """Mean errors of one set, family, kind and rig over its unclipped rooms."""
+
+    rooms: int = 0
+    missed: int = 0
+    gross: int = 0
+    sum_h: float = 0.0
+    sum_w: float = 0.0
+    sure: int = 0
+    sure_right: int = 0
+
+    def add(self, row: dict[str, str]) -> None:
+        self.rooms += 1
+        err = error_pct(row)
+        self.gross += err > GROSS_PCT
+        if math.isinf(err):
+            self.missed += 1
+            return
+        self.sum_h += abs(float(row["err_h_pct"]))
+        self.sum_w += abs(float(row["err_w_pct"]))
+        if float(row["confidence"]) >= SURE:
+            self.sure += 1
+            self.sure_right += err <= RELIABLE_PCT
+
+    def line(self, name: str) -> str:
+        found = self.rooms - self.missed
+        means = "    - /     -"
+        if found:
+            means = f"{self.sum_h / found:5.1f} / {self.sum_w / found:5.1f}"
+        sure = f"{100 * self.sure_right / self.sure:5.1f} % of {self.sure}" if self.sure else "-"
+        return (
+            f"{name:40s} {self.rooms:4d} rooms  mean |h| / |w| {means} %  "
+            f"missed {self.missed}  gross {self.gross}  reliable {sure}"
+        )
+
+
+def summarize(answers: dict[Key, dict[str, str]], sets: set[str] | None) -> list[str]:
+    """Per set and rig a reliability line, then per family and kind the mean errors."""
+    groups: dict[tuple[str, ...], Group] = {}
+    for row in answers.values():
+        if row["clipped"] == "1" or (sets and row["set"] not in sets):
+            continue
+        for key in ((row["set"], row["rig"]), (row["set"], row["rig"], row["family"], row["kind"])):
+            groups.setdefault(key, Group()).add(row)
+    return [groups[k].line(" ".join(k)) for k in sorted(groups)]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
@@ -218,7 +274,26 @@ def main(argv: list[str] | None = None) -> int:
     c.add_argument("after", type=Path)
     c.add_argument("--points", type=float, default=MOVED_POINTS)
     c.add_argument("-v", "--verbose", action="store_true", help="list every moved answer")
+    m = sub.add_parser("summary", help="one run's mean errors and reliability per set")
+    m.add_argument("answers", type=Path)
+    m.add_argument("--sets", default="", help="only these sets, comma-separated")
     args = ap.parse_args(argv)
+    if args.command == "summary":
+        try:
+            answers = load(args.answers)
+        except (OSError, ValueError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        chosen = {t.strip() for t in args.sets.split(",") if t.strip()} or None
+        lines = summarize(answers, chosen)
+        if not lines:
+            print(
+                f"error: no unclipped answers of sets {args.sets!r} in {args.answers}",
+                file=sys.stderr,
+            )
+            return 1
+        print("\n".join(lines))
+        return 0
     if args.command == "run":
         if args.processes < 1:
             ap.error("-j must be at least 1")

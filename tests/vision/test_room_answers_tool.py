@@ -122,3 +122,27 @@ def test_bad_input_is_a_clear_error_not_a_traceback(tmp_path: Path) -> None:
     assert out.returncode == 2 and "not numbers" in out.stderr and "Traceback" not in out.stderr
     out = cli("run", "-o", str(tmp_path / "no" / "such" / "dir.tsv"), "--sets", "photo:1-1")
     assert out.returncode == 2 and "cannot write" in out.stderr and "Traceback" not in out.stderr
+
+
+def test_summary_means_skip_misses_and_reliability_holds_sure_answers_to_five_percent(
+    tmp_path: Path,
+) -> None:
+    path = tsv(
+        tmp_path / "s.tsv",
+        [
+            {"err_h_pct": "-2.0", "err_w_pct": "4.0", "confidence": "0.5"},  # sure, right
+            {"err_h_pct": "5.01", "confidence": "0.9"},  # sure, just wrong
+            {"err_h_pct": "40.0", "confidence": "0.49"},  # unsure, gross
+            {"detected": "0", "err_h_pct": "nan", "err_w_pct": "nan"},  # missed
+            {"err_h_pct": "90.0", "clipped": "1"},  # clipped: not judged
+        ],
+    )
+    lines = room_answers.summarize(room_answers.load(path), None)
+    assert len(lines) == 2  # the set's line, and its family and kind's
+    for line in lines:
+        assert "4 rooms" in line
+        assert "mean |h| / |w|  15.7 /   1.3 %" in line  # (2 + 5.01 + 40) / 3, 4 / 3
+        assert "missed 1  gross 2  reliable  50.0 % of 2" in line
+    assert room_answers.summarize(room_answers.load(path), {"fresh"}) == []
+    done = cli("summary", str(path), "--sets", "fresh")
+    assert done.returncode == 1 and "no unclipped answers" in done.stderr
