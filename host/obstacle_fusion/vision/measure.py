@@ -1479,6 +1479,9 @@ class Measurer:
         # than the found face: the found foot a shadow's or a bevel's lower edge under the
         # contact (_foot_moves_up, SURER_FOOT_RAISES)
         lower = lower or (SURER_FOOT_RAISES and _foot_moves_up(found, grown))
+        # the rows' face on the same foot and columns, its top higher and surer: the found
+        # top a line across the face (a brick course, a tape) (_top_moves_up)
+        lower = lower or (SURER_TOP_RAISES and _top_moves_up(found, grown))
         # the rows' face holding the found face inside its sides and top, its foot lower:
         # the found face stands on no floor (a print, a label, a panel on the face: its
         # lower edge above the contact), the rows' face is the surface round it
@@ -1919,6 +1922,15 @@ HELD_BY_MARGIN = True
 #: lower edge under the contact (procedural 750 hard, photo 2056 hard: 3-4 rows low,
 #: +9 %). Session 40, branch ``wt-e-40``; a switch for the tests.
 SURER_FOOT_RAISES = True
+#: With no rig, an unsure answer gives way likewise to the rows' face on the same foot
+#: (within ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its top more than
+#: ROW_JITTER_PX rows higher (:func:`_top_moves_up`), when that face is surer than the
+#: answer, at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up: the face is
+#: one surface from its contact up to where its sides end, and the answer's top a line
+#: across it (a brick course, a tape, a row of text) that the no-rig trials, which leave
+#: the rig's walks up the sides out, stopped at. Session 44, branch ``wt-d-44``; a switch
+#: for the tests.
+SURER_TOP_RAISES = True
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -2650,6 +2662,28 @@ def _foot_moves_up(found: Measurement, grown: Measurement) -> bool:
         and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
         and (grown.confidence or 0.0) > (found.confidence or 0.0)
         and (grown.confidence or 0.0) >= UNDER_SURE
+        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
+def _top_moves_up(found: Measurement, grown: Measurement) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig) is ``found`` up to its top: its
+    foot within ROW_JITTER_PX of ``found``'s, its top more than ROW_JITTER_PX rows higher,
+    the two faces' columns overlapping by LOWER_FOOT_SIDES_SHARE of the wider, surer than
+    ``found`` and at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. The
+    face is one surface standing on that contact between those sides; the rows read it up
+    to where its sides end, the no-rig trials stopped at a line across it."""
+    if found.box_px is None or grown.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    g0, gy0, g1, gy1 = grown.box_px
+    overlap = min(x1, g1) - max(x0, g0)
+    return (
+        abs(gy1 - y1) <= ROW_JITTER_PX
+        and y0 - gy0 > ROW_JITTER_PX
+        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
+        and (grown.confidence or 0.0) > (found.confidence or 0.0)
+        and (grown.confidence or 0.0) >= GROWN_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
 
