@@ -1922,14 +1922,17 @@ HELD_BY_MARGIN = True
 #: lower edge under the contact (procedural 750 hard, photo 2056 hard: 3-4 rows low,
 #: +9 %). Session 40, branch ``wt-e-40``; a switch for the tests.
 SURER_FOOT_RAISES = True
-#: With no rig, an unsure answer gives way likewise to the rows' face on the same foot
-#: (within ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its top more than
+#: With no rig, an unsure answer found with little evidence (under GROWN_CONFIDENCE, as a
+#: small face that grows) gives way likewise to the rows' face on the same foot (within
+#: ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its top more than
 #: ROW_JITTER_PX rows higher (:func:`_top_moves_up`), when that face is surer than the
 #: answer, at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up: the face is
 #: one surface from its contact up to where its sides end, and the answer's top a line
 #: across it (a brick course, a tape, a row of text) that the no-rig trials, which leave
-#: the rig's walks up the sides out, stopped at. Session 44, branch ``wt-d-44``; a switch
-#: for the tests.
+#: the rig's walks up the sides out, stopped at. An answer surer than that is a face whose
+#: top edge held (procedural 145 hard, 108 ordinary: 0.31 and 0.63, the rows' top 3-5
+#: rows higher on what stands behind or a top face, 0.6 -> 8-11 %). Session 44, branch
+#: ``wt-d-44``; a switch for the tests.
 SURER_TOP_RAISES = True
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
@@ -2670,7 +2673,8 @@ def _top_moves_up(found: Measurement, grown: Measurement) -> bool:
     """Whether ``grown`` (the rows' face read as with a rig) is ``found`` up to its top: its
     foot within ROW_JITTER_PX of ``found``'s, its top more than ROW_JITTER_PX rows higher,
     the two faces' columns overlapping by LOWER_FOOT_SIDES_SHARE of the wider, surer than
-    ``found`` and at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. The
+    ``found`` and at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up, and
+    ``found`` found with little evidence (under GROWN_CONFIDENCE). The
     face is one surface standing on that contact between those sides; the rows read it up
     to where its sides end, the no-rig trials stopped at a line across it."""
     if found.box_px is None or grown.box_px is None:
@@ -2682,6 +2686,7 @@ def _top_moves_up(found: Measurement, grown: Measurement) -> bool:
         abs(gy1 - y1) <= ROW_JITTER_PX
         and y0 - gy0 > ROW_JITTER_PX
         and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
+        and (found.confidence or 0.0) < GROWN_CONFIDENCE
         and (grown.confidence or 0.0) > (found.confidence or 0.0)
         and (grown.confidence or 0.0) >= GROWN_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
