@@ -51,6 +51,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     band_columns,
     contact_rows,
     face_apart_from_floor,
+    face_runs_above,
     face_runs_below,
     print_runs_below,
     sides_reach_foot,
@@ -1481,7 +1482,11 @@ class Measurer:
         lower = lower or (SURER_FOOT_RAISES and _foot_moves_up(found, grown))
         # the rows' face on the same foot and columns, its top higher and surer: the found
         # top a line across the face (a brick course, a tape) (_top_moves_up)
-        lower = lower or (SURER_TOP_RAISES and _top_moves_up(found, grown))
+        lower = lower or (
+            SURER_TOP_RAISES
+            and _top_moves_up(found, grown)
+            and face_runs_above(image, found.box_px, grown.box_px)
+        )
         # the rows' face holding the found face inside its sides and top, its foot lower:
         # the found face stands on no floor (a print, a label, a panel on the face: its
         # lower edge above the contact), the rows' face is the surface round it
