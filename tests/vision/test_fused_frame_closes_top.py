@@ -8,6 +8,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
+from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method, region
 from obstacle_fusion.vision.rig import Rig
@@ -160,6 +161,10 @@ def test_without_the_rule_the_top_stays_low(
     monkeypatch: pytest.MonkeyPatch, fam: str, seed: int, hard: bool
 ) -> None:
     monkeypatch.setattr(method, "FRAME_CLOSES_TOP", False)
+    # with no rig the rows read as with a rig find photo/3142's frame too, on the same foot
+    # and sides, its margin's colour over the print's top (measure.SURER_TOP_RAISES,
+    # session 44): that rule alone takes it to 1.3 %, so it is off here as well
+    monkeypatch.setattr(measure, "SURER_TOP_RAISES", False)
     assert room_size_errors(fam, seed, hard, with_rig=False)[0] > 0.25
 
 

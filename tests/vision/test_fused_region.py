@@ -1580,10 +1580,13 @@ def test_a_top_a_few_rows_high_is_the_tops_blur() -> None:
     assert abs(lowered(behind_scene(), TALL_TOP - 12) - TALL_TOP) <= 1
 
 
-def test_the_face_keeps_a_fifth_of_its_height() -> None:
+def test_the_face_keeps_a_fifth_of_its_height(monkeypatch: pytest.MonkeyPatch) -> None:
     """A colour end in the face's lowest fifth is no top (a step at its foot, a shadow):
     a band of the wall's grey across a face 150 rows high, ending 25 rows over its foot,
-    is passed over; ending 32 rows over it, it is taken."""
+    is passed over; ending 32 rows over it, it is taken (with the face's colour over the
+    band crossed as a tape is off: region.BAND_ACROSS_KEEPS_TOP keeps the top there, see
+    test_fused_band_across_keeps_top.py)."""
+    monkeypatch.setattr(region, "BAND_ACROSS_KEEPS_TOP", False)
     top = BOTTOM - 150
     for end, moved in ((BOTTOM - 25, False), (BOTTOM - 32, True)):
         img = behind_scene()

@@ -51,6 +51,7 @@ from obstacle_fusion.vision.fused.floor_contact import (
     band_columns,
     contact_rows,
     face_apart_from_floor,
+    face_runs_above,
     face_runs_below,
     print_runs_below,
     sides_reach_foot,
@@ -1479,6 +1480,13 @@ class Measurer:
         # than the found face: the found foot a shadow's or a bevel's lower edge under the
         # contact (_foot_moves_up, SURER_FOOT_RAISES)
         lower = lower or (SURER_FOOT_RAISES and _foot_moves_up(found, grown))
+        # the rows' face on the same foot and columns, its top higher and surer: the found
+        # top a line across the face (a brick course, a tape) (_top_moves_up)
+        lower = lower or (
+            SURER_TOP_RAISES
+            and _top_moves_up(found, grown)
+            and face_runs_above(image, found.box_px, grown.box_px)
+        )
         # the rows' face holding the found face inside its sides and top, its foot lower:
         # the found face stands on no floor (a print, a label, a panel on the face: its
         # lower edge above the contact), the rows' face is the surface round it
@@ -1919,6 +1927,18 @@ HELD_BY_MARGIN = True
 #: lower edge under the contact (procedural 750 hard, photo 2056 hard: 3-4 rows low,
 #: +9 %). Session 40, branch ``wt-e-40``; a switch for the tests.
 SURER_FOOT_RAISES = True
+#: With no rig, an unsure answer found with little evidence (under GROWN_CONFIDENCE, as a
+#: small face that grows) gives way likewise to the rows' face on the same foot (within
+#: ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its top more than
+#: ROW_JITTER_PX rows higher (:func:`_top_moves_up`), when that face is surer than the
+#: answer, at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up: the face is
+#: one surface from its contact up to where its sides end, and the answer's top a line
+#: across it (a brick course, a tape, a row of text) that the no-rig trials, which leave
+#: the rig's walks up the sides out, stopped at. An answer surer than that is a face whose
+#: top edge held (procedural 145 hard, 108 ordinary: 0.31 and 0.63, the rows' top 3-5
+#: rows higher on what stands behind or a top face, 0.6 -> 8-11 %). Session 44, branch
+#: ``wt-d-44``; a switch for the tests.
+SURER_TOP_RAISES = True
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -2650,6 +2670,30 @@ def _foot_moves_up(found: Measurement, grown: Measurement) -> bool:
         and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
         and (grown.confidence or 0.0) > (found.confidence or 0.0)
         and (grown.confidence or 0.0) >= UNDER_SURE
+        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
+def _top_moves_up(found: Measurement, grown: Measurement) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig) is ``found`` up to its top: its
+    foot within ROW_JITTER_PX of ``found``'s, its top more than ROW_JITTER_PX rows higher,
+    the two faces' columns overlapping by LOWER_FOOT_SIDES_SHARE of the wider, surer than
+    ``found`` and at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up, and
+    ``found`` found with little evidence (under GROWN_CONFIDENCE). The
+    face is one surface standing on that contact between those sides; the rows read it up
+    to where its sides end, the no-rig trials stopped at a line across it."""
+    if found.box_px is None or grown.box_px is None:
+        return False
+    x0, y0, x1, y1 = found.box_px
+    g0, gy0, g1, gy1 = grown.box_px
+    overlap = min(x1, g1) - max(x0, g0)
+    return (
+        abs(gy1 - y1) <= ROW_JITTER_PX
+        and y0 - gy0 > ROW_JITTER_PX
+        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
+        and (found.confidence or 0.0) < GROWN_CONFIDENCE
+        and (grown.confidence or 0.0) > (found.confidence or 0.0)
+        and (grown.confidence or 0.0) >= GROWN_SURE
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
 

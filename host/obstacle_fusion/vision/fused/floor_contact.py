@@ -440,6 +440,53 @@ def face_runs_below(
     )
 
 
+#: A face read up past a found top (:func:`face_runs_above`) adds at least this many rows
+#: (fewer are the top's own blur, no colour to read) ...
+RAISED_MIN_ROWS = 4
+#: ... of a colour (median Lab) at most this far from the found face's middle or from the
+#: strips just inside its sides (its margin, a frame round a print) ...
+RAISED_COLOUR_MATCH = 15.0
+#: ... the middle read over the columns past this share of the width from each side ...
+RAISED_MIDDLE_SHARE = 0.2
+#: ... and the strips just inside each side over these pixels from it (from, to).
+RAISED_SIDE_COLUMNS = (2, 8)
+
+
+def face_runs_above(
+    image: npt.NDArray[np.uint8],
+    found: tuple[float, float, float, float],
+    raised: tuple[float, float, float, float],
+) -> bool:
+    """Whether the rows a face read higher (``raised``, input pixel boxes x0, y0, x1, y1)
+    adds over ``found``'s top are ``found``'s own surface: at least RAISED_MIN_ROWS of
+    them, their middle's colour within RAISED_COLOUR_MATCH of ``found``'s middle or of the
+    strips just inside its sides. The face is one surface up to its top: over a line
+    across it (a brick course, a tape) it goes on in its colour, a frame round a print in
+    its margin's, while a top read on what stands behind it adds the background's colour
+    (a wall seen above the face). A grey image tells no colours apart: False."""
+    if image.ndim != 3:
+        return False
+    x0, y0, x1, y1 = found
+    top = raised[1]
+    w = x1 - x0
+    if w <= 0 or y0 - top < RAISED_MIN_ROWS:
+        return False
+    m0, m1 = x0 + RAISED_MIDDLE_SHARE * w, x1 - RAISED_MIDDLE_SHARE * w
+    added = _lab_pixels(image, top, y0, m0, m1)
+    middle = _lab_pixels(image, y0, y1, m0, m1)
+    a, z = RAISED_SIDE_COLUMNS
+    sides = np.vstack(
+        [_lab_pixels(image, y0, y1, x0 + a, x0 + z), _lab_pixels(image, y0, y1, x1 - z, x1 - a)]
+    )
+    if not (len(added) and len(middle) and len(sides)):
+        return False
+    a_m = np.median(added, axis=0)
+    return bool(
+        min(np.linalg.norm(a_m - np.median(px, axis=0)) for px in (middle, sides))
+        <= RAISED_COLOUR_MATCH
+    )
+
+
 #: A print's line taken for a face's foot (:func:`print_runs_below`): the strip between the
 #: two feet is the print running on when its grey spread (standard deviation) is at least
 #: this share of the spread of the band just above the higher foot (as tall as the strip) ...

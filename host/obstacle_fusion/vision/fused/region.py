@@ -2392,7 +2392,46 @@ def lower_top_to_background(
     # the row above it (the first row of the face)
     run = rows[: int(np.argmax(np.diff(np.append(rows, rows[-1] + 2)) > 1)) + 1]
     step = row_norms(mid[run] - mid[run - 1])
-    return int(r0 + run[int(np.argmax(step))])
+    lowered = int(r0 + run[int(np.argmax(step))])
+    if BAND_ACROSS_KEEPS_TOP and _face_over_band(mid, diffs, foot, 2 * far, lowered - r0):
+        log.debug("top %d kept: the face's colour and sides run on over %d", top, lowered)
+        return top
+    return lowered
+
+
+#: A top is not lowered to where the background seems to show past the sides when the
+#: face's own colour and both its sides hold over most of the rows above that (a tape or
+#: a course across the face in the background's colour, crossed: the face is one surface
+#: from its foot to its top). A switch for the tests.
+BAND_ACROSS_KEEPS_TOP = True
+#: A row above the lowered top is the face's where its middle is within this (Lab, 8-bit)
+#: of the face's foot colour (the face's own colour, as BACKGROUND_MATCH is the
+#: background's) ...
+FACE_OVER_BAND_MATCH = 10.0
+#: ... and both sides part it from what is beside it by SIDE_STEP; the face runs on over
+#: the band where at least this share of the rows from the top (past its blur) down to
+#: the lowered top are the face's: the rest is the band (an object behind the face, seen
+#: past a gap of background, holds the face's colour and sides in none of them).
+FACE_OVER_BAND_SHARE = 0.6
+
+
+def _face_over_band(
+    mid: npt.NDArray[np.float32],
+    diffs: npt.NDArray[Any],
+    foot: npt.NDArray[Any],
+    start: int,
+    end: int,
+) -> bool:
+    """Whether the rows ``start:end`` (of :func:`lower_top_to_background`'s band, from the
+    top past its blur down to the lowered top) are mostly the face's own: its foot's colour
+    in the middle (FACE_OVER_BAND_MATCH) and both sides parting it from what is beside it
+    (SIDE_STEP), in at least FACE_OVER_BAND_SHARE of them."""
+    if end <= start:
+        return False
+    own = row_norms(mid[start:end] - foot) <= FACE_OVER_BAND_MATCH
+    for k in (0, 1):
+        own &= row_norms(diffs[start:end, k]) >= SIDE_STEP
+    return bool(np.count_nonzero(own) >= FACE_OVER_BAND_SHARE * (end - start))
 
 
 def lower_top_past_top_face(
