@@ -483,7 +483,9 @@ def top_band_doubts(
 
 
 def top_face_band(
-    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
+    image: npt.NDArray[np.uint8],
+    lines: Sequence[tuple[float, float, float, float]],
+    gap: float = TOP_FACE_GAP,
 ) -> tuple[float, float] | None:
     """How clearly a band of the face's own colour, lighter, lies just under the top edge
     found (BGR or grey levels; ``lines`` as in :func:`outline_doubts`), and the input
@@ -495,13 +497,14 @@ def top_face_band(
     mixes those two only), counted where the row is the face's colour scaled (its
     distance from that under TOP_FACE_CHROMA_SHARE of the other). Rows are medians over
     the face's inner columns; the face's colour is read right under the rows searched.
-    None for a face too small to read."""
+    None for a face too small to read. ``gap``: the rows skipped under the top line (its
+    own blur; a top row predicted, not found on an edge, has none there)."""
     bands = _face_bands(lines)
     if bands is None:
         return None
     c0, c1, vt, k, g = bands.c0, bands.c1, bands.vt, bands.k, bands.g
     reach = int(round(TOP_FACE_REACH * bands.height))
-    first = int(np.ceil(vt + TOP_FACE_GAP))
+    first = int(np.ceil(vt + gap))
     # down to TOP_FACE_REACH of the height under the top line, TOP_FACE_MIN_ROWS read at
     # least (a face under ~27 rows reached only 1-2 rows past the line's blur)
     last = max(int(vt) + reach, first + TOP_FACE_MIN_ROWS - 1)
