@@ -9,6 +9,9 @@ The room is a diagnosis room (new5), measured with the rig. Photo 3212 (ordinary
 purple plank box 0.16 m tall at 1.69 m, its top face two rows of the face's colour 1.26
 times lighter; the back edge's ends gave a scale of 0.948 and a front top row 1.9 rows
 above the band's end: +5.3 % high at 0.94; with the rule +1.1 % (confidence unchanged).
+
+Also the band's reading window one row past its reach (``confidence.TOP_FACE_PAST_REACH``):
+photo 3217 ordinary, whose top face ends on the reach's last row.
 """
 
 from __future__ import annotations
@@ -17,8 +20,13 @@ import numpy as np
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
+from obstacle_fusion.vision.fused import confidence as conf_mod
 from obstacle_fusion.vision.fused import method as method_mod
-from obstacle_fusion.vision.fused.confidence import TOP_FACE_UNDER_TOP, top_face_band
+from obstacle_fusion.vision.fused.confidence import (
+    TOP_FACE_UNDER_TOP,
+    top_face_band,
+    top_face_doubts,
+)
 from obstacle_fusion.vision.measure import Measurer
 
 from tests.vision.test_fused_confidence import GREY_FACE, LINES, _lid_image
@@ -93,3 +101,41 @@ def test_a_band_under_a_row_inside_it(gap: float, found: bool) -> None:
     if found:
         assert band[1] == pytest.approx(102.5)
     assert np.isfinite(band[1])
+
+
+# --- TOP_FACE_PAST_REACH (confidence.py): the band read one row past the reach ---------
+
+
+def _room(family: str, seed: int, hard: bool) -> float:
+    image, truth, spec = render_room(family, seed, hard, CAM)
+    res = Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert res.detected and res.height_m is not None
+    return float(res.height_m / truth["height_m"] - 1)
+
+
+def test_a_top_face_ending_on_the_reach_s_last_row_is_read() -> None:
+    """Photo 3217 ordinary, rig: a plain blue box 0.18 m tall at 2.33 m, 0.13 m under the
+    lens; its top face (rows 226-231, 4.3-4.7 levels lighter, the face's colour scaled)
+    ends between rows 231 and 232, the reach (15 % of 42 rows) on row 231: read one row
+    past it, the step shows and the face is measured from its front top edge (+19.6 % at
+    0.68 -> +2.7 %)."""
+    assert abs(_room("photo", 3217, False)) < 0.04
+
+
+def test_without_reading_past_the_reach_the_top_face_stays(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(conf_mod, "TOP_FACE_PAST_REACH", False)
+    assert _room("photo", 3217, False) > 0.15
+
+
+@pytest.mark.parametrize("past", [True, False])
+def test_a_drawn_band_ending_on_the_reach_s_row(
+    monkeypatch: pytest.MonkeyPatch, past: bool
+) -> None:
+    """A drawn lid on rows 101-115 of a 100-row face (its top line at 100, the reach 15
+    rows: row 115), the face's grey from row 116: read to 116 the step shows; read to
+    115 (without the switch) the band runs on to the last row read, no step."""
+    monkeypatch.setattr(conf_mod, "TOP_FACE_PAST_REACH", past)
+    doubts = top_face_doubts(_lid_image(GREY_FACE + 6.0, rows=(101, 116)), LINES, True)
+    assert (doubts == [TOP_FACE_UNDER_TOP]) is past
