@@ -728,10 +728,11 @@ def test_a_top_face_is_one_band_from_the_top_line_down_to_one_step() -> None:
     # a lighter line lower on the face (a brick's mortar: rows 103-105, the face's shade
     # on row 102 read first): no top face
     assert top_face_doubts(_lid_image(band, rows=(103, 106)), LINES, True) == []
-    # a gloss lighter all the way down the rows read (to 100 + 15): no step, no front edge
-    assert top_face_doubts(_lid_image(band, rows=(101, 116)), LINES, True) == []
+    # a gloss lighter all the way down the rows read (to 100 + 15 + 1, TOP_FACE_PAST_REACH):
+    # no step, no front edge
+    assert top_face_doubts(_lid_image(band, rows=(101, 117)), LINES, True) == []
     # ... ending on the last row read: one step, read
-    assert top_face_doubts(_lid_image(band, rows=(101, 115)), LINES, True) == [TOP_FACE_UNDER_TOP]
+    assert top_face_doubts(_lid_image(band, rows=(101, 116)), LINES, True) == [TOP_FACE_UNDER_TOP]
     # a band that lightens again under its step (rows 108-109): no one band
     again = _lid_image(band)
     again[108:110, 150:350] = band

@@ -185,6 +185,18 @@ TOP_FACE_MIN_MOVE_PX = 0.5
 #: neither as a top face, and the guessed pitch hides a low box's top face above its
 #: horizon most often (session 43, branch ``wt-c-43``). A switch for the tests.
 TOP_FACE_TO_FRONT_NO_RIG = True
+#: With the rig, a front top row predicted from the top face's back edge
+#: (:func:`~obstacle_fusion.vision.fused.top.front_from_back`: the back edge's row scaled
+#: by the share of the face's width its ends span, taken where no edge of its own lies
+#: near) is as sure as those ends, read where the edge fades at the blurred corners (1.5
+#: columns off allowed: on a 134-column face a scale 0.02 off moves the front 2 rows). A
+#: top face is of the face's own colour, lighter, from its back edge to its front one:
+#: where that band (:func:`~obstacle_fusion.vision.fused.confidence.top_face_band`, read
+#: from PREDICTED_TOP_GAP under the predicted row: a predicted row has no edge's blur of
+#: its own) runs on under the predicted row, the front top edge is where it ends. A switch
+#: for the tests.
+TOP_FACE_PAST_PREDICTED = True
+PREDICTED_TOP_GAP = 0.5
 
 
 def looks_down_on(v: View, row: float) -> bool:
@@ -1685,6 +1697,27 @@ class FusedMethod:
             ):
                 front = view_row(v, x_mid, band[1])
                 log.debug("top %.1f: a top face's band under it, its front at %.1f", vt, front)
+                result = refined(front)
+        elif (
+            TOP_FACE_PAST_PREDICTED
+            and self._rig_given
+            and seen is not None
+            and top_row_given is not None
+            and top_row is not None
+            and result.lines
+        ):
+            # the front top row predicted from the back edge's ends (no edge of its own):
+            # where the top face's colour runs on under it, its front is where that ends
+            band = top_face_band(seen, result.lines, gap=PREDICTED_TOP_GAP)
+            top = result.lines[1]
+            x_mid, y_mid = 0.5 * (top[0] + top[2]), 0.5 * (top[1] + top[3])
+            if (
+                band is not None
+                and band[0] >= TOP_FACE_STEP
+                and band[1] - y_mid >= TOP_FACE_MIN_MOVE_PX
+            ):
+                front = view_row(v, x_mid, band[1])
+                log.debug("top %.1f (predicted): the top face's band ends at %.1f", top_row, front)
                 result = refined(front)
         small = min(result.height_m or 0.0, result.width_m or 0.0)
         if small < MIN_SIZE_M:
