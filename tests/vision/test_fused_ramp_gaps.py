@@ -79,3 +79,19 @@ def test_the_resume_rows_limit(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_half_the_peak_beyond_the_gap() -> None:
     assert top._ramp(_with(7, [1.0, 4.0, 4.0]), 5)
     assert not top._ramp(_with(7, [1.0, 3.9, 4.0]), 5)
+
+
+def test_no_row_past_the_gap_stronger_than_the_peak() -> None:
+    # procedural/752 hard with no rig: a front edge's run crossing one row into the top
+    # edge's blur (stronger than the front edge) is no ramp
+    assert not top._ramp(_with(7, [1.0, 8.1, 4.0]), 5)
+    assert not top._ramp(_with(7, [1.0, 4.0, 8.1]), 5)
+    assert top._ramp(_with(7, [1.0, 8.0, 4.0]), 5)
+    # ... and rows further on past the gap count only up to the peak
+    assert top._ramp(_with(7, [1.0, 4.0, 4.0, 4.0]), 5)
+
+
+def test_the_room_whose_front_edge_run_meets_the_top_edge() -> None:
+    # the top face's front edge (-62) one row of blur under the top edge (-75, -163)
+    eh, _ = room_size_errors("procedural", 752, True, with_rig=False)
+    assert eh < 0.06

@@ -215,8 +215,11 @@ RAMP_ROWS = 5
 #: under half of a peak that noise raised (photo/2138 ordinary: the highlight's upper
 #: flank, rows 4-7 a row over 15 rows, one row at 1.2 under a bump of 7.0; the bump was
 #: taken for a top face's front edge, -19 %). Up to RAMP_GAP_ROWS rows under half do not
-#: end the run where it holds on beyond them for RAMP_RESUME_ROWS rows at half or more:
-#: an edge's blur is one hump of 3-4 rows, and beyond it lies noise, not the edge again.
+#: end the run where it holds on beyond them for RAMP_RESUME_ROWS rows at half or more,
+#: none stronger than the peak (past a gap, a ramp's rows are the ramp's level; stronger
+#: ones are another edge's: procedural/752 hard with no rig, a top face's front edge of
+#: -62 whose run crossed one row into the top edge's blur of -75 and -163): an edge's blur
+#: is one hump of 3-4 rows, and beyond it lies noise, not the edge again.
 RAMP_GAPS = True
 RAMP_GAP_ROWS = 1
 RAMP_RESUME_ROWS = 2
@@ -227,23 +230,30 @@ def _ramp(prof: list[float], i: int) -> bool:
     p = prof[i]
     half = abs(0.5 * p)
 
-    def holds(j: int) -> bool:
-        return 0 <= j < len(prof) and prof[j] * p > 0 and abs(prof[j]) >= half
+    def holds(j: int, capped: bool) -> bool:
+        return (
+            0 <= j < len(prof)
+            and prof[j] * p > 0
+            and half <= abs(prof[j])
+            and (not capped or abs(prof[j]) <= abs(p))
+        )
 
     def reach(step: int) -> int:
         """How far the run goes from i in the direction ``step`` (rows, >= 0)."""
-        k = 0
+        k, crossed = 0, False
         while True:
-            if holds(i + step * (k + 1)):
+            if holds(i + step * (k + 1), crossed):
                 k += 1
                 continue
             if not RAMP_GAPS:
                 return k
-            # a gap of up to RAMP_GAP_ROWS rows, the run holding on beyond it
+            # a gap of up to RAMP_GAP_ROWS rows, the run holding on beyond it, no stronger
+            # than the peak (rows stronger than it are another edge's: the top edge's own
+            # blur, a row or two over a front edge)
             for gap in range(1, RAMP_GAP_ROWS + 1):
                 beyond = [i + step * (k + gap + j) for j in range(1, RAMP_RESUME_ROWS + 1)]
-                if all(holds(j) for j in beyond):
-                    k += gap + RAMP_RESUME_ROWS
+                if all(holds(j, True) for j in beyond):
+                    k, crossed = k + gap + RAMP_RESUME_ROWS, True
                     break
             else:
                 return k
