@@ -16,7 +16,10 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
+from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import texture
+from obstacle_fusion.vision.measure import Measurer
 
 from tests.vision_fixtures import room_size_errors
 
@@ -88,3 +91,24 @@ def test_the_detail_stays_the_face_s() -> None:
     assert texture._past_highlight(diff, on, TOL, start, top, GAP) == 10
     diff, on, start, top = _column(face=20, lit=10, above=5, lit_row=(0.61, 0.0, 0.8))
     assert texture._past_highlight(diff, on, TOL, start, top, GAP) == top
+
+
+def test_the_face_s_shade_comes_back_above(monkeypatch: pytest.MonkeyPatch) -> None:
+    # rows lighter by 0.8 crossed: the face above them within half of that (0.4) or not
+    diff, on, start, top = _column(face=20, lit=10, above=5)
+    diff[10:15, 2] = 0.4
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == 10
+    diff[10:15, 2] = 0.41
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == top
+    monkeypatch.setattr(texture, "GLOSS_FALL_SHARE", 0.6)
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == 10
+
+
+def test_a_poster_s_light_part_is_no_highlight(monkeypatch: pytest.MonkeyPatch) -> None:
+    # photo/2085 hard with no rig: the face is refused (doubted on every count); with any
+    # light part crossed, the walk carried up a poster's lighter part (+94 %)
+    cam = CameraModel.paper(500, 375)
+    image, truth, _ = render_room("photo", 2085, True, cam)
+    assert not Measurer(cam, None).measure(image, truth["range_m"]).detected
+    monkeypatch.setattr(texture, "GLOSS_FALL_SHARE", 1.0)
+    assert Measurer(cam, None).measure(image, truth["range_m"]).detected
