@@ -74,3 +74,18 @@ def test_the_band_count(monkeypatch: pytest.MonkeyPatch, count: int) -> None:
     assert region.TOP_FACE_BAND_COUNT == 4
     monkeypatch.setattr(region, "TOP_FACE_BAND_COUNT", count)
     assert not region._differs_by_bands(_rows(4), _rows(6, GLOSS))
+
+
+def test_the_rows_between_are_lit_evenly() -> None:
+    # a strip whose bands stray from their median by more than MIN_TOP_DISTANCE is no
+    # plane lit evenly (fresh procedural/2199 hard with no rig: its bands L 54-69, taken
+    # for a top face, -19 -> -33 %)
+    d = int(region.MIN_TOP_DISTANCE)
+    assert region._differs_by_bands(_rows(4, (145 - d, 145, 145, 145)), _rows(6, GLOSS))
+    assert not region._differs_by_bands(_rows(4, (145 - d - 1, 145, 145, 145)), _rows(6, GLOSS))
+    assert not region._differs_by_bands(_rows(4, (145, 145, 145, 145 + d + 1)), _rows(6, GLOSS))
+
+
+def test_the_uneven_room_keeps_its_front_edge() -> None:
+    eh, _ = room_size_errors("procedural", 2199, True, with_rig=False)
+    assert eh < 0.25
