@@ -95,3 +95,15 @@ def test_the_room_whose_front_edge_run_meets_the_top_edge() -> None:
     # the top face's front edge (-62) one row of blur under the top edge (-75, -163)
     eh, _ = room_size_errors("procedural", 752, True, with_rig=False)
     assert eh < 0.06
+
+
+def test_no_row_past_the_gap_on_the_top_edge_s_own() -> None:
+    # new photo/3026 hard with no rig: a front edge (18.6) two rows under a top edge (18.4)
+    # whose run crossed one row into the top edge's rows (prof[0] is the top's row)
+    prof = [18.4, 17.5, 6.8, 11.4, 18.6, 9.5, -4.0, -6.9, -4.4, -5.6]
+    assert not top._ramp(prof, 4)
+    # the same rows further down are the ramp's once past the top's TAIL_ROWS (2) rows
+    assert not top._ramp([0.0, 0.0, *prof], 6)
+    assert top._ramp([0.0, 0.0, 0.0, *prof], 7)
+    eh, _ = room_size_errors("photo", 3026, True, with_rig=False)
+    assert eh < 0.02

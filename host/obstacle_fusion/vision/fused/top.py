@@ -216,17 +216,20 @@ RAMP_ROWS = 5
 #: flank, rows 4-7 a row over 15 rows, one row at 1.2 under a bump of 7.0; the bump was
 #: taken for a top face's front edge, -19 %). Up to RAMP_GAP_ROWS rows under half do not
 #: end the run where it holds on beyond them for RAMP_RESUME_ROWS rows at half or more,
-#: none stronger than the peak (past a gap, a ramp's rows are the ramp's level; stronger
-#: ones are another edge's: procedural/752 hard with no rig, a top face's front edge of
-#: -62 whose run crossed one row into the top edge's blur of -75 and -163): an edge's blur
-#: is one hump of 3-4 rows, and beyond it lies noise, not the edge again.
+#: none stronger than the peak and none on the top edge's own rows (its row and TAIL_ROWS
+#: under it): past a gap, a ramp's rows are the ramp's level; the top edge's blur is
+#: another edge (procedural/752 hard with no rig, a top face's front edge of -62 whose run
+#: crossed one row into the top edge's blur of -75 and -163; new photo/3026 hard with no
+#: rig, a front edge of 18.6 two rows under a top edge of 18.4). An edge's blur is one
+#: hump of 3-4 rows, and beyond it lies noise, not the edge again.
 RAMP_GAPS = True
 RAMP_GAP_ROWS = 1
 RAMP_RESUME_ROWS = 2
 
 
 def _ramp(prof: list[float], i: int) -> bool:
-    """Whether the peak at ``prof[i]`` is a shading ramp (see RAMP_ROWS, RAMP_GAPS)."""
+    """Whether the peak at ``prof[i]`` is a shading ramp (see RAMP_ROWS, RAMP_GAPS);
+    ``prof[0]`` is the top edge's row."""
     p = prof[i]
     half = abs(0.5 * p)
 
@@ -235,7 +238,7 @@ def _ramp(prof: list[float], i: int) -> bool:
             0 <= j < len(prof)
             and prof[j] * p > 0
             and half <= abs(prof[j])
-            and (not capped or abs(prof[j]) <= abs(p))
+            and (not capped or (abs(prof[j]) <= abs(p) and j > TAIL_ROWS))
         )
 
     def reach(step: int) -> int:
