@@ -28,7 +28,7 @@ from typing import Any
 
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused import method
+from obstacle_fusion.vision.fused import method, texture
 from obstacle_fusion.vision.measure import Measurement, Measurer
 
 from tests.vision_fixtures import room_size_errors
@@ -110,6 +110,9 @@ def test_a_face_under_a_tall_lens_is_no_floor_s(monkeypatch: pytest.MonkeyPatch)
     monkeypatch.setattr(measure, "UNDER_MAX_CAMERA_HEIGHT_M", 1.3)
     # (since session 41 KNOWN_RIG_SIZE_BOUND alone also refuses that face, 1.6 m wide)
     monkeypatch.setattr(measure, "KNOWN_RIG_SIZE_BOUND", False)
+    # (the texture walk past a highlight, texture.GLOSS_CROSSED, reads the rows' trial's
+    # face, a brick floor, otherwise: that face is not found; off, to test this rule alone)
+    monkeypatch.setattr(texture, "GLOSS_CROSSED", False)
     assert _worst("photo", 721, True) > 1.0
 
 

@@ -2027,7 +2027,9 @@ def looks_like_top_face(
     lab = _lab8(image, view, upper, r1, left + SIDE_SKIP, right - SIDE_SKIP)
     strip = median_u8(lab[1 : n - 1].reshape(-1, 3), axis=0)
     front = median_u8(lab[n + 2 :].reshape(-1, 3), axis=0)
-    if norm(strip - front) < MIN_TOP_DISTANCE:
+    if norm(strip - front) < MIN_TOP_DISTANCE and not (
+        TOP_FACE_BANDS and _differs_by_bands(lab[1 : n - 1], lab[n + 2 :])
+    ):
         return False
     if PATTERN_NOT_TOP_FACE and pattern:
         # a top face is one surface: none of the front's joints (a brick print's vertical
@@ -2041,6 +2043,41 @@ def looks_like_top_face(
             log.debug("rows %d-%d: the face's pattern runs across them", upper, lower)
             return False
     return True
+
+
+#: A top face and the front are two planes, each lit evenly, and differ in colour all
+#: along the edge between them; a gloss's highlight lightens the front unevenly along its
+#: rows, and the median colour of its rows under the edge may then fall on the top face's
+#: own (procedural/3234 ordinary with no rig: a 5-row top face of L 143-146 in every column
+#: band, the front under it L 129, 140, 165, 158 band by band, its median within 6 of the
+#: top face's: the top face was kept in the height, +12 %). So where the rows' medians are
+#: alike, the rows between and the front under them are compared in TOP_FACE_BAND_COUNT
+#: column bands, each against its own: the median band's difference at MIN_TOP_DISTANCE
+#: or more is a top face (a line inside the front has the front's colour above it in every
+#: band), where the rows between are one plane lit evenly, every band of them within
+#: MIN_TOP_DISTANCE of their median (without that, the first full run took uneven bands
+#: for top faces: fresh procedural/2199 hard with no rig -19 -> -33 %, the strip's bands
+#: L 54-69). A switch for the tests.
+TOP_FACE_BANDS = True
+TOP_FACE_BAND_COUNT = 4
+
+
+def _differs_by_bands(strip: npt.NDArray[np.uint8], front: npt.NDArray[np.uint8]) -> bool:
+    """Whether the rows ``strip`` and ``front`` (rows x columns x Lab) differ by at least
+    MIN_TOP_DISTANCE in the median of TOP_FACE_BAND_COUNT column bands (each band's
+    medians compared with each other)."""
+    cols = strip.shape[1]
+    if cols < 2 * TOP_FACE_BAND_COUNT or not strip.shape[0] or not front.shape[0]:
+        return False
+    cuts = np.linspace(0, cols, TOP_FACE_BAND_COUNT + 1).astype(np.int64)
+    bands = list(zip(cuts[:-1], cuts[1:], strict=True))
+    upper = np.array([median_u8(strip[:, a:b].reshape(-1, 3), axis=0) for a, b in bands])
+    lower = np.array([median_u8(front[:, a:b].reshape(-1, 3), axis=0) for a, b in bands])
+    # the rows between are one plane lit evenly: every band within MIN_TOP_DISTANCE of
+    # their median colour
+    if float(row_norms(upper - np.median(upper, axis=0)).max()) > MIN_TOP_DISTANCE:
+        return False
+    return float(np.median(row_norms(upper - lower))) >= MIN_TOP_DISTANCE
 
 
 #: Rows between a found top and a front top edge under it across which the face's own

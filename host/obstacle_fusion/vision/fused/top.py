@@ -210,16 +210,58 @@ def _front_step(peak: float, p_out: float) -> str:
 RAMP_ROWS = 5
 
 
+#: A gloss's ramp is read through the noise of its row means (``RAMP_GAPS``): a faint
+#: ramp's rows stand only a few noise levels above nothing, so one row of it may fall
+#: under half of a peak that noise raised (photo/2138 ordinary: the highlight's upper
+#: flank, rows 4-7 a row over 15 rows, one row at 1.2 under a bump of 7.0; the bump was
+#: taken for a top face's front edge, -19 %). Up to RAMP_GAP_ROWS rows under half do not
+#: end the run where it holds on beyond them for RAMP_RESUME_ROWS rows at half or more,
+#: none stronger than the peak and none on the top edge's own rows (its row and TAIL_ROWS
+#: under it): past a gap, a ramp's rows are the ramp's level; the top edge's blur is
+#: another edge (procedural/752 hard with no rig, a top face's front edge of -62 whose run
+#: crossed one row into the top edge's blur of -75 and -163; new photo/3026 hard with no
+#: rig, a front edge of 18.6 two rows under a top edge of 18.4). An edge's blur is one
+#: hump of 3-4 rows, and beyond it lies noise, not the edge again.
+RAMP_GAPS = True
+RAMP_GAP_ROWS = 1
+RAMP_RESUME_ROWS = 2
+
+
 def _ramp(prof: list[float], i: int) -> bool:
-    """Whether the peak at ``prof[i]`` is a shading ramp (see RAMP_ROWS)."""
+    """Whether the peak at ``prof[i]`` is a shading ramp (see RAMP_ROWS, RAMP_GAPS);
+    ``prof[0]`` is the top edge's row."""
     p = prof[i]
-    half = 0.5 * p
-    lo = hi = i
-    while lo > 0 and prof[lo - 1] * p > 0 and abs(prof[lo - 1]) >= abs(half):
-        lo -= 1
-    while hi + 1 < len(prof) and prof[hi + 1] * p > 0 and abs(prof[hi + 1]) >= abs(half):
-        hi += 1
-    return hi - lo + 1 >= RAMP_ROWS
+    half = abs(0.5 * p)
+
+    def holds(j: int, capped: bool) -> bool:
+        return (
+            0 <= j < len(prof)
+            and prof[j] * p > 0
+            and half <= abs(prof[j])
+            and (not capped or (abs(prof[j]) <= abs(p) and j > TAIL_ROWS))
+        )
+
+    def reach(step: int) -> int:
+        """How far the run goes from i in the direction ``step`` (rows, >= 0)."""
+        k, crossed = 0, False
+        while True:
+            if holds(i + step * (k + 1), crossed):
+                k += 1
+                continue
+            if not RAMP_GAPS:
+                return k
+            # a gap of up to RAMP_GAP_ROWS rows, the run holding on beyond it, no stronger
+            # than the peak (rows stronger than it are another edge's: the top edge's own
+            # blur, a row or two over a front edge)
+            for gap in range(1, RAMP_GAP_ROWS + 1):
+                beyond = [i + step * (k + gap + j) for j in range(1, RAMP_RESUME_ROWS + 1)]
+                if all(holds(j, True) for j in beyond):
+                    k, crossed = k + gap + RAMP_RESUME_ROWS, True
+                    break
+            else:
+                return k
+
+    return reach(-1) + reach(1) + 1 >= RAMP_ROWS
 
 
 #: A back edge must be predicted at least this many columns inside each side.
