@@ -89,6 +89,13 @@ def test_no_row_past_the_gap_stronger_than_the_peak() -> None:
     assert top._ramp(_with(7, [1.0, 8.0, 4.0]), 5)
     # ... and rows further on past the gap count only up to the peak
     assert top._ramp(_with(7, [1.0, 4.0, 4.0, 4.0]), 5)
+    assert not top._ramp([0.0] * 5 + [8.0, 1.0, 4.0, 4.0, 9.0] + [0.0] * 5, 5)
+
+
+def test_no_gap_row_stronger_than_the_peak() -> None:
+    # a row stronger than the peak ends the run: it is no gap a second crossing may use
+    assert not top._ramp([0.0] * 5 + [8.0, 1.0, 4.0, 4.0, 9.0, 4.0, 4.0] + [0.0] * 5, 5)
+    assert top._ramp([0.0] * 5 + [8.0, 1.0, 4.0, 4.0, 8.0, 4.0, 4.0] + [0.0] * 5, 5)
 
 
 def test_the_room_whose_front_edge_run_meets_the_top_edge() -> None:

@@ -112,3 +112,37 @@ def test_a_poster_s_light_part_is_no_highlight(monkeypatch: pytest.MonkeyPatch) 
     assert not Measurer(cam, None).measure(image, truth["range_m"]).detected
     monkeypatch.setattr(texture, "GLOSS_FALL_SHARE", 1.0)
     assert Measurer(cam, None).measure(image, truth["range_m"]).detected
+
+
+def _rows(
+    *runs: tuple[int, tuple[float, float, float]],
+) -> tuple[npt.NDArray[np.float32], list[bool]]:
+    """A column from the top down: (rows, features less the face's) runs."""
+    diff = np.array([f for n, f in runs for _ in range(n)], np.float32)
+    return diff, (np.linalg.norm(diff, axis=1) <= TOL).tolist()
+
+
+FACE = (0.1, 0.1, 0.1)
+LIT = (0.3, 0.2, 0.8)
+
+
+def test_a_walk_ending_in_light_rows_steps_down_to_the_face() -> None:
+    # light rows over the face's texture over a highlight over the face: the top is the
+    # face's texture's, not the light rows' over it
+    diff, on = _rows((10, (2.0, 2.0, 0.0)), (3, LIT), (5, FACE), (5, LIT), (20, FACE))
+    start, top = len(on) - 1, 23
+    assert on[top] and not on[top - 1]
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == 13
+
+
+def test_the_rise_is_the_light_rows_own() -> None:
+    # a bright row of other detail bridged inside the highlight (its grey 2.0 over the
+    # foot's) sets no rise: the face above at 0.5 is over half of the light rows' 0.8
+    runs = [(10, (2.0, 2.0, 0.0)), (5, (0.1, 0.1, 0.5)), (2, LIT), (1, (0.7, 0.0, 2.0))]
+    diff, on = _rows(*runs, (2, LIT), (20, FACE))
+    start, top = len(on) - 1, 20
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == top
+    diff[17, 2] = 0.8  # the bridged row no brighter than the highlight: nothing changes
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == top
+    diff[10:15, 2] = 0.4  # the face's shade back within half of 0.8: crossed
+    assert texture._past_highlight(diff, on, TOL, start, top, GAP) == 10

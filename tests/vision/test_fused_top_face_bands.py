@@ -58,7 +58,8 @@ def test_a_front_lit_unevenly_under_an_even_top_face() -> None:
 
 
 def test_a_line_inside_the_front_is_no_top_face() -> None:
-    # the rows above the line are the front's own, band by band
+    # rows above a line with the front's own uneven gloss: refused by the evenness check
+    # (their bands 16 L from their median), before any band is compared
     assert not region._differs_by_bands(_rows(4, GLOSS), _rows(6, GLOSS))
     # ... and an even front of the top face's colour neither
     assert not region._differs_by_bands(_rows(4), _rows(6))

@@ -2734,7 +2734,9 @@ def _encloses_print(found: Measurement, again: Measurement) -> bool:
     margin), ``again`` AGAIN_TALLER times as high and doubting its sides no more
     (AGAIN_SIDES_DOUBTED). Whatever the confidences: the print's piece, plain or edged by
     the picture, is read surer than the face it covers. A reading on the found foot itself
-    gives no such evidence (a top walked up into what stands behind is as tall)."""
+    gives no such evidence (a top walked up into what stands behind is as tall), nor does
+    one doubting its top band where ``found`` does not (AGAIN_ENCLOSE_ONE_SURFACE: the
+    face a print lies on is one surface, its margin above the print as below)."""
     if found.box_px is None or again.box_px is None:
         return False
     x0, y0, x1, y1 = found.box_px

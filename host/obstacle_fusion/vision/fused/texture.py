@@ -83,8 +83,11 @@ def _past_highlight(
         return top
     # ... and above it the face's own shade comes back: a highlight is a hump of light
     resumed = [r for r in range(far, gap_rows[0]) if on_rows[r]]
-    rise = float(diff[gap_rows, 2].max())
-    if not resumed or float(np.median(diff[resumed, 2])) > GLOSS_FALL_SHARE * rise:
+    lit_rows = [r for r in gap_rows if lit[r]]  # the highlight's own, not a bridged row
+    if not resumed or not lit_rows:
+        return top
+    rise = float(diff[lit_rows, 2].max())
+    if float(np.median(diff[resumed, 2])) > GLOSS_FALL_SHARE * rise:
         return top
     crossed = len(gap_rows)
     log.debug("texture: top %d past a highlight of %d rows: %d", top, crossed, far)

@@ -238,7 +238,7 @@ def _ramp(prof: list[float], i: int) -> bool:
             0 <= j < len(prof)
             and prof[j] * p > 0
             and half <= abs(prof[j])
-            and (not capped or (abs(prof[j]) <= abs(p) and j > TAIL_ROWS))
+            and (not capped or _under_peak(prof, j, p))
         )
 
     def reach(step: int) -> int:
@@ -252,16 +252,25 @@ def _ramp(prof: list[float], i: int) -> bool:
                 return k
             # a gap of up to RAMP_GAP_ROWS rows, the run holding on beyond it, no stronger
             # than the peak (rows stronger than it are another edge's: the top edge's own
-            # blur, a row or two over a front edge)
+            # blur, a row or two over a front edge), the gap's own rows no such row either
             for gap in range(1, RAMP_GAP_ROWS + 1):
+                gaps = [i + step * (k + j) for j in range(1, gap + 1)]
                 beyond = [i + step * (k + gap + j) for j in range(1, RAMP_RESUME_ROWS + 1)]
-                if all(holds(j, True) for j in beyond):
+                if all(_under_peak(prof, j, p) for j in gaps) and all(
+                    holds(j, True) for j in beyond
+                ):
                     k, crossed = k + gap + RAMP_RESUME_ROWS, True
                     break
             else:
                 return k
 
     return reach(-1) + reach(1) + 1 >= RAMP_ROWS
+
+
+def _under_peak(prof: list[float], j: int, peak: float) -> bool:
+    """Whether row ``j`` may lie in a ramp's gap: no stronger than the peak, and not on
+    the top edge's own rows (``prof[0]`` is the top edge's row)."""
+    return 0 <= j < len(prof) and abs(prof[j]) <= abs(peak) and j > TAIL_ROWS
 
 
 #: A back edge must be predicted at least this many columns inside each side.
