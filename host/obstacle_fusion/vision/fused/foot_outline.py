@@ -103,6 +103,25 @@ WIDTH_TOP_SHARE = 0.1
 #: this is for were 30-90 % too narrow; procedural/2079 hard's tape box, widened 1.26
 #: times onto its blur, lost 4.6 points at 1.25).
 WIDTH_MIN_FACTOR = 1.4
+#: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor and end under
+#: the found top, the face's top is lowered to where the shorter one ends (session 44,
+#: branch ``wt-e-44``, a switch): the face is one surface standing on the floor, each side
+#: parting it from what stands beside it from the floor up to its top; a found top higher
+#: than where a side ends, the colour stepping there across the face from side to side,
+#: is something behind in line with the sides that the top walked up into (a rocket in a
+#: photograph, a wall of nearly the face's colour), and a side running on past that row
+#: is the background's edge in line with it (the two rises need not agree here). Photo
+#: 3249 ordinary no rig +31 -> +0.5 %, photo 3214 hard +29 -> -3.0 %, procedural 3237
+#: ordinary +10 -> +0.6 % (no rig: missed -> +1.7 %).
+TOP_WHERE_SIDES_END = True
+#: ... where the colour steps across that row along at least this share of the columns
+#: between the found sides (TOP_STEP_SHARE made stricter: the face's top, not a band on
+#: it; the three rooms above: 0.94-1.00) ...
+END_STEP_SHARE = 0.9
+#: ... at least this share of the found height (plus SIDE_AGREE_ROWS, the top's blur)
+#: under the found top (nearer, it is the found top read again). Half of WIDTH_TOP_SHARE:
+#: procedural 3237 ordinary's found top stands 9 rows (0.10 of 90) over where its sides end.
+END_TOP_SHARE = 0.05
 
 
 def _rises(on: npt.NDArray[np.bool_], gap: int) -> npt.NDArray[np.intp]:
@@ -162,7 +181,13 @@ def grows_face(found: tuple[int, int, int, int], top: int, left: int, right: int
 
 
 def _top_across(
-    image: npt.NDArray[Any], view: View, end: int, left: int, right: int, gap: int
+    image: npt.NDArray[Any],
+    view: View,
+    end: int,
+    left: int,
+    right: int,
+    gap: int,
+    need: float = TOP_STEP_SHARE,
 ) -> int | None:
     """The face's top near ``end``, where its sides' rises end: of the rows from there
     down to ``gap`` rows under it, the one across which the colour steps along the most of
@@ -184,7 +209,33 @@ def _top_across(
         if across > best_share:
             best, best_share = row, across
     log.debug("foot outline: top %s from %d, steps across %.2f", best, end, best_share)
-    return best if best_share >= TOP_STEP_SHARE else None
+    return best if best_share >= need else None
+
+
+def _top_where_sides_end(
+    image: npt.NDArray[Any],
+    view: View,
+    foot: int,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    rise: int,
+    gap: int,
+) -> tuple[int, int, int, int] | None:
+    """The found face (``bottom``, ``top``, ``left``, ``right``) with its top lowered to
+    where the shorter of its sides' rises from the floor-contact row ``foot`` ends
+    (``rise`` rows up), the colour stepping across there (:func:`_top_across`) along
+    END_STEP_SHARE of the columns between its sides, more than END_TOP_SHARE of its
+    height (plus SIDE_AGREE_ROWS) under its top (TOP_WHERE_SIDES_END); else None."""
+    end = foot - 1 - rise
+    if end - top <= END_TOP_SHARE * (bottom - top) + SIDE_AGREE_ROWS:
+        return None
+    found = _top_across(image, view, end, left, right, gap, END_STEP_SHARE)
+    if found is None or found - top <= END_TOP_SHARE * (bottom - top) + SIDE_AGREE_ROWS:
+        return None
+    log.debug("foot outline: the sides end at %d, under the found top %d", found, top)
+    return foot, found, left, right
 
 
 def outline_from_foot(
@@ -273,6 +324,12 @@ def outline_from_foot(
     log.debug(
         "foot outline: run %d-%d, sides %d (%d) %d (%d)", run_l, run_r, new_l, rise_l, new_r, rise_r
     )
+    if widened and TOP_WHERE_SIDES_END:
+        lowered = _top_where_sides_end(
+            image, view, foot, bottom, top, left, right, min(rise_l, rise_r), rise_gap
+        )
+        if lowered is not None:
+            return lowered
     if abs(rise_l - rise_r) > SIDE_AGREE_SHARE * max(rise_l, rise_r) + SIDE_AGREE_ROWS:
         return None  # a level top: both sides end together
     new_top = _top_across(image, view, foot - 1 - min(rise_l, rise_r), new_l, new_r, rise_gap)
