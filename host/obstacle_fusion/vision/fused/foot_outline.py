@@ -109,19 +109,21 @@ WIDTH_MIN_FACTOR = 1.4
 #: parting it from what stands beside it from the floor up to its top; a found top higher
 #: than where a side ends, the colour stepping there across the face from side to side,
 #: is something behind in line with the sides that the top walked up into (a rocket in a
-#: photograph, a wall of nearly the face's colour), and a side running on past that row
-#: is the background's edge in line with it (the two rises need not agree here). Photo
-#: 3249 ordinary no rig +31 -> +0.5 %, photo 3214 hard +29 -> -3.0 %, procedural 3237
-#: ordinary +10 -> +0.6 % (no rig: missed -> +1.7 %).
+#: photograph), and a side running on past that row is the background's edge in line
+#: with it (the two rises need not agree here). Photo 3249 ordinary no rig +31 -> +0.5 %,
+#: photo 3214 hard +29 -> -3.0 %.
 TOP_WHERE_SIDES_END = True
 #: ... where the colour steps across that row along at least this share of the columns
 #: between the found sides (TOP_STEP_SHARE made stricter: the face's top, not a band on
-#: it; the three rooms above: 0.94-1.00) ...
+#: it; the rooms above: 0.94-1.00) ...
 END_STEP_SHARE = 0.9
-#: ... at least this share of the found height (plus SIDE_AGREE_ROWS, the top's blur)
-#: under the found top (nearer, it is the found top read again). Half of WIDTH_TOP_SHARE:
-#: procedural 3237 ordinary's found top stands 9 rows (0.10 of 90) over where its sides end.
-END_TOP_SHARE = 0.05
+#: ... more than this share of the found height (plus SIDE_AGREE_ROWS, the top's blur)
+#: under the found top: WIDTH_TOP_SHARE, the width rule's "another top" (nearer, it is the
+#: found top read again, or a frame's margin of the background's colour over the print:
+#: at 0.05, procedural 137 ordinary's margin, 8 rows of 87, was cut off, 2.2 -> 6.0 %,
+#: while procedural 3237 ordinary, 9 rows of 90 up a wall of the face's colour, was fixed,
+#: +10.4 -> +0.6 %: the share cannot part the two).
+END_TOP_SHARE = 0.1
 
 
 def _rises(on: npt.NDArray[np.bool_], gap: int) -> npt.NDArray[np.intp]:
@@ -187,13 +189,13 @@ def _top_across(
     left: int,
     right: int,
     gap: int,
-    need: float = TOP_STEP_SHARE,
+    need: float | None = None,
 ) -> int | None:
     """The face's top near ``end``, where its sides' rises end: of the rows from there
     down to ``gap`` rows under it, the one across which the colour steps along the most of
     the columns between the sides (what is over the face differs from the face), if that
-    is at least TOP_STEP_SHARE of them; else None (the sides rose on into a textured
-    background, no top closes them)."""
+    is at least ``need`` of them (TOP_STEP_SHARE when None); else None (the sides rose on
+    into a textured background, no top closes them)."""
     far = TOP_STEP_ROWS[1]
     c0, c1 = left + SIDE_STRIP, right - SIDE_STRIP + 1
     r0, r1 = end - far, min(view.out.shape[0], end + gap + far + 1)
@@ -209,7 +211,7 @@ def _top_across(
         if across > best_share:
             best, best_share = row, across
     log.debug("foot outline: top %s from %d, steps across %.2f", best, end, best_share)
-    return best if best_share >= need else None
+    return best if best_share >= (TOP_STEP_SHARE if need is None else need) else None
 
 
 def _top_where_sides_end(
