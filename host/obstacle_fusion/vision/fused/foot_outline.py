@@ -222,19 +222,23 @@ def _top_where_sides_end(
     top: int,
     left: int,
     right: int,
-    rise: int,
+    rises: tuple[int, int],
     gap: int,
 ) -> tuple[int, int, int, int] | None:
     """The found face (``bottom``, ``top``, ``left``, ``right``) with its top lowered to
-    where the shorter of its sides' rises from the floor-contact row ``foot`` ends
-    (``rise`` rows up), the colour stepping across there (:func:`_top_across`) along
+    where the shorter of its sides' ``rises`` (rows up from the floor-contact row
+    ``foot``) ends, the colour stepping across there (:func:`_top_across`) along
     END_STEP_SHARE of the columns between its sides, more than END_TOP_SHARE of its
-    height (plus SIDE_AGREE_ROWS) under its top (TOP_WHERE_SIDES_END); else None."""
-    end = foot - 1 - rise
-    if end - top <= END_TOP_SHARE * (bottom - top) + SIDE_AGREE_ROWS:
-        return None
+    height (plus SIDE_AGREE_ROWS) under its top, where the longer rise runs on past the
+    found top by more than that (TOP_WHERE_SIDES_END); else None."""
+    near = END_TOP_SHARE * (bottom - top) + SIDE_AGREE_ROWS
+    if top - (foot - 1 - max(rises)) <= near:
+        return None  # no side runs on past the found top: nothing behind it walked up
+    end = foot - 1 - min(rises)
+    if end - top <= near:
+        return None  # a side stands from the floor up to the found top: the top stands
     found = _top_across(image, view, end, left, right, gap, END_STEP_SHARE)
-    if found is None or found - top <= END_TOP_SHARE * (bottom - top) + SIDE_AGREE_ROWS:
+    if found is None or found - top <= near:
         return None
     log.debug("foot outline: the sides end at %d, under the found top %d", found, top)
     return foot, found, left, right
@@ -328,7 +332,7 @@ def outline_from_foot(
     )
     if widened and TOP_WHERE_SIDES_END:
         lowered = _top_where_sides_end(
-            image, view, foot, bottom, top, left, right, min(rise_l, rise_r), rise_gap
+            image, view, foot, bottom, top, left, right, (rise_l, rise_r), rise_gap
         )
         if lowered is not None:
             return lowered
