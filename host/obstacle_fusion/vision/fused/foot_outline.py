@@ -103,22 +103,27 @@ WIDTH_TOP_SHARE = 0.1
 #: this is for were 30-90 % too narrow; procedural/2079 hard's tape box, widened 1.26
 #: times onto its blur, lost 4.6 points at 1.25).
 WIDTH_MIN_FACTOR = 1.4
-#: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor and end under
-#: the found top, the face's top is lowered to where the shorter one ends (session 44,
-#: branch ``wt-e-44``, a switch): the face is one surface standing on the floor, each side
-#: parting it from what stands beside it from the floor up to its top; a found top higher
-#: than where a side ends, the colour stepping there across the face from side to side,
-#: is something behind in line with the sides that the top walked up into (a rocket in a
-#: photograph), and a side running on past that row is the background's edge in line
-#: with it (the two rises need not agree here). Photo 3249 ordinary no rig +31 -> +0.5 %,
-#: photo 3214 hard +29 -> -3.0 %.
+#: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor, one ending
+#: under the found top and the other running on past it, the face's top is lowered to
+#: where the shorter one ends (session 44, branch ``wt-e-44``, a switch): the face is one
+#: surface standing on the floor, each side parting it from what stands beside it from
+#: the floor up to its top; a side running on past the found top is something behind in
+#: line with it (a rocket in a photograph), up which the top was walked, and the other,
+#: ending under it with the colour stepping there across the face from side to side,
+#: ends at the face's top (photo 3214 hard +29 -> -3.0 %). A side standing up to the found
+#: top keeps it (procedural 3109 hard and 3165 ordinary: a brick face's side losing its
+#: colour step part of the way up, -19 % each, lowered); sides both ending under it
+#: lower nothing (fresh photo 2163 hard no rig: a dark frame against a dark background,
+#: both ending at the print's top inside it, -16 %; photo 3249 ordinary no rig, +31 %,
+#: stays: its sides end 82 and 104 rows up, the longer at the found top).
 TOP_WHERE_SIDES_END = True
 #: ... where the colour steps across that row along at least this share of the columns
 #: between the found sides (TOP_STEP_SHARE made stricter: the face's top, not a band on
-#: it; the rooms above: 0.94-1.00) ...
+#: it; photo 3214 hard: 1.00) ...
 END_STEP_SHARE = 0.9
 #: ... more than this share of the found height (plus SIDE_AGREE_ROWS, the top's blur)
-#: under the found top: WIDTH_TOP_SHARE, the width rule's "another top" (nearer, it is the
+#: under the found top, the longer side more than as much over it: WIDTH_TOP_SHARE, the
+#: width rule's "another top" (nearer, it is the
 #: found top read again, or a frame's margin of the background's colour over the print:
 #: at 0.05, procedural 137 ordinary's margin, 8 rows of 87, was cut off, 2.2 -> 6.0 %,
 #: while procedural 3237 ordinary, 9 rows of 90 up a wall of the face's colour, was fixed,
