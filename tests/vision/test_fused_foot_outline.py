@@ -110,6 +110,9 @@ def test_the_raise_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_the_top_step_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # procedural 746's outline top steps across 0.84 of its columns
     monkeypatch.setattr(foot_outline, "TOP_STEP_SHARE", 0.85)
+    # (the width's sides then lower the top to where they end: TOP_WHERE_SIDES_END, a
+    # backstop with END_STEP_SHARE's own limit)
+    monkeypatch.setattr(foot_outline, "TOP_WHERE_SIDES_END", False)
     eh, _ = room_size_errors("procedural", 746, True)
     assert eh > 0.5
 

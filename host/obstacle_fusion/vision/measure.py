@@ -2099,6 +2099,24 @@ SAME_FACE_IOU = 0.9
 FOOT_DOUBTS = frozenset({FOOT_OFF_FLOOR, FLOOR_IN_FACE})
 
 #: With no rig, a face refused as doubted on every count gives way to another trial's
+#: reading of its face with the top lower (:func:`_lower_top_reading`): on the same foot
+#: and sides (each within LOWER_TOP_EDGE_PX), its top at least LOWER_TOP_MIN_PX lower and
+#: doubted by none of TOP_EDGE_DOUBTS, where the refused face's top carries one. The face is
+#: one surface standing on its foot between its sides: two readings sharing those are the
+#: same face, differing only in where its top was put; a top whose edge runs on past the
+#: sides (a line of the wall behind) or with another edge under it is where one reading
+#: went on past the face's top, and the reading stopping at an edge neither doubts is the
+#: face's (procedural 3231 ordinary, planks: the level trials' top 25 rows up the wall,
+#: refused; the trials pitched 2 and 4 degrees read it right). Session 44, branch
+#: ``wt-e-44``; a switch for the tests.
+LOWER_TOP_READING = True
+#: ... the two readings' feet and each side within this many pixels (ROW_JITTER_PX, a
+#: trial's row jitter) ...
+LOWER_TOP_EDGE_PX = 2.0
+#: ... and the other reading's top at least this many pixels lower (nearer, the same top).
+LOWER_TOP_MIN_PX = 4.0
+
+#: With no rig, a face refused as doubted on every count gives way to another trial's
 #: reading of a face that takes it in whole on the same foot (:func:`_whole_face_reading`):
 #: the refused face is a part of that face (a patch of a print, a panel or a band on it,
 #: whose edges are no face's sides and give the doubts). Of the 52 no-rig refusals on the
@@ -2452,7 +2470,14 @@ def _less_doubted_reading(
     chosen: Measurement | None = None
     chosen_conf = MIN_DOUBTED_CONFIDENCE
     for other in readings:
-        if other is best or not other.detected or not _same_face(best.box_px, other.box_px):
+        if (
+            other is best
+            or not other.detected
+            or not (
+                _same_face(best.box_px, other.box_px)
+                or (LOWER_TOP_READING and _lower_top_reading(best, other))
+            )
+        ):
             continue
         own = set(other.doubts)
         if not own < face or own & FOOT_DOUBTS:
@@ -2462,6 +2487,22 @@ def _less_doubted_reading(
         if conf >= chosen_conf and stands(other):
             chosen, chosen_conf = again, conf
     return chosen
+
+
+def _lower_top_reading(best: Measurement, other: Measurement) -> bool:
+    """Whether ``other`` (another no-rig trial's reading) reads ``best``'s face with its top
+    lower: the same foot and sides (each within LOWER_TOP_EDGE_PX), its top at least
+    LOWER_TOP_MIN_PX under ``best``'s, ``best``'s top edge doubted by one of
+    TOP_EDGE_DOUBTS and ``other``'s by none (LOWER_TOP_READING)."""
+    box, low = best.box_px, other.box_px
+    if box is None or low is None:
+        return False
+    return (
+        all(abs(box[i] - low[i]) <= LOWER_TOP_EDGE_PX for i in (0, 2, 3))
+        and low[1] - box[1] >= LOWER_TOP_MIN_PX
+        and bool(TOP_EDGE_DOUBTS & set(best.doubts))
+        and not TOP_EDGE_DOUBTS & set(other.doubts)
+    )
 
 
 def _whole_face_reading(

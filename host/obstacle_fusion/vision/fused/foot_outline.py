@@ -103,6 +103,32 @@ WIDTH_TOP_SHARE = 0.1
 #: this is for were 30-90 % too narrow; procedural/2079 hard's tape box, widened 1.26
 #: times onto its blur, lost 4.6 points at 1.25).
 WIDTH_MIN_FACTOR = 1.4
+#: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor, one ending
+#: under the found top and the other running on past it, the face's top is lowered to
+#: where the shorter one ends (session 44, branch ``wt-e-44``, a switch): the face is one
+#: surface standing on the floor, each side parting it from what stands beside it from
+#: the floor up to its top; a side running on past the found top is something behind in
+#: line with it (a rocket in a photograph), up which the top was walked, and the other,
+#: ending under it with the colour stepping there across the face from side to side,
+#: ends at the face's top (photo 3214 hard +29 -> -3.0 %). A side standing up to the found
+#: top keeps it (procedural 3109 hard and 3165 ordinary: a brick face's side losing its
+#: colour step part of the way up, -19 % each, lowered); sides both ending under it
+#: lower nothing (fresh photo 2163 hard no rig: a dark frame against a dark background,
+#: both ending at the print's top inside it, -16 %; photo 3249 ordinary no rig, +31 %,
+#: stays: its sides end 82 and 104 rows up, the longer at the found top).
+TOP_WHERE_SIDES_END = True
+#: ... where the colour steps across that row along at least this share of the columns
+#: between the found sides (TOP_STEP_SHARE made stricter: the face's top, not a band on
+#: it; photo 3214 hard: 1.00) ...
+END_STEP_SHARE = 0.9
+#: ... more than this share of the found height (plus SIDE_AGREE_ROWS, the top's blur)
+#: under the found top, the longer side more than as much over it: WIDTH_TOP_SHARE, the
+#: width rule's "another top" (nearer, it is the
+#: found top read again, or a frame's margin of the background's colour over the print:
+#: at 0.05, procedural 137 ordinary's margin, 8 rows of 87, was cut off, 2.2 -> 6.0 %,
+#: while procedural 3237 ordinary, 9 rows of 90 up a wall of the face's colour, was fixed,
+#: +10.4 -> +0.6 %: the share cannot part the two).
+END_TOP_SHARE = 0.1
 
 
 def _rises(on: npt.NDArray[np.bool_], gap: int) -> npt.NDArray[np.intp]:
@@ -162,13 +188,19 @@ def grows_face(found: tuple[int, int, int, int], top: int, left: int, right: int
 
 
 def _top_across(
-    image: npt.NDArray[Any], view: View, end: int, left: int, right: int, gap: int
+    image: npt.NDArray[Any],
+    view: View,
+    end: int,
+    left: int,
+    right: int,
+    gap: int,
+    need: float | None = None,
 ) -> int | None:
     """The face's top near ``end``, where its sides' rises end: of the rows from there
     down to ``gap`` rows under it, the one across which the colour steps along the most of
     the columns between the sides (what is over the face differs from the face), if that
-    is at least TOP_STEP_SHARE of them; else None (the sides rose on into a textured
-    background, no top closes them)."""
+    is at least ``need`` of them (TOP_STEP_SHARE when None); else None (the sides rose on
+    into a textured background, no top closes them)."""
     far = TOP_STEP_ROWS[1]
     c0, c1 = left + SIDE_STRIP, right - SIDE_STRIP + 1
     r0, r1 = end - far, min(view.out.shape[0], end + gap + far + 1)
@@ -184,7 +216,37 @@ def _top_across(
         if across > best_share:
             best, best_share = row, across
     log.debug("foot outline: top %s from %d, steps across %.2f", best, end, best_share)
-    return best if best_share >= TOP_STEP_SHARE else None
+    return best if best_share >= (TOP_STEP_SHARE if need is None else need) else None
+
+
+def _top_where_sides_end(
+    image: npt.NDArray[Any],
+    view: View,
+    foot: int,
+    bottom: int,
+    top: int,
+    left: int,
+    right: int,
+    rises: tuple[int, int],
+    gap: int,
+) -> tuple[int, int, int, int] | None:
+    """The found face (``bottom``, ``top``, ``left``, ``right``) with its top lowered to
+    where the shorter of its sides' ``rises`` (rows up from the floor-contact row
+    ``foot``) ends, the colour stepping across there (:func:`_top_across`) along
+    END_STEP_SHARE of the columns between its sides, more than END_TOP_SHARE of its
+    height (plus SIDE_AGREE_ROWS) under its top, where the longer rise runs on past the
+    found top by more than that (TOP_WHERE_SIDES_END); else None."""
+    near = END_TOP_SHARE * (bottom - top) + SIDE_AGREE_ROWS
+    if top - (foot - 1 - max(rises)) <= near:
+        return None  # no side runs on past the found top: nothing behind it walked up
+    end = foot - 1 - min(rises)
+    if end - top <= near:
+        return None  # a side stands from the floor up to the found top: the top stands
+    found = _top_across(image, view, end, left, right, gap, END_STEP_SHARE)
+    if found is None or found - top <= near:
+        return None
+    log.debug("foot outline: the sides end at %d, under the found top %d", found, top)
+    return foot, found, left, right
 
 
 def outline_from_foot(
@@ -273,6 +335,12 @@ def outline_from_foot(
     log.debug(
         "foot outline: run %d-%d, sides %d (%d) %d (%d)", run_l, run_r, new_l, rise_l, new_r, rise_r
     )
+    if widened and TOP_WHERE_SIDES_END:
+        lowered = _top_where_sides_end(
+            image, view, foot, bottom, top, left, right, (rise_l, rise_r), rise_gap
+        )
+        if lowered is not None:
+            return lowered
     if abs(rise_l - rise_r) > SIDE_AGREE_SHARE * max(rise_l, rise_r) + SIDE_AGREE_ROWS:
         return None  # a level top: both sides end together
     new_top = _top_across(image, view, foot - 1 - min(rise_l, rise_r), new_l, new_r, rise_gap)

@@ -142,6 +142,12 @@ SETTLED_TOP_MOVE = 0.15
 #: The top is decided again between the settled sides for a face whose first top (decided
 #: between the search's sides) left it under the minimum confidence too (with the rig).
 SETTLED_REFUSED = True
+#: The top is not decided again between the settled sides where the face's top line
+#: crossing the search's pair gave it (extent.top_line_across): that line runs from side
+#: to side on one row, its ends at vertical edges standing from it down to the foot and
+#: not on above it, i.e. the front face's top edge; an edge decided higher up between the
+#: sides it gave is the background's in line with them (a tower behind a panel face).
+SETTLED_KEEPS_ACROSS = True
 #: A face the search's top refused is weighed again without its texture where a print of
 #: its own covers it (``Candidate.print_evidence``), with the rig, in the rescuing try.
 PRINT_EVIDENCE = True
@@ -1125,6 +1131,7 @@ class FusedMethod:
             floor_known
             and framed is None
             and (not refused or (SETTLED_REFUSED and rig_known and rescue))
+            and not (SETTLED_KEEPS_ACROSS and across is not None)
             and _moved(span, (ul, ur))
         ):
             # the top was decided between the search's sides; the face's sides settled
@@ -1277,7 +1284,8 @@ class FusedMethod:
         front, _ = front_top(self.view, depth, dy, bottom, left, right, top, noise)
         if front != top and looks_like_top_face(seen, self.view, top, front, left, right):
             log.debug("foot outline: top %d, a top face's back edge over the front %d", top, front)
-            if not grows_face((rb, vt, ul, ur), front, left, right):
+            # (an outline lowered to where the sides end grows nothing: taken as it is)
+            if top < vt and not grows_face((rb, vt, ul, ur), front, left, right):
                 return None
             top = front
         return bottom, top, left, right
