@@ -56,6 +56,16 @@ def test_a_band_near_the_top_is_the_background_seen_past_it() -> None:
     assert abs(lowered(img, TALL_TOP) - (TALL_TOP + 27)) <= 1
 
 
+@pytest.mark.parametrize(("start", "kept"), [(TALL_TOP + 23, True), (TALL_TOP + 22, False)])
+def test_the_share_on_drawn_bands(start: int, kept: bool) -> None:
+    # the rows read from 2 x STEP_BAND_ROWS' far rows past the top down to the lowered
+    # top: a band at +23 leaves 18 of 30 the face's (0.6, crossed), at +22 17 of 29
+    # (lowered onto the band's lower edge); a row more or fewer read at either end, or
+    # FACE_OVER_BAND_SHARE 0.61, turns one of them
+    got = lowered(banded(start), TALL_TOP)
+    assert got == TALL_TOP if kept else abs(got - (start + 12)) <= 1
+
+
 def test_an_object_behind_over_a_gap_is_no_face() -> None:
     # an object behind the face, in line with its sides, of another colour, over a gap of
     # the wall: the top comes down to the face as before

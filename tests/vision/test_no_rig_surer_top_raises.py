@@ -1,7 +1,8 @@
 """With no rig, an unsure answer gives way to the rows' face read as with a rig on the
-same foot and columns with its top higher, when that face is surer and at least
-GROWN_SURE, the answer found with little evidence (under GROWN_CONFIDENCE), and the rows
-it adds of the face's colour, its middle's or its margin's
+same foot and columns with its top higher, when that face is at least GROWN_SURE, the
+answer found with little evidence (its raw confidence under
+TOP_RAISE_MAX_FOUND_CONFIDENCE, which lies under GROWN_SURE), and the rows it adds, past
+both tops' blur, of the face's colour, its middle's or its margin's
 (``measure.SURER_TOP_RAISES``, ``measure._top_moves_up``,
 ``floor_contact.face_runs_above``): the face is one surface from its contact up to where
 its sides end, and the answer's top a line across it (a brick course) that the no-rig
@@ -19,7 +20,8 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused.floor_contact import face_runs_above
+from obstacle_fusion.vision.fused import floor_contact
+from obstacle_fusion.vision.fused.floor_contact import _face_middle, _inside_side, face_runs_above
 from obstacle_fusion.vision.measure import _top_moves_up
 from obstacle_fusion.vision.types import Measurement
 
@@ -71,21 +73,32 @@ def test_the_limits(
     assert _top_moves_up(_face(FOUND, 0.1), _face(grown, conf, lens)) is raises
 
 
-def test_the_face_read_must_be_surer() -> None:
+def test_the_face_read_is_the_surer() -> None:
+    # the rows' face is at least GROWN_SURE and the answer under
+    # TOP_RAISE_MAX_FOUND_CONFIDENCE, which lies under it: no separate "surer" check
+    assert measure.TOP_RAISE_MAX_FOUND_CONFIDENCE < measure.GROWN_SURE
     grown = (100.0, 80.0, 200.0, 150.0)
-    assert not _top_moves_up(_face(FOUND, 0.15), _face(grown, 0.15))
-    assert _top_moves_up(_face(FOUND, 0.15), _face(grown, 0.36))
-    assert not _top_moves_up(_face(FOUND, 0.15), _face(grown, 0.349))
+    assert _top_moves_up(_face(FOUND, 0.199), _face(grown, 0.35))
     # and a lower top never raises it
     assert not _top_moves_up(_face(grown, 0.1), _face(FOUND, 0.5))
 
 
 @pytest.mark.parametrize(("found", "raises"), [(0.199, True), (0.2, False)])
 def test_only_an_answer_found_with_little_evidence(found: float, raises: bool) -> None:
-    # GROWN_CONFIDENCE 0.2: a surer answer's top edge held (procedural 145 hard, 0.31:
-    # the rows' top 3 rows higher, on what stands behind, 0.6 -> 11 %)
+    # TOP_RAISE_MAX_FOUND_CONFIDENCE 0.2 on the raw confidence: a surer answer's top edge
+    # held (procedural 145 hard, 0.31: the rows' top 3 rows higher, on what stands
+    # behind, 0.6 -> 11 %)
     grown = (100.0, 80.0, 200.0, 150.0)
     assert _top_moves_up(_face(FOUND, found), _face(grown, 0.9)) is raises
+
+
+def test_the_limit_is_its_own(monkeypatch: pytest.MonkeyPatch) -> None:
+    # GROWN_CONFIDENCE (a limit on the reported confidence) does not set it
+    monkeypatch.setattr(measure, "GROWN_CONFIDENCE", 0.1)
+    grown = (100.0, 80.0, 200.0, 150.0)
+    assert _top_moves_up(_face(FOUND, 0.15), _face(grown, 0.9))
+    monkeypatch.setattr(measure, "TOP_RAISE_MAX_FOUND_CONFIDENCE", 0.15)
+    assert not _top_moves_up(_face(FOUND, 0.15), _face(grown, 0.9))
 
 
 def test_a_surer_answer_keeps_its_top() -> None:
@@ -118,6 +131,16 @@ def _scene(
     return img
 
 
+def _blurred(top: int) -> npt.NDArray[np.uint8]:
+    """_scene's face read up to ``top`` with the RUN_UP_SKIP_PX (3) rows next to each top
+    the wall's grey (the tops' blur) and the rows between the face's."""
+    img = _scene(120)
+    img[:top, 100:200] = WALL_GREY
+    img[top : top + 3, 100:200] = WALL_GREY
+    img[97:100, 100:200] = WALL_GREY
+    return img
+
+
 @pytest.mark.parametrize(("added", "runs"), [(135, True), (136, False)])
 def test_the_added_rows_colour_match(added: int, runs: bool) -> None:
     # RAISED_COLOUR_MATCH 15 (8-bit Lab: greys 135 and 136 are 15 and 16 over 120)
@@ -125,11 +148,49 @@ def test_the_added_rows_colour_match(added: int, runs: bool) -> None:
     assert face_runs_above(img, FOUND, (100.0, 80.0, 200.0, 150.0)) is runs
 
 
-@pytest.mark.parametrize(("top", "runs"), [(96.0, True), (96.1, False)])
+@pytest.mark.parametrize(("top", "runs"), [(90.0, True), (90.1, False)])
 def test_the_rows_added(top: float, runs: bool) -> None:
-    # RAISED_MIN_ROWS 4: fewer are the top's blur
+    # MIN_ABOVE_PX 4 rows past both tops' blur (RUN_UP_SKIP_PX 3 at each): 10 rows added
     img = _scene(120)
     assert face_runs_above(img, FOUND, (100.0, top, 200.0, 150.0)) is runs
+
+
+def test_the_tops_blur_is_left_out(monkeypatch: pytest.MonkeyPatch) -> None:
+    # 10 rows added, the 3 next to each top the wall's grey: the 4 between are the face's
+    raised = (100.0, 90.0, 200.0, 150.0)
+    assert face_runs_above(_blurred(90), FOUND, raised)
+    # read with the blur (6 of the 10 rows the wall's), the rows seem no colour of the face
+    monkeypatch.setattr(floor_contact, "RUN_UP_SKIP_PX", 0)
+    assert not face_runs_above(_blurred(90), FOUND, raised)
+
+
+def test_the_middle_read() -> None:
+    # MIDDLE_SHARE 0.2 of the width from each side: columns 120-179 of a face at 100-200;
+    # a column more or fewer at either side changes the count
+    img = _scene(120)
+    img[100:150, 119] = img[100:150, 180] = 0
+    px = _face_middle(img, 100, 150, 100.0, 200.0)
+    assert px.shape == (50 * 60, 3)
+    assert np.ptp(px, axis=0).max() == 0  # none of the black columns beside it
+
+
+@pytest.mark.parametrize("k", [0, 1])
+def test_the_strips_inside_the_sides(k: int) -> None:
+    # RUN_UP_COLUMNS (2, 8) inward from each side: columns 102-107 inside the left side at
+    # 100, 192-197 inside the right at 200; the columns just past them are black
+    img = _scene(120)
+    img[100:150, [101, 108, 191, 198]] = 0
+    px = _inside_side(img, 100, 150, (100.0, 200.0)[k], k)
+    assert px.shape == (50 * 6, 3)
+    assert np.ptp(px, axis=0).max() == 0
+
+
+def test_a_frame_exactly_as_wide_as_the_strips() -> None:
+    # a print (grey 60) in a frame (grey 160) 8 columns wide, as far in as the strips
+    # reach, the rows over it the frame's: the strips read the frame alone
+    img = _scene(160, face=60)
+    img[100:150, 100:108] = img[100:150, 192:200] = 160
+    assert face_runs_above(img, FOUND, (100.0, 80.0, 200.0, 150.0))
 
 
 def test_a_frames_margin_is_the_faces_colour() -> None:

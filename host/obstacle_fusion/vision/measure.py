@@ -1927,18 +1927,23 @@ HELD_BY_MARGIN = True
 #: lower edge under the contact (procedural 750 hard, photo 2056 hard: 3-4 rows low,
 #: +9 %). Session 40, branch ``wt-e-40``; a switch for the tests.
 SURER_FOOT_RAISES = True
-#: With no rig, an unsure answer found with little evidence (under GROWN_CONFIDENCE, as a
-#: small face that grows) gives way likewise to the rows' face on the same foot (within
-#: ROW_JITTER_PX) and columns (LOWER_FOOT_SIDES_SHARE) with its top more than
-#: ROW_JITTER_PX rows higher (:func:`_top_moves_up`), when that face is surer than the
-#: answer, at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up: the face is
-#: one surface from its contact up to where its sides end, and the answer's top a line
-#: across it (a brick course, a tape, a row of text) that the no-rig trials, which leave
-#: the rig's walks up the sides out, stopped at. An answer surer than that is a face whose
-#: top edge held (procedural 145 hard, 108 ordinary: 0.31 and 0.63, the rows' top 3-5
-#: rows higher on what stands behind or a top face, 0.6 -> 8-11 %). Session 44, branch
-#: ``wt-d-44``; a switch for the tests.
+#: With no rig, an unsure answer found with little evidence (TOP_RAISE_MAX_FOUND_CONFIDENCE)
+#: gives way likewise to the rows' face on the same foot (within ROW_JITTER_PX) and
+#: columns (LOWER_FOOT_SIDES_SHARE) with its top more than ROW_JITTER_PX rows higher
+#: (:func:`_top_moves_up`), when that face is at least GROWN_SURE (so surer than the
+#: answer), its lens at most UNDER_MAX_CAMERA_HEIGHT_M up, and the rows it adds the face's
+#: colour (:func:`face_runs_above`): the face is one surface from its contact up to where
+#: its sides end, and the answer's top a line across it (a brick course, a tape, a row of
+#: text) that the no-rig trials, which leave the rig's walks up the sides out, stopped at.
+#: Session 44, branch ``wt-d-44``; a switch for the tests.
 SURER_TOP_RAISES = True
+#: ... only for an answer whose raw confidence (as measured, before the no-rig doubts are
+#: applied; GROWN_CONFIDENCE is a limit on the reported one) is under this: an answer
+#: surer than that is a face whose top edge held (procedural 145 hard, 108 ordinary: 0.31
+#: and 0.63, the rows' top 3-5 rows higher on what stands behind or a top face, 0.6 ->
+#: 8-11 %). It lies under GROWN_SURE (asserted below): the rows' face taken is the surer.
+TOP_RAISE_MAX_FOUND_CONFIDENCE = 0.2
+assert TOP_RAISE_MAX_FOUND_CONFIDENCE < GROWN_SURE
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -2652,14 +2657,31 @@ def _foot_moves_down(found: Measurement, grown: Measurement) -> bool:
     foot found off the floor is a line on the face (a print's lower edge, a band)."""
     if FOOT_OFF_FLOOR not in found.doubts or found.box_px is None or grown.box_px is None:
         return False
-    x0, y0, x1, y1 = found.box_px
-    g0, gy0, g1, gy1 = grown.box_px
-    overlap = min(x1, g1) - max(x0, g0)
+    _, y0, _, y1 = found.box_px
+    _, gy0, _, gy1 = grown.box_px
     return (
         gy1 - y1 > ROW_JITTER_PX
         and gy0 - y0 <= ROW_JITTER_PX
-        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
-        and (grown.confidence or 0.0) >= UNDER_SURE
+        and _rows_face_on_columns(found.box_px, grown, UNDER_SURE)
+    )
+
+
+def _rows_face_on_columns(
+    found: tuple[float, float, float, float], grown: Measurement, sure: float
+) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig) stands on ``found``'s columns
+    (input pixel boxes), overlapping by LOWER_FOOT_SIDES_SHARE of the wider of the two (no
+    narrower face takes the width: a plank of the face), at least ``sure`` and its lens at
+    most UNDER_MAX_CAMERA_HEIGHT_M up: the checks the rows' face moving a found face's foot
+    or top (:func:`_foot_moves_down`, :func:`_foot_moves_up`, :func:`_top_moves_up`) share."""
+    if grown.box_px is None:
+        return False
+    x0, _, x1, _ = found
+    g0, _, g1, _ = grown.box_px
+    overlap = min(x1, g1) - max(x0, g0)
+    return (
+        overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
+        and (grown.confidence or 0.0) >= sure
         and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
     )
 
@@ -2710,40 +2732,34 @@ def _foot_moves_up(found: Measurement, grown: Measurement) -> bool:
     in, is a shadow's or a bevel's."""
     if found.box_px is None or grown.box_px is None:
         return False
-    x0, y0, x1, y1 = found.box_px
-    g0, gy0, g1, gy1 = grown.box_px
-    overlap = min(x1, g1) - max(x0, g0)
+    _, y0, _, y1 = found.box_px
+    _, gy0, _, gy1 = grown.box_px
     return (
         ROW_JITTER_PX < y1 - gy1 <= UNDER_ROWS_SLACK_PX
         and abs(gy0 - y0) <= ROW_JITTER_PX
-        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
         and (grown.confidence or 0.0) > (found.confidence or 0.0)
-        and (grown.confidence or 0.0) >= UNDER_SURE
-        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+        and _rows_face_on_columns(found.box_px, grown, UNDER_SURE)
     )
 
 
 def _top_moves_up(found: Measurement, grown: Measurement) -> bool:
     """Whether ``grown`` (the rows' face read as with a rig) is ``found`` up to its top: its
     foot within ROW_JITTER_PX of ``found``'s, its top more than ROW_JITTER_PX rows higher,
-    the two faces' columns overlapping by LOWER_FOOT_SIDES_SHARE of the wider, surer than
-    ``found`` and at least GROWN_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up, and
-    ``found`` found with little evidence (under GROWN_CONFIDENCE). The
-    face is one surface standing on that contact between those sides; the rows read it up
-    to where its sides end, the no-rig trials stopped at a line across it."""
+    on ``found``'s columns at least GROWN_SURE with its lens at most
+    UNDER_MAX_CAMERA_HEIGHT_M up (:func:`_rows_face_on_columns`), and ``found`` found with
+    little evidence (its raw confidence under TOP_RAISE_MAX_FOUND_CONFIDENCE, which lies
+    under GROWN_SURE: the rows' face is the surer). The face is one surface standing on
+    that contact between those sides; the rows read it up to where its sides end, the
+    no-rig trials stopped at a line across it."""
     if found.box_px is None or grown.box_px is None:
         return False
-    x0, y0, x1, y1 = found.box_px
-    g0, gy0, g1, gy1 = grown.box_px
-    overlap = min(x1, g1) - max(x0, g0)
+    _, y0, _, y1 = found.box_px
+    _, gy0, _, gy1 = grown.box_px
     return (
         abs(gy1 - y1) <= ROW_JITTER_PX
         and y0 - gy0 > ROW_JITTER_PX
-        and overlap >= LOWER_FOOT_SIDES_SHARE * max(x1 - x0, g1 - g0)
-        and (found.confidence or 0.0) < GROWN_CONFIDENCE
-        and (grown.confidence or 0.0) > (found.confidence or 0.0)
-        and (grown.confidence or 0.0) >= GROWN_SURE
-        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+        and (found.confidence or 0.0) < TOP_RAISE_MAX_FOUND_CONFIDENCE
+        and _rows_face_on_columns(found.box_px, grown, GROWN_SURE)
     )
 
 

@@ -215,7 +215,8 @@ RUN_UP_SKIP_PX = 3
 #: ... and the strip just inside one side (pixels inward, from, to) has the same colour
 #: above the short top as below it, median Lab within RUN_UP_MATCH (the full faces taken
 #: on the fresh photo rooms: 1.0-7.0 on the nearer side; a print on the wall in line with
-#: a planked box's sides, photo 1065: 30.5).
+#: a planked box's sides, photo 1065: 30.5). The same strips and match judge the rows a
+#: face read higher adds (:func:`face_runs_above`).
 RUN_UP_COLUMNS = (2, 8)
 RUN_UP_MATCH = 15.0
 
@@ -323,25 +324,45 @@ def _sides_step_on(
 def _margin_runs_up(
     image: npt.NDArray[np.uint8], lines: list[tuple[float, float, float, float]], short_top: float
 ) -> bool:
-    """Whether the strip just inside one of a face's sides (RUN_UP_COLUMNS) has the same
-    colour (median Lab within RUN_UP_MATCH) above a shorter reading's top ``short_top`` as
-    below it: the face's own colour or margin runs on past that line. A box under a print
-    on the wall in line with its sides has the print's colour above its top on both sides.
-    A grey image tells no colours apart: False."""
+    """Whether the strip just inside one of a face's sides (:func:`_inside_side`) has the
+    same colour (:func:`_colour_runs_on`) above a shorter reading's top ``short_top`` as
+    below it (each past the tops' and the foot's blur, RUN_UP_SKIP_PX): the face's own
+    colour or margin runs on past that line. A box under a print on the wall in line with
+    its sides has the print's colour above its top on both sides. A grey image tells no
+    colours apart: False."""
     if image.ndim != 3:
         return False
-    a, z = RUN_UP_COLUMNS
     for k, side in enumerate(lines[2:4]):
         x = 0.5 * (side[0] + side[2])
         foot, top = max(side[1], side[3]), min(side[1], side[3])
-        x0, x1 = (x + a, x + z) if k == 0 else (x - z, x - a)
-        above = _lab_pixels(image, top + RUN_UP_SKIP_PX, short_top - RUN_UP_SKIP_PX, x0, x1)
-        below = _lab_pixels(image, short_top + RUN_UP_SKIP_PX, foot - RUN_UP_SKIP_PX, x0, x1)
-        if len(above) and len(below):
-            apart = np.linalg.norm(np.median(above, axis=0) - np.median(below, axis=0))
-            if apart <= RUN_UP_MATCH:
-                return True
+        above = _inside_side(image, top + RUN_UP_SKIP_PX, short_top - RUN_UP_SKIP_PX, x, k)
+        below = _inside_side(image, short_top + RUN_UP_SKIP_PX, foot - RUN_UP_SKIP_PX, x, k)
+        if _colour_runs_on(above, [below]):
+            return True
     return False
+
+
+def _inside_side(
+    image: npt.NDArray[np.uint8], y0: float, y1: float, x: float, k: int
+) -> npt.NDArray[np.float32]:
+    """The Lab pixels of the strip just inside a side at column ``x`` (``k`` 0 the left
+    side, 1 the right; RUN_UP_COLUMNS inward) over the rows ``y0`` to ``y1``."""
+    a, z = RUN_UP_COLUMNS
+    x0, x1 = (x + a, x + z) if k == 0 else (x - z, x - a)
+    return _lab_pixels(image, y0, y1, x0, x1)
+
+
+def _colour_runs_on(above: npt.NDArray[np.float32], below: list[npt.NDArray[np.float32]]) -> bool:
+    """Whether the pixels ``above`` a line across a face have the colour (median Lab within
+    RUN_UP_MATCH) of any of the reads ``below`` it: the face's own colour (or its margin's)
+    runs on past that line. False where a read holds no pixel."""
+    if not len(above):
+        return False
+    a_m = np.median(above, axis=0)
+    return any(
+        len(px) and float(np.linalg.norm(a_m - np.median(px, axis=0))) <= RUN_UP_MATCH
+        for px in below
+    )
 
 
 #: A face found on a lower row covers one found higher when its sides lie within this
@@ -364,7 +385,13 @@ MARGIN_COLUMNS = (2, 6)
 #: MIN_ABOVE_PX above the higher face's, the rows between them the strip's colour (and
 #: apart from the floor's, as the margin beside must be).
 MARGIN_ABOVE_PRINT = True
+#: ... (and a face read higher adds at least this many rows past both tops' blur,
+#: RUN_UP_SKIP_PX at each, to read its colour on: :func:`face_runs_above`).
 MIN_ABOVE_PX = 4
+#: A face's middle read over the columns past this share of its width from each side (the
+#: strip between two feet and the rows above a print, :func:`face_runs_below`; the rows a
+#: face read higher adds, :func:`face_runs_above`).
+MIDDLE_SHARE = 0.2
 
 
 def _lab_pixels(
@@ -378,6 +405,15 @@ def _lab_pixels(
         return np.zeros((0, 3), np.float32)
     lab = cv2.cvtColor(np.ascontiguousarray(image[r0:r1, c0:c1]), cv2.COLOR_BGR2Lab)
     return lab.reshape(-1, 3).astype(np.float32)
+
+
+def _face_middle(
+    image: npt.NDArray[np.uint8], y0: float, y1: float, left: float, right: float
+) -> npt.NDArray[np.float32]:
+    """The Lab pixels of a face's middle (past MIDDLE_SHARE of its width from each side,
+    ``left`` to ``right``) over the rows ``y0`` to ``y1``."""
+    w = right - left
+    return _lab_pixels(image, y0, y1, left + MIDDLE_SHARE * w, right - MIDDLE_SHARE * w)
 
 
 def face_runs_below(
@@ -404,7 +440,7 @@ def face_runs_below(
         return False
     a, z = MARGIN_COLUMNS
     mid = 0.5 * (top + foot)
-    strip = _lab_pixels(image, foot + 2, low_foot - 1, left + 0.2 * w, right - 0.2 * w)
+    strip = _face_middle(image, foot + 2, low_foot - 1, left, right)
     margin = np.vstack(
         [
             _lab_pixels(image, mid, foot, x0, x1)
@@ -430,7 +466,7 @@ def face_runs_below(
     low_top = lower[1]
     if top - low_top < MIN_ABOVE_PX:
         return False
-    above = _lab_pixels(image, low_top + 2, top - 1, left + 0.2 * w, right - 0.2 * w)
+    above = _face_middle(image, low_top + 2, top - 1, left, right)
     if not len(above):
         return False
     a_m = np.median(above, axis=0)
@@ -440,50 +476,31 @@ def face_runs_below(
     )
 
 
-#: A face read up past a found top (:func:`face_runs_above`) adds at least this many rows
-#: (fewer are the top's own blur, no colour to read) ...
-RAISED_MIN_ROWS = 4
-#: ... of a colour (median Lab) at most this far from the found face's middle or from the
-#: strips just inside its sides (its margin, a frame round a print) ...
-RAISED_COLOUR_MATCH = 15.0
-#: ... the middle read over the columns past this share of the width from each side ...
-RAISED_MIDDLE_SHARE = 0.2
-#: ... and the strips just inside each side over these pixels from it (from, to).
-RAISED_SIDE_COLUMNS = (2, 8)
-
-
 def face_runs_above(
     image: npt.NDArray[np.uint8],
     found: tuple[float, float, float, float],
     raised: tuple[float, float, float, float],
 ) -> bool:
     """Whether the rows a face read higher (``raised``, input pixel boxes x0, y0, x1, y1)
-    adds over ``found``'s top are ``found``'s own surface: at least RAISED_MIN_ROWS of
-    them, their middle's colour within RAISED_COLOUR_MATCH of ``found``'s middle or of the
-    strips just inside its sides. The face is one surface up to its top: over a line
-    across it (a brick course, a tape) it goes on in its colour, a frame round a print in
-    its margin's, while a top read on what stands behind it adds the background's colour
-    (a wall seen above the face). A grey image tells no colours apart: False."""
+    adds over ``found``'s top are ``found``'s own surface: past both tops' blur
+    (RUN_UP_SKIP_PX at each) at least MIN_ABOVE_PX rows, their middle's colour
+    (:func:`_face_middle`) running on (:func:`_colour_runs_on`, RUN_UP_MATCH) from
+    ``found``'s middle or from the strips just inside its sides (:func:`_inside_side`),
+    each read past ``found``'s top and foot blur. The face is one surface up to its top:
+    over a line across it (a brick course, a tape) it goes on in its colour, a frame round
+    a print in its margin's, while a top read on what stands behind it adds the
+    background's colour (a wall seen above the face). A grey image tells no colours
+    apart: False."""
     if image.ndim != 3:
         return False
     x0, y0, x1, y1 = found
-    top = raised[1]
-    w = x1 - x0
-    if w <= 0 or y0 - top < RAISED_MIN_ROWS:
+    hi, lo = raised[1] + RUN_UP_SKIP_PX, y0 - RUN_UP_SKIP_PX
+    if x1 <= x0 or lo - hi < MIN_ABOVE_PX:
         return False
-    m0, m1 = x0 + RAISED_MIDDLE_SHARE * w, x1 - RAISED_MIDDLE_SHARE * w
-    added = _lab_pixels(image, top, y0, m0, m1)
-    middle = _lab_pixels(image, y0, y1, m0, m1)
-    a, z = RAISED_SIDE_COLUMNS
-    sides = np.vstack(
-        [_lab_pixels(image, y0, y1, x0 + a, x0 + z), _lab_pixels(image, y0, y1, x1 - z, x1 - a)]
-    )
-    if not (len(added) and len(middle) and len(sides)):
-        return False
-    a_m = np.median(added, axis=0)
-    return bool(
-        min(np.linalg.norm(a_m - np.median(px, axis=0)) for px in (middle, sides))
-        <= RAISED_COLOUR_MATCH
+    f0, f1 = y0 + RUN_UP_SKIP_PX, y1 - RUN_UP_SKIP_PX
+    sides = np.vstack([_inside_side(image, f0, f1, x, k) for k, x in enumerate((x0, x1))])
+    return _colour_runs_on(
+        _face_middle(image, hi, lo, x0, x1), [_face_middle(image, f0, f1, x0, x1), sides]
     )
 
 
