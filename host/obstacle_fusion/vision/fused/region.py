@@ -177,8 +177,11 @@ RISE_FACE_APART = 25.0
 #: face, not its own part, even where what lies beyond the side differs (another object
 #: standing farther back, whose edge stopped the walk): the face's top edge spans the
 #: face from side to side and parts its own columns from what is over them; beside the
-#: face nothing parts the rows under the top's row from those over it. Rows read over the
-#: top: RISE_OVER_ROWS, RISE_SKIP clear of the top's blur.
+#: face nothing parts the rows under the top's row from those over it. Only where the
+#: strip is not one surface from its foot up (its foot more than RISE_NEAR from its upper
+#: rows): a margin of the face's round a print shows over the print's top too, and stands
+#: from the foot up in one colour (procedural/711 hard, no rig). Rows read over the top:
+#: RISE_OVER_ROWS, RISE_SKIP clear of the top's blur.
 RISES_OVER_TOP = True
 RISE_OVER_ROWS = 6
 #: Columns a side that does not rise is brought back by at a time (within SNAP_COLUMNS of
@@ -317,6 +320,10 @@ def widen_by_colour(
         floorlike[:] = False
         if shadow and not chroma and CORE_SHADOW_FOOT:
             shade = shadow_columns(foot, floor)
+            # ... a shade the room's diffuse light leaves at least CORE_SHADOW_LIGHT of the
+            # floor's lightness: a near-black print's part at the foot (a helmet, a dark
+            # line) keeps too little chroma to tell from the floor's shade
+            shade &= foot[:, 0] >= CORE_SHADOW_LIGHT * floor[:, 0]
             floor_ref = median_of(floor[seed], axis=0)
             if share(shade[seed]) <= MAX_FLOORLIKE_FOOT and not _shadow_of(ref, floor_ref):
                 floorlike = shade
@@ -577,13 +584,7 @@ def _rises_as_face(
         return True  # nothing to read: the walk's side stands
     inside, beyond, face_colour = colours
     like_beyond = float(norm(inside - beyond)) <= RISE_NEAR
-    if RISES_OVER_TOP and not like_beyond:
-        over = _over_top_colour(image, view, top, inner)
-        if over is not None:
-            like_beyond = float(norm(inside - over)) <= RISE_NEAR
     unlike_face = float(norm(inside - face_colour)) >= RISE_FACE_APART
-    if not (like_beyond and unlike_face):
-        return True
     # the strip's foot (just above the contact row) against the floor just below it
     f0, f1 = bottom - EDGE_SKIP - FOOT_ROWS, bottom - EDGE_SKIP
     g0, g1 = (
@@ -593,6 +594,17 @@ def _rises_as_face(
     if f0 < 0 or g1 <= g0:
         return True
     foot = median_of(_lab8(image, view, f0, f1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
+    if RISES_OVER_TOP and unlike_face and not like_beyond:
+        # what is over the top shows in the strip up there, and the strip is not one
+        # surface from its foot up (a margin framing a print is: it stands)
+        over = _over_top_colour(image, view, top, inner)
+        like_beyond = (
+            over is not None
+            and float(norm(inside - over)) <= RISE_NEAR
+            and float(norm(inside - foot)) > RISE_NEAR
+        )
+    if not (like_beyond and unlike_face):
+        return True
     floor = median_of(_lab8(image, view, g0, g1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
     return float(norm(foot[1:] - floor[1:])) > FLOOR_CHROMA_FAR
 
@@ -3365,6 +3377,13 @@ FULL_SIDE_STEP = 30.0
 #: face's own colour is no such shade of the floor (the core walk reads no floor chroma
 #: else: a tape's or a label's colour in the core may be the floor's).
 CORE_SHADOW_FOOT = True
+#: ... a shade keeping at least this share of the floor's lightness (Lab L, 8-bit): the
+#: room's diffuse light still reaches the floor in a box's shadow (shadows read on the
+#: rooms 0.6-0.85 of the floor's L); a foot darker than that is no shade the hue test can
+#: tell from a dark print's part (photo/2034 hard: a black helmet on a poster's foot over
+#: a dark blue floor, 0.31-0.43, read as the floor's shade).
+CORE_SHADOW_LIGHT = 0.5
+CORE_SHADOW_NO_RIG = False
 
 
 #: The colour face's sides, walked along its foot from the beam's core, rise as the face's
@@ -3433,7 +3452,7 @@ def face_from_colour(
         c1,
         depth_m,
         chroma=False,
-        shadow=True,
+        shadow=clip or CORE_SHADOW_NO_RIG,
     )
     if right - left < 2 * SIDE_SKIP + 6:
         return None
@@ -3574,6 +3593,10 @@ MARGIN_MIN_ROWS = 2
 MARGIN_SIDES_IN = True
 MARGIN_IN_MIN_SHARE = 0.1
 MARGIN_IN_FLOOR = 12.0
+#: ... and at least this share of those columns off the margin's colour (a seam across
+#: the margin ends its run, the margin resumes past it: procedural/2090 hard, a face of
+#: the floor's colour whose seam stopped the run, cut to its left part without it).
+MARGIN_IN_OFF_SHARE = 0.7
 #: Rows read under the foot for the floor (EDGE_SKIP clear of the foot's blur).
 MARGIN_IN_FLOOR_ROWS = FLOOR_BAND_ROWS
 
@@ -3610,6 +3633,9 @@ def _margin_side_in(
         a, b = sorted((end + step * (MARGIN_GAP + 1), side))
         if b - a < SNAP_COLUMNS:
             out.append(side)
+            continue
+        if share(~np.asarray(on[a - c0 : b - c0 + 1])) < MARGIN_IN_OFF_SHARE:
+            out.append(side)  # the margin resumes past a seam: its end is no side
             continue
         below = _band(image, view, g0, g1, a, b + 1)
         floor = median_of(below.reshape(-1, 3), axis=0)
