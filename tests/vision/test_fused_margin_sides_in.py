@@ -136,3 +136,17 @@ def test_the_room_is_measured_to_the_faces_sides() -> None:
 def test_without_the_rule_the_room_is_wide(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "MARGIN_SIDES_IN", False)
     assert room_size_errors("photo", 3218, True)[1] > 0.4
+
+
+@pytest.mark.parametrize(("patch", "cut"), [(20, True), (22, False)])
+def test_a_margin_resuming_past_a_gap_is_no_end(patch: int, cut: bool) -> None:
+    """Past the margin's end (column 198, its last column blurred off) the margin's
+    colour shows again over ``patch`` columns (``patch`` - 2 of them read as the margin's
+    after the blur) of the 60 from 201 to the side: 20 leaves 42 of 60 off the margin,
+    MARGIN_IN_OFF_SHARE (0.7), and the side comes in; 22 leaves 40: the margin resumes
+    past a seam, its run's end is no side (the floor's median still under the limit)."""
+    img = scene(can=False).astype(np.float64)
+    img[P_BOTTOM:BOTTOM, 230 : 230 + patch] = FACE
+    sides = walk(np.clip(img, 0, 255).astype(np.uint8))
+    assert sides is not None
+    assert (sides[1] < CAN_RIGHT) is cut

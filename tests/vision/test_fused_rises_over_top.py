@@ -115,3 +115,18 @@ def test_the_room_is_measured_to_the_faces_sides(with_rig: bool) -> None:
 def test_without_the_rule_the_room_is_wide(with_rig: bool, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "RISES_OVER_TOP", False)
     assert room_size_errors("photo", 3216, True, with_rig=with_rig)[1] > 0.3
+
+
+@pytest.mark.parametrize(
+    ("family", "seed", "hard"), [("procedural", 711, True), ("procedural", 2022, False)]
+)
+def test_a_strip_of_one_surface_from_its_foot_up_stands(
+    family: str, seed: int, hard: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Procedural 711 (hard) and 2022 (ordinary), no rig: a print in a margin of the face's
+    own colour, the core walk's top the print's; the margin beside the print shows over
+    the print's top too, but it is one colour from its foot up (RISES_OVER_ONE_SURFACE):
+    it stands. Without that guard the sides come in to the print's: -20 % and -10 %."""
+    assert max(room_size_errors(family, seed, hard, with_rig=False)) < 0.02
+    monkeypatch.setattr(region, "RISES_OVER_ONE_SURFACE", False)
+    assert max(room_size_errors(family, seed, hard, with_rig=False)) > 0.08

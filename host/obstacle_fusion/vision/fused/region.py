@@ -183,6 +183,7 @@ RISE_FACE_APART = 25.0
 #: from the foot up in one colour (procedural/711 hard, no rig). Rows read over the top:
 #: RISE_OVER_ROWS, RISE_SKIP clear of the top's blur.
 RISES_OVER_TOP = True
+RISES_OVER_ONE_SURFACE = True
 RISE_OVER_ROWS = 6
 #: Columns a side that does not rise is brought back by at a time (within SNAP_COLUMNS of
 #: the strongest edge each time).
@@ -601,7 +602,7 @@ def _rises_as_face(
         like_beyond = (
             over is not None
             and float(norm(inside - over)) <= RISE_NEAR
-            and float(norm(inside - foot)) > RISE_NEAR
+            and (not RISES_OVER_ONE_SURFACE or float(norm(inside - foot)) > RISE_NEAR)
         )
     if not (like_beyond and unlike_face):
         return True
