@@ -5,7 +5,7 @@ colour finds when that one is surer and at least twice as high."""
 from __future__ import annotations
 
 import pytest
-from obstacle_fusion.vision.fused import foot_outline, method
+from obstacle_fusion.vision.fused import foot_outline, method, region
 
 from tests.vision_fixtures import room_size_errors as _errors
 
@@ -30,6 +30,9 @@ def test_the_colour_face_replaces_a_thin_strip_at_its_foot(seed: int) -> None:
 @pytest.mark.parametrize("seed", [1199, 1331])
 def test_without_the_rule_the_strip_is_measured(monkeypatch: pytest.MonkeyPatch, seed: int) -> None:
     monkeypatch.setattr(method, "THIN_STRIP_MAX_CONFIDENCE", 0.0)
+    # (session 44: region.MARGIN_SIDES_IN reads procedural 1199 within 1 % without this
+    # rule, the outline round the strip brought in to the face's margin; off here too)
+    monkeypatch.setattr(region, "MARGIN_SIDES_IN", False)
     eh, _ = _errors("procedural", seed, False)
     assert eh > 0.25
 

@@ -172,6 +172,19 @@ RISE_SKIP = 2
 RISE_BAND = 7
 RISE_NEAR = 10.0
 RISE_FACE_APART = 25.0
+#: A strip the walk took in that is, in the face's upper rows, the colour of the same
+#: columns just over the face's top (within RISE_NEAR) is the background seen beside the
+#: face, not its own part, even where what lies beyond the side differs (another object
+#: standing farther back, whose edge stopped the walk): the face's top edge spans the
+#: face from side to side and parts its own columns from what is over them; beside the
+#: face nothing parts the rows under the top's row from those over it. Only where the
+#: strip is not one surface from its foot up (its foot more than RISE_NEAR from its upper
+#: rows): a margin of the face's round a print shows over the print's top too, and stands
+#: from the foot up in one colour (procedural/711 hard, no rig). Rows read over the top:
+#: RISE_OVER_ROWS, RISE_SKIP clear of the top's blur.
+RISES_OVER_TOP = True
+RISES_OVER_ONE_SURFACE = True
+RISE_OVER_ROWS = 6
 #: Columns a side that does not rise is brought back by at a time (within SNAP_COLUMNS of
 #: the strongest edge each time).
 RISE_BACK = SNAP_COLUMNS
@@ -240,8 +253,12 @@ def widen_by_colour(
     foot_above: bool = False,
     rising_kept: bool = False,
     outline_past: bool = False,
+    shadow: bool = False,
 ) -> tuple[int, int]:
     """The face's sides, moved out to where its colour along its foot ends.
+
+    ``shadow`` (with ``chroma`` off, from the beam's core): no side moves out over a foot
+    in the floor's shadow where the face's own colour is no such shade (CORE_SHADOW_FOOT).
 
     ``outline_past`` (the rig given: the contact row known): a side the colour run moved
     out moves on along the face's outline (OUTLINE_PAST_COLOUR).
@@ -302,6 +319,15 @@ def widen_by_colour(
     chroma_told = chroma and share(floorlike[seed]) <= MAX_FLOORLIKE_FOOT
     if not chroma_told:
         floorlike[:] = False
+        if shadow and not chroma and CORE_SHADOW_FOOT:
+            shade = shadow_columns(foot, floor)
+            # ... a shade the room's diffuse light leaves at least CORE_SHADOW_LIGHT of the
+            # floor's lightness: a near-black print's part at the foot (a helmet, a dark
+            # line) keeps too little chroma to tell from the floor's shade
+            shade &= foot[:, 0] >= CORE_SHADOW_LIGHT * floor[:, 0]
+            floor_ref = median_of(floor[seed], axis=0)
+            if share(shade[seed]) <= MAX_FLOORLIKE_FOOT and not _shadow_of(ref, floor_ref):
+                floorlike = shade
     on_both = (on & on_foot & ~floorlike).tolist()  # Python lists for the walks
     on_foot_flags = on_foot.tolist()
     # the face's run starts from its foot's middle: the on-column nearest the centre
@@ -520,6 +546,19 @@ def _rising_side(
     return side
 
 
+def _over_top_colour(
+    image: npt.NDArray[Any], view: View, top: int, band: tuple[int, int]
+) -> npt.NDArray[Any] | None:
+    """The median Lab colour of the columns ``band`` (first, end) in the RISE_OVER_ROWS
+    rows over the face's ``top`` (RISE_SKIP clear of it); None when out of the view."""
+    r1 = top - RISE_SKIP
+    r0 = r1 - RISE_OVER_ROWS
+    if r0 < 0 or band[1] - band[0] < 1:
+        return None
+    lab = _lab8(image, view, r0, r1, band[0], band[1])
+    return median_of(lab.reshape(-1, 3).astype(np.float32), axis=0)
+
+
 def _rises_as_face(
     image: npt.NDArray[Any],
     view: View,
@@ -547,8 +586,6 @@ def _rises_as_face(
     inside, beyond, face_colour = colours
     like_beyond = float(norm(inside - beyond)) <= RISE_NEAR
     unlike_face = float(norm(inside - face_colour)) >= RISE_FACE_APART
-    if not (like_beyond and unlike_face):
-        return True
     # the strip's foot (just above the contact row) against the floor just below it
     f0, f1 = bottom - EDGE_SKIP - FOOT_ROWS, bottom - EDGE_SKIP
     g0, g1 = (
@@ -558,6 +595,17 @@ def _rises_as_face(
     if f0 < 0 or g1 <= g0:
         return True
     foot = median_of(_lab8(image, view, f0, f1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
+    if RISES_OVER_TOP and unlike_face and not like_beyond:
+        # what is over the top shows in the strip up there, and the strip is not one
+        # surface from its foot up (a margin framing a print is: it stands)
+        over = _over_top_colour(image, view, top, inner)
+        like_beyond = (
+            over is not None
+            and float(norm(inside - over)) <= RISE_NEAR
+            and (not RISES_OVER_ONE_SURFACE or float(norm(inside - foot)) > RISE_NEAR)
+        )
+    if not (like_beyond and unlike_face):
+        return True
     floor = median_of(_lab8(image, view, g0, g1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
     return float(norm(foot[1:] - floor[1:])) > FLOOR_CHROMA_FAR
 
@@ -3399,6 +3447,22 @@ FULL_FOOT_STEP = 40.0
 FULL_SIDE_STEP = 30.0
 
 
+#: The colour face's sides, walked along its foot from the beam's core, stop at the face's
+#: shadow on the floor: a foot whose colour is the floor's lit less (``shadow_columns``: at
+#: least SHADOW_DARKER darker, its chroma the floor's scaled by the lightness ratio, on a
+#: floor of SHADOW_FLOOR_CHROMA or more) lies on the floor, not on the face, where the
+#: face's own colour is no such shade of the floor (the core walk reads no floor chroma
+#: else: a tape's or a label's colour in the core may be the floor's).
+CORE_SHADOW_FOOT = True
+#: ... a shade keeping at least this share of the floor's lightness (Lab L, 8-bit): the
+#: room's diffuse light still reaches the floor in a box's shadow (shadows read on the
+#: rooms 0.6-0.85 of the floor's L); a foot darker than that is no shade the hue test can
+#: tell from a dark print's part (photo/2034 hard: a black helmet on a poster's foot over
+#: a dark blue floor, 0.31-0.43, read as the floor's shade).
+CORE_SHADOW_LIGHT = 0.5
+CORE_SHADOW_NO_RIG = False
+
+
 #: The colour face's sides, walked along its foot from the beam's core, rise as the face's
 #: up to its top (:func:`sides_rising` from the core's columns; the top read again between
 #: the sides kept): a shadow or a dark band along the foot lies on the floor or behind.
@@ -3456,7 +3520,16 @@ def face_from_colour(
         return None  # no step, or no room above it for a face (a tiny or tilted frame)
     # sides: the foot's colour run from the core, as wide as the face's colour goes
     left, right = widen_by_colour(
-        image, view, ax, contact, contact - 4 * CONTACT_ROWS, c0, c1, depth_m, chroma=False
+        image,
+        view,
+        ax,
+        contact,
+        contact - 4 * CONTACT_ROWS,
+        c0,
+        c1,
+        depth_m,
+        chroma=False,
+        shadow=clip or CORE_SHADOW_NO_RIG,
     )
     if right - left < 2 * SIDE_SKIP + 6:
         return None
@@ -3586,6 +3659,72 @@ MARGIN_GAP = 2
 MARGIN_MIN_ROWS = 2
 
 
+#: The margin's sides come in too (:func:`widen_along_margin`): where the margin's run from
+#: the middle of the piece found ends over MARGIN_IN_MIN_SHARE of the pair's width (and
+#: SNAP_COLUMNS) inside a side, and the columns from there to that side show, in the
+#: margin's rows, the floor just under the foot (the median over them within
+#: MARGIN_IN_FLOOR, Lab): nothing stands on the contact row there, the floor runs on up
+#: past it, so what the side stands on is farther back (a can or a frame beside the face
+#: whose foot meets the floor higher up, its edge taken for the side). The face's side is
+#: where its margin ends.
+MARGIN_SIDES_IN = True
+MARGIN_IN_MIN_SHARE = 0.1
+MARGIN_IN_FLOOR = 12.0
+#: ... and at least this share of those columns off the margin's colour (a seam across
+#: the margin ends its run, the margin resumes past it: procedural/2090 hard, a face of
+#: the floor's colour whose seam stopped the run, cut to its left part without it).
+MARGIN_IN_OFF_SHARE = 0.7
+#: Rows read under the foot for the floor (EDGE_SKIP clear of the foot's blur).
+MARGIN_IN_FLOOR_ROWS = FLOOR_BAND_ROWS
+
+
+def _margin_side_in(
+    image: npt.NDArray[Any],
+    view: View,
+    cols: npt.NDArray[np.float32],
+    dist: npt.NDArray[np.float32],
+    c0: int,
+    foot: int,
+    left: int,
+    right: int,
+) -> tuple[int, int]:
+    """(left, right) of :func:`widen_along_margin`'s pair, each brought in to where the
+    margin's run from the pair's middle ends when the floor shows from there to the side
+    (MARGIN_SIDES_IN); ``cols`` the margin rows' column colours from column ``c0``,
+    ``dist`` their distance from the margin's colour."""
+    g0 = foot + EDGE_SKIP
+    g1 = min(g0 + MARGIN_IN_FLOOR_ROWS, view.out.shape[0])
+    if g1 - g0 < 2:
+        return left, right
+    on = (dist <= MARGIN_MIN_STEP).tolist()
+    mid = (left + right) // 2 - c0
+    if not on[mid]:
+        return left, right
+    min_move = max(SNAP_COLUMNS, MARGIN_IN_MIN_SHARE * (right - left))
+    out = []
+    for side, step in ((left, -1), (right, 1)):
+        end = walk_on(on, mid, step, MARGIN_GAP) + c0
+        if (side - end) * step <= min_move:
+            out.append(side)
+            continue
+        a, b = sorted((end + step * (MARGIN_GAP + 1), side))
+        if b - a < SNAP_COLUMNS:
+            out.append(side)
+            continue
+        if share(~np.asarray(on[a - c0 : b - c0 + 1])) < MARGIN_IN_OFF_SHARE:
+            out.append(side)  # the margin resumes past a seam: its end is no side
+            continue
+        below = _band(image, view, g0, g1, a, b + 1)
+        floor = median_of(below.reshape(-1, 3), axis=0)
+        seen = median_of(cols[a - c0 : b - c0 + 1], axis=0)
+        if float(norm(seen - floor)) > MARGIN_IN_FLOOR:
+            out.append(side)
+            continue
+        log.debug("margin: side %d in to %d, the floor runs on past the foot beyond", side, end)
+        out.append(end)
+    return out[0], out[1]
+
+
 def widen_along_margin(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -3646,6 +3785,12 @@ def widen_along_margin(
         new.append(int(clamp(end + c0, left - limit, right + limit)))
     if thin and not followed:
         return None
+    if MARGIN_SIDES_IN:
+        in_left, in_right = _margin_side_in(image, view, cols, dist, c0, foot, left, right)
+        if in_left > left:
+            new[0] = in_left
+        if in_right < right:
+            new[1] = in_right
     return new[0], new[1]
 
 
