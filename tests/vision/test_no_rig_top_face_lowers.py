@@ -7,6 +7,15 @@ The rooms are tuning rooms, measured with no rig. Procedural 147 (hard): panels,
 2.6 degrees down; the level guess reads the top face's back edge (+15 %), the allowance the
 front edge at a lower confidence (+1 %). Procedural 752 (hard): the allowance raises the
 top five rows onto a line above the face (+22 %), the guessed face is within 5 %.
+
+The raised-top half of the counterfactual guards the rule with
+``confidence.TOP_FACE_PAST_REACH`` off, a setting that does not ship: with it on (session
+44) 752's raised top is read as a top face's back edge and moved back down by itself
+(+2.2 % without the rule). No room replaces it: over the own and fresh sets (procedural
+and photo, both kinds, no rig, 1,280 rooms; session 44, helper G) the rule turned away a
+raised top in 9 rooms, and without it only procedural 111 h (+0.8 -> +2.9 %) and 718 h
+(-1.2 -> +3.6 %, confidence 0.07 -> 0.33) moved, neither past 5 %. With the band read past
+its reach, the rule's raised half is a guard no room is known to need.
 """
 
 from __future__ import annotations

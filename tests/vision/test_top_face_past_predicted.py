@@ -16,13 +16,17 @@ photo 3217 ordinary, whose top face ends on the reach's last row.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+import numpy.typing as npt
 import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import confidence as conf_mod
 from obstacle_fusion.vision.fused import method as method_mod
 from obstacle_fusion.vision.fused.confidence import (
+    TOP_FACE_STEP,
     TOP_FACE_UNDER_TOP,
     top_face_band,
     top_face_doubts,
@@ -87,20 +91,98 @@ def test_with_no_rig_the_answer_is_its_own() -> None:
     assert abs(eh) < 0.02 and conf < 0.5
 
 
+def test_with_no_rig_the_predicted_branch_is_not_taken(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The rule needs the rig (``self._rig_given``): photo 3018 ordinary reads the band from
+    a predicted top with the rig (PREDICTED_TOP_GAP), and with no rig (the horizon a
+    guessed pitch's) never; without the guard its no-rig trials read it too (a band 20
+    levels clear on one of them), though the answer kept is the same."""
+    gaps: list[float] = []
+    real = method_mod.top_face_band
+
+    def spy(
+        image: npt.NDArray[np.uint8],
+        lines: Sequence[tuple[float, float, float, float]],
+        gap: float = conf_mod.TOP_FACE_GAP,
+    ) -> tuple[float, float] | None:
+        gaps.append(gap)
+        return real(image, lines, gap=gap)
+
+    monkeypatch.setattr(method_mod, "top_face_band", spy)
+    image, truth, spec = render_room("photo", 3018, False, CAM)
+    Measurer(CAM, spec.rig).measure(image, truth["range_m"])
+    assert method_mod.PREDICTED_TOP_GAP in gaps
+    gaps.clear()
+    Measurer(CAM, None).measure(image, truth["range_m"])
+    assert method_mod.PREDICTED_TOP_GAP not in gaps
+
+
+def test_the_band_must_be_a_step_clear(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Photo 3212's band is 22.0 levels clear (``band[0]``): the predicted top moves with
+    a least step (TOP_FACE_STEP in the branch) of 22.0, not with one a tenth over."""
+    monkeypatch.setattr(method_mod, "TOP_FACE_STEP", 22.0)
+    assert abs(_measured()[0]) < 0.02
+    monkeypatch.setattr(method_mod, "TOP_FACE_STEP", 22.1)
+    assert _measured()[0] > 0.05
+
+
 @pytest.mark.parametrize(("gap", "found"), [(0.5, True), (1.5, False)])
 def test_a_band_under_a_row_inside_it(gap: float, found: bool) -> None:
     """A drawn lid on rows 100-102 of a grey face (its top line at 100), the top taken
     at 101.4, inside the lid: from 0.5 rows under it the lid's last row (102) is read and
-    its step to the face at 103; from 1.5 rows under (row 103 on) no band is left."""
+    its step to the face at 103; from 1.5 rows under (row 103 on) no band is left: no row
+    read is lighter than the face, and the end given is under the last row read (101 +
+    15 rows' reach + 1 past it, TOP_FACE_PAST_REACH)."""
     img = _lid_image(GREY_FACE + 6.0, rows=(100, 103))
-    lines = [LINES[0], (150.0, 101.4, 350.0, 101.4), (150.0, 200.0, 150.0, 101.4)]
-    lines.append((350.0, 200.0, 350.0, 101.4))
-    band = top_face_band(img, lines, gap=gap)
+    band = top_face_band(img, _top_at(101.4), gap=gap)
     assert band is not None
-    assert (band[0] >= 5.0) is found
+    assert (band[0] >= TOP_FACE_STEP) is found
     if found:
         assert band[1] == pytest.approx(102.5)
-    assert np.isfinite(band[1])
+    else:
+        assert band == (0.0, pytest.approx(117.5))
+
+
+def _top_at(vt: float) -> list[tuple[float, float, float, float]]:
+    """LINES (a face on rows 100-200, columns 150-350) with its top line at row ``vt``."""
+    return [LINES[0], (150.0, vt, 350.0, vt), (150.0, 200.0, 150.0, vt), (350.0, 200.0, 350.0, vt)]
+
+
+@pytest.mark.parametrize(("vt", "found"), [(101.4, True), (108.4, False), (109.4, False)])
+def test_a_top_predicted_deep_inside_the_band_is_not_read(vt: float, found: bool) -> None:
+    """The limit (README, PREDICTED_TOP_GAP): the colour above the top is read 3 to 6 rows
+    above the row given (FOOT_BAND_GAP, FOOT_BAND_MIN_ROWS); a predicted row more than 3
+    rows under the band's first row reads the band itself there, the band's rows differ
+    from no mix of "above" and the face, and no band is found (the top stays where
+    predicted). A drawn lid on rows 100-109: from 101.4 it ends at 109.5; from 108.4 or
+    109.4 nothing."""
+    img = _lid_image(GREY_FACE + 6.0, rows=(100, 110))
+    band = top_face_band(img, _top_at(vt), gap=0.5)
+    assert band is not None
+    assert (band[0] >= TOP_FACE_STEP) is found
+    if found:
+        assert band[1] == pytest.approx(109.5)
+
+
+SMALL = [(150.0, 112.0, 350.0, 112.0), (150.0, 100.0, 350.0, 100.0)] + [
+    (150.0, 112.0, 150.0, 100.0),
+    (350.0, 112.0, 350.0, 100.0),
+]
+
+
+@pytest.mark.parametrize("past", [True, False])
+@pytest.mark.parametrize(("end", "read"), [(104, True), (105, False)])
+def test_a_small_face_reads_no_row_past_its_floor(
+    monkeypatch: pytest.MonkeyPatch, past: bool, end: int, read: bool
+) -> None:
+    """TOP_FACE_PAST_REACH adds its row to the reach term only: a 12-row face (top line at
+    100) reaches round(0.15 * 12) + 1 = 3 rows (to 103), its floor TOP_FACE_MIN_ROWS from
+    row 102 (to 104) is the larger and is left as it was. A lid ending on row 103 shows
+    its step on row 104; one ending on 104, the last row read, shows none, with the switch
+    or without."""
+    assert conf_mod.TOP_FACE_MIN_ROWS == 3
+    monkeypatch.setattr(conf_mod, "TOP_FACE_PAST_REACH", past)
+    img = _lid_image(GREY_FACE + 6.0, rows=(101, end))
+    assert (top_face_doubts(img, SMALL, True) == [TOP_FACE_UNDER_TOP]) is read
 
 
 # --- TOP_FACE_PAST_REACH (confidence.py): the band read one row past the reach ---------

@@ -302,7 +302,12 @@ TOP_FACE_STEP = 5.0
 #: only with the row under it read (and the face's colour read under that). A top face
 #: ending on the reach's last row was read as a band that does not end (photo 3217
 #: ordinary: a top face 6 rows of a 42-row face, its step between rows 231 and 232, the
-#: reach ending at 231; +19.6 % at 0.68). A switch for the tests.
+#: reach ending at 231; +19.6 % at 0.68). The row is added to the reach only, not to
+#: the TOP_FACE_MIN_ROWS floor that small faces (under ~27 rows) read to: the floor was
+#: set and checked as it is, reading a row more there moves the face's colour, read under
+#: the last row, down a small face unchecked (session 44, helper G; a band ending on the
+#: floor's last row stays unread, ``test_top_face_past_predicted``). A switch for the
+#: tests.
 TOP_FACE_PAST_REACH = True
 #: ... and just inside each side (this share of the face's width) the face's middle rows
 #: must be of the face's colour, not the band's (:func:`_band_ends_at_sides`).
@@ -503,8 +508,13 @@ def top_face_band(
     mixes those two only), counted where the row is the face's colour scaled (its
     distance from that under TOP_FACE_CHROMA_SHARE of the other). Rows are medians over
     the face's inner columns; the face's colour is read right under the rows searched.
-    None for a face too small to read. ``gap``: the rows skipped under the top line (its
-    own blur; a top row predicted, not found on an edge, has none there)."""
+    None for a face too small to read. ``gap``: the rows skipped under the top line
+    (TOP_FACE_GAP, its own blur; a top row predicted, not found on an edge, has none
+    there). The rows read run one past the reach (TOP_FACE_PAST_REACH: a band ending on
+    the reach's last row shows its step), not past the TOP_FACE_MIN_ROWS floor. The
+    colour above is read over FOOT_BAND_GAP to FOOT_BAND_GAP + k rows above the top line
+    given: a top predicted more than FOOT_BAND_GAP rows under the band's first row reads
+    the band there, and no band is found (a miss, never a move)."""
     bands = _face_bands(lines)
     if bands is None:
         return None
