@@ -115,7 +115,8 @@ WIDTH_MIN_FACTOR = 1.4
 #: colour step part of the way up, -19 % each, lowered); sides both ending under it
 #: lower nothing (fresh photo 2163 hard no rig: a dark frame against a dark background,
 #: both ending at the print's top inside it, -16 %; photo 3249 ordinary no rig, +31 %,
-#: stays: its sides end 82 and 104 rows up, the longer at the found top).
+#: stayed: its sides end 82 and 104 rows up, the longer at the found top; merged with the
+#: gloss rules of ``wt-a-44`` it reads +0.5 %, with or without this rule).
 TOP_WHERE_SIDES_END = True
 #: ... where the colour steps across that row along at least this share of the columns
 #: between the found sides (TOP_STEP_SHARE made stricter: the face's top, not a band on
