@@ -130,7 +130,7 @@ END_STEP_SHARE = 0.9
 #: on past the found top (both end under it), not the share: measured again at 0.05 with
 #: that guard, procedural 137 ordinary, photo 2038 hard and procedural 3237 ordinary,
 #: with and without the rig, answer as at 0.1 (3237's sides also both end under its top,
-#: so no share lowers it); see the README for new5.
+#: so no share lowers it); so do all 400 answers of new5.
 END_TOP_SHARE = 0.1
 
 
