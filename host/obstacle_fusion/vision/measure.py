@@ -2104,24 +2104,6 @@ SAME_FACE_IOU = 0.9
 FOOT_DOUBTS = frozenset({FOOT_OFF_FLOOR, FLOOR_IN_FACE})
 
 #: With no rig, a face refused as doubted on every count gives way to another trial's
-#: reading of its face with the top lower (:func:`_lower_top_reading`): on the same foot
-#: and sides (each within LOWER_TOP_EDGE_PX), its top at least LOWER_TOP_MIN_PX lower and
-#: doubted by none of TOP_EDGE_DOUBTS, where the refused face's top carries one. The face is
-#: one surface standing on its foot between its sides: two readings sharing those are the
-#: same face, differing only in where its top was put; a top whose edge runs on past the
-#: sides (a line of the wall behind) or with another edge under it is where one reading
-#: went on past the face's top, and the reading stopping at an edge neither doubts is the
-#: face's (procedural 3231 ordinary, planks: the level trials' top 25 rows up the wall,
-#: refused; the trials pitched 2 and 4 degrees read it right). Session 44, branch
-#: ``wt-e-44``; a switch for the tests.
-LOWER_TOP_READING = True
-#: ... the two readings' feet and each side within this many pixels (ROW_JITTER_PX, a
-#: trial's row jitter) ...
-LOWER_TOP_EDGE_PX = 2.0
-#: ... and the other reading's top at least this many pixels lower (nearer, the same top).
-LOWER_TOP_MIN_PX = 4.0
-
-#: With no rig, a face refused as doubted on every count gives way to another trial's
 #: reading of a face that takes it in whole on the same foot (:func:`_whole_face_reading`):
 #: the refused face is a part of that face (a patch of a print, a panel or a band on it,
 #: whose edges are no face's sides and give the doubts). Of the 52 no-rig refusals on the
@@ -2285,6 +2267,33 @@ JITTER_FRAME_TOP_SHARE = 1.0
 #: A weaker step tried as a nearer foot lies at least this many rows below the row whose
 #: face was unsure (closer steps are that row's own edge blur, tried by the jitter).
 MIN_NEARER_DROP_PX = 2 * ROW_JITTER_PX
+#: With no rig, a face refused as doubted on every count gives way to another trial's
+#: reading of its face with the top lower (:func:`_lower_top_reading`): on the same foot
+#: and sides (each within LOWER_TOP_EDGE_PX), its top at least LOWER_TOP_MIN_PX lower but
+#: overlapping the refused face by LOWER_TOP_MIN_IOU, and doubted by none of
+#: TOP_EDGE_DOUBTS, where the refused face's top carries one (:func:`_top_doubt_cleared`).
+#: The face is one surface standing on its foot between its sides: two readings sharing
+#: those are the same face, differing only in where its top was put; a top whose edge
+#: runs on past the sides (a line of the wall behind) or with another edge under it is
+#: where one reading went on past the face's top, and the reading stopping at an edge
+#: neither doubts is the face's (procedural 3231 ordinary, planks: the level trials' top
+#: 25 rows up the wall, refused; the trials pitched 2 and 4 degrees read it right).
+#: Session 44, branch ``wt-e-44``; a switch for the tests.
+LOWER_TOP_READING = True
+#: ... the two readings' feet and each side within this many pixels (a trial's row
+#: jitter: another guess of the pitch on the same floor-contact row) ...
+LOWER_TOP_EDGE_PX = float(ROW_JITTER_PX)
+#: ... the other reading's top at least this many pixels lower (nearer, it is the same
+#: top within the jitter's blur: as a nearer foot, MIN_NEARER_DROP_PX) ...
+LOWER_TOP_MIN_PX = float(MIN_NEARER_DROP_PX)
+#: ... and the two boxes overlapping by at least this (IoU; with foot and sides shared,
+#: the lower height's share of the refused one): a guessed pitch a few degrees off moves
+#: where the top is sought by a few rows, so the top went on past the face by a line of
+#: what is behind it just over it; a reading whose top lies further down is a band or a
+#: print on the face, a part of it, not its top read again (procedural 3231 ordinary:
+#: 0.87; under SAME_FACE_IOU, 0.9, where the two are one reading anyway).
+LOWER_TOP_MIN_IOU = 0.8
+
 #: With no rig and the pitch not read from the face's sides, the lens may look down by up
 #: to this much more than the guess (degrees): a box's top face may show that far above
 #: the guessed horizon ...
@@ -2497,17 +2506,24 @@ def _less_doubted_reading(
 def _lower_top_reading(best: Measurement, other: Measurement) -> bool:
     """Whether ``other`` (another no-rig trial's reading) reads ``best``'s face with its top
     lower: the same foot and sides (each within LOWER_TOP_EDGE_PX), its top at least
-    LOWER_TOP_MIN_PX under ``best``'s, ``best``'s top edge doubted by one of
-    TOP_EDGE_DOUBTS and ``other``'s by none (LOWER_TOP_READING)."""
+    LOWER_TOP_MIN_PX under ``best``'s, the boxes overlapping by LOWER_TOP_MIN_IOU,
+    ``best``'s top edge doubted by one of TOP_EDGE_DOUBTS and ``other``'s by none
+    (LOWER_TOP_READING)."""
     box, low = best.box_px, other.box_px
     if box is None or low is None:
         return False
     return (
         all(abs(box[i] - low[i]) <= LOWER_TOP_EDGE_PX for i in (0, 2, 3))
         and low[1] - box[1] >= LOWER_TOP_MIN_PX
-        and bool(TOP_EDGE_DOUBTS & set(best.doubts))
-        and not TOP_EDGE_DOUBTS & set(other.doubts)
+        and _iou(box, low) >= LOWER_TOP_MIN_IOU
+        and _top_doubt_cleared(best, other)
     )
+
+
+def _top_doubt_cleared(best: Measurement, other: Measurement) -> bool:
+    """Whether ``best``'s top edge carries one of TOP_EDGE_DOUBTS (a line running on past
+    its sides, another edge under it) and ``other``'s, a reading of the same face, none."""
+    return bool(TOP_EDGE_DOUBTS & set(best.doubts)) and not TOP_EDGE_DOUBTS & set(other.doubts)
 
 
 def _whole_face_reading(
@@ -3043,8 +3059,7 @@ def _swept_top_over(best: Measurement, swept: Measurement, read: bool) -> bool:
     return (
         (swept.confidence or 0.0) >= ESTIMATE_ACCEPT
         and abs(best.box_px[3] - swept.box_px[3]) < MIN_NEARER_DROP_PX
-        and bool(TOP_EDGE_DOUBTS & set(best.doubts))
-        and not TOP_EDGE_DOUBTS & set(swept.doubts)
+        and _top_doubt_cleared(best, swept)
     )
 
 

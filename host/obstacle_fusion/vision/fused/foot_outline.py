@@ -115,7 +115,8 @@ WIDTH_MIN_FACTOR = 1.4
 #: colour step part of the way up, -19 % each, lowered); sides both ending under it
 #: lower nothing (fresh photo 2163 hard no rig: a dark frame against a dark background,
 #: both ending at the print's top inside it, -16 %; photo 3249 ordinary no rig, +31 %,
-#: stays: its sides end 82 and 104 rows up, the longer at the found top).
+#: stayed: its sides end 82 and 104 rows up, the longer at the found top; merged with the
+#: gloss rules of ``wt-a-44`` it reads +0.5 %, with or without this rule).
 TOP_WHERE_SIDES_END = True
 #: ... where the colour steps across that row along at least this share of the columns
 #: between the found sides (TOP_STEP_SHARE made stricter: the face's top, not a band on
@@ -123,11 +124,13 @@ TOP_WHERE_SIDES_END = True
 END_STEP_SHARE = 0.9
 #: ... more than this share of the found height (plus SIDE_AGREE_ROWS, the top's blur)
 #: under the found top, the longer side more than as much over it: WIDTH_TOP_SHARE, the
-#: width rule's "another top" (nearer, it is the
-#: found top read again, or a frame's margin of the background's colour over the print:
-#: at 0.05, procedural 137 ordinary's margin, 8 rows of 87, was cut off, 2.2 -> 6.0 %,
-#: while procedural 3237 ordinary, 9 rows of 90 up a wall of the face's colour, was fixed,
-#: +10.4 -> +0.6 %: the share cannot part the two).
+#: width rule's "another top" (nearer, the width rule takes the sides' top for the found
+#: one read again, and so does this rule). What keeps a frame's margin of the wall's
+#: colour over a print (procedural 137 ordinary, 8 rows of 87) is that neither side runs
+#: on past the found top (both end under it), not the share: measured again at 0.05 with
+#: that guard, procedural 137 ordinary, photo 2038 hard and procedural 3237 ordinary,
+#: with and without the rig, answer as at 0.1 (3237's sides also both end under its top,
+#: so no share lowers it); so do all 400 answers of new5.
 END_TOP_SHARE = 0.1
 
 
@@ -243,10 +246,26 @@ def _top_where_sides_end(
     if end - top <= near:
         return None  # a side stands from the floor up to the found top: the top stands
     found = _top_across(image, view, end, left, right, gap, END_STEP_SHARE)
-    if found is None or found - top <= near:
+    if found is None:
         return None
     log.debug("foot outline: the sides end at %d, under the found top %d", found, top)
     return foot, found, left, right
+
+
+def _lowered_outline(
+    lowered: tuple[int, int, int, int], new_l: int, new_r: int
+) -> tuple[int, int, int, int] | None:
+    """The outline of a face whose top was lowered to where its sides end (``lowered``:
+    foot, the lowered top and the found sides, :func:`_top_where_sides_end`), as the width
+    rule takes its sides ``new_l``, ``new_r``: None where they hold under CONTAIN_SHARE of
+    the found columns (not the found face's sides); with them as its sides where they
+    widen it by WIDTH_MIN_FACTOR, else with the found sides."""
+    foot, low_top, left, right = lowered
+    if min(new_r, right) - max(new_l, left) < CONTAIN_SHARE * (right - left):
+        return None
+    if new_r - new_l < WIDTH_MIN_FACTOR * (right - left):
+        return lowered
+    return foot, low_top, new_l, new_r
 
 
 def outline_from_foot(
@@ -265,7 +284,15 @@ def outline_from_foot(
     (``foot``, top, left, right) when it contains the found face and grows it by
     MIN_RAISE_SHARE of its height or MIN_WIDEN_FACTOR of its width, else None. Where no
     side rises past the found top (WIDTH_FROM_FOOT), the sides rising to it widen the face
-    by WIDTH_MIN_FACTOR with the found ``top`` returned (its height stands)."""
+    by WIDTH_MIN_FACTOR with the found ``top`` returned (its height stands). Where those
+    width sides end under the found top, one running on past it (TOP_WHERE_SIDES_END),
+    the top is lowered to where the shorter ends (:func:`_top_where_sides_end`), the
+    outline holding CONTAIN_SHARE of the found columns, with the width sides where they
+    widen the face by WIDTH_MIN_FACTOR and the found ones else; such an outline grows
+    nothing and is not asked to (the caller still moves its top to a top face's front
+    edge under it). The width sides are only those rising WIDTH_RISE_SHARE of the found
+    height from the foot, so the top is lowered by at most about 1 - WIDTH_RISE_SHARE of
+    it (and the rise gap the top is sought within under where the shorter side ends)."""
     if image is None or image.ndim != 3 or right - left < 4 or bottom - top < 2:
         return None
     h, w = view.out.shape
@@ -340,7 +367,7 @@ def outline_from_foot(
             image, view, foot, bottom, top, left, right, (rise_l, rise_r), rise_gap
         )
         if lowered is not None:
-            return lowered
+            return _lowered_outline(lowered, new_l, new_r)
     if abs(rise_l - rise_r) > SIDE_AGREE_SHARE * max(rise_l, rise_r) + SIDE_AGREE_ROWS:
         return None  # a level top: both sides end together
     new_top = _top_across(image, view, foot - 1 - min(rise_l, rise_r), new_l, new_r, rise_gap)

@@ -1290,7 +1290,9 @@ class FusedMethod:
         front, _ = front_top(self.view, depth, dy, bottom, left, right, top, noise)
         if front != top and looks_like_top_face(seen, self.view, top, front, left, right):
             log.debug("foot outline: top %d, a top face's back edge over the front %d", top, front)
-            # (an outline lowered to where the sides end grows nothing: taken as it is)
+            # an outline lowered to where the sides end (top > vt) grows nothing: the
+            # front edge is not asked to grow the face, but the top still moves to it
+            # (photo 3214 hard: 221 -> 226)
             if top < vt and not grows_face((rb, vt, ul, ur), front, left, right):
                 return None
             top = front
