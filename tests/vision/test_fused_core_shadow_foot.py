@@ -7,8 +7,8 @@ The room is a diagnosis room (new5). Procedural 3220 (hard): a blue-grey plank f
 teal floor, its shadow on the floor to its right as dark as the face, a chair farther
 back: the core walk (which reads no floor chroma) ran over the shadow to the chair's leg
 (234-288 for 236-278), and with the rig the windows raised the top to the chair's seat:
-h +38 / w +28 % with the rig, w +26 % without; with the rule +1.5 / +1.5 % and -0.1 /
-+0.8 %.
+h +38 / w +28 % with the rig, w +26 % without; with the rule +1.5 / +1.5 % with the rig;
+without the rig -0.1 / +0.8 % only with CORE_SHADOW_NO_RIG on (off, as merged: +26 % stays).
 """
 
 from __future__ import annotations

@@ -3501,7 +3501,8 @@ CORE_SHADOW_FOOT = True
 #: room's diffuse light still reaches the floor in a box's shadow (shadows read on the
 #: rooms 0.6-0.85 of the floor's L); a foot darker than that is no shade the hue test can
 #: tell from a dark print's part (photo/2034 hard: a black helmet on a poster's foot over
-#: a dark blue floor, 0.31-0.43, read as the floor's shade).
+#: a dark blue floor, 0.31-0.43, read as the floor's shade, h 0.4 -> -68 %; photo/3089
+#: hard with the rig, h -51.6 -> -74.6 %, without this bound).
 CORE_SHADOW_LIGHT = 0.5
 CORE_SHADOW_NO_RIG = False
 
