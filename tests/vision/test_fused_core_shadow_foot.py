@@ -7,8 +7,8 @@ The room is a diagnosis room (new5). Procedural 3220 (hard): a blue-grey plank f
 teal floor, its shadow on the floor to its right as dark as the face, a chair farther
 back: the core walk (which reads no floor chroma) ran over the shadow to the chair's leg
 (234-288 for 236-278), and with the rig the windows raised the top to the chair's seat:
-h +38 / w +28 % with the rig, w +26 % without; with the rule +1.5 / +1.5 % and -0.1 /
-+0.8 %.
+h +38 / w +28 % with the rig, w +26 % without; with the rule +1.5 / +1.5 % with the rig;
+without the rig -0.1 / +0.8 % only with CORE_SHADOW_NO_RIG on (off, as merged: +26 % stays).
 """
 
 from __future__ import annotations
@@ -57,14 +57,14 @@ def scene(
     return np.clip(img, 0, 255).astype(np.uint8)
 
 
-def core_walk(img: npt.NDArray[np.uint8], shadow: bool = True) -> tuple[int, int]:
-    # as face_from_colour walks: from the core, under a made-up top 20 rows up, no chroma
+def core_walk(img: npt.NDArray[np.uint8], shadow: bool = True, up: int = 20) -> tuple[int, int]:
+    # as face_from_colour walks: from the core, under a made-up top ``up`` rows up, no chroma
     return widen_by_colour(
         img,
         level_view(),
         side_strength(img),
         BOTTOM,
-        BOTTOM - 20,
+        BOTTOM - up,
         CORE[0],
         CORE[1],
         DEPTH,
@@ -90,9 +90,52 @@ def test_the_switch_off_lets_the_walk_run_on(monkeypatch: pytest.MonkeyPatch) ->
 
 def test_a_face_that_is_itself_a_shade_of_the_floor_is_walked_as_before() -> None:
     """A face of the floor's colour lit less (as its shadow is): no telling its foot from
-    the shadow's by the shade, the walk runs on (the rule stands aside)."""
+    the shadow's by the shade, the walk runs on (the rule stands aside). Both guards hold
+    here (the face's colour and its foot are the shade); the two tests below part them."""
     left, right = core_walk(scene(face=SHADOW))
     assert right >= RIGHT + SHADOW_COLUMNS - 3
+
+
+# the floor's Lab lit 0.75 as much, chroma dimmed with it: a face plainly the floor's shade
+# (procedural 3220's shadow, (92, 120, 127), lies near the limit of that)
+SHADE_FACE = (0.75 * 125.0, 128.0 + 0.75 * (114.0 - 128.0), 128.0 + 0.75 * (130.0 - 128.0))
+FOOT_BAND = 7  # rows over the contact row: the foot's 5 rows read EDGE_SKIP (2) over it
+TALL = 80  # a made-up top this high: 12 face rows read (FACE_BAND_ROWS), 5 of them the foot's
+
+
+def footed(body: tuple[int, int, int], foot: tuple[int, int, int]) -> npt.NDArray[np.uint8]:
+    """:func:`scene` with the face ``body``'s colour, its lowest FOOT_BAND rows ``foot``'s:
+    the face's colour (the median of its 12 rows read) is the body's, its foot the foot's."""
+    img = scene(face=body).astype(np.float64)
+    img[BOTTOM - FOOT_BAND : BOTTOM, LEFT:RIGHT] = foot
+    img += np.random.default_rng(12).normal(0, 2.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def test_a_face_whose_colour_only_is_a_shade_of_the_floor_is_walked_as_before(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The face's colour is the floor's shade, its foot a strip of another colour (no
+    shade, within the face's colour limit): the face's colour guard alone (``_shadow_of``
+    the floor's median under the foot) stands the rule aside and the walk runs on;
+    without that guard the shadow stops it."""
+    img = footed(lab_bgr(SHADE_FACE), FACE)
+    assert core_walk(img, up=TALL)[1] >= RIGHT + SHADOW_COLUMNS - 3
+    monkeypatch.setattr(region, "_shadow_of", lambda colour, floor: False)
+    assert abs(core_walk(img, up=TALL)[1] - RIGHT) <= 2
+
+
+def test_a_face_whose_foot_only_is_a_shade_of_the_floor_is_walked_as_before(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The face's colour is no shade of the floor, but its foot is a strip of the floor's
+    shade colour (a dark skirting), over MAX_FLOORLIKE_FOOT of the face's own foot: the
+    share guard alone stands the rule aside (no telling the face's foot from the shadow)
+    and the walk runs on; without that guard the face's own foot is cut away."""
+    img = footed(FACE, SHADOW)
+    assert core_walk(img, up=TALL)[1] >= RIGHT + SHADOW_COLUMNS - 3
+    monkeypatch.setattr(region, "MAX_FLOORLIKE_FOOT", 1.0)
+    assert core_walk(img, up=TALL)[1] < RIGHT + SHADOW_COLUMNS - 3
 
 
 def test_a_shadow_of_another_hue_is_no_shadow() -> None:

@@ -24,7 +24,6 @@ from tests.vision.test_fused_outline import (
     BOTTOM,
     FACE,
     FLOOR,
-    MARGIN_FOOT,
     P_BOTTOM,
     P_LEFT,
     REACH,
@@ -99,11 +98,12 @@ def test_the_floor_behind_within_margin_in_floor_is_the_floors(apart: float, cut
     assert not cut or abs(sides[1] - (FACE_RIGHT - 1)) <= 2
 
 
-@pytest.mark.parametrize(("right", "cut"), [(216, True), (212, False)])
+@pytest.mark.parametrize(("right", "cut"), [(213, True), (212, False)])
 def test_a_side_only_a_little_past_the_margins_end_stays(right: int, cut: bool) -> None:
-    """The margin ends at column 199; a side 17 columns past it, over MARGIN_IN_MIN_SHARE
-    (0.1) of the pair's width (14.6), comes in; 13 past it (under 14.2) stays: a side a
-    few columns off is the refinement's to place."""
+    """The margin's run ends at column 198 (its last column blurred off); a side at 213,
+    15 columns past it, over MARGIN_IN_MIN_SHARE (0.1) of the pair's width (0.1 x 143 =
+    14.3), comes in; at 212, 14 past it (0.1 x 142 = 14.2), stays: a side a few columns
+    off is the refinement's to place (at 0.11, 15.7, the side at 213 stays too)."""
     sides = walk(scene(can=False), right)
     assert sides is not None
     assert (sides[1] < right) is cut
@@ -123,9 +123,40 @@ def test_the_floor_rows_are_read_under_the_foot(monkeypatch: pytest.MonkeyPatch)
     assert sides is not None and sides[1] == CAN_RIGHT
 
 
-def test_the_margin_rows_are_those_of_the_outline() -> None:
-    # the margin MARGIN_FOOT rows high, read from the print's lower edge to the foot
-    assert P_BOTTOM == BOTTOM - MARGIN_FOOT
+def test_the_floor_is_read_clear_of_the_foots_blur(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each floor row its own grey: the floor read beyond the margin's end is the median
+    of exactly the MARGIN_IN_FLOOR_ROWS (4) rows from EDGE_SKIP + 1 (3) under the foot,
+    as every other floor reader's (one row more, one less, or one row nearer the foot,
+    and the median moves)."""
+    img = scene(can=False).astype(np.float64)
+    img[BOTTOM:] = np.arange(H - BOTTOM, dtype=np.float64)[:, None, None] * 6.0 + 40.0
+    img8 = np.clip(img, 0, 255).astype(np.uint8)
+    read: list[tuple[int, int, int, int, npt.NDArray[np.float32]]] = []
+    band = region._band
+
+    def spy(
+        image: npt.NDArray[np.uint8], view: object, r0: int, r1: int, c0: int, c1: int
+    ) -> npt.NDArray[np.float32]:
+        out = band(image, view, r0, r1, c0, c1)  # type: ignore[arg-type]
+        if r0 > BOTTOM:  # the floor under the foot, not the margin's rows
+            read.append((r0, r1, c0, c1, out))
+        return out
+
+    monkeypatch.setattr(region, "_band", spy)
+    walk(img8)
+    assert read, "the margin's end was not read against the floor"
+    r0, r1, c0, c1, out = read[-1]
+    lab = level_view().lab(img8, 0, H, c0, c1, 1).astype(np.float32)
+
+    def median_rows(a: int, b: int) -> npt.NDArray[np.float32]:
+        return np.asarray(np.median(lab[a:b].reshape(-1, 3), axis=0))
+
+    got = np.median(np.asarray(out, np.float32).reshape(-1, 3), axis=0)
+    start = BOTTOM + region.EDGE_SKIP + 1
+    assert (r0, r1) == (start, start + 4)
+    assert np.allclose(got, median_rows(start, start + 4), atol=0.6)
+    for a, b in ((start - 1, start + 3), (start, start + 5), (start, start + 3)):
+        assert not np.allclose(got, median_rows(a, b), atol=0.6)
 
 
 def test_the_room_is_measured_to_the_faces_sides() -> None:

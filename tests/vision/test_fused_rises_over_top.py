@@ -130,3 +130,52 @@ def test_a_strip_of_one_surface_from_its_foot_up_stands(
     assert max(room_size_errors(family, seed, hard, with_rig=False)) < 0.02
     monkeypatch.setattr(region, "RISES_OVER_ONE_SURFACE", False)
     assert max(room_size_errors(family, seed, hard, with_rig=False)) > 0.08
+
+
+MARGIN = (170, 170, 170)  # BGR: a light grey margin, the face's own colour
+GREY_FLOOR = (90, 90, 90)  # a dark grey floor: the margin's chroma
+PRINT = (40, 140, 230)  # BGR: an orange print inset in the margin
+F_LEFT, F_RIGHT, F_TOP = 60, 260, 60  # the face (margin) over the contact row BOTTOM
+P_LEFT, P_RIGHT, P_TOP, P_BOTTOM = 80, 240, 90, BOTTOM - 20  # the print in it
+
+
+def margin_scene(foot_shift: float = 0.0) -> npt.NDArray[np.uint8]:
+    """The wall over a grey floor; the face a grey margin, an orange print inset in it
+    20 columns in from each side, 30 rows under the face's top and 20 over its foot;
+    the margin's lowest 9 rows (its foot's) ``foot_shift`` lighter (Lab L)."""
+    img = np.empty((H, W, 3), np.float64)
+    img[:BOTTOM] = WALL
+    img[BOTTOM:] = GREY_FLOOR
+    img[F_TOP:BOTTOM, F_LEFT:F_RIGHT] = MARGIN
+    img[BOTTOM - 9 : BOTTOM, F_LEFT:F_RIGHT] = lab_shifted(MARGIN, (foot_shift, 0.0, 0.0))
+    img[P_TOP:P_BOTTOM, P_LEFT:P_RIGHT] = PRINT
+    img += np.random.default_rng(3).normal(0, 1.0, img.shape)
+    return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def margin_side_rises(img: npt.NDArray[np.uint8]) -> bool:
+    # the walk found the print (its top the face's), then walked the foot out to the
+    # margin's right side: does the strip of margin beside the print rise as the face?
+    return region._rises_as_face(img, level_view(), BOTTOM, P_TOP, (P_LEFT, P_RIGHT), F_RIGHT, 1)
+
+
+def test_a_margin_over_the_prints_top_is_one_surface_and_stands(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The margin beside the print shows over the print's top too (what is over the top
+    shows in the strip), but it is the same colour from its foot up: one surface, the
+    face's; the side stands (RISES_OVER_ONE_SURFACE). Without the guard the strip reads
+    as the background over the top, its foot of the floor's chroma, and the side goes."""
+    img = margin_scene()
+    assert margin_side_rises(img)
+    monkeypatch.setattr(region, "RISES_OVER_ONE_SURFACE", False)
+    assert not margin_side_rises(img)
+
+
+@pytest.mark.parametrize(("shift", "stands"), [(10.0, True), (11.0, False)])
+def test_one_surface_is_its_foot_within_rise_near(shift: float, stands: bool) -> None:
+    """The margin's foot ``shift`` (Lab L, read back exactly) lighter than the strip up
+    in the face's rows: 10, RISE_NEAR (the guard reuses it), is still one surface, the
+    side stands; 11 parts them (something else at the foot, of the floor's chroma): the
+    strip is what is over the top, the side goes."""
+    assert margin_side_rises(margin_scene(shift)) is stands

@@ -300,7 +300,8 @@ def widen_by_colour(
     )[0]
     seed = slice(left + 2, right - 1)
     ref = median_of(face[seed], axis=0)
-    weights = _face_colour_weights(ref, median_of(floor[seed], axis=0))
+    floor_ref = median_of(floor[seed], axis=0)
+    weights = _face_colour_weights(ref, floor_ref)
     d_face = row_norms((face - ref) * weights)
     limit = spread_limit(d_face[seed], MIN_FACE_DISTANCE)
     d_floor = row_norms(face - floor)
@@ -320,13 +321,13 @@ def widen_by_colour(
     if not chroma_told:
         floorlike[:] = False
         if shadow and not chroma and CORE_SHADOW_FOOT:
-            shade = shadow_columns(foot, floor)
-            # ... a shade the room's diffuse light leaves at least CORE_SHADOW_LIGHT of the
-            # floor's lightness: a near-black print's part at the foot (a helmet, a dark
-            # line) keeps too little chroma to tell from the floor's shade
-            shade &= foot[:, 0] >= CORE_SHADOW_LIGHT * floor[:, 0]
-            floor_ref = median_of(floor[seed], axis=0)
-            if share(shade[seed]) <= MAX_FLOORLIKE_FOOT and not _shadow_of(ref, floor_ref):
+            # ... where the face's colour is no such shade of the floor there, a shade the
+            # room's diffuse light leaves at least CORE_SHADOW_LIGHT of the floor's
+            # lightness (a near-black print's part at the foot, a helmet, a dark line,
+            # keeps too little chroma to tell from the floor's shade), and not along most
+            # of the face's own foot (then the face's foot is that shade: no telling)
+            shade = floor_shade(foot, floor, ref, CORE_SHADOW_LIGHT, floor_ref)
+            if share(shade[seed]) <= MAX_FLOORLIKE_FOOT:
                 floorlike = shade
     on_both = (on & on_foot & ~floorlike).tolist()  # Python lists for the walks
     on_foot_flags = on_foot.tolist()
@@ -446,7 +447,19 @@ def _upper_rows_colours(
     shows whether it rises as the face's; None when the rows or a band are empty."""
     r0 = max(top, 0) + RISE_SKIP
     r1 = min(r0 + max(2, int(RISE_ROWS_SHARE * (bottom - top))), bottom)
-    if r1 <= r0 or min(b1 - b0 for b0, b1 in bands) < 1:
+    return _rows_colours(image, view, r0, r1, bands)
+
+
+def _rows_colours(
+    image: npt.NDArray[Any],
+    view: View,
+    r0: int,
+    r1: int,
+    bands: tuple[tuple[int, int], ...],
+) -> list[npt.NDArray[Any]] | None:
+    """The median Lab colour of each band of columns (first, end) in rows r0..r1 (end
+    excluded); None when the rows leave the view's top, or the rows or a band are empty."""
+    if r0 < 0 or r1 <= r0 or min(b1 - b0 for b0, b1 in bands) < 1:
         return None
     lab = _lab8(image, view, r0, r1)
     return [median_of(lab[:, b0:b1].reshape(-1, 3).astype(np.float32), axis=0) for b0, b1 in bands]
@@ -552,11 +565,8 @@ def _over_top_colour(
     """The median Lab colour of the columns ``band`` (first, end) in the RISE_OVER_ROWS
     rows over the face's ``top`` (RISE_SKIP clear of it); None when out of the view."""
     r1 = top - RISE_SKIP
-    r0 = r1 - RISE_OVER_ROWS
-    if r0 < 0 or band[1] - band[0] < 1:
-        return None
-    lab = _lab8(image, view, r0, r1, band[0], band[1])
-    return median_of(lab.reshape(-1, 3).astype(np.float32), axis=0)
+    colours = _rows_colours(image, view, r1 - RISE_OVER_ROWS, r1, (band,))
+    return None if colours is None else colours[0]
 
 
 def _rises_as_face(
@@ -586,6 +596,8 @@ def _rises_as_face(
     inside, beyond, face_colour = colours
     like_beyond = float(norm(inside - beyond)) <= RISE_NEAR
     unlike_face = float(norm(inside - face_colour)) >= RISE_FACE_APART
+    if not unlike_face:
+        return True  # the strip is the face's colour up there: it rises as the face
     # the strip's foot (just above the contact row) against the floor just below it
     f0, f1 = bottom - EDGE_SKIP - FOOT_ROWS, bottom - EDGE_SKIP
     g0, g1 = (
@@ -595,7 +607,7 @@ def _rises_as_face(
     if f0 < 0 or g1 <= g0:
         return True
     foot = median_of(_lab8(image, view, f0, f1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
-    if RISES_OVER_TOP and unlike_face and not like_beyond:
+    if RISES_OVER_TOP and not like_beyond:
         # what is over the top shows in the strip up there, and the strip is not one
         # surface from its foot up (a margin framing a print is: it stands)
         over = _over_top_colour(image, view, top, inner)
@@ -604,7 +616,7 @@ def _rises_as_face(
             and float(norm(inside - over)) <= RISE_NEAR
             and (not RISES_OVER_ONE_SURFACE or float(norm(inside - foot)) > RISE_NEAR)
         )
-    if not (like_beyond and unlike_face):
+    if not like_beyond:
         return True
     floor = median_of(_lab8(image, view, g0, g1, *inner).reshape(-1, 3).astype(np.float32), axis=0)
     return float(norm(foot[1:] - floor[1:])) > FLOOR_CHROMA_FAR
@@ -914,8 +926,39 @@ def floor_chroma(
     # the floor in the face's shadow, its chroma dimmed with its light, is floor too
     # where the face's own colour is no such shade of it (a face near the floor's chroma)
     if SHADOW_FOOT:
-        shade = shadow_columns(foot, floor)
-        out |= shade & ~shadow_columns(np.broadcast_to(ref[None], floor.shape), floor)
+        out |= floor_shade(foot, floor, ref)
+    return out
+
+
+def floor_shade(
+    foot: npt.NDArray[Any],
+    floor: npt.NDArray[Any],
+    ref: npt.NDArray[Any],
+    light: float | None = None,
+    face_floor: npt.NDArray[Any] | None = None,
+) -> npt.NDArray[np.bool_]:
+    """Per column (W x 3 Lab): the ``foot`` is the ``floor``'s shade
+    (:func:`shadow_columns`) where the face's colour ``ref`` is no such shade of it, and,
+    with ``light``, keeps at least that share of the floor's lightness. The face's colour
+    is held against the floor in each column, or against the one colour ``face_floor``.
+
+    Only face_from_colour's core walk passes ``light`` (CORE_SHADOW_LIGHT): there a shade
+    stops the walk at a side, and a near-black print's part at the foot keeps too little
+    chroma to tell from a deep shade; it passes ``face_floor`` too (the floor's median
+    under the face's foot), as a face's colour near the floor's shade would pass and fail
+    the check column by column with the floor's grain. :func:`floor_chroma`
+    (SHADOW_FOOT) takes neither: its C twin (_cmiddle) has no such bound, and its
+    answers stand as they are."""
+    shade = shadow_columns(foot, floor)
+    if light is not None:
+        shade &= np.asarray(foot, np.float32)[:, 0] >= light * np.asarray(floor, np.float32)[:, 0]
+    if face_floor is not None:
+        if _shadow_of(ref, face_floor):
+            shade[:] = False
+        return shade
+    out: npt.NDArray[np.bool_] = shade & ~shadow_columns(
+        np.broadcast_to(np.asarray(ref)[None], np.shape(floor)), floor
+    )
     return out
 
 
@@ -3458,7 +3501,8 @@ CORE_SHADOW_FOOT = True
 #: room's diffuse light still reaches the floor in a box's shadow (shadows read on the
 #: rooms 0.6-0.85 of the floor's L); a foot darker than that is no shade the hue test can
 #: tell from a dark print's part (photo/2034 hard: a black helmet on a poster's foot over
-#: a dark blue floor, 0.31-0.43, read as the floor's shade).
+#: a dark blue floor, 0.31-0.43, read as the floor's shade, h 0.4 -> -68 %; photo/3089
+#: hard with the rig, h -51.6 -> -74.6 %, without this bound).
 CORE_SHADOW_LIGHT = 0.5
 CORE_SHADOW_NO_RIG = False
 
@@ -3692,7 +3736,7 @@ def _margin_side_in(
     margin's run from the pair's middle ends when the floor shows from there to the side
     (MARGIN_SIDES_IN); ``cols`` the margin rows' column colours from column ``c0``,
     ``dist`` their distance from the margin's colour."""
-    g0 = foot + EDGE_SKIP
+    g0 = foot + EDGE_SKIP + 1  # clear of the foot's blur, as every other floor reader
     g1 = min(g0 + MARGIN_IN_FLOOR_ROWS, view.out.shape[0])
     if g1 - g0 < 2:
         return left, right
