@@ -5,12 +5,13 @@ from __future__ import annotations
 import os
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.sim.room_scene import render_room
+from obstacle_fusion.sim.room_scene import RoomSpec, render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.chessboard import BoardRenderer, BoardSpec, default_poses
 from obstacle_fusion.vision.fused import top
@@ -60,13 +61,24 @@ def rendered_boards(
     )
 
 
+@lru_cache(maxsize=64)
+def _paper_room(
+    family: str, seed: int, hard: bool
+) -> tuple[npt.NDArray[np.uint8], dict[str, Any], RoomSpec]:
+    """A room rendered once per test process: most room tests measure the same room with a
+    rule on and off, and the render costs more than the measurement."""
+    image, truth, spec = render_room(family, seed, hard, CameraModel.paper(500, 375))
+    image.setflags(write=False)
+    return image, truth, spec
+
+
 def room_size_errors(
     family: str, seed: int, hard: bool, with_rig: bool = True
 ) -> tuple[float, float]:
     """A generated room measured at the paper's 500x375, with its rig (``with_rig``) or
     none: (height, width) relative errors, the face found."""
     cam = CameraModel.paper(500, 375)
-    image, truth, spec = render_room(family, seed, hard, cam)
+    image, truth, spec = _paper_room(family, seed, hard)
     res = Measurer(cam, spec.rig if with_rig else None).measure(image, truth["range_m"])
     assert res.detected and res.height_m is not None and res.width_m is not None, res.reason
     return (
