@@ -100,3 +100,40 @@ def test_the_print_s_run_under_the_row_is_bounded(
     the found height (at 0.09 the first case fails, at 0.11 the third passes, with ``<``
     the first fails)."""
     assert (_frame_from(bottom, top_margin) is not None) is found
+
+
+def _with_margin_over(monkeypatch: pytest.MonkeyPatch, rows: int) -> float:
+    """3274 h with no rig, the frame found under the print given ``rows`` rows of margin
+    over it (past the RING_SKIP row): the reported confidence."""
+    real = region.margin_under_print
+
+    def over(*args: object) -> tuple[int, int, int, int] | None:
+        found = real(*args)  # type: ignore[arg-type]
+        if found is None:
+            return None
+        top = args[3]
+        assert isinstance(top, int)
+        return found[0], top - region.RING_SKIP - rows, found[2], found[3]
+
+    monkeypatch.setattr(method, "margin_under_print", over)
+    res, _ = _room()
+    return res.confidence or 0.0
+
+
+@pytest.mark.parametrize(("rows", "doubted"), [(2, True), (1, False)])
+def test_the_margin_over_the_print_must_be_a_band(
+    monkeypatch: pytest.MonkeyPatch, rows: int, doubted: bool
+) -> None:
+    """FRAMED_PAST_ROWS_MIN_OVER: 2 rows of margin over the print make a frame, 1 row is
+    the top edge's blend (3 or ``>`` leaves 2 undoubted, 1 doubts the blend)."""
+    assert (_with_margin_over(monkeypatch, rows) < 0.5) is doubted
+
+
+def test_a_plain_face_s_blend_over_its_top_is_no_frame() -> None:
+    """Photo 2030 ordinary, no rig: a plain pink face before a dark sky, right (0.6 %);
+    the floor beside it and its shadow under it read as a ring with 1 row over its top:
+    not doubted (0.26, as before the rule; 0.12 with FRAMED_PAST_ROWS_MIN_OVER at 1)."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, _ = render_room("photo", 2030, False, cam)
+    res = Measurer(cam, None).measure(image, truth["range_m"])
+    assert FRAMED not in res.doubts and (res.confidence or 0.0) > 0.2
