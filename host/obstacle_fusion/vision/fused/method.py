@@ -51,6 +51,7 @@ from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
     MIN_TOP_FACE_ROWS,
+    RING_SKIP,
     TOP_COLOUR_STEP,
     bridge_stripe,
     enclose_beside_foot,
@@ -366,6 +367,20 @@ BESIDE_FOOT_FIRST = True
 #: print's lower edge was taken for the foot. The frame is then the face (as an
 #: enclose_by_margin frame is), FRAMED among its doubts (a switch for the tests).
 MARGIN_UNDER_TRIED_ROW = True
+#: ... and where that frame's foot lies past the rows read (below the band round the row
+#: tried), the print found stands as measured (another trial reads the lower rows), but
+#: FRAMED is among its doubts all the same: a face stands on the floor, and under the row
+#: tried lies no floor but a margin of the colour flanking the print, running on down to
+#: a foot of its own; the row is the print's lower edge, not a floor contact (procedural
+#: 3274 hard: a brick print in a frame of the floor's shade, its lower edge 27 rows over
+#: the frame's foot, answered at 0.58, 29 % short). A switch for the tests.
+FRAMED_PAST_ROWS_DOUBT = True
+#: ... where the margin over the print (past the RING_SKIP row) runs this many rows at
+#: least: a frame's margin is a band of the face's paint; one row over the top is the
+#: top edge's blend into what lies above (photo 2030 ordinary: a plain face before a
+#: dark sky, the floor's grey beside it and its shadow under it read as a "ring" with 1
+#: row over its top, a right answer doubted).
+FRAMED_PAST_ROWS_MIN_OVER = 2
 #: A top where the face's sides stop and a print's texture ends (scoring.closing_top
 #: with scoring.PRINT_ENDS_TEXTURE) is not lowered to where the background seems to show
 #: past a side below it (region.lower_top_to_background): under it is the print, and a
@@ -914,6 +929,13 @@ class FusedMethod:
             # foot lies within the rows read; past them the row tried stands as it is)
             under = margin_under_print(seen, v, rb, int(vt), ul, ur)
             framed = under if under is not None and under[0] < n - 3 else None
+            if (
+                framed is None
+                and under is not None
+                and FRAMED_PAST_ROWS_DOUBT
+                and int(vt) - RING_SKIP - under[1] >= FRAMED_PAST_ROWS_MIN_OVER
+            ):
+                doubts.append(FRAMED)  # its frame's foot below the rows: the row is no foot
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:

@@ -2995,6 +2995,15 @@ def enclose_by_ring(
 #: :func:`margin_under_print`: columns read just outside each side of a print for its side
 #: margins' colour (past RING_SKIP columns of the edge's blur).
 SIDE_MARGIN_COLUMNS = 3
+#: With no rig the row tried may be a line across the print a course above its lower edge
+#: (a brick course's mortar, a stripe of the print): the print's own colour runs on under
+#: that row to the print's lower edge, and the frame's margin begins only there. The
+#: margin under is then sought past that run of the print's colour (within RING_AGREE of
+#: it), of at most PRINT_UNDER_SHARE of the found height (a course or two of a print's
+#: pattern: procedural 3274 hard, bricks 9-10 rows a course on a 97-row print, the row tried
+#: a mortar line 5 rows over the print's edge). A switch for the tests.
+PRINT_RUNS_UNDER_ROW = True
+PRINT_UNDER_SHARE = 0.1
 
 
 def _margin_past_blur(
@@ -3070,6 +3079,12 @@ def margin_under_print(
         out.append(run)
     rows = np.asarray(median_u8(band, axis=1), np.float32)
     down = _margin_past_blur(rows[b + RING_SKIP :], ring, reach_v)
+    if down is None and PRINT_RUNS_UNDER_ROW:
+        # the row tried a line on the print: its colour runs on under it to its lower edge
+        under = _run_length(rows[b + RING_SKIP :], np.asarray(print_colour, np.float32), RING_AGREE)
+        if 0 < under <= PRINT_UNDER_SHARE * (bottom - top):
+            past = _margin_past_blur(rows[b + RING_SKIP + under :], ring, reach_v)
+            down = None if past is None else under + past
     if down is None:
         return None
     # ... and over it: a frame is a ring, its margin round the print on all four sides (a
