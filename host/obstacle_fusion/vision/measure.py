@@ -1655,6 +1655,9 @@ class Measurer:
             return result
         if overlap >= CHECK_SAME_FACE:
             return result  # one face read twice: the rig's reading (its true pitch) stands
+        if CHECK_SAME_SIDES and _same_sides_taller(result.box_px, found.box_px):
+            log.debug("rig checked by the search: the rig face's foot and sides, only taller")
+            return result
         # the face keeps the size read at the search's guessed pitch; the camera height
         # and pitch reported are the given rig's, not the search's guess
         found.camera_height_m = None
@@ -1792,6 +1795,16 @@ CHECK_FOOT_SHARE = 0.6
 #: ... where the two boxes overlap (intersection over union) by less than this: over it
 #: they are one face read twice, and the rig's reading (at its true pitch) stands ...
 CHECK_SAME_FACE = 0.7
+#: ... or where the search's face stands on the rig face's foot between its sides (each
+#: within CHECK_SAME_SIDES_SHARE of the rig face's width, at least CHECK_SAME_SIDES_PX)
+#: and only rises higher: one surface (its foot and sides fix it) read twice, its top
+#: read by the search at a guessed pitch and without the rig's stages that end a face
+#: where its own surface ends (the surface under a background standing in line behind
+#: it: a rocket photographed above a narrow face, photo/3255 hard); the rig's top stands
+#: (a switch for the tests) ...
+CHECK_SAME_SIDES = True
+CHECK_SAME_SIDES_SHARE = 0.1
+CHECK_SAME_SIDES_PX = 2.0
 #: ... and its box narrower than the image by this share (a face as wide as the image is
 #: clipped, not measured) ...
 CHECK_MAX_WIDTH_SHARE = 0.9
@@ -1825,6 +1838,22 @@ def box_overlap(a: Box | None, b: Box | None) -> float:
     inter = w * h
     union = (a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter
     return inter / union if union > 0.0 else 0.0
+
+
+def _same_sides_taller(rig_box: Box | None, found_box: Box | None) -> bool:
+    """Whether the search's box ``found_box`` stands on the rig face's foot between its
+    sides (each of the three within CHECK_SAME_SIDES_SHARE of the rig box's width, at
+    least CHECK_SAME_SIDES_PX) with its top higher (CHECK_SAME_SIDES): one surface read
+    twice, the search's top the only difference."""
+    if rig_box is None or found_box is None:
+        return False
+    slack = max(CHECK_SAME_SIDES_PX, CHECK_SAME_SIDES_SHARE * (rig_box[2] - rig_box[0]))
+    return (
+        abs(found_box[0] - rig_box[0]) <= slack
+        and abs(found_box[2] - rig_box[2]) <= slack
+        and abs(found_box[3] - rig_box[3]) <= slack
+        and found_box[1] < rig_box[1]
+    )
 
 
 def _plausible_face(found: Measurement, w_img: int) -> bool:
