@@ -13,7 +13,10 @@ the rocket's nose to row 121, where the face's green begins; then:
   (its foot, its sides) with its top up the rocket (+76 %), less than CHECK_SAME_FACE over
   the rig's box, and took it: a search face on the rig face's foot and sides, only taller,
   is one surface read twice, and the rig's top stands (``measure.CHECK_SAME_SIDES``,
-  ``measure._same_sides_taller``).
+  ``measure._same_sides_taller``) where the rows the search adds over the rig's top are
+  something else than the face (``measure._added_unlike_face``, 29.9 apart here): the
+  same colour over it is the face itself, the rig's top a line across it (photo 152
+  hard, a tape: 1.4 apart, the search's face taken as before).
 
 With both, +0.7 % high (the width +7 % as before). The room tests run with the rig
 check on (``rig_checked``): the second rule is the check's. Without the check, the first
@@ -22,10 +25,12 @@ rule alone fixes the room (also tested).
 
 from __future__ import annotations
 
+import cv2
+import numpy as np
 import pytest
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.fused import method
-from obstacle_fusion.vision.measure import _same_sides_taller
+from obstacle_fusion.vision.measure import _added_unlike_face, _same_sides_taller
 
 from tests.vision_fixtures import room_size_errors
 
@@ -98,3 +103,65 @@ def test_a_narrow_face_keeps_the_pixel_slack(right: float, same: bool) -> None:
 def test_no_box_is_no_same_face() -> None:
     assert not _same_sides_taller(None, RIG)
     assert not _same_sides_taller(RIG, None)
+
+
+def _greys(face: int, added: int, edge: int = 0) -> np.ndarray:
+    """A grey image: the rig face (columns 100-200, rows 120-240) of grey ``face``, the
+    rows the search adds over it (30-120) of ``added``, and the ``edge`` grey in the
+    CHECK_EDGE_ROWS just under the search's top and over the rig face's foot."""
+    img = np.full((300, 300, 3), 60, np.uint8)
+    img[120:240, 100:201] = face
+    img[30:120, 100:201] = added
+    if edge:
+        img[30 : 30 + measure.CHECK_EDGE_ROWS, 100:201] = edge
+        img[240 - measure.CHECK_EDGE_ROWS : 240, 100:201] = edge
+    return img
+
+
+def _apart(a: int, b: int) -> float:
+    lab = cv2.cvtColor(np.array([[[a] * 3, [b] * 3]], np.uint8), cv2.COLOR_BGR2Lab)
+    return float(np.linalg.norm(lab[0, 0].astype(np.float32) - lab[0, 1]))
+
+
+def test_the_added_rows_apart_from_the_face() -> None:
+    # the first grey over the face's 100 at least CHECK_ADDED_APART (18) from it, and the
+    # one before it
+    far = next(g for g in range(100, 200) if _apart(100, g) >= measure.CHECK_ADDED_APART)
+    assert _apart(100, far - 1) < measure.CHECK_ADDED_APART
+    found = (100.0, 30.0, 200.0, 240.0)
+    assert _added_unlike_face(_greys(100, far), RIG, found)
+    assert not _added_unlike_face(_greys(100, far - 1), RIG, found)
+    assert not _added_unlike_face(_greys(100, 100), RIG, found)  # the face itself
+    assert not _added_unlike_face(_greys(100, far)[:, :, 0], RIG, found)  # grey: no colour
+
+
+def test_the_edges_blur_is_skipped() -> None:
+    # the CHECK_EDGE_ROWS rows under the search's top and over the foot are not read
+    found = (100.0, 30.0, 200.0, 240.0)
+    assert not _added_unlike_face(_greys(100, 100, edge=250), RIG, found)
+
+
+def test_the_face_is_read_on_its_lower_part() -> None:
+    # CHECK_FACE_REF_SHARE 0.35 of the rig face's 120 rows (42) over its foot's blur: a
+    # face whose upper part above those rows is the added rows' colour is still read
+    img = _greys(100, 200)
+    img[120 : 240 - measure.CHECK_EDGE_ROWS - 42, 100:201] = 200
+    assert _added_unlike_face(img, RIG, (100.0, 30.0, 200.0, 240.0))
+    img[240 - measure.CHECK_EDGE_ROWS - 42 : 240 - measure.CHECK_EDGE_ROWS - 20, 100:201] = 200
+    assert not _added_unlike_face(img, RIG, (100.0, 30.0, 200.0, 240.0))
+
+
+def test_no_added_rows_no_check() -> None:
+    assert not _added_unlike_face(_greys(100, 200), RIG, RIG)
+    assert not _added_unlike_face(_greys(100, 200), None, RIG)
+
+
+@pytest.mark.rig_checked
+def test_a_tape_across_the_face_is_no_background(monkeypatch: pytest.MonkeyPatch) -> None:
+    # photo 152 hard: the rig's top on a tape across a blue face (-49 %); the search's
+    # whole face on its foot and sides adds rows of the same blue (1.4 apart) and is taken
+    eh, _ = room_size_errors("photo", 152, True, with_rig=True)
+    assert eh < 0.05
+    monkeypatch.setattr(measure, "CHECK_ADDED_APART", 0.0)
+    eh, _ = room_size_errors("photo", 152, True, with_rig=True)
+    assert eh > 0.4
