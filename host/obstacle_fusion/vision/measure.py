@@ -1655,13 +1655,6 @@ class Measurer:
             return result
         if overlap >= CHECK_SAME_FACE:
             return result  # one face read twice: the rig's reading (its true pitch) stands
-        if (
-            CHECK_SAME_SIDES
-            and _same_sides_taller(result.box_px, found.box_px)
-            and _added_unlike_face(image, result.box_px, found.box_px)
-        ):
-            log.debug("rig checked by the search: the rig face's foot and sides, only taller")
-            return result
         # the face keeps the size read at the search's guessed pitch; the camera height
         # and pitch reported are the given rig's, not the search's guess
         found.camera_height_m = None
@@ -1799,25 +1792,6 @@ CHECK_FOOT_SHARE = 0.6
 #: ... where the two boxes overlap (intersection over union) by less than this: over it
 #: they are one face read twice, and the rig's reading (at its true pitch) stands ...
 CHECK_SAME_FACE = 0.7
-#: ... or where the search's face stands on the rig face's foot between its sides (each
-#: within CHECK_SAME_SIDES_SHARE of the rig face's width, at least CHECK_SAME_SIDES_PX)
-#: and only rises higher: one surface (its foot and sides fix it) read twice, its top
-#: read by the search at a guessed pitch and without the rig's stages that end a face
-#: where its own surface ends (the surface under a background standing in line behind
-#: it: a rocket photographed above a narrow face, photo/3255 hard); the rig's top stands
-#: (a switch for the tests) ...
-CHECK_SAME_SIDES = True
-CHECK_SAME_SIDES_SHARE = 0.1
-CHECK_SAME_SIDES_PX = 2.0
-#: ... where the rows the search adds over the rig face's top are something else than
-#: the face: their colour (the median over the middle half of the columns, Lab 8-bit)
-#: at least this far from the face's lower part's (CHECK_FACE_REF_SHARE of its height
-#: over its foot, past CHECK_EDGE_ROWS of each edge's blur). The same colour over the
-#: rig's top is the face itself, the rig's top a line across it (a tape: photo/152 hard,
-#: the rig's top on the tape, -49 %, the search's whole face -2 %).
-CHECK_ADDED_APART = 18.0
-CHECK_FACE_REF_SHARE = 0.35
-CHECK_EDGE_ROWS = 2
 #: ... and its box narrower than the image by this share (a face as wide as the image is
 #: clipped, not measured) ...
 CHECK_MAX_WIDTH_SHARE = 0.9
@@ -1851,48 +1825,6 @@ def box_overlap(a: Box | None, b: Box | None) -> float:
     inter = w * h
     union = (a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter
     return inter / union if union > 0.0 else 0.0
-
-
-def _same_sides_taller(rig_box: Box | None, found_box: Box | None) -> bool:
-    """Whether the search's box ``found_box`` stands on the rig face's foot between its
-    sides (each of the three within CHECK_SAME_SIDES_SHARE of the rig box's width, at
-    least CHECK_SAME_SIDES_PX) with its top higher (CHECK_SAME_SIDES): one surface read
-    twice, the search's top the only difference."""
-    if rig_box is None or found_box is None:
-        return False
-    slack = max(CHECK_SAME_SIDES_PX, CHECK_SAME_SIDES_SHARE * (rig_box[2] - rig_box[0]))
-    return (
-        abs(found_box[0] - rig_box[0]) <= slack
-        and abs(found_box[2] - rig_box[2]) <= slack
-        and abs(found_box[3] - rig_box[3]) <= slack
-        and found_box[1] < rig_box[1]
-    )
-
-
-def _added_unlike_face(image: npt.NDArray[Any], rig_box: Box | None, found_box: Box | None) -> bool:
-    """Whether the rows ``found_box`` adds over ``rig_box``'s top (both in the input
-    image's pixels) differ in colour from the rig face's lower part by CHECK_ADDED_APART
-    (CHECK_SAME_SIDES): what the search read on up to is something else than the face."""
-    if rig_box is None or found_box is None or image.ndim != 3:
-        return False
-    h_img, w_img = image.shape[:2]
-    x0, x1 = rig_box[0], rig_box[2]
-    c0 = max(0, int(round(x0 + 0.25 * (x1 - x0))))
-    c1 = min(w_img, int(round(x1 - 0.25 * (x1 - x0))) + 1)
-    top, bottom = int(round(rig_box[1])), int(round(rig_box[3]))
-    r0 = max(0, bottom - CHECK_EDGE_ROWS - int(round(CHECK_FACE_REF_SHARE * (bottom - top))))
-    r1 = min(h_img, bottom - CHECK_EDGE_ROWS)
-    a0, a1 = max(0, int(round(found_box[1])) + CHECK_EDGE_ROWS), top - CHECK_EDGE_ROWS
-    if c1 - c0 < 1 or r1 - r0 < 1 or a1 - a0 < 1:
-        return False
-
-    def colour(rows: npt.NDArray[Any]) -> npt.NDArray[np.float32]:
-        lab = cv2.cvtColor(np.ascontiguousarray(rows), cv2.COLOR_BGR2Lab)
-        return np.median(lab.reshape(-1, 3), axis=0).astype(np.float32)
-
-    apart = float(np.linalg.norm(colour(image[a0:a1, c0:c1]) - colour(image[r0:r1, c0:c1])))
-    log.debug("rig checked by the search: the rows added over the rig's top %.1f apart", apart)
-    return apart >= CHECK_ADDED_APART
 
 
 def _plausible_face(found: Measurement, w_img: int) -> bool:
