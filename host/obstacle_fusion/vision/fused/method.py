@@ -504,6 +504,13 @@ SURFACE_ANY_FLOOR = True
 #: sides' walk ran up beside two posters to the image's top (photo/3109 hard, no rig,
 #: +51 %) (a switch for the tests).
 SURFACE_IN_RESCUE = True
+#: ... and on the outline read from the face's foot (foot_outline.outline_from_foot): its
+#: sides rise from the floor as far as their edges run, and a background standing in
+#: line behind the face with its edges over the face's (a rocket photographed above a
+#: narrow face) carries them on past the face's top; the surface rule had lowered the
+#: top to where the face begins and the outline raised it back (photo/3255 hard, +85 %)
+#: (a switch for the tests).
+OUTLINE_SURFACE_TOP = True
 #: With the rig, a top where the face's colour ends (region.stops_at_colour_top: the
 #: inner edges' raise judged short, the rows above unlike those below and the face's
 #: foot, from side to side) is not raised by the colour and sides walks either: their
@@ -789,6 +796,17 @@ class FusedMethod:
             if grown is None:
                 return None
             g_bottom, g_top, g_left, g_right = grown
+            if SURFACE_UP_TO_TOP and OUTLINE_SURFACE_TOP:
+                # the face is one surface from its foot up to its top: the outline's sides
+                # rising from the floor may run on up the edges of what stands in line
+                # behind it (a rocket photographed above a narrow face), past its top
+                surface = lower_top_to_surface(seen, v, ay, g_bottom, g_top, g_left, g_right)
+                if surface > g_top:
+                    log.debug(
+                        "foot outline: top %d, the face's surface starts at %d", g_top, surface
+                    )
+                    g_top = surface
+                    grown = (g_bottom, g_top, g_left, g_right)
             sign = 1.0 if int(dy[g_top, g_left:g_right].sum()) >= 0 else -1.0
             again = self._refine(
                 ax,
