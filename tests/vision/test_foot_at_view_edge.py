@@ -1,14 +1,17 @@
 """With the rig, a face whose predicted floor-contact row lies in the view's last
 FOOT_EDGE_FLOOR_ROWS rows (or just past them, its contact band still reaching into the
-view), which neither the edges nor the colour rescue find, is sought from the view's
-foot up as a face whose foot lies below the view (``method.FOOT_AT_VIEW_EDGE``,
-``method.foot_at_view_edge``): with no floor rows below it the contact edge does not
-show, and the band's search stops four rows short of the view's foot.
+view), which neither the edges nor the colour rescue find, or find only unclearly
+(refused), is sought from the view's foot up as a face whose foot lies below the view
+(``method.FOOT_AT_VIEW_EDGE``, ``method.foot_at_view_edge``): with no floor rows below it
+the contact edge does not show, and the band's search stops four rows short of the
+view's foot.
 
 Rooms: procedural 3253 (ordinary, new6): a pink gloss box 0.62 m ahead whose foot the rig
 puts at row 379 of 375; no face was found ("no face with a floor-contact edge"), with
-the rule +0.2 / -1.7 %. Photo 2106 (ordinary, fresh): the foot at row 375, missed,
-with the rule +0.1 / -2.2 %.
+the rule +0.2 / -1.7 %. Photo 2106 (ordinary, fresh): the foot at row 374.6, missed the
+same way, with the rule +0.1 / -2.2 %. Photo 2177 (ordinary, fresh): the foot at row 376,
+the edges' face a strip along the view's foot refused at 0.042 ("no clear face"), with
+the rule +0.4 / +0.3 % at 0.34.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from obstacle_fusion.vision.fused.method import foot_at_view_edge
 
 from tests.vision_fixtures import room_size_errors
 
-ROOMS = [("procedural", 3253, False), ("photo", 2106, False)]
+ROOMS = [("procedural", 3253, False), ("photo", 2106, False), ("photo", 2177, False)]
 
 
 @pytest.mark.parametrize(("family", "seed", "hard"), ROOMS)
@@ -33,7 +36,7 @@ def test_without_the_rule_it_is_missed(
     monkeypatch: pytest.MonkeyPatch, family: str, seed: int, hard: bool
 ) -> None:
     monkeypatch.setattr(method, "FOOT_AT_VIEW_EDGE", False)
-    with pytest.raises(AssertionError, match="no face with a floor-contact edge"):
+    with pytest.raises(AssertionError, match="no face with a floor-contact edge|no clear face"):
         room_size_errors(family, seed, hard)
 
 

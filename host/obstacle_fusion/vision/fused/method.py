@@ -860,23 +860,34 @@ class FusedMethod:
                     return grown[0]
             return colour_face
 
-        if best is None:
-            rescued = rescue_by_colour()
-            if rescued is not None:
-                return rescued
-            if (
+        def from_view_foot(refused_at: float) -> Measurement | None:
+            """Where the edges give no face, or none clear (at ``refused_at``), and the
+            rig puts the face's foot in the view's last rows or past them
+            (FOOT_AT_VIEW_EDGE): the face from the view's foot up, as PAST_FOOT_FACE's,
+            if surer than the face refused; None otherwise."""
+            if not (
                 FOOT_AT_VIEW_EDGE
                 and rescue
                 and floor_known
                 and rig_known
                 and foot_at_view_edge(vb0, h_img)
             ):
-                log.debug("foot %.0f at the view's edge: the face from the view's foot up", vb0)
-                past = self._past_foot(image, colour, range_m, depth, vb0, timer)
-                if past is not None:
-                    if vb0 < h_img:  # the foot is in the view, if too near its edge
-                        past.clipped = [c for c in past.clipped if c != "bottom"]
-                    return past
+                return None
+            log.debug("foot %.0f at the view's edge: the face from the view's foot up", vb0)
+            past = self._past_foot(image, colour, range_m, depth, vb0, timer)
+            if past is None or (past.confidence or 0.0) <= refused_at:
+                return None
+            if vb0 < h_img:  # the foot is in the view, if too near its edge
+                past.clipped = [c for c in past.clipped if c != "bottom"]
+            return past
+
+        if best is None:
+            rescued = rescue_by_colour()
+            if rescued is not None:
+                return rescued
+            at_foot = from_view_foot(0.0)
+            if at_foot is not None:
+                return at_foot
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
@@ -1055,6 +1066,9 @@ class FusedMethod:
             rescued = rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
+            at_foot = from_view_foot(conf)
+            if at_foot is not None:
+                return at_foot
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
@@ -1208,6 +1222,9 @@ class FusedMethod:
             rescued = rescued_once[0] if rescued_once else rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
+            at_foot = from_view_foot(conf)
+            if at_foot is not None:
+                return at_foot
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
