@@ -258,6 +258,12 @@ def _unsure(m: Measurement) -> bool:
     return sure < FOOT_OUTLINE_CONFIDENCE
 
 
+def foot_at_view_edge(vb0: float, h_img: int) -> bool:
+    """The predicted floor-contact row ``vb0`` lies where no contact edge can be read: in
+    the view's last FOOT_EDGE_FLOOR_ROWS rows or past them (FOOT_AT_VIEW_EDGE)."""
+    return vb0 > h_img - FOOT_EDGE_FLOOR_ROWS
+
+
 def _foot_read(floor_known: bool, rig_known: bool, rb: int, vb0: float, conf: float) -> bool:
     """Whether the face's foot row ``vb0`` may be read for its outline (FOOT_OUTLINE): the
     rig's predicted row on a known floor; with no rig (FOOT_OUTLINE_TRIALS), a trial's row
@@ -340,6 +346,14 @@ RESCUE_MAX_CONFIDENCE = 0.4
 #: colour from the view's foot up (:func:`.region.face_past_foot`), at most as sure as
 #: the colour rescue's (a switch for the tests).
 PAST_FOOT_FACE = True
+#: With the rig, a face whose predicted floor-contact row lies in the view's last
+#: FOOT_EDGE_FLOOR_ROWS rows (or past them, the contact band reaching into the view) and
+#: which the edges and the colour rescue do not find is sought as PAST_FOOT_FACE's is: the
+#: contact edge needs floor rows below it to show (the 3x3 Sobel, the band's search stops
+#: that many rows short of the view's foot), so a foot there has no edge to be found by,
+#: and the rows at the view's foot in the beam's core are the face (session 45, `wt-a-45`).
+FOOT_AT_VIEW_EDGE = True
+FOOT_EDGE_FLOOR_ROWS = 4
 #: The highest confidence a face found by its texture alone gets: its sides and top are
 #: where a smoothed texture changes, known to half a window.
 TEXTURE_MAX_CONFIDENCE = 0.3
@@ -879,10 +893,34 @@ class FusedMethod:
                     return grown[0]
             return colour_face
 
+        def from_view_foot(refused_at: float) -> Measurement | None:
+            """Where the edges give no face, or none clear (at ``refused_at``), and the
+            rig puts the face's foot in the view's last rows or past them
+            (FOOT_AT_VIEW_EDGE): the face from the view's foot up, as PAST_FOOT_FACE's,
+            if surer than the face refused; None otherwise."""
+            if not (
+                FOOT_AT_VIEW_EDGE
+                and rescue
+                and floor_known
+                and rig_known
+                and foot_at_view_edge(vb0, h_img)
+            ):
+                return None
+            log.debug("foot %.0f at the view's edge: the face from the view's foot up", vb0)
+            past = self._past_foot(image, colour, range_m, depth, vb0, timer)
+            if past is None or (past.confidence or 0.0) <= refused_at:
+                return None
+            if vb0 < h_img:  # the foot is in the view, if too near its edge
+                past.clipped = [c for c in past.clipped if c != "bottom"]
+            return past
+
         if best is None:
             rescued = rescue_by_colour()
             if rescued is not None:
                 return rescued
+            at_foot = from_view_foot(0.0)
+            if at_foot is not None:
+                return at_foot
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
             return fail
 
@@ -1068,6 +1106,9 @@ class FusedMethod:
             rescued = rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
+            at_foot = from_view_foot(conf)
+            if at_foot is not None:
+                return at_foot
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
@@ -1221,6 +1262,9 @@ class FusedMethod:
             rescued = rescued_once[0] if rescued_once else rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
+            at_foot = from_view_foot(conf)
+            if at_foot is not None:
+                return at_foot
             fail.confidence = round(conf, 3)
             fail.reason = reason
             return fail
