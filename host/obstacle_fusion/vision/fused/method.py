@@ -72,6 +72,7 @@ from obstacle_fusion.vision.fused.region import (
     lower_top_where_sides_end,
     margin_line_out,
     margin_under_print,
+    margin_up_to_raised_top,
     raise_top_along_frame,
     raise_top_by_colour,
     raise_top_by_hue,
@@ -574,6 +575,14 @@ WHOLE_RAISE_JUDGED = True
 #: ... (m; foot_outline.RISE_REACH_M: a face the sonar ranges is seldom taller; photo/2098
 #: hard's closing top up a rocket's sides behind a panel face: 1.65 m, +369 %).
 RAISED_FACE_MAX_M = 1.5
+#: The colour rescue's top is raised to where its sides run on up to in the gradients
+#: (region.raise_top_past_inner_edges) though the face's colour is not back under there,
+#: where a margin of one colour hugs both sides from the foot up to that top
+#: (region.margin_up_to_raised_top): a poster's board frames its print on every side,
+#: the colour walk stopped inside the print, and what stands behind a face in line with
+#: its sides does not carry one colour down both of them to its foot. With the rig only
+#: (a switch for the tests; photo/3297 hard: -55 % at confidence 0.40).
+MARGIN_HOLDS_RAISED_TOP = True
 #: With the rig, the colour rescue's top is walked on up by the face's mean colour over
 #: windows of rows (region.raise_top_by_windows; a switch for the tests). Not on a rig only
 #: guessed with no rig given (``FusedMethod.rig_guessed``): merged with
@@ -1533,6 +1542,11 @@ class FusedMethod:
                 or (
                     RESCUE_RAISE_BY_COLOUR
                     and not face_under_raised_top(seen, self.view, rb, vt, raised, ul, ur)
+                    and not (
+                        MARGIN_HOLDS_RAISED_TOP
+                        and rig_known
+                        and margin_up_to_raised_top(seen, self.view, rb, vt, raised, ul, ur)
+                    )
                 )
             )
         ):

@@ -2279,6 +2279,66 @@ def face_under_raised_top(
     return any(strips) if one_strip else all(strips)
 
 
+#: The columns of each margin strip :func:`margin_up_to_raised_top` reads, and how far in
+#: from the side they start (one column: the side's own blur, about a pixel at these
+#: cameras' focus, is left out; a print's margin is a few columns wide at the face's
+#: depth, so the strips stay in it where face_under_raised_top's, SIDE_SKIP in and
+#: BESIDE_COLUMNS wide, reach the print).
+MARGIN_STRIP_COLUMNS = 2
+MARGIN_STRIP_SKIP = 2
+#: The share of the rows from the raised top down to the foot whose strip colour must be
+#: the margin's (within its spread_limit), in each strip.
+MARGIN_HOLDS_SHARE = 0.9
+#: The two strips' colours at most this far apart (8-bit Lab): one margin round the print.
+MARGIN_STRIPS_APART = 18.0
+
+
+def margin_up_to_raised_top(
+    image: npt.NDArray[Any] | None,
+    view: View,
+    bottom: int,
+    top: int,
+    raised: int,
+    left: int,
+    right: int,
+) -> bool:
+    """Whether a margin of one colour runs up both of the face's sides, hugging them, from
+    its foot to ``raised``, a top the sides ran on up to past ``top`` (a colour walk's top).
+
+    A poster is one board: its margin frames the print on every side. The colour walk up
+    the middle stops inside the print, and face_under_raised_top's strips, a few columns
+    in, lie in the print too; but the margin's narrow strips just inside the sides keep
+    one colour all the way up to the board's top. What stands behind the face in line with
+    its sides (a pole, a rail) does not carry the face's own colour down both its sides to
+    its foot. Judged over the same raises as face_under_raised_top."""
+    if image is None or image.ndim != 3:
+        return False
+    n_cols = MARGIN_STRIP_SKIP + MARGIN_STRIP_COLUMNS
+    if right - left < 2 * n_cols + 4:
+        return False
+    way, found = top - raised, bottom - top
+    if found < 4 or not RETURN_MIN_RAISE * found <= way <= RETURN_MAX_RAISE * found:
+        return False
+    lab = _lab8(
+        image, view, raised, bottom, left + MARGIN_STRIP_SKIP, right - MARGIN_STRIP_SKIP + 1
+    )
+    k = way + 2  # the rows the colour walk found, under its top (as face_under_raised_top)
+    refs = []
+    for part in (lab[:, :MARGIN_STRIP_COLUMNS], lab[:, -MARGIN_STRIP_COLUMNS:]):
+        rows = median_u8(part, axis=1).astype(np.float32)
+        ref = median_of(rows[k:], axis=0)
+        dist = row_norms(rows - ref)
+        limit = spread_limit(dist[k:], MIN_FACE_DISTANCE)
+        if float(np.mean(dist <= limit)) < MARGIN_HOLDS_SHARE:
+            return False
+        # the margin runs right up to the raised top: its rows there are the margin's too
+        n = max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * way))
+        if float(median_of(dist[2 : 2 + n])) > limit:
+            return False
+        refs.append(ref)
+    return float(np.linalg.norm(refs[0] - refs[1])) <= MARGIN_STRIPS_APART
+
+
 #: A face's hue (a, b) at least this far from grey holds a top for :func:`hue_back_under_top`
 #: (session 38's review: a grey face under a white wall kept its hue, and the whole way up
 #: was never refused).
