@@ -92,12 +92,38 @@ def test_a_margin_not_seen_at_the_lower_rows_is_no_evidence() -> None:
     assert ring(img) is not None
 
 
-def test_a_margin_running_on_at_the_upper_rows_is_no_frame() -> None:
-    # the margin's colour runs on to the image's edge beside the print's upper rows on
-    # the right (no margin at the middle rows: one column): a wall of it, no frame
+LOWER = P_BOTTOM - int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
+
+
+def _band_beside(img: npt.NDArray[np.uint8], centre: int, columns: slice) -> None:
+    """The margin's colour run on through ``columns`` beside the band of rows at
+    ``centre`` (a background of nearly its colour there: a skirting, a wall)."""
+    img[centre - Q_V - 2 : centre + Q_V + 2, columns] = FACE
+
+
+def test_a_margin_running_on_at_one_band_is_still_a_frame() -> None:
+    # procedural 143 ordinary (no rig): a purple frame whose colour the blue skirting
+    # beside its lower rows continues: no end there, the upper band confirms both sides
     img = thin_framed_scene()
-    img[UPPER - Q_V - 2 : UPPER + Q_V + 2, P_RIGHT:] = FACE
+    _band_beside(img, LOWER, slice(0, NARROW[0]))
+    assert ring(img) is not None
+
+
+def test_a_margin_seen_at_no_other_band_is_no_frame() -> None:
+    # the left margin's colour runs on beside both the upper and the lower rows: its
+    # outer edge shows only at the middle rows (clutter ending the room's colour there)
+    img = thin_framed_scene()
+    _band_beside(img, UPPER, slice(0, NARROW[0]))
+    _band_beside(img, LOWER, slice(0, NARROW[0]))
     assert ring(img) is None
+
+
+def test_a_side_with_no_margin_asks_for_nothing() -> None:
+    # the right margin (one column: no run past the print's blur at the middle) may run
+    # on beside the upper rows (it was never read as a margin)
+    img = thin_framed_scene()
+    _band_beside(img, UPPER, slice(P_RIGHT, None))
+    assert ring(img) is not None
 
 
 def test_the_upper_band_is_read_where_the_share_puts_it(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -2924,11 +2924,11 @@ def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], r
 
 
 #: :func:`enclose_by_ring`: the margin is the face's own surface round the print, a
-#: rectangle's band: each side's margin is as wide at the print's upper and lower rows
-#: as at its middle (its outer edge a straight side of the face, upright), and nowhere
-#: runs on beside the print (a wall of its colour). A "margin" that is the room seen
-#: beside and over the face (its colour by chance the background's, ending on whatever
-#: clutter stands there) ends at other columns at other heights (a switch for the tests).
+#: rectangle's band: each side's margin ends as far out at the print's upper or lower
+#: rows as at its middle (its outer edge a straight side of the face, upright), and at
+#: no other column there. A "margin" that is the room seen beside and over the face (its
+#: colour by chance the background's, ending on whatever clutter stands there) ends at
+#: other columns at other heights, or nowhere (a switch for the tests).
 RING_SIDES_STRAIGHT = True
 #: ... the rows read: bands centred this share of the print's height down from its top
 #: and up from its foot (the middle band is the one the margin was found in).
@@ -2952,27 +2952,29 @@ def _ring_sides_straight(
     out: list[int],
 ) -> bool:
     """Whether the margin :func:`enclose_by_ring` read beside a print's middle rows (runs
-    ``out``, columns past each side's blur) holds at its upper and lower rows as well: no
-    side's margin colour runs on there, and a side with a margin (2 columns or more) ends
-    within RING_SIDE_SLACK columns of its middle run, or does not show past the print's
-    edge there (a run of 0: the edge's blur wider there), never running on
+    ``out``, columns past each side's blur) holds at its upper and lower rows as well: a
+    side with a margin (RING_MIN columns or more) ends within RING_SIDE_SLACK columns of
+    its middle run at one of them at least, and nowhere at another column (where it does
+    not show past the print's edge, or runs on past the reach, it tells nothing)
     (RING_SIDES_STRAIGHT)."""
     height = bottom - top
     q_v = max(2, height // 10)
+    seen = [out[0] < RING_MIN, out[1] < RING_MIN]  # sides with no margin ask for nothing
     for at in (RING_SIDE_BAND_AT, 1.0 - RING_SIDE_BAND_AT):
         rm = top + int(at * height)
         cols = np.asarray(
             median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
         )
         for side, profile in enumerate((cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :])):
-            run = _ring_run(profile, ring, reach_u)
             if out[side] < RING_MIN:
-                if run < 0 and norm(profile[0] - ring) < RING_AGREE:
-                    return False  # the margin's colour runs on beside the print here
-            elif run < 0 or (run > 0 and abs(run - out[side]) > RING_SIDE_SLACK):
-                # (a run of 0: the margin not seen past the print's edge there, its blur)
+                continue
+            run = _ring_run(profile, ring, reach_u)
+            # (a run of 0: the margin not seen past the print's edge there, its blur; -1:
+            # no end within the reach, a background of nearly its colour beside it there)
+            if run > 0 and abs(run - out[side]) > RING_SIDE_SLACK:
                 return False  # the margin's outer edge is no straight side
-    return True
+            seen[side] = seen[side] or run > 0
+    return all(seen)
 
 
 def enclose_by_ring(
