@@ -56,14 +56,17 @@ def test_a_thin_framed_print_photo_339_is_still_enclosed() -> None:
 P_TOP, P_BOTTOM = TOP + THIN["top"], BOTTOM - THIN["bottom"]
 P_LEFT, P_RIGHT = NARROW[0] + THIN["left"], NARROW[1] - THIN["right"]
 UPPER = P_TOP + int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
+LOWER = P_BOTTOM - int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
 Q_V = (P_BOTTOM - P_TOP) // 10
 
 
 def _notched(wider: int) -> npt.NDArray[np.uint8]:
     """The thin frame with its left margin ``wider`` columns wider over the print's upper
-    rows (down to just past the upper band; the middle band's rows as drawn)."""
+    rows (down to just past the upper band) and its lower ones (from just over the lower
+    band): its outer edge at the middle rows alone as drawn."""
     img = thin_framed_scene()
     img[TOP : UPPER + Q_V + 2, NARROW[0] - wider : NARROW[0]] = FACE
+    img[LOWER - Q_V - 2 : BOTTOM, NARROW[0] - wider : NARROW[0]] = FACE
     return img
 
 
@@ -87,12 +90,27 @@ def test_without_the_rule_a_notched_margin_is_enclosed(monkeypatch: pytest.Monke
 def test_a_margin_not_seen_at_the_lower_rows_is_no_evidence() -> None:
     # the print's colour out to the face's left side over its lower rows: no margin there
     img = thin_framed_scene()
-    lower = P_BOTTOM - int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
-    img[lower - Q_V - 2 : P_BOTTOM, NARROW[0] : P_LEFT] = PRINT
+    img[LOWER - Q_V - 2 : P_BOTTOM, NARROW[0] : P_LEFT] = PRINT
     assert ring(img) is not None
 
 
-LOWER = P_BOTTOM - int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
+def test_a_margin_seen_only_at_the_middle_is_no_frame() -> None:
+    # ... and none at its upper rows either: the left margin's edge is seen nowhere else
+    img = thin_framed_scene()
+    img[P_TOP:P_BOTTOM, NARROW[0] : P_LEFT] = PRINT
+    img[
+        P_TOP + (P_BOTTOM - P_TOP) // 2 - Q_V - 2 : P_TOP + (P_BOTTOM - P_TOP) // 2 + Q_V + 2,
+        NARROW[0] : P_LEFT,
+    ] = FACE
+    assert ring(img) is None
+
+
+def test_a_background_band_ending_at_another_column_is_no_evidence() -> None:
+    # procedural 2041: a green wall beside the green frame's upper right rows, ending 18
+    # columns out: the lower band still shows the frame's edge
+    img = thin_framed_scene()
+    _band_beside(img, UPPER, slice(NARROW[0] - 15, NARROW[0]))
+    assert ring(img) is not None
 
 
 def _band_beside(img: npt.NDArray[np.uint8], centre: int, columns: slice) -> None:
@@ -126,8 +144,9 @@ def test_a_side_with_no_margin_asks_for_nothing() -> None:
     assert ring(img) is not None
 
 
-def test_the_upper_band_is_read_where_the_share_puts_it(monkeypatch: pytest.MonkeyPatch) -> None:
-    # the notch reaches just past the upper band: a band read lower does not see it
+def test_the_bands_are_read_where_the_share_puts_them(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the notch reaches just past the upper and the lower band: bands read nearer the
+    # middle do not see it
     img = _notched(region.RING_SIDE_SLACK + 6)
     assert ring(img) is None
     monkeypatch.setattr(region, "RING_SIDE_BAND_AT", region.RING_SIDE_BAND_AT + 0.15)

@@ -2925,10 +2925,10 @@ def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], r
 
 #: :func:`enclose_by_ring`: the margin is the face's own surface round the print, a
 #: rectangle's band: each side's margin ends as far out at the print's upper or lower
-#: rows as at its middle (its outer edge a straight side of the face, upright), and at
-#: no other column there. A "margin" that is the room seen beside and over the face (its
-#: colour by chance the background's, ending on whatever clutter stands there) ends at
-#: other columns at other heights, or nowhere (a switch for the tests).
+#: rows as at its middle (its outer edge a straight side of the face, upright). A
+#: "margin" that is the room seen beside and over the face (its colour by chance the
+#: background's, ending on whatever clutter stands there) ends at other columns at other
+#: heights, or nowhere (a switch for the tests).
 RING_SIDES_STRAIGHT = True
 #: ... the rows read: bands centred this share of the print's height down from its top
 #: and up from its foot (the middle band is the one the margin was found in).
@@ -2954,9 +2954,7 @@ def _ring_sides_straight(
     """Whether the margin :func:`enclose_by_ring` read beside a print's middle rows (runs
     ``out``, columns past each side's blur) holds at its upper and lower rows as well: a
     side with a margin (RING_MIN columns or more) ends within RING_SIDE_SLACK columns of
-    its middle run at one of them at least, and nowhere at another column (where it does
-    not show past the print's edge, or runs on past the reach, it tells nothing)
-    (RING_SIDES_STRAIGHT)."""
+    its middle run at one of them at least (RING_SIDES_STRAIGHT)."""
     height = bottom - top
     q_v = max(2, height // 10)
     seen = [out[0] < RING_MIN, out[1] < RING_MIN]  # sides with no margin ask for nothing
@@ -2969,11 +2967,9 @@ def _ring_sides_straight(
             if out[side] < RING_MIN:
                 continue
             run = _ring_run(profile, ring, reach_u)
-            # (a run of 0: the margin not seen past the print's edge there, its blur; -1:
-            # no end within the reach, a background of nearly its colour beside it there)
-            if run > 0 and abs(run - out[side]) > RING_SIDE_SLACK:
-                return False  # the margin's outer edge is no straight side
-            seen[side] = seen[side] or run > 0
+            # (elsewhere a run of 0: the margin not seen past the print's edge there, its
+            # blur; -1 or another column: a background of nearly its colour beside it)
+            seen[side] = seen[side] or (run > 0 and abs(run - out[side]) <= RING_SIDE_SLACK)
     return all(seen)
 
 
