@@ -154,6 +154,31 @@ SETTLED_KEEPS_ACROSS = True
 #: A face the search's top refused is weighed again without its texture where a print of
 #: its own covers it (``Candidate.print_evidence``), with the rig, in the rescuing try.
 PRINT_EVIDENCE = True
+#: ... and where that face is a frame (a print in a margin of one colour round it, found
+#: by the edges: ``framed``), a rescue's face lying inside the frame does not replace it:
+#: the colour or texture found the print again (its pattern), whose margin is the face's
+#: own surface, and the frame already holds both (a switch for the tests).
+FRAME_OVER_INNER_RESCUE = True
+#: ... inside: each of the rescue's box sides within this many pixels outside the frame's.
+FRAME_INSIDE_SLACK_PX = 2.0
+
+
+def _inside_frame(view: View, found: Measurement, framed: tuple[int, int, int, int]) -> bool:
+    """Whether the box of ``found`` (input pixels) lies inside the frame ``framed``
+    (bottom, top, left, right, working view), within FRAME_INSIDE_SLACK_PX."""
+    if found.box_px is None:
+        return False
+    bottom, top, left, right = framed
+    corners = np.array([[left, bottom], [right, bottom], [right, top], [left, top]], float)
+    pix = view.to_input(corners)
+    x0, y0, x1, y1 = found.box_px
+    slack = FRAME_INSIDE_SLACK_PX
+    return bool(
+        x0 >= float(pix[:, 0].min()) - slack
+        and x1 <= float(pix[:, 0].max()) + slack
+        and y0 >= float(pix[:, 1].min()) - slack
+        and y1 <= float(pix[:, 1].max()) + slack
+    )
 
 
 def _front_ends_colour(
@@ -1107,7 +1132,15 @@ class FusedMethod:
             if again > conf and refusal(again, self.min_confidence) is None:
                 rescued_first.append(rescue_by_colour())
                 first = rescued_first[0]
-                if first is not None and (first.confidence or 0.0) > conf:
+                inner = (
+                    FRAME_OVER_INNER_RESCUE
+                    and first is not None
+                    and framed is not None
+                    and _inside_frame(v, first, framed)
+                )
+                if inner:
+                    log.debug("rescue inside the frame %s: the print again", framed)
+                if first is not None and (first.confidence or 0.0) > conf and not inner:
                     return first
                 log.debug("face refused at %.3f: a print of its own, %.3f", conf, again)
                 conf, reason = again, None

@@ -2983,6 +2983,56 @@ def _ring_run(profile: npt.NDArray[np.float32], ring: npt.NDArray[np.float32], r
     return lo + int(np.argmax(steps[lo - 1 : run]))
 
 
+#: :func:`enclose_by_ring`: the margin is the face's own surface round the print, a
+#: rectangle's band: each side's margin ends as far out at the print's upper or lower
+#: rows as at its middle (its outer edge a straight side of the face, upright). A
+#: "margin" that is the room seen beside and over the face (its colour by chance the
+#: background's, ending on whatever clutter stands there) ends at other columns at other
+#: heights, or nowhere (a switch for the tests).
+RING_SIDES_STRAIGHT = True
+#: ... the rows read: bands centred this share of the print's height down from its top
+#: and up from its foot (the middle band is the one the margin was found in).
+RING_SIDE_BAND_AT = 0.25
+#: ... a side's margin there ends within this many columns of where it ends in the
+#: middle (a frame's edge blurred, the face rolled by a degree or two).
+RING_SIDE_SLACK = 3
+
+
+def _ring_sides_straight(
+    image: npt.NDArray[Any],
+    view: View,
+    bottom: int,
+    top: int,
+    c0: int,
+    c1: int,
+    lf: int,
+    rt: int,
+    ring: npt.NDArray[np.float32],
+    reach_u: int,
+    out: list[int],
+) -> bool:
+    """Whether the margin :func:`enclose_by_ring` read beside a print's middle rows (runs
+    ``out``, columns past each side's blur) holds at its upper and lower rows as well: a
+    side with a margin (RING_MIN columns or more) ends within RING_SIDE_SLACK columns of
+    its middle run at one of them at least (RING_SIDES_STRAIGHT)."""
+    height = bottom - top
+    q_v = max(2, height // 10)
+    seen = [out[0] < RING_MIN, out[1] < RING_MIN]  # sides with no margin ask for nothing
+    for at in (RING_SIDE_BAND_AT, 1.0 - RING_SIDE_BAND_AT):
+        rm = top + int(at * height)
+        cols = np.asarray(
+            median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
+        )
+        for side, profile in enumerate((cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :])):
+            if out[side] < RING_MIN:
+                continue
+            run = _ring_run(profile, ring, reach_u)
+            # (elsewhere a run of 0: the margin not seen past the print's edge there, its
+            # blur; -1 or another column: a background of nearly its colour beside it)
+            seen[side] = seen[side] or (run > 0 and abs(run - out[side]) <= RING_SIDE_SLACK)
+    return all(seen)
+
+
 def enclose_by_ring(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -3044,6 +3094,10 @@ def enclose_by_ring(
             return None  # the margin's colour runs on beside the print: a wall of it
     if max(out) < 2:
         return None  # no margin beside the print: the ring above it is something else
+    if RING_SIDES_STRAIGHT and not _ring_sides_straight(
+        image, view, bottom, top, c0, c1, lf, rt, ring, reach_u, out
+    ):
+        return None
     return (
         new_bottom,
         top - RING_SKIP - up,
