@@ -12,15 +12,18 @@ face's green begins; the outline read from the face's foot
 ``measure.RIG_CHECKED_BY_SEARCH``: with it, the check's no-rig search takes its own
 reading of the face, its top up the rocket, +76 %; see the README.)
 
-Procedural 3212 (hard, no rig): +47 / -39 % -> +0.6 / +0.9 %.
+Procedural 3212 (hard, no rig; a tape across the face): the floor row tried at the tape's
+lower edge had the outline from that foot rise to the face's top, the answer (-47 / -39 %
+in height / width); the surface standing on that row is the tape, and the face on the
+real floor row wins (+0.6 / +0.9 %).
 """
 
 from __future__ import annotations
 
 import pytest
-from obstacle_fusion.vision.fused import method
+from obstacle_fusion.vision.fused import confidence, method
 
-from tests.vision_fixtures import room_size_errors
+from tests.vision_fixtures import room_measurement, room_size_errors
 
 
 def test_the_face_under_the_rocket_keeps_its_top() -> None:
@@ -32,6 +35,21 @@ def test_without_the_rule_the_top_runs_up_the_rocket(monkeypatch: pytest.MonkeyP
     monkeypatch.setattr(method, "OUTLINE_SURFACE_TOP", False)
     eh, _ = room_size_errors("photo", 3255, True, with_rig=True)
     assert eh > 0.5
+
+
+def test_the_doubts_are_read_on_the_lowered_top() -> None:
+    # the outline handed back carries the lowered top: the face's doubts are read on it,
+    # not on the rocket's nose (with the face's own top under it as a second top edge)
+    res, _ = room_measurement("photo", 3255, True, with_rig=True)
+    assert confidence.SECOND_TOP not in res.doubts
+
+
+def test_the_top_up_the_rocket_has_the_face_s_own_under_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(method, "OUTLINE_SURFACE_TOP", False)
+    res, _ = room_measurement("photo", 3255, True, with_rig=True)
+    assert confidence.SECOND_TOP in res.doubts
 
 
 def test_no_rig_procedural_3212() -> None:
