@@ -72,14 +72,22 @@ def _paper_room(
     return image, truth, spec
 
 
+def measured_room(
+    family: str, seed: int, hard: bool, with_rig: bool = True
+) -> tuple[Measurement, dict[str, Any]]:
+    """A generated room (rendered once per process) measured at the paper's 500x375, with
+    its rig (``with_rig``) or none: the measurement and the room's truth."""
+    cam = CameraModel.paper(500, 375)
+    image, truth, spec = _paper_room(family, seed, hard)
+    return Measurer(cam, spec.rig if with_rig else None).measure(image, truth["range_m"]), truth
+
+
 def room_size_errors(
     family: str, seed: int, hard: bool, with_rig: bool = True
 ) -> tuple[float, float]:
     """A generated room measured at the paper's 500x375, with its rig (``with_rig``) or
     none: (height, width) relative errors, the face found."""
-    cam = CameraModel.paper(500, 375)
-    image, truth, spec = _paper_room(family, seed, hard)
-    res = Measurer(cam, spec.rig if with_rig else None).measure(image, truth["range_m"])
+    res, truth = measured_room(family, seed, hard, with_rig)
     assert res.detected and res.height_m is not None and res.width_m is not None, res.reason
     return (
         abs(res.height_m / truth["height_m"] - 1),
