@@ -72,16 +72,14 @@ def _paper_room(
     return image, truth, spec
 
 
-def room_measurement(
+def measured_room(
     family: str, seed: int, hard: bool, with_rig: bool = True
 ) -> tuple[Measurement, dict[str, Any]]:
-    """A generated room measured at the paper's 500x375, with its rig (``with_rig``) or
-    none: the measurement (the face found) and the room's truth."""
+    """A generated room (rendered once per process) measured at the paper's 500x375, with
+    its rig (``with_rig``) or none: the measurement and the room's truth."""
     cam = CameraModel.paper(500, 375)
     image, truth, spec = _paper_room(family, seed, hard)
-    res = Measurer(cam, spec.rig if with_rig else None).measure(image, truth["range_m"])
-    assert res.detected and res.height_m is not None and res.width_m is not None, res.reason
-    return res, truth
+    return Measurer(cam, spec.rig if with_rig else None).measure(image, truth["range_m"]), truth
 
 
 def room_size_errors(
@@ -89,8 +87,8 @@ def room_size_errors(
 ) -> tuple[float, float]:
     """A generated room measured at the paper's 500x375, with its rig (``with_rig``) or
     none: (height, width) relative errors, the face found."""
-    res, truth = room_measurement(family, seed, hard, with_rig)
-    assert res.height_m is not None and res.width_m is not None
+    res, truth = measured_room(family, seed, hard, with_rig)
+    assert res.detected and res.height_m is not None and res.width_m is not None, res.reason
     return (
         abs(res.height_m / truth["height_m"] - 1),
         abs(res.width_m / truth["width_m"] - 1),

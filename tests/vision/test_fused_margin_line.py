@@ -19,14 +19,12 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method, region
-from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
 
-from tests.vision_fixtures import room_size_errors
+from tests.vision_fixtures import measured_room, room_size_errors
 
 
 def test_a_print_in_a_thin_margin_is_measured_with_it() -> None:
@@ -65,9 +63,7 @@ def test_with_no_rig_the_rows_tried_keep_their_pieces() -> None:
 
 
 def _confidence(family: str, seed: int, hard: bool) -> float:
-    cam = CameraModel.paper(500, 375)
-    image, truth, _ = render_room(family, seed, hard, cam)
-    res = Measurer(cam, None).measure(image, truth["range_m"])
+    res, _ = measured_room(family, seed, hard, with_rig=False)
     assert res.detected and res.confidence is not None
     return res.confidence
 

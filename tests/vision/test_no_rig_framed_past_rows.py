@@ -15,25 +15,23 @@ its own: the row is no floor contact, and the answer is unsure.
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
-from obstacle_fusion.sim.room_scene import render_room
-from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method, region
 from obstacle_fusion.vision.fused.confidence import FRAMED
-from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.types import Measurement
 
 from tests.vision.test_fused_region import BOTTOM, TOP, level_view
 from tests.vision.test_no_rig_margin_under_print import COLUMNS, MARGIN, framed
+from tests.vision_fixtures import measured_room
 
 
-def _room() -> tuple[Measurement, dict[str, float]]:
-    cam = CameraModel.paper(500, 375)
-    image, truth, _ = render_room("procedural", 3274, True, cam)
-    return Measurer(cam, None).measure(image, truth["range_m"]), truth
+def _room() -> tuple[Measurement, dict[str, Any]]:
+    return measured_room("procedural", 3274, True, with_rig=False)
 
 
-def _errors(res: Measurement, truth: dict[str, float]) -> tuple[float, float]:
+def _errors(res: Measurement, truth: dict[str, Any]) -> tuple[float, float]:
     assert res.detected and res.height_m is not None and res.width_m is not None
     return abs(res.height_m / truth["height_m"] - 1), abs(res.width_m / truth["width_m"] - 1)
 
@@ -133,7 +131,5 @@ def test_a_plain_face_s_blend_over_its_top_is_no_frame() -> None:
     """Photo 2030 ordinary, no rig: a plain pink face before a dark sky, right (0.6 %);
     the floor beside it and its shadow under it read as a ring with 1 row over its top:
     not doubted (0.26, as before the rule; 0.12 with FRAMED_PAST_ROWS_MIN_OVER at 1)."""
-    cam = CameraModel.paper(500, 375)
-    image, truth, _ = render_room("photo", 2030, False, cam)
-    res = Measurer(cam, None).measure(image, truth["range_m"])
+    res, _ = measured_room("photo", 2030, False, with_rig=False)
     assert FRAMED not in res.doubts and (res.confidence or 0.0) > 0.2

@@ -23,7 +23,7 @@ from __future__ import annotations
 import pytest
 from obstacle_fusion.vision.fused import confidence, method
 
-from tests.vision_fixtures import room_measurement, room_size_errors
+from tests.vision_fixtures import measured_room, room_size_errors
 
 
 def test_the_face_under_the_rocket_keeps_its_top() -> None:
@@ -40,7 +40,7 @@ def test_without_the_rule_the_top_runs_up_the_rocket(monkeypatch: pytest.MonkeyP
 def test_the_doubts_are_read_on_the_lowered_top() -> None:
     # the outline handed back carries the lowered top: the face's doubts are read on it,
     # not on the rocket's nose (with the face's own top under it as a second top edge)
-    res, _ = room_measurement("photo", 3255, True, with_rig=True)
+    res, _ = measured_room("photo", 3255, True, with_rig=True)
     assert confidence.SECOND_TOP not in res.doubts
 
 
@@ -48,7 +48,7 @@ def test_the_top_up_the_rocket_has_the_face_s_own_under_it(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(method, "OUTLINE_SURFACE_TOP", False)
-    res, _ = room_measurement("photo", 3255, True, with_rig=True)
+    res, _ = measured_room("photo", 3255, True, with_rig=True)
     assert confidence.SECOND_TOP in res.doubts
 
 

@@ -1017,15 +1017,13 @@ class FusedMethod:
             # no rig: the row tried stands a print whose margin (the face's own colour)
             # runs on under it to a foot below the row: the frame is the face (where its
             # foot lies within the rows read; past them the row tried stands as it is)
-            under = margin_under_print(seen, v, rb, int(vt), ul, ur)
-            framed = under if under is not None and under[0] < n - 3 else None
-            if (
-                framed is None
-                and under is not None
-                and FRAMED_PAST_ROWS_DOUBT
-                and int(vt) - RING_SKIP - under[1] >= FRAMED_PAST_ROWS_MIN_OVER
-            ):
-                doubts.append(FRAMED)  # its frame's foot below the rows: the row is no foot
+            framed = margin_under_print(seen, v, rb, int(vt), ul, ur)
+            if framed is not None and framed[0] >= n - 3:
+                # its foot past the rows read: doubted below (the row is no foot) where the
+                # margin over the print is a band, not the top edge's blend; not taken
+                over = int(vt) - RING_SKIP - framed[1]  # the margin's rows over the print
+                if not (FRAMED_PAST_ROWS_DOUBT and over >= FRAMED_PAST_ROWS_MIN_OVER):
+                    framed = None
         if framed is not None:
             doubts.append(FRAMED)  # a print in a margin, even one running on below the rows
         if framed is not None and framed[0] >= n - 3:

@@ -3196,7 +3196,7 @@ def margin_under_print(
     if down is None and PRINT_RUNS_UNDER_ROW:
         # the row tried a line on the print: its colour runs on under it to its lower edge
         under = _run_length(rows[b + RING_SKIP :], np.asarray(print_colour, np.float32), RING_AGREE)
-        if 0 < under <= PRINT_UNDER_SHARE * (bottom - top):
+        if under <= PRINT_UNDER_SHARE * (bottom - top):
             past = _margin_past_blur(rows[b + RING_SKIP + under :], ring, reach_v)
             down = None if past is None else under + past
     if down is None:
