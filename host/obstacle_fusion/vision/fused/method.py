@@ -290,6 +290,14 @@ def foot_at_view_edge(vb0: float, h_img: int) -> bool:
     return vb0 > h_img - FOOT_EDGE_FLOOR_ROWS
 
 
+def foot_below_view(vb0: float, h_img: int) -> bool:
+    """The predicted floor-contact row ``vb0`` lies past the view's last row (rows
+    0..h_img-1, row r covering r..r+1): the view does not see the face's foot, and the
+    face read from the view's foot up (PAST_FOOT_FACE, FOOT_AT_VIEW_EDGE) is flagged
+    clipped there; a row in the view is not (its height is from that row, not cut)."""
+    return vb0 >= h_img
+
+
 def _foot_read(floor_known: bool, rig_known: bool, rb: int, vb0: float, conf: float) -> bool:
     """Whether the face's foot row ``vb0`` may be read for its outline (FOOT_OUTLINE): the
     rig's predicted row on a known floor; with no rig (FOOT_OUTLINE_TRIALS), a trial's row
@@ -737,14 +745,23 @@ class FusedMethod:
         h_img, w_img = self._h, self._w
         vb0, tol = contact_band(v, depth)
         r0b, r1b = int(math.floor(vb0 - tol)), int(math.ceil(vb0 + tol))
-        r0b, r1b = max(r0b, 4), min(r1b, h_img - 4)
+        # (no contact row in the view's last FOOT_EDGE_FLOOR_ROWS rows: its edge needs floor
+        # rows below it to show)
+        r0b, r1b = max(r0b, 4), min(r1b, h_img - FOOT_EDGE_FLOOR_ROWS)
+
+        def from_view_foot(sought: bool) -> Measurement | None:
+            """Where ``sought`` (PAST_FOOT_FACE, FOOT_AT_VIEW_EDGE), with the rig given and
+            the colour rescue on: the face by its colour from the view's foot up, its
+            height from the predicted contact row (:meth:`_past_foot`); None otherwise."""
+            if not (sought and rescue and floor_known and rig_known):
+                return None
+            return self._past_foot(image, colour, range_m, depth, vb0, timer)
+
         if r0b > r1b:
-            if PAST_FOOT_FACE and rescue and floor_known and rig_known and vb0 > h_img:
-                # the rig puts the face's foot below the image: the face by its colour
-                # from the view's foot up (its height from the predicted contact row)
-                past = self._past_foot(image, colour, range_m, depth, vb0, timer)
-                if past is not None:
-                    return past
+            # the rig puts the face's foot below the image
+            past = from_view_foot(PAST_FOOT_FACE and vb0 > h_img)
+            if past is not None:
+                return past
             fail.reason = (
                 f"the floor-contact row predicted from the range ({vb0:.0f}) is outside the "
                 "image; check the rig's camera height and pitch"
@@ -927,32 +944,21 @@ class FusedMethod:
                     return grown[0]
             return colour_face
 
-        def from_view_foot(refused_at: float) -> Measurement | None:
-            """Where the edges give no face, or none clear (at ``refused_at``), and the
-            rig puts the face's foot in the view's last rows or past them
-            (FOOT_AT_VIEW_EDGE): the face from the view's foot up, as PAST_FOOT_FACE's,
-            if surer than the face refused; None otherwise."""
-            if not (
-                FOOT_AT_VIEW_EDGE
-                and rescue
-                and floor_known
-                and rig_known
-                and foot_at_view_edge(vb0, h_img)
-            ):
+        def at_view_edge() -> Measurement | None:
+            """Where the edges give no face, or none clear, and the rig puts the face's
+            foot in the view's last rows or past them (FOOT_AT_VIEW_EDGE): the face from
+            the view's foot up, as PAST_FOOT_FACE's; None otherwise. (A face refused is
+            under ``min_confidence``, which any face :meth:`_past_foot` gives reaches.)"""
+            if not (FOOT_AT_VIEW_EDGE and foot_at_view_edge(vb0, h_img)):
                 return None
             log.debug("foot %.0f at the view's edge: the face from the view's foot up", vb0)
-            past = self._past_foot(image, colour, range_m, depth, vb0, timer)
-            if past is None or (past.confidence or 0.0) <= refused_at:
-                return None
-            if vb0 < h_img:  # the foot is in the view, if too near its edge
-                past.clipped = [c for c in past.clipped if c != "bottom"]
-            return past
+            return from_view_foot(True)
 
         if best is None:
             rescued = rescue_by_colour()
             if rescued is not None:
                 return rescued
-            at_foot = from_view_foot(0.0)
+            at_foot = at_view_edge()
             if at_foot is not None:
                 return at_foot
             fail.reason = "no face with a floor-contact edge and two vertical sides near the range"
@@ -1146,7 +1152,7 @@ class FusedMethod:
             rescued = rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
-            at_foot = from_view_foot(conf)
+            at_foot = at_view_edge()
             if at_foot is not None:
                 return at_foot
             fail.confidence = round(conf, 3)
@@ -1302,7 +1308,7 @@ class FusedMethod:
             rescued = rescued_once[0] if rescued_once else rescue_by_colour()
             if rescued is not None and (rescued.confidence or 0.0) > conf:
                 return rescued
-            at_foot = from_view_foot(conf)
+            at_foot = at_view_edge()
             if at_foot is not None:
                 return at_foot
             fail.confidence = round(conf, 3)
@@ -1699,9 +1705,10 @@ class FusedMethod:
         vb0: float,
         timer: Timer,
     ) -> Measurement | None:
-        """A face whose floor-contact row the rig puts below the image
-        (:func:`.region.face_past_foot`): its top and sides from its colour, its height
-        from the contact row predicted, its foot flagged clipped. None if no face so."""
+        """A face whose floor-contact row ``vb0`` the rig puts below the view, or in its
+        last rows (:func:`.region.face_past_foot`): its top and sides from its colour, its
+        height from the contact row predicted, its foot flagged clipped where that row
+        lies past the view's last (:func:`foot_below_view`). None if no face so."""
         v = self.view
         seen = colour if colour is not None else image
         h_img = self._h
@@ -1735,9 +1742,13 @@ class FusedMethod:
             clamp(float(pix[:, 1].min()), 0.0, h_img - 1.0),
             clamp(float(pix[:, 1].max()), 0.0, h_img - 1.0),
         )
-        # the sides as far down as the view sees them, and the foot below it
+        # the sides as far down as the view sees them (the rows read end a few rows short
+        # of its foot: what those rows say of the foot is not kept), and the foot where
+        # the view does not see it
         seen_part = np.array([[left, bottom], [right, bottom], [right, top], [left, top]], float)
-        cut = {*v.unseen_sides(seen_part), "bottom"}
+        cut = set(v.unseen_sides(seen_part)) - {"bottom"}
+        if foot_below_view(vb0, h_img):
+            cut.add("bottom")
         return Measurement(
             detected=True,
             method=self.name,
