@@ -119,3 +119,89 @@ def test_the_raise_limit_of_face_under_raised_top(raised: int, judged: bool) -> 
     img[:TOP, LEFT + 5 : RIGHT - 5] = POLE
     args = (level_view(), BOTTOM, WALKED, raised, LEFT, RIGHT)
     assert margin_up_to_raised_top(img, *args) is judged
+
+
+MARGIN_LAB = (150, 120, 110)  # the margin's 8-bit Lab in the drawn Lab images below
+PRINT_LAB = (90, 160, 90)
+
+
+def lab_board(right: int = RIGHT) -> npt.NDArray[np.uint8]:
+    """An image already in 8-bit Lab (read as it is: see ``as_lab``): a board from TOP to
+    BOTTOM between LEFT and ``right`` whose margin, 6 columns wide on each side, is
+    MARGIN_LAB, the print between it PRINT_LAB."""
+    img = np.zeros((BOTTOM + 20, RIGHT + 20, 3), np.uint8)
+    img[TOP:BOTTOM, LEFT : right + 1] = MARGIN_LAB
+    img[TOP:BOTTOM, LEFT + 6 : right - 5] = PRINT_LAB
+    return img
+
+
+@pytest.fixture
+def as_lab(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The stages read the image's pixels as 8-bit Lab as they are: exact distances."""
+
+    def read(
+        image: npt.NDArray[np.uint8],
+        view: object,
+        r0: int,
+        r1: int,
+        c0: int = 0,
+        c1: int | None = None,
+        step: int = 1,
+    ) -> npt.NDArray[np.uint8]:
+        return image[r0:r1, c0:c1:step]
+
+    monkeypatch.setattr(region, "_lab8", read)
+
+
+@pytest.mark.usefixtures("as_lab")
+@pytest.mark.parametrize(("lighter", "holds"), [(18, True), (19, False)])
+def test_the_margin_up_the_raise_within_its_limit_inclusive(lighter: int, holds: bool) -> None:
+    # the margin up the raised way (the light's fall-off) exactly MIN_FACE_DISTANCE (the
+    # spread limit of a plain margin) lighter than under the walk's top: still the margin,
+    # both in the share of rows (dist <= limit) and right under the raised top (not over
+    # the limit); one step more is not
+    img = lab_board()
+    img[TOP:WALKED, LEFT : RIGHT + 1, 0] += lighter
+    args = (level_view(), BOTTOM, WALKED, TOP, LEFT, RIGHT)
+    assert margin_up_to_raised_top(img, *args) is holds
+
+
+@pytest.mark.usefixtures("as_lab")
+@pytest.mark.parametrize(("apart", "holds"), [(18, True), (19, False)])
+def test_the_two_strips_at_most_margin_strips_apart(apart: int, holds: bool) -> None:
+    # the right strip's margin MARGIN_STRIPS_APART (18 Lab, inclusive) bluer than the left's
+    # is one margin; one step more is two colours
+    img = lab_board()
+    img[TOP:BOTTOM, RIGHT - 5 : RIGHT + 1, 2] -= apart
+    args = (level_view(), BOTTOM, WALKED, TOP, LEFT, RIGHT)
+    assert margin_up_to_raised_top(img, *args) is holds
+
+
+@pytest.mark.usefixtures("as_lab")
+@pytest.mark.parametrize(("width", "judged"), [(12, True), (11, False)])
+def test_the_narrowest_face_judged(width: int, judged: bool) -> None:
+    # both strips (MARGIN_STRIP_SKIP 2 in, MARGIN_STRIP_COLUMNS 2 wide) and 4 columns
+    # between them: a face 12 columns wide (right - left) is read, 11 is not (with strips
+    # 3 wide, 12 would not be)
+    img = lab_board()
+    img[TOP:BOTTOM, LEFT : LEFT + width + 1] = MARGIN_LAB
+    args = (level_view(), BOTTOM, WALKED, TOP, LEFT, LEFT + width)
+    assert margin_up_to_raised_top(img, *args) is judged
+
+
+@pytest.mark.usefixtures("as_lab")
+@pytest.mark.parametrize(
+    ("top", "raised", "judged"),
+    [
+        (WALKED, WALKED - 30, True),  # RETURN_MIN_RAISE (0.5) of the 60 rows found
+        (WALKED, WALKED - 29, False),  # shorter: a frame's top margin, a top face
+        (BOTTOM - 4, BOTTOM - 8, True),  # the least face found read (4 rows)
+        (BOTTOM - 3, BOTTOM - 6, False),
+    ],
+)
+def test_the_shortest_raise_and_face_judged(top: int, raised: int, judged: bool) -> None:
+    # judged over the same raises as face_under_raised_top (one helper, region._raise_judged)
+    img = lab_board()
+    img[:TOP, LEFT : RIGHT + 1] = MARGIN_LAB  # the board runs on up: only the limits say no
+    args = (level_view(), BOTTOM, top, raised, LEFT, RIGHT)
+    assert margin_up_to_raised_top(img, *args) is judged

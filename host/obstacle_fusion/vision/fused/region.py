@@ -2236,6 +2236,44 @@ RETURN_MAX_RAISE = 2.0
 RETURN_MIN_RAISE = 0.5
 
 
+def _raise_judged(bottom: int, top: int, raised: int) -> bool:
+    """Whether the way up from ``top`` to ``raised`` is judged by the colour under the
+    raised top: the face found at least 4 rows, the way RETURN_MIN_RAISE ..
+    RETURN_MAX_RAISE of it (:func:`face_under_raised_top`, :func:`margin_up_to_raised_top`)."""
+    way, found = top - raised, bottom - top
+    return found >= 4 and RETURN_MIN_RAISE * found <= way <= RETURN_MAX_RAISE * found
+
+
+def _under_raised_rows(way: int) -> tuple[int, int]:
+    """For rows read from a raised top ``way`` rows above the found top down to the foot:
+    the first row of the face found (past its top's blur), and how many rows right under
+    the raised top (past its blur, from row 2) are read for what is back there."""
+    return way + 2, max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * way))
+
+
+class _UnderRaised(NamedTuple):
+    """A strip read from a raised top down to the foot (:func:`_read_under_raised`)."""
+
+    ref: npt.NDArray[np.float32]  # the face found's colour: its rows' median
+    dist: npt.NDArray[np.float32]  # each row's distance from it, from the raised top down
+    limit: float  # the spread_limit of the face found's rows
+    back: bool  # the rows right under the raised top within it
+
+
+def _read_under_raised(part: npt.NDArray[np.uint8], way: int) -> _UnderRaised:
+    """The columns ``part`` (rows from a raised top ``way`` rows above the found top down
+    to the foot, 8-bit Lab) by their median across each row: the face found's colour, the
+    rows' distances from it, its spread limit, and whether the rows right under the raised
+    top are back within it. One reading for :func:`face_under_raised_top`'s strips and
+    :func:`margin_up_to_raised_top`'s."""
+    k, n = _under_raised_rows(way)
+    rows = median_u8(part, axis=1).astype(np.float32)
+    ref = median_of(rows[k:], axis=0)
+    dist = row_norms(rows - ref)
+    limit = spread_limit(dist[k:], MIN_FACE_DISTANCE)
+    return _UnderRaised(ref, dist, limit, float(median_of(dist[2 : 2 + n])) <= limit)
+
+
 def face_under_raised_top(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -2255,21 +2293,16 @@ def face_under_raised_top(
     line with it (a pole, a rocket in a photograph on the wall), not the face's."""
     if image is None or image.ndim != 3 or right - left < 2 * SIDE_SKIP + 4:
         return True
-    way, found = top - raised, bottom - top
-    if found < 4 or not RETURN_MIN_RAISE * found <= way <= RETURN_MAX_RAISE * found:
+    if not _raise_judged(bottom, top, raised):
         # a short way up is a frame's top margin, a top face or a blurred top
         # (stops_at_colour_top judges it); and a strip found at the face's foot (a band,
         # a print's lower margin) does not show the face's colour: neither is judged
         return True
     c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
     lab = _lab8(image, view, raised, bottom, c0, c1)
-    k, n = top - raised + 2, max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * (top - raised)))
 
     def back(part: npt.NDArray[np.uint8]) -> bool:
-        rows = median_u8(part, axis=1).astype(np.float32)
-        ref = median_of(rows[k:], axis=0)
-        limit = spread_limit(row_norms(rows[k:] - ref), MIN_FACE_DISTANCE)
-        return float(median_of(row_norms(rows[2 : 2 + n] - ref))) <= limit
+        return _read_under_raised(part, top - raised).back
 
     # the middle, or both strips just inside the sides (a print over the middle, in a
     # margin of the face's colour that runs up to the face's top)
@@ -2280,14 +2313,17 @@ def face_under_raised_top(
 
 
 #: The columns of each margin strip :func:`margin_up_to_raised_top` reads, and how far in
-#: from the side they start (one column: the side's own blur, about a pixel at these
-#: cameras' focus, is left out; a print's margin is a few columns wide at the face's
-#: depth, so the strips stay in it where face_under_raised_top's, SIDE_SKIP in and
-#: BESIDE_COLUMNS wide, reach the print).
+#: from the side they start (the snapped side's own column and one more, the side's blur,
+#: about a pixel at these cameras' focus, left out; a print's margin is a few columns wide
+#: at the face's depth, so the strips stay in it where face_under_raised_top's, SIDE_SKIP
+#: in and BESIDE_COLUMNS wide, reach the print: photo/3297 hard's is about 4, which
+#: MARGIN_STRIP_SKIP 3 or 1 misses on one side). The two must fit in the margin, and the
+#: face is wider than both strips with 4 columns between them.
 MARGIN_STRIP_COLUMNS = 2
 MARGIN_STRIP_SKIP = 2
-#: The share of the rows from the raised top down to the foot whose strip colour must be
-#: the margin's (within its spread_limit), in each strip.
+#: The share of the rows from the raised top down to the foot (the face found's own rows
+#: counted too) whose strip colour must be the margin's (within its spread_limit,
+#: inclusive), in each strip.
 MARGIN_HOLDS_SHARE = 0.9
 #: The two strips' colours at most this far apart (8-bit Lab): one margin round the print.
 MARGIN_STRIPS_APART = 18.0
@@ -2313,30 +2349,22 @@ def margin_up_to_raised_top(
     its foot. Judged over the same raises as face_under_raised_top."""
     if image is None or image.ndim != 3:
         return False
-    n_cols = MARGIN_STRIP_SKIP + MARGIN_STRIP_COLUMNS
-    if right - left < 2 * n_cols + 4:
+    if right - left < 2 * (MARGIN_STRIP_SKIP + MARGIN_STRIP_COLUMNS) + 4:
         return False
-    way, found = top - raised, bottom - top
-    if found < 4 or not RETURN_MIN_RAISE * found <= way <= RETURN_MAX_RAISE * found:
+    if not _raise_judged(bottom, top, raised):
         return False
     lab = _lab8(
         image, view, raised, bottom, left + MARGIN_STRIP_SKIP, right - MARGIN_STRIP_SKIP + 1
     )
-    k = way + 2  # the rows the colour walk found, under its top (as face_under_raised_top)
     refs = []
     for part in (lab[:, :MARGIN_STRIP_COLUMNS], lab[:, -MARGIN_STRIP_COLUMNS:]):
-        rows = median_u8(part, axis=1).astype(np.float32)
-        ref = median_of(rows[k:], axis=0)
-        dist = row_norms(rows - ref)
-        limit = spread_limit(dist[k:], MIN_FACE_DISTANCE)
-        if float(np.mean(dist <= limit)) < MARGIN_HOLDS_SHARE:
+        read = _read_under_raised(part, top - raised)
+        # the margin keeps its colour from the foot up, and runs right up to the raised
+        # top: its rows there are the margin's too (as face_under_raised_top reads them)
+        if share(read.dist <= read.limit) < MARGIN_HOLDS_SHARE or not read.back:
             return False
-        # the margin runs right up to the raised top: its rows there are the margin's too
-        n = max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * way))
-        if float(median_of(dist[2 : 2 + n])) > limit:
-            return False
-        refs.append(ref)
-    return float(np.linalg.norm(refs[0] - refs[1])) <= MARGIN_STRIPS_APART
+        refs.append(read.ref)
+    return norm(refs[0] - refs[1]) <= MARGIN_STRIPS_APART
 
 
 #: A face's hue (a, b) at least this far from grey holds a top for :func:`hue_back_under_top`
@@ -2366,7 +2394,7 @@ def hue_back_under_top(
         return True
     c0, c1 = left + SIDE_SKIP, right - SIDE_SKIP + 1
     lab = _lab8(image, view, raised, bottom, c0, c1)
-    k, n = top - raised + 2, max(RETURN_MIN_ROWS, int(RETURN_BAND_SHARE * (top - raised)))
+    k, n = _under_raised_rows(top - raised)
     face = median_u8(lab[k : bottom - raised - 2].reshape(-1, 3), axis=0).astype(np.float32)
     if norm(face[1:] - NEUTRAL_AB) < HUE_MIN_CHROMA:
         return False
