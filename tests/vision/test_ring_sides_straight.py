@@ -1,10 +1,13 @@
 """A print's margin is the face's own surface round it, a rectangle's band: its outer edge
 is a straight, upright side of the face, so each side's margin is as wide at the print's
-upper and lower rows as at its middle, and nowhere runs on beside the print
-(``region.RING_SIDES_STRAIGHT``, ``region._ring_sides_straight``, in
-``region.enclose_by_ring``). A "margin" that is the room seen over and beside a plain face
-(the background's colour, ending on whatever clutter stands beside the face at the middle
-rows) ends at other columns at other heights, or runs on.
+upper or lower rows as at its middle (``region.RING_SIDES_STRAIGHT``,
+``region._ring_sides_straight``, in ``region.enclose_by_ring``): each side with a margin at
+the middle must end within ``RING_SIDE_SLACK`` (3) columns of it at one of the two other
+bands (``RING_SIDE_BAND_AT``, 0.25 of the print's height from its top and its foot); at the
+other band anything goes (no margin seen, a run on, an end elsewhere). A "margin" that is
+the room seen over and beside a plain face (the background's colour, ending on whatever
+clutter stands beside the face at the middle rows) ends at other columns at other heights,
+or runs on.
 
 The room is a diagnosis room (new6), measured with the rig. Photo 3279 (ordinary): a grey-
 blue seamed face on gravel before a photographed asphalt yard, an orange can left of it and
@@ -51,13 +54,16 @@ def test_a_thin_framed_print_photo_339_is_still_enclosed() -> None:
     assert eh < 0.08 and ew < 0.03
 
 
-#: The print's rows as ring() reads them, and the upper band's rows (RING_SIDE_BAND_AT
-#: down from the print's top, a tenth of its height either side).
+#: The print's rows as ring() reads them, and the upper and lower bands' centre rows (a
+#: quarter of the print's height down from its top and up from its foot: the published
+#: RING_SIDE_BAND_AT, written out so that the tests pin it; a tenth of its height either
+#: side), as enclose_by_ring reads them.
 P_TOP, P_BOTTOM = TOP + THIN["top"], BOTTOM - THIN["bottom"]
 P_LEFT, P_RIGHT = NARROW[0] + THIN["left"], NARROW[1] - THIN["right"]
-UPPER = P_TOP + int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
-LOWER = P_BOTTOM - int(region.RING_SIDE_BAND_AT * (P_BOTTOM - P_TOP))
+UPPER = P_TOP + int(0.25 * (P_BOTTOM - P_TOP))
+LOWER = P_TOP + int(0.75 * (P_BOTTOM - P_TOP))
 Q_V = (P_BOTTOM - P_TOP) // 10
+BACKGROUND = (200, 120, 40)  # the room beside the face in thin_framed_scene
 
 
 def _notched(wider: int) -> npt.NDArray[np.uint8]:
@@ -75,10 +81,9 @@ def test_a_straight_frame_is_enclosed() -> None:
     assert found is not None and abs(found[2] - NARROW[0]) <= 1
 
 
-@pytest.mark.parametrize(
-    ("wider", "enclosed"), [(region.RING_SIDE_SLACK, True), (region.RING_SIDE_SLACK + 1, False)]
-)
+@pytest.mark.parametrize(("wider", "enclosed"), [(3, True), (4, False)])
 def test_the_slack_of_a_sides_margin(wider: int, enclosed: bool) -> None:
+    # RING_SIDE_SLACK (3) written out: a notch of 3 columns is a blurred edge, of 4 no side
     assert (ring(_notched(wider)) is not None) is enclosed
 
 
@@ -136,11 +141,55 @@ def test_a_margin_seen_at_no_other_band_is_no_frame() -> None:
     assert ring(img) is None
 
 
+def test_a_side_with_a_run_of_one_asks_for_nothing() -> None:
+    # the right margin one column wider (a run of 1 at the middle, under RING_MIN) runs on
+    # beside the upper and the lower rows: still no margin read there, nothing asked
+    img = thin_framed_scene()
+    img[TOP:BOTTOM, NARROW[1] : NARROW[1] + 1] = FACE
+    _band_beside(img, UPPER, slice(P_RIGHT, None))
+    _band_beside(img, LOWER, slice(P_RIGHT, None))
+    assert ring(img) is not None
+
+
+def test_a_margin_of_two_running_on_at_both_bands_is_no_frame() -> None:
+    # the left margin one column narrower (a run of 2 at the middle: RING_MIN, a margin
+    # that asks) runs on beside both other bands: no end seen there (a run of -1, which
+    # is no end 3 columns from 2)
+    img = thin_framed_scene()
+    img[TOP:BOTTOM, NARROW[0] : NARROW[0] + 1] = BACKGROUND
+    assert ring(img) is not None  # straight, it is a frame
+    _band_beside(img, UPPER, slice(0, NARROW[0] + 1))
+    _band_beside(img, LOWER, slice(0, NARROW[0] + 1))
+    assert ring(img) is None
+
+
 def test_a_side_with_no_margin_asks_for_nothing() -> None:
     # the right margin (one column: no run past the print's blur at the middle) may run
     # on beside the upper rows (it was never read as a margin)
     img = thin_framed_scene()
     _band_beside(img, UPPER, slice(P_RIGHT, None))
+    assert ring(img) is not None
+
+
+def _notched_at_bands(wider: int) -> npt.NDArray[np.uint8]:
+    """The thin frame with its left margin ``wider`` columns wider over 15 of the 21 rows
+    of each of the upper and the lower band (their first, middle and last five): over
+    most of a band read at a quarter of the print's height, over 10 of the 21 rows of one
+    read 5 rows off (a twentieth of the print's height), either way."""
+    img = thin_framed_scene()
+    assert Q_V == 10
+    for centre in (UPPER, LOWER):
+        for first in (centre - Q_V, centre - 2, centre + Q_V - 4):
+            img[first : first + 5, NARROW[0] - wider : NARROW[0]] = FACE
+    return img
+
+
+@pytest.mark.parametrize("at", [0.2, 0.3])
+def test_the_bands_are_read_a_quarter_in(monkeypatch: pytest.MonkeyPatch, at: float) -> None:
+    # RING_SIDE_BAND_AT one step (0.05) either way reads past the notches: straight
+    img = _notched_at_bands(region.RING_SIDE_SLACK + 6)
+    assert ring(img) is None
+    monkeypatch.setattr(region, "RING_SIDE_BAND_AT", at)
     assert ring(img) is not None
 
 

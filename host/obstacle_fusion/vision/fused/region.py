@@ -3026,34 +3026,37 @@ RING_SIDE_BAND_AT = 0.25
 RING_SIDE_SLACK = 3
 
 
+def _beside(
+    image: npt.NDArray[Any], view: View, rm: int, q_v: int, c0: int, c1: int, lf: int, rt: int
+) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+    """The colours outward from a print's left and right sides (columns ``lf``, ``rt`` of
+    the columns ``c0``-``c1`` read), past each side's blur (RING_SKIP): per-column medians
+    over the band of rows ``rm`` +- ``q_v``."""
+    cols = np.asarray(
+        median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
+    )
+    return cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :]
+
+
 def _ring_sides_straight(
-    image: npt.NDArray[Any],
-    view: View,
+    beside: Callable[[int], tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]],
     bottom: int,
     top: int,
-    c0: int,
-    c1: int,
-    lf: int,
-    rt: int,
     ring: npt.NDArray[np.float32],
     reach_u: int,
     out: list[int],
 ) -> bool:
     """Whether the margin :func:`enclose_by_ring` read beside a print's middle rows (runs
-    ``out``, columns past each side's blur) holds at its upper and lower rows as well: a
+    ``out``, columns past each side's blur) holds at its upper and lower rows as well
+    (``beside``: the profiles outward from the sides along the band centred at a row): a
     side with a margin (RING_MIN columns or more) ends within RING_SIDE_SLACK columns of
     its middle run at one of them at least (RING_SIDES_STRAIGHT)."""
     height = bottom - top
-    q_v = max(2, height // 10)
     seen = [out[0] < RING_MIN, out[1] < RING_MIN]  # sides with no margin ask for nothing
     for at in (RING_SIDE_BAND_AT, 1.0 - RING_SIDE_BAND_AT):
-        rm = top + int(at * height)
-        cols = np.asarray(
-            median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
-        )
-        for side, profile in enumerate((cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :])):
-            if out[side] < RING_MIN:
-                continue
+        for side, profile in enumerate(beside(top + int(at * height))):
+            if seen[side]:
+                continue  # no margin at the middle, or its edge seen at the upper band
             run = _ring_run(profile, ring, reach_u)
             # (elsewhere a run of 0: the margin not seen past the print's edge there, its
             # blur; -1 or another column: a background of nearly its colour beside it)
@@ -3110,21 +3113,20 @@ def enclose_by_ring(
     new_bottom = bottom + RING_SKIP + down
     if down < 1 or not foot_rows[0] <= new_bottom <= foot_rows[1]:
         return None
-    cols = np.asarray(
-        median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
-    )
     lf, rt = left - c0, right - c0
+
+    def beside(row: int) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+        return _beside(image, view, row, q_v, c0, c1, lf, rt)
+
     out = []
-    for profile in (cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :]):
+    for profile in beside(rm):
         run = _ring_run(profile, ring, reach_u)
         out.append(max(run, 0))
         if run < 0 and norm(profile[0] - ring) < RING_AGREE:
             return None  # the margin's colour runs on beside the print: a wall of it
     if max(out) < 2:
         return None  # no margin beside the print: the ring above it is something else
-    if RING_SIDES_STRAIGHT and not _ring_sides_straight(
-        image, view, bottom, top, c0, c1, lf, rt, ring, reach_u, out
-    ):
+    if RING_SIDES_STRAIGHT and not _ring_sides_straight(beside, bottom, top, ring, reach_u, out):
         return None
     return (
         new_bottom,
@@ -3201,20 +3203,14 @@ def margin_under_print(
     band = _lab8(image, view, r0, r1, cm - q_u, cm + q_u + 1)
     t, b = top - r0, bottom - r0
     print_colour = median_u8(band[t + k_v : b - k_v].reshape(-1, 3), axis=0)
-    cols = np.asarray(
-        median_u8(_lab8(image, view, rm - q_v, rm + q_v + 1, c0, c1), axis=0), np.float32
-    )
-    lf, rt = left - c0, right - c0
-    sides = [
-        cols[lf - RING_SKIP - SIDE_MARGIN_COLUMNS + 1 : lf - RING_SKIP + 1],
-        cols[rt + RING_SKIP : rt + RING_SKIP + SIDE_MARGIN_COLUMNS],
-    ]
-    colours = [median_of(c, axis=0) for c in sides]
+    profiles = _beside(image, view, rm, q_v, c0, c1, left - c0, right - c0)
+    # the side margins' colours: their first columns out from the print's sides
+    colours = [median_of(p[:SIDE_MARGIN_COLUMNS], axis=0) for p in profiles]
     ring = 0.5 * (colours[0] + colours[1])
     if norm(colours[0] - colours[1]) > RING_AGREE or norm(ring - print_colour) < MARGIN_VS_PRINT:
         return None
     out = []
-    for profile in (cols[lf - RING_SKIP :: -1], cols[rt + RING_SKIP :]):
+    for profile in profiles:
         run = _ring_run(profile, ring, min(reach_u, profile.shape[0]))
         if run < RING_MIN:
             return None  # no side margin, or a wall of its colour beside the face
