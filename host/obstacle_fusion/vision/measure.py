@@ -695,7 +695,17 @@ class Measurer:
                     # hid, however sure (the band cuts the top edge's evidence); raised, a
                     # line above the face taken in (UNREAD_TOP_FACE_LOWERS)
                     if UNREAD_TOP_FACE_LOWERS:
-                        if moved < 0.0:
+                        if (
+                            moved < 0.0
+                            and TOP_FACE_DEPTH_BOUND
+                            and _top_face_too_deep(best, again, view, depth)
+                        ):
+                            log.debug(
+                                "no rig: the top %.1f rows lower would need a top face "
+                                "deeper than an obstacle's; the top kept",
+                                -moved,
+                            )
+                        elif moved < 0.0:
                             log.debug("no rig: the pitch allowed lowers the top %.1f rows", -moved)
                             best = again
                     elif _doubted(again) >= _doubted(best) - UNREAD_PITCH_CONFIDENCE_MARGIN:
@@ -2310,6 +2320,23 @@ UNREAD_PITCH_CONFIDENCE_MARGIN = 0.05
 #: 5 rows to a line above the top, +4 -> +22 %). Session 40, branch ``wt-c-40``; a switch
 #: for the tests.
 UNREAD_TOP_FACE_LOWERS = True
+#: ... but not where the two tops cannot be a top face's edges: the lowered top its front
+#: edge, the guessed face's top its back edge. A top face shows above the guessed horizon
+#: only to a lens looking down more than guessed, at most UNREAD_PITCH_DOWN_DEG more, and,
+#: the foot's row fixed, a lens pitched further down stands higher: at most
+#: UNDER_MAX_CAMERA_HEIGHT_M (the issue's robots carry the lens 0.2-0.5 m up). At the
+#: steepest pitch both allow, the back edge must lie on the floor side of the horizon and
+#: at most MAX_TOP_FACE_DEPTH_M behind the front (:func:`_top_face_too_deep`; a steeper
+#: pitch only brings it nearer); else the guessed top is the face's own top edge, and the
+#: lower one a line across the face (a brick course, a panel joint). Procedural 3327 hard
+#: (new7): a brick face taller than the lens, a course 12.6 rows under its top taken as a
+#: top face's front edge, -12.7 %; the back edge would lie 3.8 m behind the front. Session
+#: 46, branch ``wt-e-46``; a switch for the tests.
+TOP_FACE_DEPTH_BOUND = True
+#: ... the deepest top face an obstacle the sonar's beam stops at shows (metres; the rooms'
+#: boxes are 0.2-0.8 m deep, and a deeper thing is a wall or a bench, not a box whose top
+#: face is seen past its front).
+MAX_TOP_FACE_DEPTH_M = 1.5
 #: ... and where the pitch was read (from the face's sides, a few degrees off on a small or
 #: near-centre face): the face measured at the read pitch allowing the lens
 #: UNREAD_PITCH_DOWN_DEG more down is taken only where it is the read face with its top
@@ -2962,6 +2989,28 @@ def _top_moved(
         return None
     moved = box[1] - again[1]
     return moved if abs(moved) > TOP_FACE_MOVE_PX else None
+
+
+def _top_face_too_deep(best: Measurement, again: Measurement, view: View, range_m: float) -> bool:
+    """Whether ``again``'s lowered top (input pixels) cannot be the front edge of a top
+    face whose back edge is ``best``'s top: at the steepest pitch the lens may have (the
+    guessed pitch, ``best``'s, plus UNREAD_PITCH_DOWN_DEG, no steeper than stands the lens
+    UNDER_MAX_CAMERA_HEIGHT_M up over ``best``'s foot row at ``range_m``), the back edge
+    lies on or above the horizon, or more than MAX_TOP_FACE_DEPTH_M behind the front
+    (the front at ``range_m``). A steeper pitch brings the back edge nearer, so no pitch
+    allowed makes the two tops one top face. False where a box is missing."""
+    box, low = best.box_px, again.box_px
+    if box is None or low is None:
+        return False
+    foot = math.atan((box[3] - view.cy) / view.fy)
+    steepest = math.radians((best.camera_pitch_deg or 0.0) + UNREAD_PITCH_DOWN_DEG)
+    lens_bound = math.atan(UNDER_MAX_CAMERA_HEIGHT_M / range_m) - foot
+    pitch = min(steepest, lens_bound)
+    back = math.atan((box[1] - view.cy) / view.fy) + pitch
+    front = math.atan((low[1] - view.cy) / view.fy) + pitch
+    if back <= 0.0:
+        return True
+    return range_m * (math.tan(front) / math.tan(back) - 1.0) > MAX_TOP_FACE_DEPTH_M
 
 
 def _small(found: Measurement) -> bool:
