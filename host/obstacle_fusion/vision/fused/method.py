@@ -493,7 +493,10 @@ SEAMS_RAISE_TOP = True
 #: top), the settled sides then hold the face's other joints, which run on past a top
 #: that was a joint across the face to the face's real top, where they all end
 #: (procedural/3305 ordinary: a pink panel face on a pink wall, a horizontal joint 45 %
-#: of the way up taken for the top, -49 %). With the rig, as SEAMS_RAISE_TOP.
+#: of the way up taken for the top, -49 %). With the rig given only (not a trial's rig
+#: taken as known: there the foot read may be a frame's bottom rail, the face a strip of
+#: margin, and a brick print's joints above it end at the print's top, not the face's:
+#: photo/3070 ordinary with no rig -3.6 -> -88 %).
 SETTLED_SEAMS_RAISE = True
 #: A thin strip found at the face's foot (under THIN_STRIP_SHARE of its width high) whose
 #: ends carry its colour up as a frame's sides, round a middle of another colour, is the
@@ -1329,7 +1332,7 @@ class FusedMethod:
                 noise,
                 found_top,
                 colour_top,
-                seams=ax3 if rig_known and SETTLED_SEAMS_RAISE else None,
+                seams=ax3 if rig_given and SETTLED_SEAMS_RAISE else None,
             )
             decided = finish(settled)
             log.debug("top %d between the settled sides, %d as first found", decided[0], vt)
@@ -1497,7 +1500,7 @@ class FusedMethod:
         face, each reading the face's columns as they are now (so the top may go down as
         well as up). ``colour_top``: the face's colour ended at the top the search's sides
         gave (a front top edge under it must end it too). ``seams``: the vertical
-        gradients, given with the rig (SETTLED_SEAMS_RAISE): the top is also raised to
+        gradients, given with the rig given (SETTLED_SEAMS_RAISE): the top is also raised to
         where the face's own seams between these sides end. Returns the row, its
         gradient's sign and, from :func:`.top.front_from_back`, a sub-pixel row or None."""
         v = self.view
