@@ -53,6 +53,7 @@ from obstacle_fusion.vision.fused.region import (
     MIN_TOP_FACE_ROWS,
     RING_SKIP,
     TOP_COLOUR_STEP,
+    TOP_STEP_FULL,
     bridge_stripe,
     enclose_beside_foot,
     enclose_by_margin,
@@ -151,6 +152,32 @@ SETTLED_REFUSED = True
 #: not on above it, i.e. the front face's top edge; an edge decided higher up between the
 #: sides it gave is the background's in line with them (a tower behind a panel face).
 SETTLED_KEEPS_ACROSS = True
+#: The face's top line across the search's pair (extent.top_line_across) is taken only
+#: where the face's colour ends on its row: a face's top edge parts the face from what
+#: lies above it, while a panel joint across the face (a thin line on one surface) has
+#: the face's own colour right above and below it (procedural/3307 ordinary, panels: the
+#: joint 38 % of the way up taken, its colour step 2.6 Lab, height -48 %; the top line
+#: the rule was made for, photo/3249 ordinary, steps >= 12). Read as
+#: region.top_agreement does (the median Lab colour of rows 2-5 above and below the row,
+#: over the middle and next to each side; the largest step counts); with the rig.
+ACROSS_ENDS_COLOUR = True
+#: ... by at least this step (Lab, 8-bit scale): half of region.TOP_STEP_FULL (12), the
+#: step a face's own top reaches; a joint's rows above and below differ by grain only.
+ACROSS_COLOUR_STEP = 6.0
+
+
+def _across_ends_colour(
+    seen: npt.NDArray[Any] | None, view: View, across: tuple[int, int, int]
+) -> bool:
+    """Whether the face's colour ends on the row of the top line across it (``across``:
+    top, left, right in the working view): a colour step of at least ACROSS_COLOUR_STEP
+    there (top_agreement's reading; a grey frame gives no colour and passes)."""
+    if not ACROSS_ENDS_COLOUR:
+        return True
+    top, left, right = across
+    return top_agreement(seen, view, top, left, right) * TOP_STEP_FULL >= ACROSS_COLOUR_STEP
+
+
 #: A face the search's top refused is weighed again without its texture where a print of
 #: its own covers it (``Candidate.print_evidence``), with the rig, in the rescuing try.
 PRINT_EVIDENCE = True
@@ -461,6 +488,16 @@ STANDING_TOP_SHARE = 0.25
 #: together is a background line across a face in the wall's shade: the top is raised to
 #: where they end (`extent.raise_top_along_seams`).
 SEAMS_RAISE_TOP = True
+#: ... and so where the top is decided again between the settled sides: the search's pair
+#: may have been one panel whose side is itself a joint (no seam inside it to raise the
+#: top), the settled sides then hold the face's other joints, which run on past a top
+#: that was a joint across the face to the face's real top, where they all end
+#: (procedural/3305 ordinary: a pink panel face on a pink wall, a horizontal joint 45 %
+#: of the way up taken for the top, -49 %). With the rig given only (not a trial's rig
+#: taken as known: there the foot read may be a frame's bottom rail, the face a strip of
+#: margin, and a brick print's joints above it end at the print's top, not the face's:
+#: photo/3070 ordinary with no rig -3.6 -> -88 %).
+SETTLED_SEAMS_RAISE = True
 #: A thin strip found at the face's foot (under THIN_STRIP_SHARE of its width high) whose
 #: ends carry its colour up as a frame's sides, round a middle of another colour, is the
 #: frame's bottom rail: the top is raised to where the frame's sides end
@@ -1190,6 +1227,11 @@ class FusedMethod:
             # a seam and a tower behind in line with it taken for the sides, the top raised
             # up the tower: the face's top line crosses them, ending at its real sides
             across = top_line_across(ay, ax3, rb, int(round(vt)), ul, ur, noise)
+        if across is not None and not _across_ends_colour(seen, v, across):
+            log.debug(
+                "top line across %d-%d at %d: no colour ends there (a joint)", ul, ur, across[0]
+            )
+            across = None
         if across is not None:
             log.debug("top line across %d-%d (top %.0f): %s", ul, ur, vt, across)
             vt, ul, ur = across
@@ -1280,7 +1322,17 @@ class FusedMethod:
                 if first is not None and (first.confidence or 0.0) > face_conf:
                     return first
             settled = self._settled_top(
-                seen, ay, dy, rb, ul, ur, depth, noise, found_top, colour_top
+                seen,
+                ay,
+                dy,
+                rb,
+                ul,
+                ur,
+                depth,
+                noise,
+                found_top,
+                colour_top,
+                seams=ax3 if rig_given and SETTLED_SEAMS_RAISE else None,
             )
             decided = finish(settled)
             log.debug("top %d between the settled sides, %d as first found", decided[0], vt)
@@ -1440,17 +1492,26 @@ class FusedMethod:
         noise: float,
         start: int,
         colour_top: bool,
+        seams: npt.NDArray[np.int16] | None = None,
     ) -> tuple[int, float, float | None]:
         """The face's top decided again between the sides the width stages settled on:
         from ``start`` (the top before its front edge was sought), the colour's and the
         sides' raises, the front top edge and whether the rows above it look like a top
         face, each reading the face's columns as they are now (so the top may go down as
         well as up). ``colour_top``: the face's colour ended at the top the search's sides
-        gave (a front top edge under it must end it too). Returns the row, its gradient's
-        sign and, from :func:`.top.front_from_back`, a sub-pixel row or None."""
+        gave (a front top edge under it must end it too). ``seams``: the vertical
+        gradients, given with the rig given (SETTLED_SEAMS_RAISE): the top is also raised to
+        where the face's own seams between these sides end. Returns the row, its
+        gradient's sign and, from :func:`.top.front_from_back`, a sub-pixel row or None."""
         v = self.view
         vt = raise_top_by_colour(seen, v, ay, rb, start, ul, ur, depth)
         vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
+        if seams is not None:
+            # ... and the face's own seams between these sides run on past it to its top
+            by_seams = raise_top_along_seams(ay, seams, rb, vt, ul, ur, noise)
+            if by_seams < vt:
+                log.debug("settled top %d up the face's seams: %d", vt, by_seams)
+                vt = by_seams
         if PRINT_OUTLINE_TOP:
             # ... and a print's pattern stopped both walks: up its outline (as the rescue)
             outlined = raise_top_by_outline(seen, v, ay, rb, vt, ul, ur, depth)
