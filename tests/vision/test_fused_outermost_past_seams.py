@@ -117,3 +117,46 @@ def test_photo_3307_without_the_rule_is_a_plank_short(
     monkeypatch.setattr(extent, "OUTERMOST_PAST_SEAMS", False)
     _, ew = room_size_errors("photo", 3307, False, with_rig=with_rig)
     assert ew > 0.1
+
+
+def _profile(outer: float, dip: float | None = None) -> npt.NDArray[np.float32]:
+    """A side profile: the strongest edge at 30 (100), a plateau on to 34 at ``outer``
+    (or at 95 with a dip of ``dip`` at 32), nothing else."""
+    sides = np.zeros(60, np.float32)
+    sides[30] = 100.0
+    sides[31:35] = outer
+    if dip is not None:
+        sides[32] = dip
+    return sides
+
+
+def test_one_plateau_is_one_edge() -> None:
+    """A seam's dark band is one plateau: its outer column at OUTER_DIP_SHARE (0.9) of the
+    strongest or more, the profile between never under that share of it, is the same
+    edge; just under either share it is another."""
+    assert extent.OUTER_DIP_SHARE == 0.9
+    assert not extent._another_edge(_profile(90.0), 30, 34)
+    assert extent._another_edge(_profile(89.9), 30, 34)
+    assert not extent._another_edge(_profile(95.0, dip=85.5), 30, 34)
+    assert extent._another_edge(_profile(95.0, dip=85.4), 30, 34)
+    assert not extent._another_edge(_profile(95.0), 30, 30)
+    # next to the strongest, with nothing between, only a lower level parts them
+    assert not extent._another_edge(_profile(95.0), 30, 31)
+    assert extent._another_edge(_profile(89.0), 30, 31)
+
+
+def test_procedural_2079_keeps_the_seams_plateau_as_one_edge() -> None:
+    """procedural/2079 ordinary, no rig (own): the walk ended on a dark seam's plateau
+    (286-290, 140-141), the face's weak side past it; the plateau's outer column is the
+    seam, not a side: the strongest is taken as before and the colour walk from it runs
+    on to the side (w +0.7 %)."""
+    _, ew = room_size_errors("procedural", 2079, False, with_rig=False)
+    assert ew < 0.02
+
+
+def test_procedural_2079_with_any_outer_column_taken_stops_short(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(extent, "_another_edge", lambda sides, a, b: a != b)
+    _, ew = room_size_errors("procedural", 2079, False, with_rig=False)
+    assert ew > 0.04

@@ -116,8 +116,16 @@ TOP_ALONE_LINE = True
 #: walk's end, so an edge they crossed is a seam inside it (a dark seam a few columns in
 #: from the side is often the strongest column there: photo/3307 ordinary, seam 271,
 #: side 278, -13 % wide at 0.63). Where that edge stands no face's side, the strongest
-#: is tried as before (a switch for the tests).
+#: is tried as before (a switch for the tests) ...
 OUTERMOST_PAST_SEAMS = True
+#: ... and only where it is another edge than the strongest: the profile between the two
+#: falls under this share of the outer one's strength, or the outer one stands under this
+#: share of the strongest (a plateau of its own). A dark seam's band, its two edges merged
+#: into one plateau by the blur and the 1x3 dilation, is one edge, its outer column still
+#: the seam (procedural/2079 ordinary, no rig: the plateau 286-290 at 140-141, the face's
+#: side a weak edge past it; its outer column taken, the colour walk from it stopped
+#: short, 2.3 -> 5.1 %).
+OUTER_DIP_SHARE = 0.9
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -324,12 +332,26 @@ def _outer_side(
     tried = [strongest]
     if outermost:
         outer = _outermost_peak(sides, lo, hi, step, need)
-        if outer is not None and outer != strongest:
+        if outer is not None and _another_edge(sides, strongest, outer):
             tried.insert(0, outer)  # the edges ran on across the columns inside it
     for best in tried:
         if _side_at(ax_rows, sides, side, best, step, need, lines):
             return best
     return None
+
+
+def _another_edge(sides: npt.NDArray[np.float32], strongest: int, outer: int) -> bool:
+    """Whether column ``outer`` is an edge apart from column ``strongest`` in the profile
+    ``sides``: the outer one under OUTER_DIP_SHARE of the strongest, or the profile between
+    them falling under OUTER_DIP_SHARE of the outer one (else one plateau: one edge)."""
+    if outer == strongest:
+        return False
+    if float(sides[outer]) < OUTER_DIP_SHARE * float(sides[strongest]):
+        return True
+    a, b = sorted((strongest, outer))
+    if b - a < 2:
+        return False
+    return float(sides[a + 1 : b].min()) < OUTER_DIP_SHARE * float(sides[outer])
 
 
 def _side_at(
