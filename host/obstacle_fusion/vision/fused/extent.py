@@ -109,6 +109,23 @@ NARROW_PLANK_ON_ROWS = True
 #: for a strong top (0.5 x 6 = 3 = MIN_EDGE_SNR, so a column still on the line already
 #: passes that share; a switch for the tests).
 TOP_ALONE_LINE = True
+#: Where the walk (the top and foot edges running on past a side) ended, the side is the
+#: outermost vertical edge in the snap window reaching the seams' ``need``, at its own
+#: peak (:func:`_outermost_peak`), before the strongest one: the face is one surface at
+#: the sonar's depth, and its top and foot edges ran on across every column up to the
+#: walk's end, so an edge they crossed is a seam inside it (a dark seam a few columns in
+#: from the side is often the strongest column there: photo/3307 ordinary, seam 271,
+#: side 278, -13 % wide at 0.63). Where that edge stands no face's side, the strongest
+#: is tried as before (a switch for the tests) ...
+OUTERMOST_PAST_SEAMS = True
+#: ... and only where it is another edge than the strongest: the profile between the two
+#: falls under this share of the outer one's strength, or the outer one stands under this
+#: share of the strongest (a plateau of its own). A dark seam's band, its two edges merged
+#: into one plateau by the blur and the 1x3 dilation, is one edge, its outer column still
+#: the seam (procedural/2079 ordinary, no rig: the plateau 286-290 at 140-141, the face's
+#: side a weak edge past it; its outer column taken, the colour walk from it stopped
+#: short, 2.3 -> 5.1 %).
+OUTER_DIP_SHARE = 0.9
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -270,6 +287,7 @@ def widen_across_seams(
             need,
             lines,
             narrow and NARROW_PLANK_ON_ROWS,
+            OUTERMOST_PAST_SEAMS,
         )
         new.append(side if moved is None else moved)
     return new[0], new[1]
@@ -293,10 +311,13 @@ def _outer_side(
     need: float,
     lines: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | None = None,
     narrow: bool = False,
+    outermost: bool = False,
 ) -> int | None:
     """Where the edges that run on past ``side`` (towards ``step``) end, the column of the
     face's real side: ``side`` itself when they stop within ``min_move`` columns, None when
-    no side stands there (``ax_rows``: the rows the side must stand over, down to the floor).
+    no side stands there (``ax_rows``: the rows the side must stand over, down to the floor;
+    ``outermost``: the outermost strong edge where they end tried first, see
+    OUTERMOST_PAST_SEAMS).
 
     No vertical edge where the edges end: a background line ran on, not the face; an edge
     that does not stand the whole height down to the floor (a side face's far corner, a
@@ -307,16 +328,53 @@ def _outer_side(
             return _narrow_plank(ax_rows, sides, side, end, step, need, lines)
         return side  # the edges stop at (or just past) the side: it is the face's
     lo, hi = _snap_window(side, end, step, sides.size)
-    best = int(lo + sides[lo : hi + 1].argmax())
+    strongest = int(lo + sides[lo : hi + 1].argmax())
+    tried = [strongest]
+    if outermost:
+        outer = _outermost_peak(sides, lo, hi, step, need)
+        if outer is not None and _another_edge(sides, strongest, outer):
+            tried.insert(0, outer)  # the edges ran on across the columns inside it
+    for best in tried:
+        if _side_at(ax_rows, sides, side, best, step, need, lines):
+            return best
+    return None
+
+
+def _another_edge(sides: npt.NDArray[np.float32], strongest: int, outer: int) -> bool:
+    """Whether column ``outer`` is an edge apart from column ``strongest`` in the profile
+    ``sides``: the outer one under OUTER_DIP_SHARE of the strongest, or the profile between
+    them falling under OUTER_DIP_SHARE of the outer one (else one plateau: one edge)."""
+    if outer == strongest:
+        return False
+    if float(sides[outer]) < OUTER_DIP_SHARE * float(sides[strongest]):
+        return True
+    a, b = sorted((strongest, outer))
+    if b - a < 2:
+        return False
+    return float(sides[a + 1 : b].min()) < OUTER_DIP_SHARE * float(sides[outer])
+
+
+def _side_at(
+    ax_rows: npt.NDArray[np.int16],
+    sides: npt.NDArray[np.float32],
+    side: int,
+    best: int,
+    step: int,
+    need: float,
+    lines: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | None,
+) -> bool:
+    """Whether column ``best`` is the face's side where the walk from ``side`` ended: a
+    vertical edge at least ``need`` strong standing the height down to the floor, or over
+    LINES_SIDE_COVERAGE of the rows where the top and foot lines end together there."""
     present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
     if float(sides[best]) < need:
-        return None
+        return False
     if _stands(present):
-        return best
+        return True
     if lines is not None and share(present) >= LINES_SIDE_COVERAGE:
-        if all(_line_ends_at(line, side, best, step) for line in lines):
-            return best  # the top and foot lines end together: the face's side
-    return None
+        # the top and foot lines end together: the face's side
+        return all(_line_ends_at(line, side, best, step) for line in lines)
+    return False
 
 
 def _narrow_plank(
