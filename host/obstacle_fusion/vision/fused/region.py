@@ -4213,6 +4213,15 @@ SURFACE_STEP = TOP_COLOUR_STEP
 #: floor's just under the foot: a patch of floor between a wall band and a found foot is
 #: no face standing on the floor.
 SURFACE_FLOOR_APART = MIN_FACE_DISTANCE
+#: On a face of one colour (its lower part within the least spread, MIN_FACE_DISTANCE, in
+#: the middle and both strips: no print's colours) a row holds the face's surface only
+#: where its colour spans the face: in the middle, or in the strips just inside both sides.
+#: Such a face shows its colour from side to side up to its top; one strip alone in it is
+#: the background above the top matching that strip's shade by chance (photo 3311 hard:
+#: a dark plank's shade in the launch pad's rows), no surface: it neither starts the
+#: surface nor keeps the rows above it the face's. On a print the colours change row by
+#: row, and a strip alone may be the print's own (photo 3334 hard: not applied there).
+SURFACE_SPANS_FACE = True
 
 
 def lower_top_to_surface(
@@ -4250,13 +4259,20 @@ def lower_top_to_surface(
             lab[:, -BESIDE_COLUMNS:],
         )
     ]
-    face = np.zeros(h, bool)
+    held = []
     refs = []
+    limits = []
     for rows in parts:
         seed = rows[h - f0 - ref_rows : h - f0]
         ref = median_of(seed, axis=0)
         refs.append(ref)
-        face |= row_norms(rows - ref) <= spread_limit(row_norms(seed - ref), MIN_FACE_DISTANCE)
+        limits.append(spread_limit(row_norms(seed - ref), MIN_FACE_DISTANCE))
+        held.append(row_norms(rows - ref) <= limits[-1])
+    middle, at_left, at_right = held
+    if SURFACE_SPANS_FACE and max(limits) <= MIN_FACE_DISTANCE:
+        face = middle | (at_left & at_right)
+    else:
+        face = middle | at_left | at_right
     run = np.convolve(face.astype(np.int32), np.ones(SURFACE_RUN_ROWS, np.int32), "valid")
     starts = np.flatnonzero(run == SURFACE_RUN_ROWS)
     if starts.size == 0:
