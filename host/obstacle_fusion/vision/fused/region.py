@@ -785,11 +785,7 @@ def trim_to_foot(
             new.append(side)
             continue
         least = min_move
-        if (
-            FLOOR_BETWEEN_ANY_MOVE
-            and floor_between
-            and not _stands_on_foot(ax, top, bottom, side)
-        ):
+        if FLOOR_BETWEEN_ANY_MOVE and floor_between and not _stands_on_foot(ax, top, bottom, side):
             # the floor seen up to a side standing farther back: a small gap is no blur
             least = min(min_move, FLOOR_BETWEEN_MIN_MOVE)
         if (
