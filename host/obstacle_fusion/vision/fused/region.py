@@ -681,13 +681,6 @@ FLOOR_BETWEEN_MIN_M = 0.08
 #: side, procedural/3328 hard: a 15-column gap of floor, w +8.8 % at 0.999). More than the
 #: colour smoothing's reach (SMOOTH_COLUMNS), over which the foot's end is blurred.
 FLOOR_BETWEEN_MIN_MOVE = 6
-#: ... and only where the foot ends at an edge (snapped, mean |d/dx| over the face's rows)
-#: at least this share of the weaker of the pair's two sides: the face's own side against
-#: what is beside it, an edge like the sides found (procedural/3328 hard: 1.29). A foot of
-#: the floor's colour at the face's own corner ends at no such edge, the face running on
-#: above it (a foot striped with the floor's colour in 10 columns of 20: 0.37, the
-#: face's noise; `test_fused_region.test_the_kept_face_must_stand_on_its_foot`).
-FLOOR_BETWEEN_EDGE_SHARE = 0.5
 #: The switch of the rule above (for the tests).
 FLOOR_BETWEEN_ANY_MOVE = True
 
@@ -792,17 +785,8 @@ def trim_to_foot(
             new.append(side)
             continue
         least = min_move
-        if (
-            FLOOR_BETWEEN_ANY_MOVE
-            and floor_between
-            and not _stands_on_foot(ax, top, bottom, side)
-            and _snap_side(ax, top, bottom, end)[1]
-            >= FLOOR_BETWEEN_EDGE_SHARE
-            * min(_snap_side(ax, top, bottom, left)[1], _snap_side(ax, top, bottom, right)[1])
-        ):
-            # the floor seen up to a side standing farther back, the face's own side
-            # standing up where its foot ends (a foot of the floor's colour at the face's
-            # corner has no edge above it there): a small gap is no blur
+        if FLOOR_BETWEEN_ANY_MOVE and floor_between and not _stands_on_foot(ax, top, bottom, side):
+            # the floor seen up to a side standing farther back: a small gap is no blur
             least = min(min_move, FLOOR_BETWEEN_MIN_MOVE)
         if (
             (side - end) * step <= least
