@@ -674,6 +674,15 @@ FLOOR_PAST_COLUMNS = 7
 #: strip's foot, a shadow's or a leg's, no face's (photo/2175 ordinary, a face's shadow
 #: between it and a can, 0.04 m: the trim kept that strip, 1.1 -> 86 % off).
 FLOOR_BETWEEN_MIN_M = 0.08
+#: A side with the floor seen between it and the foot's end (the rule above) that does not
+#: stand down to the contact row comes in by a move of any size from this many columns up,
+#: not only from ``min_move`` (a tenth of the pair's width): the face's foot ends there, and
+#: what the side stands on is farther back (a can's edge a few centimetres beyond the face's
+#: side, procedural/3328 hard: a 15-column gap of floor, w +8.8 % at 0.999). More than the
+#: colour smoothing's reach (SMOOTH_COLUMNS), over which the foot's end is blurred.
+FLOOR_BETWEEN_MIN_MOVE = 6
+#: The switch of the rule above (for the tests).
+FLOOR_BETWEEN_ANY_MOVE = True
 
 
 def _floor_runs_past(
@@ -775,8 +784,12 @@ def trim_to_foot(
         ):
             new.append(side)
             continue
+        least = min_move
+        if FLOOR_BETWEEN_ANY_MOVE and floor_between and not _stands_on_foot(ax, top, bottom, side):
+            # the floor seen up to a side standing farther back: a small gap is no blur
+            least = min(min_move, FLOOR_BETWEEN_MIN_MOVE)
         if (
-            (side - end) * step <= min_move
+            (side - end) * step <= least
             or share(~stands[cut]) < MIN_TRIM_FLOORLESS
             or (not floor_between and _face_runs_on(image, view, top, bottom, centre, end, side))
         ):
