@@ -18,15 +18,21 @@ import math
 from types import SimpleNamespace
 from typing import cast
 
+import numpy as np
 import pytest
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import _top_face_too_deep
 from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision_fixtures import room_size_errors
 
 FY, CY = 500.0, 200.0
-VIEW = cast(View, SimpleNamespace(fy=FY, cy=CY))
+#: a lens without distortion: input pixels are the pitch-0 view's
+PINHOLE = CameraModel(
+    np.array([[FY, 0.0, 250.0], [0.0, FY, CY], [0.0, 0.0, 1.0]]), np.zeros(4), 500, 400
+)
+VIEW = cast(View, SimpleNamespace(fy=FY, cy=CY, camera=PINHOLE))
 RANGE_M = 2.0
 FRONT_M = 0.3  # the face's front height
 
@@ -118,3 +124,26 @@ def test_no_box_no_bound() -> None:
     guessed, lowered = _pair(0.4, 5.0, 3.0)
     assert not _top_face_too_deep(Measurement(True, "fused", RANGE_M), lowered, VIEW, RANGE_M)
     assert not _top_face_too_deep(guessed, Measurement(True, "fused", RANGE_M), VIEW, RANGE_M)
+
+
+def test_the_rows_are_undistorted() -> None:
+    # the paper's lens (barrel distortion): the boxes are input pixels, the pitch and the
+    # lens's height reckoned in the undistorted view. A face near the image's left edge,
+    # seen at the steepest pitch (5 degrees, the lens 0.4 m up): read as view rows, its
+    # distorted rows stand a top face 1.55 m deep as 1.43 m
+    cam = CameraModel.paper(500, 375)
+    view = cast(View, SimpleNamespace(fy=cam.fy, cy=cam.cy, camera=cam))
+
+    def seen(height_below_lens: float, distance: float) -> float:
+        level = math.atan(height_below_lens / distance) - math.radians(5.0)
+        ray = [(40.0 - cam.cx) / cam.fx, math.tan(level), 1.0]
+        return float(cam.project([ray])[0, 1])
+
+    foot, front = seen(0.4, RANGE_M), seen(0.4 - FRONT_M, RANGE_M)
+    lowered = Measurement(True, "fused", RANGE_M, box_px=(20.0, front, 60.0, foot))
+    for top_depth, deep in ((1.45, False), (1.55, True)):
+        back = seen(0.4 - FRONT_M, RANGE_M + top_depth)
+        guessed = Measurement(
+            True, "fused", RANGE_M, box_px=(20.0, back, 60.0, foot), camera_pitch_deg=0.0
+        )
+        assert _top_face_too_deep(guessed, lowered, view, RANGE_M) is deep
