@@ -23,6 +23,7 @@ import pytest
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import _top_face_too_deep
+from obstacle_fusion.vision.pitch import camera_height_for_row
 from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision_fixtures import room_size_errors
@@ -147,3 +148,38 @@ def test_the_rows_are_undistorted() -> None:
             True, "fused", RANGE_M, box_px=(20.0, back, 60.0, foot), camera_pitch_deg=0.0
         )
         assert _top_face_too_deep(guessed, lowered, view, RANGE_M) is deep
+
+
+def _level_pair(back: float, front: float) -> tuple[Measurement, Measurement]:
+    """The guessed face (top ``back``) and the lowered one (top ``front``) with the
+    guessed pitch 5 degrees up: the steepest pitch allowed is level (0 degrees, the
+    lens 0.4 m up, under the bound)."""
+    foot = CY + FY * 0.4 / RANGE_M
+    guessed = Measurement(
+        True, "fused", RANGE_M, box_px=(100.0, back, 200.0, foot), camera_pitch_deg=-5.0
+    )
+    lowered = Measurement(True, "fused", RANGE_M, box_px=(100.0, front, 200.0, foot))
+    return guessed, lowered
+
+
+def test_a_back_edge_on_the_horizon_is_no_top_face() -> None:
+    # the steepest pitch level: the horizon is the row cy, and a back edge on it no
+    # top face's (a top face lies under the lens)
+    assert _top_face_too_deep(*_level_pair(CY, CY + 30.0), VIEW, RANGE_M)
+    assert not _top_face_too_deep(*_level_pair(CY + 10.0, CY + 12.0), VIEW, RANGE_M)  # 0.4 m
+
+
+def test_a_top_face_exactly_max_deep_is_allowed(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the steepest pitch level: the back edge as many times farther than the front as
+    # its row's drop under the horizon is under the front's
+    back, front = CY + 10.0, CY + 30.0
+    deep = RANGE_M * (
+        camera_height_for_row(front, RANGE_M, 0.0, FY, CY)
+        / camera_height_for_row(back, RANGE_M, 0.0, FY, CY)
+        - 1.0
+    )
+    assert deep == pytest.approx(4.0)
+    monkeypatch.setattr(measure, "MAX_TOP_FACE_DEPTH_M", deep)
+    assert not _top_face_too_deep(*_level_pair(back, front), VIEW, RANGE_M)
+    monkeypatch.setattr(measure, "MAX_TOP_FACE_DEPTH_M", math.nextafter(deep, 0.0))
+    assert _top_face_too_deep(*_level_pair(back, front), VIEW, RANGE_M)

@@ -70,8 +70,8 @@ from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
     level_scales,
-    pitch_from_undistorted,
     pitch_for_row,
+    pitch_from_undistorted,
     refit_side,
 )
 from obstacle_fusion.vision.rig import Rig, check_range
