@@ -18,15 +18,22 @@ import math
 from types import SimpleNamespace
 from typing import cast
 
+import numpy as np
 import pytest
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.measure import _top_face_too_deep
+from obstacle_fusion.vision.pitch import camera_height_for_row
 from obstacle_fusion.vision.types import Measurement, View
 
 from tests.vision_fixtures import room_size_errors
 
 FY, CY = 500.0, 200.0
-VIEW = cast(View, SimpleNamespace(fy=FY, cy=CY))
+#: a lens without distortion: input pixels are the pitch-0 view's
+PINHOLE = CameraModel(
+    np.array([[FY, 0.0, 250.0], [0.0, FY, CY], [0.0, 0.0, 1.0]]), np.zeros(4), 500, 400
+)
+VIEW = cast(View, SimpleNamespace(fy=FY, cy=CY, camera=PINHOLE))
 RANGE_M = 2.0
 FRONT_M = 0.3  # the face's front height
 
@@ -118,3 +125,61 @@ def test_no_box_no_bound() -> None:
     guessed, lowered = _pair(0.4, 5.0, 3.0)
     assert not _top_face_too_deep(Measurement(True, "fused", RANGE_M), lowered, VIEW, RANGE_M)
     assert not _top_face_too_deep(guessed, Measurement(True, "fused", RANGE_M), VIEW, RANGE_M)
+
+
+def test_the_rows_are_undistorted() -> None:
+    # the paper's lens (barrel distortion): the boxes are input pixels, the pitch and the
+    # lens's height reckoned in the undistorted view. A face near the image's left edge,
+    # seen at the steepest pitch (5 degrees, the lens 0.4 m up): read as view rows, its
+    # distorted rows stand a top face 1.55 m deep as 1.43 m
+    cam = CameraModel.paper(500, 375)
+    view = cast(View, SimpleNamespace(fy=cam.fy, cy=cam.cy, camera=cam))
+
+    def seen(height_below_lens: float, distance: float) -> float:
+        level = math.atan(height_below_lens / distance) - math.radians(5.0)
+        ray = [(40.0 - cam.cx) / cam.fx, math.tan(level), 1.0]
+        return float(cam.project([ray])[0, 1])
+
+    foot, front = seen(0.4, RANGE_M), seen(0.4 - FRONT_M, RANGE_M)
+    lowered = Measurement(True, "fused", RANGE_M, box_px=(20.0, front, 60.0, foot))
+    for top_depth, deep in ((1.45, False), (1.55, True)):
+        back = seen(0.4 - FRONT_M, RANGE_M + top_depth)
+        guessed = Measurement(
+            True, "fused", RANGE_M, box_px=(20.0, back, 60.0, foot), camera_pitch_deg=0.0
+        )
+        assert _top_face_too_deep(guessed, lowered, view, RANGE_M) is deep
+
+
+def _level_pair(back: float, front: float) -> tuple[Measurement, Measurement]:
+    """The guessed face (top ``back``) and the lowered one (top ``front``) with the
+    guessed pitch 5 degrees up: the steepest pitch allowed is level (0 degrees, the
+    lens 0.4 m up, under the bound)."""
+    foot = CY + FY * 0.4 / RANGE_M
+    guessed = Measurement(
+        True, "fused", RANGE_M, box_px=(100.0, back, 200.0, foot), camera_pitch_deg=-5.0
+    )
+    lowered = Measurement(True, "fused", RANGE_M, box_px=(100.0, front, 200.0, foot))
+    return guessed, lowered
+
+
+def test_a_back_edge_on_the_horizon_is_no_top_face() -> None:
+    # the steepest pitch level: the horizon is the row cy, and a back edge on it no
+    # top face's (a top face lies under the lens)
+    assert _top_face_too_deep(*_level_pair(CY, CY + 30.0), VIEW, RANGE_M)
+    assert not _top_face_too_deep(*_level_pair(CY + 10.0, CY + 12.0), VIEW, RANGE_M)  # 0.4 m
+
+
+def test_a_top_face_exactly_max_deep_is_allowed(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the steepest pitch level: the back edge as many times farther than the front as
+    # its row's drop under the horizon is under the front's
+    back, front = CY + 10.0, CY + 30.0
+    deep = RANGE_M * (
+        camera_height_for_row(front, RANGE_M, 0.0, FY, CY)
+        / camera_height_for_row(back, RANGE_M, 0.0, FY, CY)
+        - 1.0
+    )
+    assert deep == pytest.approx(4.0)
+    monkeypatch.setattr(measure, "MAX_TOP_FACE_DEPTH_M", deep)
+    assert not _top_face_too_deep(*_level_pair(back, front), VIEW, RANGE_M)
+    monkeypatch.setattr(measure, "MAX_TOP_FACE_DEPTH_M", math.nextafter(deep, 0.0))
+    assert _top_face_too_deep(*_level_pair(back, front), VIEW, RANGE_M)

@@ -20,6 +20,7 @@ from obstacle_fusion.vision.pitch import (
     PitchEstimate,
     camera_height_for_row,
     level_scales,
+    pitch_for_row,
     pitch_from_lines,
     pitch_from_sides,
     refit_side,
@@ -121,6 +122,13 @@ def test_camera_height_from_the_contact_row_and_the_pitch(pitch: float) -> None:
     h, depth = 0.33, 1.4
     ((u, v),) = CAM.undistort_points(project([[0.0, h, depth]], pitch))
     assert camera_height_for_row(v, depth, pitch, CAM.fy, CAM.cy) == pytest.approx(h, abs=1e-6)
+
+
+@pytest.mark.parametrize("pitch", [-4.0, 0.0, 5.0])
+def test_the_pitch_from_the_contact_row_and_the_camera_height(pitch: float) -> None:
+    h, depth = 0.33, 1.4
+    ((u, v),) = CAM.undistort_points(project([[0.0, h, depth]], pitch))
+    assert pitch_for_row(v, depth, h, CAM.fy, CAM.cy) == pytest.approx(pitch, abs=1e-6)
 
 
 @pytest.mark.parametrize("pitch", [-5.0, 4.0])

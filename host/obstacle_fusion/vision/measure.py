@@ -70,6 +70,7 @@ from obstacle_fusion.vision.paper import PaperMethod
 from obstacle_fusion.vision.pitch import (
     camera_height_for_row,
     level_scales,
+    pitch_for_row,
     pitch_from_undistorted,
     refit_side,
 )
@@ -590,12 +591,9 @@ class Measurer:
                     for lens in heights
                 ]
                 for row, lens in tries:
-                    pitch = math.degrees(
-                        math.atan(lens / depth) - math.atan((row - view.cy) / view.fy)
-                    )
-                    nominal_pitch = math.degrees(
-                        math.atan(NOMINAL_CAMERA_HEIGHT_M / depth)
-                        - math.atan((row - view.cy) / view.fy)
+                    pitch = pitch_for_row(row, depth, lens, view.fy, view.cy)
+                    nominal_pitch = pitch_for_row(
+                        row, depth, NOMINAL_CAMERA_HEIGHT_M, view.fy, view.cy
                     )
                     if max(pitch, nominal_pitch) > MAX_ESTIMATED_PITCH_DEG:
                         continue
@@ -2992,25 +2990,30 @@ def _top_moved(
 
 
 def _top_face_too_deep(best: Measurement, again: Measurement, view: View, range_m: float) -> bool:
-    """Whether ``again``'s lowered top (input pixels) cannot be the front edge of a top
-    face whose back edge is ``best``'s top: at the steepest pitch the lens may have (the
-    guessed pitch, ``best``'s, plus UNREAD_PITCH_DOWN_DEG, no steeper than stands the lens
+    """Whether ``again``'s lowered top cannot be the front edge of a top face whose back
+    edge is ``best``'s top: at the steepest pitch the lens may have (the guessed pitch,
+    ``best``'s, plus UNREAD_PITCH_DOWN_DEG, no steeper than stands the lens
     UNDER_MAX_CAMERA_HEIGHT_M up over ``best``'s foot row at ``range_m``), the back edge
     lies on or above the horizon, or more than MAX_TOP_FACE_DEPTH_M behind the front
     (the front at ``range_m``). A steeper pitch brings the back edge nearer, so no pitch
-    allowed makes the two tops one top face. False where a box is missing."""
+    allowed makes the two tops one top face. The boxes are input pixels: their rows, at
+    each box's middle column, are taken into the pitch-0 (undistorted) view the pitch
+    and the lens's height are reckoned in. False where a box is missing."""
     box, low = best.box_px, again.box_px
     if box is None or low is None:
         return False
-    foot = math.atan((box[3] - view.cy) / view.fy)
-    steepest = math.radians((best.camera_pitch_deg or 0.0) + UNREAD_PITCH_DOWN_DEG)
-    lens_bound = math.atan(UNDER_MAX_CAMERA_HEIGHT_M / range_m) - foot
-    pitch = min(steepest, lens_bound)
-    back = math.atan((box[1] - view.cy) / view.fy) + pitch
-    front = math.atan((low[1] - view.cy) / view.fy) + pitch
-    if back <= 0.0:
+    mid, low_mid = 0.5 * (box[0] + box[2]), 0.5 * (low[0] + low[2])
+    seen = view.camera.undistort_points([[mid, box[3]], [mid, box[1]], [low_mid, low[1]]])
+    foot, back, front = (float(r) for r in seen[:, 1])
+    lens_bound = pitch_for_row(foot, range_m, UNDER_MAX_CAMERA_HEIGHT_M, view.fy, view.cy)
+    pitch = min((best.camera_pitch_deg or 0.0) + UNREAD_PITCH_DOWN_DEG, lens_bound)
+    # the lens's height over the top face's plane were each edge at range_m: the back
+    # edge lies as many times farther than the front as the front's height is the back's
+    over_back = camera_height_for_row(back, range_m, pitch, view.fy, view.cy)
+    if over_back <= 0.0:
         return True
-    return range_m * (math.tan(front) / math.tan(back) - 1.0) > MAX_TOP_FACE_DEPTH_M
+    over_front = camera_height_for_row(front, range_m, pitch, view.fy, view.cy)
+    return range_m * (over_front / over_back - 1.0) > MAX_TOP_FACE_DEPTH_M
 
 
 def _small(found: Measurement) -> bool:

@@ -202,6 +202,13 @@ def camera_height_for_row(
     return depth_m * math.tan(math.atan((row - cy) / fy) + math.radians(pitch_deg))
 
 
+def pitch_for_row(row: float, depth_m: float, height_m: float, fy: float, cy: float) -> float:
+    """The pitch (degrees down) that puts a camera ``height_m`` up over the floor contact
+    at depth ``depth_m`` imaged at ``row`` of the pitch-0 (undistorted, not levelled)
+    view: :func:`camera_height_for_row` solved for the pitch."""
+    return math.degrees(math.atan(height_m / depth_m) - math.atan((row - cy) / fy))
+
+
 def level_scales(
     lines: Sequence[Line], camera: CameraModel, pitch_deg: float
 ) -> tuple[float, float]:
