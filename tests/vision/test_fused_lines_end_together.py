@@ -118,6 +118,14 @@ def test_a_joint_across_the_face_is_no_top(family: str, seed: int, hard: bool) -
     assert eh < 0.05 and ew < 0.05
 
 
+def test_the_run_on_check_by_itself_refuses_the_joint(monkeypatch: pytest.MonkeyPatch) -> None:
+    # procedural/2002 with method.ACROSS_ENDS_COLOUR off: the joint is refused by the
+    # sides running on above it alone (with both on, either one keeps the room right)
+    monkeypatch.setattr(method, "ACROSS_ENDS_COLOUR", False)
+    eh, ew = room_size_errors("procedural", 2002, False)
+    assert eh < 0.05 and ew < 0.05
+
+
 def test_the_sides_just_above_the_joint_decide(monkeypatch: pytest.MonkeyPatch) -> None:
     # procedural/2002: the sides fade over a band behind a few rows above the joint
     # (method.ACROSS_ENDS_COLOUR refuses that joint too, no colour ending on its row: off

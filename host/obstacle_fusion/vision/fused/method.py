@@ -162,7 +162,9 @@ SETTLED_KEEPS_ACROSS = True
 #: over the middle and next to each side; the largest step counts); with the rig.
 ACROSS_ENDS_COLOUR = True
 #: ... by at least this step (Lab, 8-bit scale): half of region.TOP_STEP_FULL (12), the
-#: step a face's own top reaches; a joint's rows above and below differ by grain only.
+#: step a face's own top reaches; a joint's rows above and below differ by grain only
+#: (procedural/2002's joint, in line with a band behind, steps 4.2). At most
+#: TOP_STEP_FULL: top_agreement's reading is capped there (a limit over it refuses all).
 ACROSS_COLOUR_STEP = 6.0
 
 
