@@ -366,7 +366,7 @@ def _side_at(
     """Whether column ``best`` is the face's side where the walk from ``side`` ended: a
     vertical edge at least ``need`` strong standing the height down to the floor, or over
     LINES_SIDE_COVERAGE of the rows where the top and foot lines end together there."""
-    present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
+    present = _present(ax_rows, best, need)
     if float(sides[best]) < need:
         return False
     if _stands(present):
@@ -375,6 +375,12 @@ def _side_at(
         # the top and foot lines end together: the face's side
         return all(_line_ends_at(line, side, best, step) for line in lines)
     return False
+
+
+def _present(ax_rows: npt.NDArray[np.int16], col: int, need: float) -> npt.NDArray[np.bool_]:
+    """The rows of ``ax_rows`` where column ``col`` shows a side's edge: |d/dx| at least
+    SIDE_SHARE of ``need``."""
+    return np.asarray(ax_rows[:, col], np.float32) >= SIDE_SHARE * need
 
 
 def _narrow_plank(
@@ -394,7 +400,7 @@ def _narrow_plank(
     best = _outermost_peak(sides, lo, hi, step, need)
     if best is None:
         return side
-    present = np.asarray(ax_rows[:, best], np.float32) >= SIDE_SHARE * need
+    present = _present(ax_rows, best, need)
     if not _stands(present) and share(present) < LINES_SIDE_COVERAGE:
         return side  # (a plank of the floor's colour shows no side against the floor)
     if all(_line_ends_at(line, side, best, step) for line in lines):
@@ -747,7 +753,7 @@ def top_line_across(
         for side, end, step in ((left, ends[0], -1), (right, ends[1], 1)):
             lo, hi = _snap_window(side, end, step, sides.size)
             col = int(lo + sides[lo : hi + 1].argmax())
-            present = np.asarray(ax[r + 1 : bottom, col], np.float32) >= SIDE_SHARE * need
+            present = _present(ax[r + 1 : bottom], col, need)
             if float(sides[col]) < need or share(present) < LINES_SIDE_COVERAGE:
                 break
             new.append(col)
