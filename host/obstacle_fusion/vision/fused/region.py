@@ -4227,13 +4227,14 @@ SURFACE_STEP = TOP_COLOUR_STEP
 #: no face standing on the floor.
 SURFACE_FLOOR_APART = MIN_FACE_DISTANCE
 #: On a face of one colour (its lower part within the least spread, MIN_FACE_DISTANCE, in
-#: the middle and both strips: no print's colours) a row holds the face's surface only
-#: where its colour spans the face: in the middle, or in the strips just inside both sides.
-#: Such a face shows its colour from side to side up to its top; one strip alone in it is
-#: the background above the top matching that strip's shade by chance (photo 3311 hard:
-#: a dark plank's shade in the launch pad's rows), no surface: it neither starts the
-#: surface nor keeps the rows above it the face's. On a print the colours change row by
-#: row, and a strip alone may be the print's own (photo 3334 hard: not applied there).
+#: the middle and both strips, each against its own colour: no print's colours; planks of
+#: two shades running up the face are so) a row holds the face's surface only where the
+#: face's colours span it: in the middle, or in the strips just inside both sides. Such a
+#: face shows its colours from side to side up to its top; one strip alone in it is the
+#: background above the top matching that strip's shade by chance (photo 3311 hard: a dark
+#: plank's shade in the launch pad's rows), no surface: it neither starts the surface nor
+#: keeps the rows above it the face's. On a print the colours change row by row, and a
+#: strip alone may be the print's own (photo 3334 hard: not applied there).
 SURFACE_SPANS_FACE = True
 
 
@@ -4249,7 +4250,10 @@ def lower_top_to_surface(
     """The top moved down to the first row under it from which the face's own colour
     (read on its lower part) holds, where the rows from ``top`` down to it are something
     else in the middle and just inside both sides (SURFACE_FOREIGN_SHARE) and the colour
-    steps there (SURFACE_STEP), snapped to the strongest top edge within SNAP_ROWS.
+    steps there (SURFACE_STEP), snapped to the strongest top edge within SNAP_ROWS. A row
+    holds the face's colour in the middle or in either strip; on a face of one colour (all
+    three parts' limits at the least, MIN_FACE_DISTANCE) in the middle or in both strips
+    (SURFACE_SPANS_FACE), for the start of the surface and the foreign share alike.
 
     The face is one surface standing on the floor: from its foot up to its top its colour
     holds, a print in a margin of it or a band across it aside. A top taken on a line of
