@@ -1,7 +1,7 @@
 """A side with the floor seen between it and the face's foot, not standing down to the
-contact row, comes in by a move of any size from ``region.FLOOR_BETWEEN_MIN_MOVE``
-columns up (``region.FLOOR_BETWEEN_ANY_MOVE``, in ``region.trim_to_foot``), not only from
-a tenth of the pair's width.
+contact row, comes in by a move of more than ``region.FLOOR_BETWEEN_MIN_MOVE`` columns
+(``region.FLOOR_BETWEEN_ANY_MOVE``, in ``region.trim_to_foot``), not only of more than a
+tenth of the pair's width.
 
 The room is a diagnosis room (new7): procedural 3328 (hard), a purple seams face with a
 purple can standing farther back 15 columns right of it, the floor (and the wall's
@@ -78,6 +78,16 @@ def test_the_move_limit_decides(
     assert trim(pole_beside(gap), LEFT, RIGHT + gap) == (LEFT, RIGHT + gap if kept else RIGHT)
 
 
+def test_the_tenth_still_holds_where_it_is_less(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the limit is the smaller of the two: with the tenth at 4 columns (MIN_WIDEN_SHARE
+    # 0.02 of the 200-column pair, as on a face 40 columns wide) a pole 6 columns out (a
+    # move of 5) comes in as it did before the rule, not held out by the 6; 5 out (a move
+    # of 4) stays
+    monkeypatch.setattr(region, "MIN_WIDEN_SHARE", 0.02)
+    assert trim(pole_beside(6), LEFT, RIGHT + 6) == (LEFT, RIGHT)
+    assert trim(pole_beside(5), LEFT, RIGHT + 5) == (LEFT, RIGHT + 5)
+
+
 def test_a_pole_standing_on_the_contact_row_keeps_its_tenth() -> None:
     # a pole standing down to the contact row (its foot at full contrast) is no side
     # standing farther back: only the tenth of the width brings it in (FLOOR_BETWEEN)
@@ -92,7 +102,21 @@ def test_the_floor_between_rule_is_needed(monkeypatch: pytest.MonkeyPatch) -> No
 
 
 def test_a_foot_of_the_floors_colour_at_the_corner_reads_as_farther_back() -> None:
-    # the rule's limit: a face whose foot shows the floor in its first 10 columns from its
-    # left side (and in 10 of every 20 on) has no edge on the foot there; that side reads
-    # as one standing farther back and comes in to where the foot steps (9 columns in)
+    # the rule's known cost, pinned: a face whose foot shows the floor in its first 10
+    # columns from its left side (and in 10 of every 20 on) has no edge on the foot there;
+    # that side, the face's true one, reads as one standing farther back and comes in to
+    # where the foot steps: 9 columns of the 200 lost (4.5 % narrow). Without the rule the
+    # side is kept (test_fused_region.py::test_the_kept_face_must_stand_on_its_foot)
     assert trim(striped_foot(10), LEFT, RIGHT + 40) == (LEFT + 9, RIGHT)
+
+
+def test_the_kept_foot_limit_holds_with_the_rule_on(monkeypatch: pytest.MonkeyPatch) -> None:
+    # test_the_kept_face_must_stand_on_its_foot switches the rule off; with it on
+    # (as shipped) MIN_KEPT_FOOT decides the same: a foot broken in 12 columns of 20 keeps
+    # the pair (the corner's trim undone with it); at 0.7 so does the 10's, at 0.5 the
+    # 12's is trimmed (its corner 11 columns in)
+    assert trim(striped_foot(12), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "MIN_KEPT_FOOT", 0.7)
+    assert trim(striped_foot(10), LEFT, RIGHT + 40) == (LEFT, RIGHT + 40)
+    monkeypatch.setattr(region, "MIN_KEPT_FOOT", 0.5)
+    assert trim(striped_foot(12), LEFT, RIGHT + 40) == (LEFT + 11, RIGHT)

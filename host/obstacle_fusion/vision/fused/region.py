@@ -675,11 +675,12 @@ FLOOR_PAST_COLUMNS = 7
 #: between it and a can, 0.04 m: the trim kept that strip, 1.1 -> 86 % off).
 FLOOR_BETWEEN_MIN_M = 0.08
 #: A side with the floor seen between it and the foot's end (the rule above) that does not
-#: stand down to the contact row comes in by a move of any size from this many columns up,
-#: not only from ``min_move`` (a tenth of the pair's width): the face's foot ends there, and
-#: what the side stands on is farther back (a can's edge a few centimetres beyond the face's
-#: side, procedural/3328 hard: a 15-column gap of floor, w +8.8 % at 0.999). More than the
-#: colour smoothing's reach (SMOOTH_COLUMNS), over which the foot's end is blurred.
+#: stand down to the contact row comes in by a move of more than this many columns, not
+#: only of more than ``min_move`` (a tenth of the pair's width; the smaller limit holds):
+#: the face's foot ends there, and what the side stands on is farther back (a can's edge a
+#: few centimetres beyond the face's side, procedural/3328 hard: a 15-column gap of floor,
+#: w +8.8 % at 0.999). More than the colour smoothing's reach (SMOOTH_COLUMNS), over which
+#: the foot's end is blurred.
 FLOOR_BETWEEN_MIN_MOVE = 6
 #: The switch of the rule above (for the tests).
 FLOOR_BETWEEN_ANY_MOVE = True
@@ -777,15 +778,12 @@ def trim_to_foot(
             and share(floor_seen[cut]) >= FLOOR_BETWEEN_SHARE
             and _floor_runs_past(image, view, bottom, side, step, floor[cut])
         )
-        if (
-            (first - side) * step >= 0
-            and not floor_between
-            and _stands_on_foot(ax, top, bottom, side)
-        ):
+        side_stands = _stands_on_foot(ax, top, bottom, side)
+        if (first - side) * step >= 0 and not floor_between and side_stands:
             new.append(side)
             continue
         least = min_move
-        if FLOOR_BETWEEN_ANY_MOVE and floor_between and not _stands_on_foot(ax, top, bottom, side):
+        if FLOOR_BETWEEN_ANY_MOVE and floor_between and not side_stands:
             # the floor seen up to a side standing farther back: a small gap is no blur
             least = min(min_move, FLOOR_BETWEEN_MIN_MOVE)
         if (
