@@ -4233,11 +4233,6 @@ SURFACE_FLOOR_APART = MIN_FACE_DISTANCE
 #: plank's shade in the launch pad's rows), no surface: it neither starts the surface nor
 #: keeps the rows above it the face's. On a print the colours change row by row, and a
 #: strip alone may be the print's own (photo 3334 hard: not applied there).
-#: Where only the middle is such a print and both strips are of one colour (a margin
-#: round the print), a row is the face's only where both strips hold it: the margin runs
-#: up the sides to the face's top, and the print's wide spread lets what stands over the
-#: top pass for it by chance (photo 3307 hard: a grey text print in a green margin before
-#: a photograph of grey gravel, the middle within the print's spread 95 rows up).
 SURFACE_SPANS_FACE = True
 
 
@@ -4289,11 +4284,8 @@ def lower_top_to_surface(
         limits.append(spread_limit(row_norms(seed - ref), MIN_FACE_DISTANCE))
         held.append(row_norms(rows - ref) <= limits[-1])
     middle, at_left, at_right = held
-    plain = [lim <= MIN_FACE_DISTANCE for lim in limits]
-    if SURFACE_SPANS_FACE and all(plain):
+    if SURFACE_SPANS_FACE and max(limits) <= MIN_FACE_DISTANCE:
         face = middle | (at_left & at_right)
-    elif SURFACE_SPANS_FACE and plain[1] and plain[2]:
-        face = at_left & at_right
     else:
         face = middle | at_left | at_right
     run = np.convolve(face.astype(np.int32), np.ones(SURFACE_RUN_ROWS, np.int32), "valid")
