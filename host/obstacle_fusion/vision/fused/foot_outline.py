@@ -181,13 +181,37 @@ def _outer_sides(
     return sides
 
 
+#: An outline round the found face on all three sides (its top over the found top and
+#: each side outside the found one by at least MARGIN_ROUND_ROWS) grows it enough where
+#: its area is at least MARGIN_ROUND_FACTOR times the found one's (session 47, a switch):
+#: the found face is a print inside a margin of the face, the margin showing over it and
+#: beside it on both sides; each way alone grows the face by less than MIN_RAISE_SHARE or
+#: MIN_WIDEN_FACTOR, but together they do as much as a raise by MIN_RAISE_SHARE (photo
+#: 3378 hard: a grey print in a green panel, raised 0.35 of its height and widened 1.18
+#: times, 1.59 in all: -20/-23 % to +8/-10 %). A found side on the outline's (within
+#: MARGIN_ROUND_ROWS) is the face's own side, no margin beside the print there.
+MARGIN_ROUND_GROWS = True
+MARGIN_ROUND_ROWS = 3
+MARGIN_ROUND_FACTOR = 1.0 + MIN_RAISE_SHARE
+
+
 def grows_face(found: tuple[int, int, int, int], top: int, left: int, right: int) -> bool:
     """Whether an outline (``top``, ``left``, ``right``) grows the ``found`` face
     (bottom, top, left, right) enough to be taken: its top MIN_RAISE_SHARE of the found
-    height higher, or its width MIN_WIDEN_FACTOR times the found one."""
+    height higher, or its width MIN_WIDEN_FACTOR times the found one, or (a margin round a
+    print, MARGIN_ROUND_GROWS) both sides out and the top up with the area grown
+    MARGIN_ROUND_FACTOR times."""
     bottom, found_top, found_l, found_r = found
     raised = found_top - top >= MIN_RAISE_SHARE * (bottom - found_top)
-    return raised or right - left >= MIN_WIDEN_FACTOR * (found_r - found_l)
+    if raised or right - left >= MIN_WIDEN_FACTOR * (found_r - found_l):
+        return True
+    if not MARGIN_ROUND_GROWS:
+        return False
+    k = MARGIN_ROUND_ROWS
+    if found_top - top < k or found_l - left < k or right - found_r < k:
+        return False
+    area = (bottom - top) * (right - left)
+    return area >= MARGIN_ROUND_FACTOR * (bottom - found_top) * (found_r - found_l)
 
 
 def _top_across(
@@ -250,6 +274,32 @@ def _top_where_sides_end(
         return None
     log.debug("foot outline: the sides end at %d, under the found top %d", found, top)
     return foot, found, left, right
+
+
+#: The width sides (WIDTH_FROM_FOOT) are also taken where they widen the found face by
+#: MIN_WIDEN_FACTOR on one side alone, the other found side on the outline's (within
+#: ONE_MARGIN_HELD columns) (session 47, a switch): a print set to one side of its
+#: backing, the found face's one side the backing's own edge and the other the print's,
+#: the backing's margin beside it up to the found top (photo 3369 hard: a coin print on a
+#: blue board, its right margin 25 columns of 86, -21 % to +3.5 %). An edge's blur or
+#: a shadow's widens a face on both sides (procedural 2079 hard's tape box: 5 and 2
+#: columns of 27, 1.26 times in all, its -2.7 % to +7.4 % with WIDTH_MIN_FACTOR at 1.25;
+#: kept here: 5 columns alone are 0.19 of it).
+WIDTH_ONE_MARGIN = True
+ONE_MARGIN_HELD = 1
+
+
+def _one_side_margin(left: int, right: int, new_l: int, new_r: int) -> bool:
+    """Whether width sides (``new_l``, ``new_r``) widen the found face (``left``,
+    ``right``) on one side alone by MIN_WIDEN_FACTOR, the other side held within
+    ONE_MARGIN_HELD columns (WIDTH_ONE_MARGIN)."""
+    if not WIDTH_ONE_MARGIN:
+        return False
+    need = (MIN_WIDEN_FACTOR - 1.0) * (right - left)
+    out_l, out_r = left - new_l, new_r - right
+    if abs(out_l) <= ONE_MARGIN_HELD and out_r >= need:
+        return True
+    return abs(out_r) <= ONE_MARGIN_HELD and out_l >= need
 
 
 def _lowered_outline(
@@ -382,7 +432,9 @@ def outline_from_foot(
         if held < CONTAIN_SHARE * (right - left):
             return None
         new_top = top
-        if new_r - new_l < WIDTH_MIN_FACTOR * (right - left):
+        if new_r - new_l < WIDTH_MIN_FACTOR * (right - left) and not _one_side_margin(
+            left, right, new_l, new_r
+        ):
             return None
     elif held < CONTAIN_SHARE * (right - left) or new_top >= top:
         return None
