@@ -3689,8 +3689,9 @@ CORE_WALK_RISES = True
 #: that side is background up the face's whole height and the walk reads no face; the
 #: face is one surface standing on the predicted row, its side the strong colour step a
 #: few columns in (photo 3363 hard: a grey text print on grey paving, 172-342 for
-#: 172-336, h -75 -> -0.1 %; photo 3259 hard -26 -> +0.5 %). Rows merely tried with no
-#: rig are left as they were (CORE_WALK_RISES reads the sides there).
+#: 172-336, h -75 -> -0.1 %; photo 3259 hard -26 -> +0.5 %). With the rig or a no-rig
+#: row read as with one (``clip``) only: rows merely tried with no rig are left as they
+#: were (CORE_WALK_RISES reads the sides there).
 COLOUR_SIDES_SNAP_RETRY = True
 
 
