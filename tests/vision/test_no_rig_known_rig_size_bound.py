@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused import texture
+from obstacle_fusion.vision.fused import region, texture
 from obstacle_fusion.vision.fused.method import RAISED_FACE_MAX_M
 from obstacle_fusion.vision.measure import _obstacle_size
 from obstacle_fusion.vision.types import Measurement
@@ -44,6 +44,9 @@ def test_a_face_too_wide_under_a_lens_allowed_tall(monkeypatch: pytest.MonkeyPat
     # (the texture walk past a highlight, texture.GLOSS_CROSSED, reads the rows' trial's
     # face, a brick floor, otherwise: that face is not found; off, to test this rule alone)
     monkeypatch.setattr(texture, "GLOSS_CROSSED", False)
+    # (nor is it where the colour face's sides are snapped when its walk up stops at the
+    # rows' trial, region.COLOUR_SIDES_SNAP_RETRY: off, as above)
+    monkeypatch.setattr(region, "COLOUR_SIDES_SNAP_RETRY", False)
     eh, ew = room_size_errors("photo", 721, True, with_rig=False)
     assert max(eh, ew) > 1.0
 

@@ -3681,6 +3681,19 @@ CORE_SHADOW_NO_RIG = False
 #: fresh photo/2167 ordinary no rig 75 -> 0.4 %. A switch for the tests.
 CORE_WALK_RISES = True
 
+#: With the rig, a colour face whose walk up from the foot stops at once is tried again
+#: with its sides moved to the strong colour steps next to them (:func:`snap_sides_to_steps`,
+#: within SNAP_SIDE_M) (session 47, branch ``wt-d-47``, a switch): the foot's colour run
+#: from the beam's core (no chroma read) runs a few columns on past a grey face's side
+#: over floor of about its grey seen beside it, or its shadow, so the strip just inside
+#: that side is background up the face's whole height and the walk reads no face; the
+#: face is one surface standing on the predicted row, its side the strong colour step a
+#: few columns in (photo 3363 hard: a grey text print on grey paving, 172-342 for
+#: 172-336, h -75 -> -0.1 %; photo 3259 hard -26 -> +0.5 %). With the rig or a no-rig
+#: row read as with one (``clip``) only: rows merely tried with no rig are left as they
+#: were (CORE_WALK_RISES reads the sides there).
+COLOUR_SIDES_SNAP_RETRY = True
+
 
 def face_from_colour(
     image: npt.NDArray[Any] | None,
@@ -3745,6 +3758,19 @@ def face_from_colour(
     top = raise_top_by_colour(
         image, view, ay, contact, start, left, right, depth_m, start, one_side=True
     )
+    if top >= start and COLOUR_SIDES_SNAP_RETRY and clip:
+        # the foot's colour run took the face's shadow (or a strip of floor) in beside it
+        # (shadow=True): the rows above it read that side's columns as background, so the
+        # walk up stops at once; the face's real sides are the strong colour steps next
+        # to the run's ends (snap_sides_to_steps, as the rescue snaps them afterwards)
+        snapped = snap_sides_to_steps(image, view, contact, start, left, right, depth_m)
+        if snapped != (left, right):
+            again = raise_top_by_colour(
+                image, view, ay, contact, start, *snapped, depth_m, start, one_side=True
+            )
+            log.debug("colour face %d-%d: snapped to %d-%d, top %d", left, right, *snapped, again)
+            if again < start:
+                (left, right), top = snapped, again
     if top >= start:
         return None  # the face's colour does not run up: no face shape
     if CORE_WALK_RISES and not clip:
