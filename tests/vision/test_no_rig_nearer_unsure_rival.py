@@ -8,7 +8,8 @@ The room is a diagnosis room (new8), measured with no rig. Procedural 3350 (ordi
 low plank box (0.14 m) before a dark print on the wall; the trial that stands the box
 reads it right (+2 %) at 0.08, a lower camera guess stands the print on the range, 0.74 m
 tall at 0.97 (+445 %); with the rule the print is reported at 0.44, under the 0.5 of a
-sure answer.
+sure answer. Photo 3028 ordinary (new): a stretch of gravel before a box read right is
+no rival, having the floor's colour (``face_apart_from_floor``).
 """
 
 from __future__ import annotations
@@ -46,10 +47,11 @@ def _measured(
     far_conf: float = 0.9,
     near_conf: float = 0.08,
     near: tuple[float, float, float, float] = NEAR,
+    apart: bool = True,
 ) -> Measurement:
     """No rig, two contact rows: the higher (a 0.20 m level lens) stands the sure face
     FAR, the lower (0.30 m) the unsure face ``near``, at any pitch; no other trial finds
-    a face. Faces in the
+    a face. ``apart``: whether a face's colour stands apart from the floor's under it. Faces in the
     sonar's beam (0.9 m: columns 188-309)."""
     image, truth, view, depth = no_rig_room(4001)
     rows = [int(round(view.cy + view.fy * h / depth)) for h in (0.30, 0.20)]
@@ -72,6 +74,7 @@ def _measured(
     # the drawn room's pixels behind the fake boxes say nothing of a print or a margin
     monkeypatch.setattr(measure, "face_runs_below", lambda *a: False)
     monkeypatch.setattr(measure, "print_runs_below", lambda *a: False)
+    monkeypatch.setattr(measure, "face_apart_from_floor", lambda *a: apart)
     return Measurer(CAM, None).measure(image, truth["range_m"])
 
 
@@ -101,6 +104,22 @@ def test_only_a_sure_face_is_doubted(
     res = _measured(monkeypatch, far_conf=far_conf)
     assert res.detected and res.box_px == FAR
     assert (TRIAL_RIVAL in res.doubts) is doubted
+
+
+def test_a_stretch_of_the_floor_is_no_rival(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the nearer face has the floor's colour (face_apart_from_floor): gravel before the face
+    res = _measured(monkeypatch, apart=False)
+    assert res.detected and res.box_px == FAR and TRIAL_RIVAL not in res.doubts
+
+
+def test_gravel_before_a_sure_face_leaves_it_sure() -> None:
+    # photo 3028 ordinary (new): a plain box on gravel, read right at 0.75 (+1.4 / +0.4 %);
+    # a trial stands a stretch of the gravel before it, 0.15 m tall at 0.08, on the axis
+    # under its foot: of the floor's colour, no rival (without that check 0.75 -> 0.34)
+    res, truth = measured_room("photo", 3028, False, False)
+    assert res.detected and TRIAL_RIVAL not in res.doubts
+    assert (res.confidence or 0.0) >= 0.5
+    assert abs((res.height_m or 0.0) / truth["height_m"] - 1) < 0.05
 
 
 def test_the_switch(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -731,20 +731,23 @@ class Measurer:
                 in_front = self._nearer_on_axis(best, readings, view, depth, image)
                 if in_front is not None:
                     best, pitch_read, floor_known = in_front, False, False
-                elif (
-                    NEARER_UNSURE_RIVAL
-                    and _doubted(best) >= NEARER_RIVAL_SURE
-                    and self._nearer_on_axis(
-                        best, readings, view, depth, image, accept=NEARER_RIVAL_ACCEPT
-                    )
-                    is not None
-                ):
+                elif NEARER_UNSURE_RIVAL and _doubted(best) >= NEARER_RIVAL_SURE:
                     # an unsure face stands on the axis in front of the sure one: too
                     # unsure to be taken for the sonar's face, but the beam hits it first,
                     # so the face found may be a surface behind it that the guessed camera
-                    # height stood on the range (a print on the wall over a low box)
-                    log.debug("no rig: an unsure face stands nearer on the axis: a rival")
-                    best.doubts = [*best.doubts, TRIAL_RIVAL]
+                    # height stood on the range (a print on the wall over a low box). Only
+                    # a face of a colour of its own against the floor under its foot: a
+                    # stretch of the floor before the face (gravel) has the floor's
+                    rival = self._nearer_on_axis(
+                        best, readings, view, depth, image, accept=NEARER_RIVAL_ACCEPT
+                    )
+                    if (
+                        rival is not None
+                        and rival.box_px is not None
+                        and face_apart_from_floor(image, rival.box_px)
+                    ):
+                        log.debug("no rig: an unsure face stands nearer on the axis: a rival")
+                        best.doubts = [*best.doubts, TRIAL_RIVAL]
         finally:
             if best is not None and best.detected and not pitch_read:
                 best.doubts = [*best.doubts, PITCH_UNREAD]
