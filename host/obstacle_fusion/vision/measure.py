@@ -731,12 +731,30 @@ class Measurer:
                 in_front = self._nearer_on_axis(best, readings, view, depth, image)
                 if in_front is not None:
                     best, pitch_read, floor_known = in_front, False, False
+                elif NEARER_UNSURE_RIVAL and _doubted(best) >= NEARER_RIVAL_SURE:
+                    # an unsure face stands on the axis in front of the sure one: too
+                    # unsure to be taken for the sonar's face, but the beam hits it first,
+                    # so the face found may be a surface behind it that the guessed camera
+                    # height stood on the range (a print on the wall over a low box). Only
+                    # a face of a colour of its own against the floor under its foot: a
+                    # stretch of the floor before the face (gravel) has the floor's
+                    rival = self._nearer_on_axis(
+                        best, readings, view, depth, image, accept=NEARER_RIVAL_ACCEPT
+                    )
+                    if (
+                        rival is not None
+                        and rival.box_px is not None
+                        and face_apart_from_floor(image, rival.box_px)
+                    ):
+                        log.debug("no rig: an unsure face stands nearer on the axis: a rival")
+                        best.doubts = [*best.doubts, TRIAL_RIVAL]
         finally:
             if best is not None and best.detected and not pitch_read:
                 best.doubts = [*best.doubts, PITCH_UNREAD]
             if (
                 best is not None
                 and best.detected
+                and TRIAL_RIVAL not in best.doubts
                 and _rival_trial(best, sure_trials, lambda r: sides_reach_foot(image, r.lines))
             ):
                 best.doubts = [*best.doubts, TRIAL_RIVAL]
@@ -851,6 +869,7 @@ class Measurer:
         view: View,
         depth: float,
         image: npt.NDArray[Any],
+        accept: float | None = None,
     ) -> Measurement | None:
         """The no-rig trial's face (of ``readings``, every trial's face) that stands nearer
         than ``best`` on the beam's axis, or None. The sonar ranges the nearest surface on
@@ -865,9 +884,13 @@ class Measurer:
         ``best`` reaches past both its sides and it is ACROSS_TALLER times as tall,
         reaching above and below ``best``). Of those, the lowest foot (within ROW_JITTER_PX),
         the surest with its doubts applied, that the refusal would not turn down with
-        PITCH_UNREAD added (its pitch a guess)."""
+        PITCH_UNREAD added (its pitch a guess). ``accept`` (NEARER_RIVAL_ACCEPT, for
+        NEARER_UNSURE_RIVAL) replaces NEARER_AXIS_ACCEPT; then any such face is returned,
+        whatever the refusal would do with it (it is not reported, only a rival)."""
         if best.box_px is None:
             return None
+        rival = accept is not None
+        least = accept if accept is not None else NEARER_AXIS_ACCEPT
         u_axis = view.camera.cx + view.camera.fx * self.rig.sonar_right_m / depth
         off_axis = not _covers(best.box_px, u_axis)
         foot = best.box_px[3]
@@ -884,13 +907,13 @@ class Measurer:
                     or box[1] >= foot
                     or (NEARER_ACROSS_BAND and _band_across(best.box_px, box))
                 )
-                or (other.confidence or 0.0) < NEARER_AXIS_ACCEPT
+                or (other.confidence or 0.0) < least
                 or _small(other)
                 or FOOT_DOUBTS & set(other.doubts)
             ):
                 continue
             reported = dataclasses.replace(other, doubts=[*other.doubts, PITCH_UNREAD])
-            if _doubted(reported, REFUSAL_IGNORES) < MIN_DOUBTED_CONFIDENCE:
+            if not rival and _doubted(reported, REFUSAL_IGNORES) < MIN_DOUBTED_CONFIDENCE:
                 continue
             if sides_reach_foot(image, other.lines):
                 found.append((box[3], other))
@@ -2375,6 +2398,22 @@ NEARER_AXIS_ACCEPT = 0.15
 NEARER_ACROSS_BAND = True
 #: ... the nearer face at least this many times as tall as the band.
 ACROSS_TALLER = 2.0
+#: With no rig, a sure face (its confidence with its doubts at least NEARER_RIVAL_SURE)
+#: that keeps the answer while a face too unsure for NEARER_ON_AXIS (at least
+#: NEARER_RIVAL_ACCEPT, otherwise as :meth:`Measurer._nearer_on_axis` asks: on the axis,
+#: standing on its undoubted foot, not small, wholly in front of it) stands nearer on the
+#: beam's axis is doubted TRIAL_RIVAL: the sonar ranges the nearest surface on its axis,
+#: which is that face if it is one, and the guessed camera height that stood the sure face
+#: on the range may have stood a surface behind it (procedural 3350 ordinary: a dark
+#: print on the wall, 0.74 m tall at 0.97, over a low plank box on the axis, read right at
+#: 0.08). A switch for the tests (session 47, branch ``wt-a-47``).
+NEARER_UNSURE_RIVAL = True
+#: ... the nearer face's trial confidence from this up (a trial's least reported one, the
+#: fused method's min_confidence: any face a trial reports).
+NEARER_RIVAL_ACCEPT = 0.05
+#: ... the sure face's confidence with its doubts from this up (a sure answer's: the rival
+#: takes it under; an unsure one already says the face may be another).
+NEARER_RIVAL_SURE = 0.5
 #: ... the doubts such a face is reported with (its pitch a guess, the face beside the axis
 #: a rival trial's): one doubted under MIN_DOUBTED_CONFIDENCE with them is not taken (on
 #: the fresh rooms taking one turned a face 23 % off into a refusal).
