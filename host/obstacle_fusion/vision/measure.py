@@ -2260,6 +2260,13 @@ ROW_JITTER_PX = 2
 #: its raw figure, 0.38 against 0.28, height -7.6 %; the row 2 px down stood it on its
 #: foot, 0.7 %). A switch for the tests.
 JITTER_WEIGHS_FOOT = True
+#: ... and a face whose foot stands above the row its own trial tried (FOOT_ABOVE_CONTACT,
+#: recorded with no rig though it cuts no reported figure there) is weighed as doubted on
+#: its foot too: the trial put the floor contact on that row, and a face ending above it
+#: stands on an edge on the face (a print's or a course's lower edge), not on the floor
+#: the trial assumed; a neighbour row's face standing on its own row is the surer reading
+#: of the contact. Session 47, branch ``wt-b-47``; a switch for the tests.
+JITTER_FOOT_ABOVE_WEIGHED = True
 #: ... but of two faces a row and a neighbour stand, one holding the other inside its
 #: sides and top with its foot lower, a margin of one colour seen round the inner one
 #: (FRAMED),
@@ -3307,7 +3314,8 @@ def _foot_weighed(found: Measurement) -> float:
     conf = found.confidence or 0.0
     if not JITTER_WEIGHS_FOOT:
         return conf
-    return conf * DOUBT_FACTOR ** len(FOOT_DOUBTS.intersection(found.doubts))
+    doubts = FOOT_DOUBTS | ({FOOT_ABOVE_CONTACT} if JITTER_FOOT_ABOVE_WEIGHED else set())
+    return conf * DOUBT_FACTOR ** len(doubts.intersection(found.doubts))
 
 
 def _doubted(found: Measurement, ignore: frozenset[str] = frozenset()) -> float:
