@@ -1,8 +1,9 @@
 """With no rig, of the faces the chosen floor-contact row and its two neighbours stand, a
 face whose foot ends above the row its own trial tried (FOOT_ABOVE_CONTACT, recorded with
 no rig though it cuts no reported figure there) is weighed as doubted on its foot
-against a neighbour row's face that holds it standing lower (``measure.JITTER_FOOT_ABOVE_WEIGHED``,
-``measure._foot_weighed``, ``measure._holds_above``): the trial put the floor contact on
+against a neighbour row's face that holds it standing lower
+(``measure.JITTER_FOOT_ABOVE_WEIGHED``, ``measure._foot_weighed``,
+``measure._holds_above``): the trial put the floor contact on
 its row, and a face ending above that row inside a larger face standing lower stands on
 an edge on that face (a print's lower edge), not on the floor the trial assumed.
 
