@@ -25,12 +25,23 @@ def _eh(family: str, seed: int, hard: bool) -> float:
     return room_size_errors(family, seed, hard, with_rig=False)[0]
 
 
-def test_the_face_round_a_print_is_read_to_its_top() -> None:
+def _print_row_kept(monkeypatch: pytest.MonkeyPatch) -> None:
+    # procedural 2026 hard: the row chosen's neighbour 2 px up stands the print, its foot
+    # above that row (foot_above_contact); since session 47 the jitter weighs that as a
+    # foot doubt (JITTER_FOOT_ABOVE_WEIGHED) and keeps the row 2 px down's frame round the
+    # print instead (+3.7 % high, +5.6 % wide), so this rule does not read the room: off,
+    # to see this rule alone
+    monkeypatch.setattr(measure, "JITTER_FOOT_ABOVE_WEIGHED", False)
+
+
+def test_the_face_round_a_print_is_read_to_its_top(monkeypatch: pytest.MonkeyPatch) -> None:
     assert _eh("photo", 2016, False) < 0.03
+    _print_row_kept(monkeypatch)
     assert _eh("procedural", 2026, True) < 0.03
 
 
 def test_without_the_rule_the_print_s_edge_is_the_top(monkeypatch: pytest.MonkeyPatch) -> None:
+    _print_row_kept(monkeypatch)
     monkeypatch.setattr(measure, "AGAIN_ABOVE_LENS", False)
     assert _eh("photo", 2016, False) > 0.08
     assert _eh("procedural", 2026, True) > 0.05
@@ -40,6 +51,7 @@ def test_the_reading_must_reach_higher(monkeypatch: pytest.MonkeyPatch) -> None:
     # procedural 2026 hard: read again 1.09 times as high (the unread pitch's allowance,
     # UNREAD_TOP_FACE_LOWERS, also lowers its top onto the face's front: off, to see this
     # rule's limit alone)
+    _print_row_kept(monkeypatch)
     monkeypatch.setattr(measure, "UNREAD_TOP_FACE_LOWERS", False)
     monkeypatch.setattr(measure, "AGAIN_ABOVE_LENS_TALLER", 1.08)
     assert _eh("procedural", 2026, True) < 0.03

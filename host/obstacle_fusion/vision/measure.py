@@ -510,7 +510,7 @@ class Measurer:
                             continue
                     if (
                         result.detected
-                        and _foot_weighed(result) > _foot_weighed(best)
+                        and _foot_weighed(result, best) > _foot_weighed(best, result)
                         and sides_reach_foot(image, result.lines)
                     ):
                         best, best_row, frame_foot = result, row, False
@@ -2283,6 +2283,18 @@ ROW_JITTER_PX = 2
 #: its raw figure, 0.38 against 0.28, height -7.6 %; the row 2 px down stood it on its
 #: foot, 0.7 %). A switch for the tests.
 JITTER_WEIGHS_FOOT = True
+#: ... and a face whose foot stands above the row its own trial tried (FOOT_ABOVE_CONTACT,
+#: recorded with no rig though it cuts no reported figure there) is weighed as doubted on
+#: its foot too, against a neighbour row's face that holds it (:func:`_holds_above`: that
+#: face's foot more than ROW_JITTER_PX rows lower, its top and sides round it, reaching
+#: past it by more than ROW_JITTER_PX at the top or a side): the trial put the floor
+#: contact on its row, and a face ending above it inside a larger face standing lower is
+#: a print or a course on that face, its lower edge taken for the contact (procedural 3366
+#: hard, -23 %). The same face read on its own foot a row or two over the tried row
+#: (photo 119 ordinary, procedural 2082 hard), or with only the foot lower (a shadow's or a
+#: bevel's lower edge under the face: procedural 2086 ordinary), is not. Session 47,
+#: branch ``wt-b-47``; a switch for the tests.
+JITTER_FOOT_ABOVE_WEIGHED = True
 #: ... but of two faces a row and a neighbour stand, one holding the other inside its
 #: sides and top with its foot lower, a margin of one colour seen round the inner one
 #: (FRAMED),
@@ -3339,14 +3351,41 @@ def _frame_holds(outer: Measurement, inner: Measurement) -> bool:
     )
 
 
-def _foot_weighed(found: Measurement) -> float:
+def _foot_weighed(found: Measurement, other: Measurement | None = None) -> float:
     """A trial's face's confidence cut by DOUBT_FACTOR for each of its FOOT_DOUBTS (its
     foot off the floor, or floor taken into it): how surely it stands on the row tried,
-    to compare the faces a row and its neighbours stand (JITTER_WEIGHS_FOOT)."""
+    to compare the faces a row and its neighbours stand (JITTER_WEIGHS_FOOT); and for its
+    foot standing above its own row (FOOT_ABOVE_CONTACT) where ``other``, the face it is
+    weighed against, holds it standing lower (:func:`_holds_above`,
+    JITTER_FOOT_ABOVE_WEIGHED)."""
     conf = found.confidence or 0.0
     if not JITTER_WEIGHS_FOOT:
         return conf
-    return conf * DOUBT_FACTOR ** len(FOOT_DOUBTS.intersection(found.doubts))
+    doubts = set(FOOT_DOUBTS)
+    if JITTER_FOOT_ABOVE_WEIGHED and other is not None and _holds_above(other, found):
+        doubts.add(FOOT_ABOVE_CONTACT)
+    return conf * DOUBT_FACTOR ** len(doubts.intersection(found.doubts))
+
+
+def _holds_above(outer: Measurement, inner: Measurement) -> bool:
+    """Whether ``outer`` (a no-rig trial's face on a row next to ``inner``'s) holds
+    ``inner`` as a face holds a print on it: its foot more than ROW_JITTER_PX rows lower,
+    its top no more than ROW_JITTER_PX rows under ``inner``'s, neither side more than
+    ROW_JITTER_PX columns inside ``inner``'s, and reaching past ``inner`` by more than
+    ROW_JITTER_PX over its top or beside one of its sides (not the same face with only its
+    foot moved: a shadow's or a bevel's lower edge under it)."""
+    if outer.box_px is None or inner.box_px is None or not outer.detected:
+        return False
+    x0, y0, x1, y1 = inner.box_px
+    g0, gy0, g1, gy1 = outer.box_px
+    j = ROW_JITTER_PX
+    return (
+        gy1 - y1 > j
+        and gy0 - y0 <= j
+        and g0 - x0 <= j
+        and x1 - g1 <= j
+        and max(y0 - gy0, x0 - g0, g1 - x1) > j
+    )
 
 
 def _doubted(found: Measurement, ignore: frozenset[str] = frozenset()) -> float:
