@@ -103,6 +103,15 @@ WIDTH_TOP_SHARE = 0.1
 #: this is for were 30-90 % too narrow; procedural/2079 hard's tape box, widened 1.26
 #: times onto its blur, lost 4.6 points at 1.25).
 WIDTH_MIN_FACTOR = 1.4
+#: ... or at least WIDTH_PLANK_FACTOR times where a width side moved out past the found
+#: one by at least WIDTH_PLANK_M at the face (session 47, branch ``wt-e-47``, a switch):
+#: the found side was a seam or a joint with a whole plank or panel of the face beyond it
+#: (its foot hides the floor, its side rises from the floor to the found top), while a
+#: blur or a shadow beside a face widens it by a few columns only (procedural/2079 hard's
+#: tape box: 2-5 columns, 0.01-0.02 m, 1.26 times, stays refused).
+WIDTH_PAST_PLANK = True
+WIDTH_PLANK_M = 0.08
+WIDTH_PLANK_FACTOR = 1.1
 #: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor, one ending
 #: under the found top and the other running on past it, the face's top is lowered to
 #: where the shorter one ends (session 44, branch ``wt-e-44``, a switch): the face is one
@@ -252,6 +261,18 @@ def _top_where_sides_end(
     return foot, found, left, right
 
 
+def _widens_enough(left: int, right: int, new_l: int, new_r: int, ppm_u: float) -> bool:
+    """Whether the width sides ``new_l``, ``new_r`` widen the found face ``left``-``right``
+    enough to be taken (``ppm_u``: pixels per metre across the face): WIDTH_MIN_FACTOR
+    times, or WIDTH_PLANK_FACTOR times where one of them lies WIDTH_PLANK_M or more past
+    the found one (a plank or a panel of the face beyond a seam, no blur; see
+    WIDTH_PAST_PLANK)."""
+    factor = WIDTH_MIN_FACTOR
+    if WIDTH_PAST_PLANK and max(left - new_l, new_r - right) >= WIDTH_PLANK_M * ppm_u:
+        factor = WIDTH_PLANK_FACTOR
+    return new_r - new_l >= factor * (right - left)
+
+
 def _lowered_outline(
     lowered: tuple[int, int, int, int], new_l: int, new_r: int
 ) -> tuple[int, int, int, int] | None:
@@ -382,12 +403,12 @@ def outline_from_foot(
         if held < CONTAIN_SHARE * (right - left):
             return None
         new_top = top
-        if new_r - new_l < WIDTH_MIN_FACTOR * (right - left):
+        if not _widens_enough(left, right, new_l, new_r, ppm_u):
             return None
     elif held < CONTAIN_SHARE * (right - left) or new_top >= top:
         return None
-    if not grows_face((bottom, top, left, right), new_top, new_l, new_r):
-        return None
+    if not widened and not grows_face((bottom, top, left, right), new_top, new_l, new_r):
+        return None  # (widened: the width factor above is its growth)
     log.debug(
         "outline from the foot %d: %d-%d x %d (found %d-%d x %d)",
         foot,

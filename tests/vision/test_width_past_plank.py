@@ -1,0 +1,69 @@
+"""A face widened by the sides read from its foot (``foot_outline.WIDTH_FROM_FOOT``) is
+taken at WIDTH_PLANK_FACTOR (1.1) times its found width, not WIDTH_MIN_FACTOR (1.4), where
+a width side lies WIDTH_PLANK_M (0.08 m at the face) or more past the found one
+(``foot_outline.WIDTH_PAST_PLANK``, ``_widens_enough``): the found side was a seam with a
+whole plank of the face beyond it, its foot hiding the floor and its side rising from the
+floor to the found top; a blur beside a face widens it by a few columns only.
+
+The room is a diagnosis room (new8) with the rig. Procedural 3371 (hard): a face of dark
+planks, its left plank lighter; the found left side is the seam at 225, the face's side at
+182 (43 columns, 0.15 m); the foot's width sides 182-441 widen the found 225-439 1.21
+times: -15.9 % wide, +0.9 % with the rule.
+"""
+
+from __future__ import annotations
+
+import pytest
+from obstacle_fusion.vision.fused import foot_outline
+from obstacle_fusion.vision.fused.foot_outline import _widens_enough
+
+from tests.vision_fixtures import room_size_errors
+
+
+def test_the_plank_beyond_the_seam_is_taken() -> None:
+    eh, ew = room_size_errors("procedural", 3371, True)
+    assert eh < 0.03 and ew < 0.03
+
+
+def test_without_the_rule_the_seam_is_the_side(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(foot_outline, "WIDTH_PAST_PLANK", False)
+    _, ew = room_size_errors("procedural", 3371, True)
+    assert ew > 0.12
+
+
+def test_a_widening_onto_the_blur_stays_refused() -> None:
+    # procedural 2079 hard: a 27-column tape box, its width sides 2-5 columns out (1.26
+    # times): under WIDTH_PLANK_M, so WIDTH_MIN_FACTOR still refuses it
+    eh, ew = room_size_errors("procedural", 2079, True)
+    assert eh < 0.05 and ew < 0.05
+
+
+PPM = 100.0  # pixels per metre: WIDTH_PLANK_M is 8 columns
+
+
+@pytest.mark.parametrize(
+    ("found", "new", "taken"),
+    [
+        ((100, 150), (92, 150), True),  # 8 columns out on the left (WIDTH_PLANK_M): 1.16
+        ((100, 150), (93, 150), False),  # 7 out: no plank, 1.14 under WIDTH_MIN_FACTOR
+        ((100, 150), (100, 158), True),  # the right side 8 out
+        ((100, 150), (100, 157), False),  # 7 out
+        ((100, 150), (96, 154), False),  # 4 out each (a blur): 1.16 times, no plank
+        ((100, 200), (89, 200), True),  # a plank past: 1.11 times, WIDTH_PLANK_FACTOR
+        ((100, 200), (91, 200), False),  # 1.09 times
+    ],
+)
+def test_the_limits(found: tuple[int, int], new: tuple[int, int], taken: bool) -> None:
+    assert _widens_enough(found[0], found[1], new[0], new[1], PPM) is taken
+
+
+@pytest.mark.parametrize(("new", "taken"), [((30, 171), True), ((31, 169), False)])
+def test_the_plain_limit(new: tuple[int, int], taken: bool) -> None:
+    # at 1000 px/m WIDTH_PLANK_M is 80 columns: sides 20 out read no plank, and the face
+    # of 100 columns is taken at WIDTH_MIN_FACTOR (1.41 times) and not under it (1.38)
+    assert _widens_enough(50, 150, new[0], new[1], 1000.0) is taken
+
+
+def test_without_the_rule_the_plank_is_not_read(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(foot_outline, "WIDTH_PAST_PLANK", False)
+    assert not _widens_enough(100, 150, 92, 150, PPM)
