@@ -353,7 +353,7 @@ def _outer_side(
         if _side_at(ax_rows, sides, side, best, step, need, lines):
             return best
     if faint:
-        return _faint_side(ax_rows, sides, side, end, step, need)
+        return _faint_side(ax_rows, sides, side, end, step, need, (lo, hi))
     return None
 
 
@@ -364,12 +364,14 @@ def _faint_side(
     end: int,
     step: int,
     need: float,
+    judged: tuple[int, int] = (0, -1),
 ) -> int | None:
     """The side where a walk on the top edge alone (the foot too faint) ended at ``end``
     and no side stood in the snap window: the strongest local peak of ``sides`` within
     FAINT_SIDE_COLUMNS of ``end`` (never onto the edge the walk started from) reaching
-    ``need`` and present over SIDE_COVERAGE of the rows ``ax_rows``; None where none is
-    (see FAINT_SIDE_WINDOW)."""
+    ``need`` and present over SIDE_COVERAGE of the rows ``ax_rows``, outside the snap
+    window ``judged`` (its columns refused by :func:`_side_at` already: none is taken
+    again on this looser test); None where none is (see FAINT_SIDE_WINDOW)."""
     lo = max(0, end - FAINT_SIDE_COLUMNS)
     hi = min(sides.size - 1, end + FAINT_SIDE_COLUMNS)
     if step < 0:
@@ -378,6 +380,8 @@ def _faint_side(
         lo = max(lo, side + 3)
     best = None
     for c in range(lo, hi + 1):
+        if judged[0] <= c <= judged[1]:
+            continue  # the snap window's columns, judged by _side_at already
         v = float(sides[c])
         if v < need or (c > lo and v < sides[c - 1]) or (c < hi and v < sides[c + 1]):
             continue

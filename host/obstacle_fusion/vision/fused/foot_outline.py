@@ -108,7 +108,11 @@ WIDTH_MIN_FACTOR = 1.4
 #: the found side was a seam or a joint with a whole plank or panel of the face beyond it
 #: (its foot hides the floor, its side rises from the floor to the found top), while a
 #: blur or a shadow beside a face widens it by a few columns only (procedural/2079 hard's
-#: tape box: 2-5 columns, 0.01-0.02 m, 1.26 times, stays refused).
+#: tape box: 2-5 columns, 0.01-0.02 m, 1.26 times, stays refused). Neither width side
+#: may lie WIDTH_PLANK_M or more inside the foot's run's end: with a plank's width of the
+#: face's foot still past it, that side is itself an inner line, not the face's (procedural
+#: 3302 ordinary, a brick print in a margin: its right width side the print's edge 20
+#: columns, 0.10 m, inside the run's end; taken, -22 -> -11 % at 0.63, a sure wrong answer).
 WIDTH_PAST_PLANK = True
 WIDTH_PLANK_M = 0.08
 WIDTH_PLANK_FACTOR = 1.1
@@ -261,14 +265,22 @@ def _top_where_sides_end(
     return foot, found, left, right
 
 
-def _widens_enough(left: int, right: int, new_l: int, new_r: int, ppm_u: float) -> bool:
-    """Whether the width sides ``new_l``, ``new_r`` widen the found face ``left``-``right``
-    enough to be taken (``ppm_u``: pixels per metre across the face): WIDTH_MIN_FACTOR
-    times, or WIDTH_PLANK_FACTOR times where one of them lies WIDTH_PLANK_M or more past
-    the found one (a plank or a panel of the face beyond a seam, no blur; see
-    WIDTH_PAST_PLANK)."""
+def _widens_enough(
+    found: tuple[int, int], new: tuple[int, int], run: tuple[int, int], ppm_u: float
+) -> bool:
+    """Whether the width sides ``new`` (left, right) widen the ``found`` face's sides
+    enough to be taken (``run``: the foot's run, ``ppm_u``: pixels per metre across the
+    face): WIDTH_MIN_FACTOR times, or WIDTH_PLANK_FACTOR times where one of them lies
+    WIDTH_PLANK_M or more past the found one and neither lies as far inside the run's end
+    (see WIDTH_PAST_PLANK)."""
+    (left, right), (new_l, new_r), (run_l, run_r) = found, new, run
+    plank = WIDTH_PLANK_M * ppm_u
     factor = WIDTH_MIN_FACTOR
-    if WIDTH_PAST_PLANK and max(left - new_l, new_r - right) >= WIDTH_PLANK_M * ppm_u:
+    if (
+        WIDTH_PAST_PLANK
+        and max(left - new_l, new_r - right) >= plank
+        and max(new_l - run_l, run_r - new_r) < plank
+    ):
         factor = WIDTH_PLANK_FACTOR
     return new_r - new_l >= factor * (right - left)
 
@@ -403,7 +415,7 @@ def outline_from_foot(
         if held < CONTAIN_SHARE * (right - left):
             return None
         new_top = top
-        if not _widens_enough(left, right, new_l, new_r, ppm_u):
+        if not _widens_enough((left, right), (new_l, new_r), (run_l, run_r), ppm_u):
             return None
     elif held < CONTAIN_SHARE * (right - left) or new_top >= top:
         return None
