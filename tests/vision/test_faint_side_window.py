@@ -2,9 +2,11 @@
 window the face's side is the strongest local peak of the vertical edges within
 FAINT_SIDE_COLUMNS (16) of where the walk ended, reaching the seams' ``need`` and present
 over SIDE_COVERAGE of the face's rows, outside the snap window whose columns ``_side_at``
-refused already (``extent.FAINT_SIDE_WINDOW``, ``_faint_side``): the top edge alone runs on
+refused already, and standing FAINT_SIDE_CONTRAST (2) times the profile over the columns
+3-6 inside it (``extent.FAINT_SIDE_WINDOW``, ``_faint_side``): the top edge alone runs on
 along a background line level with it or stops short, so its end lies up to a plank's
-width from the side either way.
+width from the side either way; the face's surface just inside its side shows no edge of
+that strength, a texture beside it one on every column.
 
 The room is a diagnosis room of session 46 (new7) with the rig. Photo 3329 (hard): planks
 in the floor's shade before a night sky; the search takes one plank, the walk on its top
@@ -12,7 +14,9 @@ edge ends at 132 and 451, the face's sides at 143 and 467: -87 % wide, +0.1 % wi
 rule. Procedural 3203 ordinary (new5, a brick print in a green margin) and photo 3386
 ordinary (new8, panels by a tripod) lost with the snap window's refused columns taken
 again on the looser test (the print's edge, 1.2 -> 22 % wide; the left side right but the
-right one on the tripod's leg, -15 -> +18 % at 0.14): they stay as they were.
+right one on the tripod's leg, -15 -> +18 % at 0.14): they stay as they were. Photo 741
+hard (own, panels before a gravel floor and a lamp's glow) lost without the contrast (a
+column of that texture 25 past the side, 1.1 times the columns inside it: +0.7 -> +17 %).
 """
 
 from __future__ import annotations
@@ -31,11 +35,20 @@ def test_the_side_past_the_walk_is_found() -> None:
 
 
 @pytest.mark.parametrize(
-    ("family", "seed", "err"), [("procedural", 3203, 0.02), ("photo", 3386, 0.16)]
+    ("family", "seed", "hard", "err"),
+    [("procedural", 3203, False, 0.02), ("photo", 3386, False, 0.16), ("photo", 741, True, 0.02)],
 )
-def test_the_snap_window_is_not_judged_again(family: str, seed: int, err: float) -> None:
-    _, ew = room_size_errors(family, seed, False)
+def test_the_snap_window_and_texture_are_not_taken(
+    family: str, seed: int, hard: bool, err: float
+) -> None:
+    _, ew = room_size_errors(family, seed, hard)
     assert ew < err
+
+
+def test_without_the_contrast_the_texture_is_taken(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(extent, "FAINT_SIDE_CONTRAST", 0.0)
+    _, ew = room_size_errors("photo", 741, True)
+    assert ew > 0.1
 
 
 def test_without_the_rule_one_plank_is_the_face(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -94,6 +107,25 @@ def test_the_snap_window_s_columns_are_skipped(peak: int, found: bool) -> None:
     # the snap window 28-36 (judged by _side_at before): its peaks are not taken again
     ax, sides = _profile({peak: 20.0})
     assert (_faint_side(ax, sides, 80, 40, -1, NEED, (28, 36)) == peak) is found
+
+
+@pytest.mark.parametrize(
+    ("step", "inside", "level", "found"),
+    [
+        (-1, (43, 47), 10.0, True),  # walking left: columns 43-46 inside, at half the peak
+        (-1, (43, 47), 10.01, False),  # just over half
+        (-1, (42, 43), 80.0, True),  # column 42 (2 in) is not read ...
+        (-1, (47, 48), 80.0, True),  # ... nor 47 (7 in)
+        (-1, (46, 47), 80.0, False),  # 46 (6 in) is: mean (0 0 0 80) / 4 = 20
+        (1, (34, 38), 10.0, True),  # walking right: columns 34-37 inside
+        (1, (34, 38), 10.01, False),
+    ],
+)
+def test_the_contrast_inside(step: int, inside: tuple[int, int], level: float, found: bool) -> None:
+    ax, sides = _profile({40: 20.0})
+    sides[inside[0] : inside[1]] = level  # (not present in the rows: no candidates)
+    start = 80 if step < 0 else 0
+    assert (_faint_side(ax, sides, start, 40, step, NEED) == 40) is found
 
 
 def test_the_strongest_peak_and_only_a_peak() -> None:

@@ -113,6 +113,11 @@ WIDTH_MIN_FACTOR = 1.4
 #: face's foot still past it, that side is itself an inner line, not the face's (procedural
 #: 3302 ordinary, a brick print in a margin: its right width side the print's edge 20
 #: columns, 0.10 m, inside the run's end; taken, -22 -> -11 % at 0.63, a sure wrong answer).
+#: And the width sides' top must be the found top within SIDE_AGREE_ROWS (its blur), not
+#: merely within WIDTH_TOP_SHARE: a plank past a seam is the same surface, its top the
+#: face's one row, while a frame round a print rises past the print's top (procedural 2020
+#: ordinary no rig: the frame's sides ending 7 rows over the print's top, which was kept:
+#: h +1.0 -> -8.8 % at 0.24).
 WIDTH_PAST_PLANK = True
 WIDTH_PLANK_M = 0.08
 WIDTH_PLANK_FACTOR = 1.1
@@ -266,18 +271,23 @@ def _top_where_sides_end(
 
 
 def _widens_enough(
-    found: tuple[int, int], new: tuple[int, int], run: tuple[int, int], ppm_u: float
+    found: tuple[int, int],
+    new: tuple[int, int],
+    run: tuple[int, int],
+    ppm_u: float,
+    same_top: bool = True,
 ) -> bool:
     """Whether the width sides ``new`` (left, right) widen the ``found`` face's sides
     enough to be taken (``run``: the foot's run, ``ppm_u``: pixels per metre across the
     face): WIDTH_MIN_FACTOR times, or WIDTH_PLANK_FACTOR times where one of them lies
-    WIDTH_PLANK_M or more past the found one and neither lies as far inside the run's end
-    (see WIDTH_PAST_PLANK)."""
+    WIDTH_PLANK_M or more past the found one, neither lies as far inside the run's end
+    and their top is the found one (``same_top``; see WIDTH_PAST_PLANK)."""
     (left, right), (new_l, new_r), (run_l, run_r) = found, new, run
     plank = WIDTH_PLANK_M * ppm_u
     factor = WIDTH_MIN_FACTOR
     if (
         WIDTH_PAST_PLANK
+        and same_top
         and max(left - new_l, new_r - right) >= plank
         and max(new_l - run_l, run_r - new_r) < plank
     ):
@@ -414,8 +424,9 @@ def outline_from_foot(
             return None
         if held < CONTAIN_SHARE * (right - left):
             return None
+        same_top = abs(new_top - top) <= SIDE_AGREE_ROWS
         new_top = top
-        if not _widens_enough((left, right), (new_l, new_r), (run_l, run_r), ppm_u):
+        if not _widens_enough((left, right), (new_l, new_r), (run_l, run_r), ppm_u, same_top):
             return None
     elif held < CONTAIN_SHARE * (right - left) or new_top >= top:
         return None
