@@ -46,8 +46,11 @@ def test_the_widening_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # picture's top line ends, 324 -> 295, and the widening is then over 1.5 times; and
     # with region.OUTLINE_SIDE_ON_FOOT off: there the outline's side past the colour run,
     # which ends above the contact row, is refused, and the face comes out right by
-    # another path, w +1.4 %; the shipped answer is the same either way)
+    # another path, w +1.4 %; the shipped answer is the same either way; and with
+    # foot_outline.WIDTH_PAST_PLANK off: a width side lies over WIDTH_PLANK_M past the
+    # found one, so the lower WIDTH_PLANK_FACTOR would take it whatever this limit)
     monkeypatch.setattr(foot_outline, "WIDTH_MIN_FACTOR", 1.5)
+    monkeypatch.setattr(foot_outline, "WIDTH_PAST_PLANK", False)
     monkeypatch.setattr(extent, "TOP_LINE_SPANS", False)
     monkeypatch.setattr(region, "OUTLINE_SIDE_ON_FOOT", False)
     _, ew = room_size_errors("photo", 2070, True)

@@ -126,6 +126,27 @@ OUTERMOST_PAST_SEAMS = True
 #: side a weak edge past it; its outer column taken, the colour walk from it stopped
 #: short, 2.3 -> 5.1 %).
 OUTER_DIP_SHARE = 0.9
+#: With the foot too faint (the top edge walked alone), where no side stands in the snap
+#: window, the side is sought over FAINT_SIDE_COLUMNS either side of where the walk ended
+#: (session 47, branch ``wt-e-47``, from an untested diff of session 46; a switch): the
+#: strongest local peak of the vertical edges reaching the seams' ``need`` and present over
+#: SIDE_COVERAGE of the face's rows. The top edge alone runs on along a background line
+#: level with it (a horizon behind a low face) or stops short on a plank of the wall's
+#: shade, so its end lies up to a plank's width from the side either way; with no foot
+#: edge to end with it, the snap window (SNAP_COLUMNS back, 2 on) misses the side (photo
+#: 3329 hard, planks in the floor's shade: sides 143 and 467, the walk's ends 132 and 451,
+#: w -87 %). The side is not asked to stand down to the floor: a face in the floor's shade
+#: shows no side against it at its foot.
+FAINT_SIDE_WINDOW = True
+FAINT_SIDE_COLUMNS = 16
+#: ... standing at least FAINT_SIDE_CONTRAST times the side profile's mean over the
+#: columns FAINT_INSIDE (3-6) inside it: the face's surface just inside its side shows no
+#: vertical edge of that strength, while a textured floor or a glow beside the face shows
+#: one on every column (photo 741 hard, panels before a gravel floor and a lamp's glow: a
+#: column of that texture 25 past the side, 1.1 times the columns inside it, +0.7 -> +17 %;
+#: photo 3329's sides 3.7 and 3.1 times).
+FAINT_SIDE_CONTRAST = 2.0
+FAINT_INSIDE = (3, 6)
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -288,6 +309,7 @@ def widen_across_seams(
             lines,
             narrow and NARROW_PLANK_ON_ROWS,
             OUTERMOST_PAST_SEAMS,
+            faint_b and FAINT_SIDE_WINDOW,
         )
         new.append(side if moved is None else moved)
     return new[0], new[1]
@@ -312,6 +334,7 @@ def _outer_side(
     lines: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]] | None = None,
     narrow: bool = False,
     outermost: bool = False,
+    faint: bool = False,
 ) -> int | None:
     """Where the edges that run on past ``side`` (towards ``step``) end, the column of the
     face's real side: ``side`` itself when they stop within ``min_move`` columns, None when
@@ -337,7 +360,48 @@ def _outer_side(
     for best in tried:
         if _side_at(ax_rows, sides, side, best, step, need, lines):
             return best
+    if faint:
+        return _faint_side(ax_rows, sides, side, end, step, need, (lo, hi))
     return None
+
+
+def _faint_side(
+    ax_rows: npt.NDArray[np.int16],
+    sides: npt.NDArray[np.float32],
+    side: int,
+    end: int,
+    step: int,
+    need: float,
+    judged: tuple[int, int] = (0, -1),
+) -> int | None:
+    """The side where a walk on the top edge alone (the foot too faint) ended at ``end``
+    and no side stood in the snap window: the strongest local peak of ``sides`` within
+    FAINT_SIDE_COLUMNS of ``end`` (never onto the edge the walk started from) reaching
+    ``need`` and present over SIDE_COVERAGE of the rows ``ax_rows``, outside the snap
+    window ``judged`` (its columns refused by :func:`_side_at` already: none is taken
+    again on this looser test); None where none is (see FAINT_SIDE_WINDOW)."""
+    lo = max(0, end - FAINT_SIDE_COLUMNS)
+    hi = min(sides.size - 1, end + FAINT_SIDE_COLUMNS)
+    if step < 0:
+        hi = min(hi, side - 3)
+    else:
+        lo = max(lo, side + 3)
+    best = None
+    for c in range(lo, hi + 1):
+        if judged[0] <= c <= judged[1]:
+            continue  # the snap window's columns, judged by _side_at already
+        v = float(sides[c])
+        if v < need or (c > lo and v < sides[c - 1]) or (c < hi and v < sides[c + 1]):
+            continue
+        if share(_present(ax_rows, c, need)) < SIDE_COVERAGE:
+            continue
+        a, b = FAINT_INSIDE
+        inside = sides[c - step * b : c - step * a + 1] if step > 0 else sides[c + a : c + b + 1]
+        if inside.size and v < FAINT_SIDE_CONTRAST * float(inside.mean()):
+            continue  # no single edge: texture on every column round it
+        if best is None or v > float(sides[best]):
+            best = c
+    return best
 
 
 def _another_edge(sides: npt.NDArray[np.float32], strongest: int, outer: int) -> bool:

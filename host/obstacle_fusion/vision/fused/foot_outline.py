@@ -103,6 +103,24 @@ WIDTH_TOP_SHARE = 0.1
 #: this is for were 30-90 % too narrow; procedural/2079 hard's tape box, widened 1.26
 #: times onto its blur, lost 4.6 points at 1.25).
 WIDTH_MIN_FACTOR = 1.4
+#: ... or at least WIDTH_PLANK_FACTOR times where a width side moved out past the found
+#: one by at least WIDTH_PLANK_M at the face (session 47, branch ``wt-e-47``, a switch):
+#: the found side was a seam or a joint with a whole plank or panel of the face beyond it
+#: (its foot hides the floor, its side rises from the floor to the found top), while a
+#: blur or a shadow beside a face widens it by a few columns only (procedural/2079 hard's
+#: tape box: 2-5 columns, 0.01-0.02 m, 1.26 times, stays refused). Neither width side
+#: may lie WIDTH_PLANK_M or more inside the foot's run's end: with a plank's width of the
+#: face's foot still past it, that side is itself an inner line, not the face's (procedural
+#: 3302 ordinary, a brick print in a margin: its right width side the print's edge 20
+#: columns, 0.10 m, inside the run's end; taken, -22 -> -11 % at 0.63, a sure wrong answer).
+#: And the width sides' top must be the found top within SIDE_AGREE_ROWS (its blur), not
+#: merely within WIDTH_TOP_SHARE: a plank past a seam is the same surface, its top the
+#: face's one row, while a frame round a print rises past the print's top (procedural 2020
+#: ordinary no rig: the frame's sides ending 7 rows over the print's top, which was kept:
+#: h +1.0 -> -8.8 % at 0.24).
+WIDTH_PAST_PLANK = True
+WIDTH_PLANK_M = 0.08
+WIDTH_PLANK_FACTOR = 1.1
 #: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor, one ending
 #: under the found top and the other running on past it, the face's top is lowered to
 #: where the shorter one ends (session 44, branch ``wt-e-44``, a switch): the face is one
@@ -302,6 +320,31 @@ def _one_side_margin(left: int, right: int, new_l: int, new_r: int) -> bool:
     return abs(out_r) <= ONE_MARGIN_HELD and out_l >= need
 
 
+def _widens_enough(
+    found: tuple[int, int],
+    new: tuple[int, int],
+    run: tuple[int, int],
+    ppm_u: float,
+    same_top: bool = True,
+) -> bool:
+    """Whether the width sides ``new`` (left, right) widen the ``found`` face's sides
+    enough to be taken (``run``: the foot's run, ``ppm_u``: pixels per metre across the
+    face): WIDTH_MIN_FACTOR times, or WIDTH_PLANK_FACTOR times where one of them lies
+    WIDTH_PLANK_M or more past the found one, neither lies as far inside the run's end
+    and their top is the found one (``same_top``; see WIDTH_PAST_PLANK)."""
+    (left, right), (new_l, new_r), (run_l, run_r) = found, new, run
+    plank = WIDTH_PLANK_M * ppm_u
+    factor = WIDTH_MIN_FACTOR
+    if (
+        WIDTH_PAST_PLANK
+        and same_top
+        and max(left - new_l, new_r - right) >= plank
+        and max(new_l - run_l, run_r - new_r) < plank
+    ):
+        factor = WIDTH_PLANK_FACTOR
+    return new_r - new_l >= factor * (right - left)
+
+
 def _lowered_outline(
     lowered: tuple[int, int, int, int], new_l: int, new_r: int
 ) -> tuple[int, int, int, int] | None:
@@ -431,15 +474,16 @@ def outline_from_foot(
             return None
         if held < CONTAIN_SHARE * (right - left):
             return None
+        same_top = abs(new_top - top) <= SIDE_AGREE_ROWS
         new_top = top
-        if new_r - new_l < WIDTH_MIN_FACTOR * (right - left) and not _one_side_margin(
-            left, right, new_l, new_r
-        ):
+        if not _widens_enough(
+            (left, right), (new_l, new_r), (run_l, run_r), ppm_u, same_top
+        ) and not _one_side_margin(left, right, new_l, new_r):
             return None
     elif held < CONTAIN_SHARE * (right - left) or new_top >= top:
         return None
-    if not grows_face((bottom, top, left, right), new_top, new_l, new_r):
-        return None
+    if not widened and not grows_face((bottom, top, left, right), new_top, new_l, new_r):
+        return None  # (widened: the width factor above is its growth)
     log.debug(
         "outline from the foot %d: %d-%d x %d (found %d-%d x %d)",
         foot,
