@@ -206,7 +206,7 @@ def _outer_sides(
 #: beside it on both sides; each way alone grows the face by less than MIN_RAISE_SHARE or
 #: MIN_WIDEN_FACTOR, but together they do as much as a raise by MIN_RAISE_SHARE (photo
 #: 3378 hard: a grey print in a green panel, raised 0.35 of its height and widened 1.18
-#: times, 1.59 in all: -20/-23 % to +8/-10 %). A found side on the outline's (within
+#: times, 1.59 in all: -20/-23 % to +1.5/-10 %). A found side on the outline's (within
 #: MARGIN_ROUND_ROWS) is the face's own side, no margin beside the print there.
 MARGIN_ROUND_GROWS = True
 MARGIN_ROUND_ROWS = 3
@@ -310,9 +310,12 @@ ONE_MARGIN_HELD = 1
 def _one_side_margin(left: int, right: int, new_l: int, new_r: int) -> bool:
     """Whether width sides (``new_l``, ``new_r``) widen the found face (``left``,
     ``right``) on one side alone by MIN_WIDEN_FACTOR, the other side held within
-    ONE_MARGIN_HELD columns (WIDTH_ONE_MARGIN)."""
+    ONE_MARGIN_HELD columns (WIDTH_ONE_MARGIN), the width MIN_WIDEN_FACTOR times the found
+    one's as :func:`grows_face` then asks."""
     if not WIDTH_ONE_MARGIN:
         return False
+    if new_r - new_l < MIN_WIDEN_FACTOR * (right - left):
+        return False  # grows_face asks as much: a side held one column in takes it back
     need = (MIN_WIDEN_FACTOR - 1.0) * (right - left)
     out_l, out_r = left - new_l, new_r - right
     if abs(out_l) <= ONE_MARGIN_HELD and out_r >= need:
