@@ -10,6 +10,8 @@ at dusk; the run along the foot ended 6 columns past the face's right side, on t
 (172-342 for 172-336), the walk up stopped at once, no colour face; the texture
 rescue took a piece of the print: h -75 / w -58 %; with the rule the colour face is the
 whole print, -0.1 / +0.6 %. Photo 3259 (hard, new6): -26 / -18 % -> +0.5 / +0.7 %.
+With no rig the rule reads the rows read as with a rig (``clip``), as the rig's rows:
+procedural 3026 (ordinary, new) h +85.8 -> +3.7 %.
 """
 
 from __future__ import annotations
@@ -38,22 +40,24 @@ from tests.vision_fixtures import room_size_errors
 WALL = (150, 90, 120)  # BGR: a purple wall behind the green face
 
 
-def plain_face(top: int = TOP) -> npt.NDArray[np.uint8]:
+def plain_face(top: int = TOP, tint: float = 1.0) -> npt.NDArray[np.uint8]:
+    """The green face on the purple wall, ``tint`` of the way from the wall's colour to
+    the face's (a faint face's sides are weak colour steps)."""
     rng = np.random.default_rng(5)
     img = np.empty((H, W, 3), np.float64)
     img[:BOTTOM] = WALL
     img[BOTTOM:] = FLOOR
-    img[top:BOTTOM, LEFT:RIGHT] = FACE
+    img[top:BOTTOM, LEFT:RIGHT] = np.add(WALL, tint * np.subtract(FACE, WALL))
     img += rng.normal(0, 3.0, img.shape)
     return np.clip(img, 0, 255).astype(np.uint8)
 
 
 def colour_face(
-    monkeypatch: pytest.MonkeyPatch, out: int, top: int = TOP, rig: bool = True
+    monkeypatch: pytest.MonkeyPatch, out: int, top: int = TOP, rig: bool = True, tint: float = 1.0
 ) -> tuple[int, int, int, int, float] | None:
     """The colour face of :func:`plain_face`, the foot's run ending ``out`` columns past
     the face's right side (on the floor or a shadow beside it)."""
-    img = plain_face(top)
+    img = plain_face(top, tint)
     monkeypatch.setattr(region, "widen_by_colour", lambda *a, **k: (LEFT, RIGHT + out))
     rows = (BOTTOM - 5, BOTTOM + 5)
     return region.face_from_colour(
@@ -89,17 +93,31 @@ def test_with_no_rig_as_before(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_a_side_past_the_snap_reach_stays_and_no_face(monkeypatch: pytest.MonkeyPatch) -> None:
-    # SNAP_SIDE_M (3 cm) is 9 columns here: 12 out is past it, nothing to snap to
-    assert colour_face(monkeypatch, 12) is None
+    # SNAP_SIDE_M (3 cm) is 9 columns here; the side's step is read over SNAP_SPAN
+    # columns either side, so it shows one column out: a run 10 out snaps, 11 out does not
+    assert colour_face(monkeypatch, 10) is not None
+    assert colour_face(monkeypatch, 11) is None
+    monkeypatch.setattr(region, "SNAP_SIDE_M", 0.027)  # 8 columns: 10 out is past it
+    assert colour_face(monkeypatch, 10) is None
     monkeypatch.setattr(region, "SNAP_SIDE_M", 0.02)  # 6 columns: 8 out is past it
     assert colour_face(monkeypatch, 8) is None
+
+
+def test_a_side_snaps_only_to_a_step_of_snap_min_step(monkeypatch: pytest.MonkeyPatch) -> None:
+    # faint faces (``tint`` of the way from the wall's colour): sides of Lab steps about
+    # 16.9 (0.15) and 13.7 (0.12) against the wall, either side of SNAP_MIN_STEP (15);
+    # both are found where the foot's run ends on them
+    assert colour_face(monkeypatch, 0, tint=0.15) is not None
+    assert colour_face(monkeypatch, 0, tint=0.12) is not None
+    assert colour_face(monkeypatch, 6, tint=0.15) is not None
+    assert colour_face(monkeypatch, 6, tint=0.12) is None
 
 
 def test_a_snapped_face_whose_colour_does_not_run_up_is_none(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     # a face lower than the walk's made-up start (SEED_ROWS over the contact row): the
-    # walk from the snapped sides raises nothing either (the retry's ``again < start``)
+    # walk from the snapped sides raises nothing either, and no face is returned
     assert colour_face(monkeypatch, 8, top=BOTTOM - region.SEED_ROWS + 8) is None
     assert colour_face(monkeypatch, 8, top=BOTTOM - region.SEED_ROWS - 20) is not None
 
@@ -115,3 +133,13 @@ def test_without_the_rule_the_rooms_are_a_piece(monkeypatch: pytest.MonkeyPatch,
     monkeypatch.setattr(region, "COLOUR_SIDES_SNAP_RETRY", False)
     eh, ew = room_size_errors("photo", seed, True)
     assert eh > 0.15 and ew > 0.15
+
+
+def test_no_rig_rows_read_as_with_a_rig_take_it_too(monkeypatch: pytest.MonkeyPatch) -> None:
+    # procedural 3026 ordinary (new), no rig: the rows read as with a rig (``clip``) are
+    # read as the rig's rows are, this rule too: h +85.8 -> +3.7 % (w 19 -> 2.5 %)
+    eh, ew = room_size_errors("procedural", 3026, False, with_rig=False)
+    assert eh < 0.05 and ew < 0.05
+    monkeypatch.setattr(region, "COLOUR_SIDES_SNAP_RETRY", False)
+    eh, _ = room_size_errors("procedural", 3026, False, with_rig=False)
+    assert eh > 0.5

@@ -107,15 +107,17 @@ def test_the_face_under_stands_for_a_small_robot_s_lens(monkeypatch: pytest.Monk
 def test_a_face_under_a_tall_lens_is_no_floor_s(monkeypatch: pytest.MonkeyPatch) -> None:
     # photo 721 hard: the rows' face under the small one stands for a lens 1.25 m up
     assert _worst("photo", 721, True) < 0.2
-    monkeypatch.setattr(measure, "UNDER_MAX_CAMERA_HEIGHT_M", 1.3)
-    # (since session 41 KNOWN_RIG_SIZE_BOUND alone also refuses that face, 1.6 m wide)
+    # the rules that also keep the rows' face out, off, to test this rule alone (each of
+    # them alone keeps 721 right with this rule off): since session 41 KNOWN_RIG_SIZE_BOUND
+    # refuses that face, 1.6 m wide; the texture walk past a highlight (texture.
+    # GLOSS_CROSSED) reads the rows' trial's face, a brick floor, otherwise, and that face
+    # is not found; with the colour face's sides snapped where its walk up stops
+    # (region.COLOUR_SIDES_SNAP_RETRY) the readings on that row (344) do not agree
     monkeypatch.setattr(measure, "KNOWN_RIG_SIZE_BOUND", False)
-    # (the texture walk past a highlight, texture.GLOSS_CROSSED, reads the rows' trial's
-    # face, a brick floor, otherwise: that face is not found; off, to test this rule alone)
     monkeypatch.setattr(texture, "GLOSS_CROSSED", False)
-    # (the colour face's sides snapped when its walk up stops, region.COLOUR_SIDES_SNAP_RETRY,
-    # at the rows read as with a rig, finds another face there too: off, as above)
     monkeypatch.setattr(region, "COLOUR_SIDES_SNAP_RETRY", False)
+    assert _worst("photo", 721, True) < 0.2
+    monkeypatch.setattr(measure, "UNDER_MAX_CAMERA_HEIGHT_M", 1.3)
     assert _worst("photo", 721, True) > 1.0
 
 

@@ -3755,22 +3755,26 @@ def face_from_colour(
     if right - left < 2 * SIDE_SKIP + 6:
         return None
     start = contact - SEED_ROWS
-    top = raise_top_by_colour(
-        image, view, ay, contact, start, left, right, depth_m, start, one_side=True
-    )
+
+    def walk_up(sides: tuple[int, int]) -> int:
+        # the face's top walked up by its colour from the made-up start between ``sides``
+        return raise_top_by_colour(
+            image, view, ay, contact, start, *sides, depth_m, start, one_side=True
+        )
+
+    top = walk_up((left, right))
     if top >= start and COLOUR_SIDES_SNAP_RETRY and clip:
         # the foot's colour run took the face's shadow (or a strip of floor) in beside it
         # (shadow=True): the rows above it read that side's columns as background, so the
         # walk up stops at once; the face's real sides are the strong colour steps next
-        # to the run's ends (snap_sides_to_steps, as the rescue snaps them afterwards)
+        # to the run's ends (snap_sides_to_steps, as the rescue snaps them afterwards); the
+        # face is taken with them where its colour now runs up
         snapped = snap_sides_to_steps(image, view, contact, start, left, right, depth_m)
         if snapped != (left, right):
-            again = raise_top_by_colour(
-                image, view, ay, contact, start, *snapped, depth_m, start, one_side=True
-            )
+            again = walk_up(snapped)
             log.debug("colour face %d-%d: snapped to %d-%d, top %d", left, right, *snapped, again)
-            if again < start:
-                (left, right), top = snapped, again
+            # (a walk that stops at once again ends in the no-face return below all the same)
+            (left, right), top = snapped, again
     if top >= start:
         return None  # the face's colour does not run up: no face shape
     if CORE_WALK_RISES and not clip:
@@ -3778,9 +3782,7 @@ def face_from_colour(
         if risen != (left, right):
             log.debug("colour face %d-%d: sides rising %d-%d", left, right, *risen)
             left, right = risen
-            top = raise_top_by_colour(
-                image, view, ay, contact, start, left, right, depth_m, start, one_side=True
-            )
+            top = walk_up(risen)
             if top >= start:
                 return None
     side_step = _side_step(image, view, contact, top, left, right)
