@@ -737,7 +737,10 @@ class Measurer:
                     # so the face found may be a surface behind it that the guessed camera
                     # height stood on the range (a print on the wall over a low box). Only
                     # a face of a colour of its own against the floor under its foot: a
-                    # stretch of the floor before the face (gravel) has the floor's
+                    # stretch of the floor before the face (gravel) has the floor's colour.
+                    # Sure: by the face's doubts and the search's so far, before the
+                    # PITCH_UNREAD the search adds below (a doubt about the pitch, not about
+                    # which surface the guessed height stood on the range)
                     rival = self._nearer_on_axis(
                         best, readings, view, depth, image, accept=NEARER_RIVAL_ACCEPT
                     )
@@ -2421,10 +2424,16 @@ ACROSS_TALLER = 2.0
 #: 0.08). A switch for the tests (session 47, branch ``wt-a-47``).
 NEARER_UNSURE_RIVAL = True
 #: ... the nearer face's trial confidence from this up (a trial's least reported one, the
-#: fused method's min_confidence: any face a trial reports).
+#: fused method's min_confidence: any face a trial reports). With the default
+#: min_confidence (DEFAULT_MIN_CONFIDENCE, also 0.05) every trial's face reaches it; it
+#: bites only when the method is run with a lower min_confidence.
 NEARER_RIVAL_ACCEPT = 0.05
 #: ... the sure face's confidence with its doubts from this up (a sure answer's: the rival
-#: takes it under; an unsure one already says the face may be another).
+#: takes it under; an unsure one already says the face may be another). Its doubts when
+#: the search ends, before the PITCH_UNREAD the search then adds for a guessed pitch: that
+#: doubt is the pitch's, not which surface the guessed height stood, so a face sure but
+#: for it is doubted too (fresh procedural 2186 hard: 0.66 before it, reported 0.295 ->
+#: 0.133, a face 26 % short).
 NEARER_RIVAL_SURE = 0.5
 #: ... the doubts such a face is reported with (its pitch a guess, the face beside the axis
 #: a rival trial's): one doubted under MIN_DOUBTED_CONFIDENCE with them is not taken (on
