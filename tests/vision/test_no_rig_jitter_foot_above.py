@@ -113,6 +113,15 @@ def test_the_limits(outer: tuple[float, float, float, float], holds: bool) -> No
     assert measure._holds_above(_face(0.3, [], outer), _face(0.8, [FOOT_ABOVE_CONTACT])) is holds
 
 
+def test_a_face_not_found_holds_nothing() -> None:
+    # the rows' trials that found no face still carry a box: none holds the inner face
+    inner = _face(0.8, [FOOT_ABOVE_CONTACT])
+    lost = Measurement(False, "fused", 2.0, box_px=OUTER, confidence=0.3)
+    assert measure._holds_above(_face(0.3, [], OUTER), inner)
+    assert not measure._holds_above(lost, inner)
+    assert not measure._holds_above(Measurement(True, "fused", 2.0, confidence=0.3), inner)
+
+
 @pytest.mark.parametrize(
     ("other", "doubted_wins"),
     [

@@ -3382,7 +3382,10 @@ def _holds_above(outer: Measurement, inner: Measurement) -> bool:
     its top no more than ROW_JITTER_PX rows under ``inner``'s, neither side more than
     ROW_JITTER_PX columns inside ``inner``'s, and reaching past ``inner`` by more than
     ROW_JITTER_PX over its top or beside one of its sides (not the same face with only its
-    foot moved: a shadow's or a bevel's lower edge under it)."""
+    foot moved: a shadow's or a bevel's lower edge under it). The tolerance is the rows'
+    own step, as in :func:`_box_round` and :func:`_frame_holds`: the two faces were stood
+    on rows ROW_JITTER_PX apart, so a foot that moved no more than that is the one foot
+    read from the moved row, and the top and sides the same edges read again."""
     if outer.box_px is None or inner.box_px is None or not outer.detected:
         return False
     x0, y0, x1, y1 = inner.box_px
@@ -3390,9 +3393,7 @@ def _holds_above(outer: Measurement, inner: Measurement) -> bool:
     j = ROW_JITTER_PX
     return (
         gy1 - y1 > j
-        and gy0 - y0 <= j
-        and g0 - x0 <= j
-        and x1 - g1 <= j
+        and _holds(outer.box_px, inner.box_px, j)
         and max(y0 - gy0, x0 - g0, g1 - x1) > j
     )
 
