@@ -136,3 +136,13 @@ def test_the_strongest_peak_and_only_a_peak() -> None:
     assert _faint_side(ax, sides, 80, 40, -1, NEED) == 45
     ax, sides = _profile({})
     assert _faint_side(ax, sides, 80, 40, -1, NEED) is None
+
+
+@pytest.mark.parametrize(("level", "found"), [(10.0, True), (10.01, False)])
+def test_the_inside_clipped_at_the_image_s_edge(level: float, found: bool) -> None:
+    # walking right from column 0, the walk ended at 5: the peak at 4 has columns 0-1 of
+    # its 3-6 inside in the image; those are read (a start of -2 would wrap round to the
+    # profile's far end and read nothing)
+    ax, sides = _profile({4: 20.0})
+    sides[0:2] = level
+    assert (_faint_side(ax, sides, 0, 5, 1, NEED) == 4) is found

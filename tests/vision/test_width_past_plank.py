@@ -58,6 +58,9 @@ def test_a_frame_rising_past_the_top_is_not_taken(monkeypatch: pytest.MonkeyPatc
     eh, _ = room_size_errors("procedural", 2020, False, with_rig=False)
     assert eh < 0.03
     monkeypatch.setattr(foot_outline, "SIDE_AGREE_ROWS", 7)  # (the sides' agreement too)
+    # the print's top kept, as the rule was written (with PLANK_TOP_RAISED the frame's top,
+    # 7 rows up, is raised to and the frame read as the face: h +0.2 %)
+    monkeypatch.setattr(foot_outline, "PLANK_TOP_RAISED", False)
     eh, _ = room_size_errors("procedural", 2020, False, with_rig=False)
     assert eh > 0.05
 
@@ -129,3 +132,36 @@ def test_the_top_must_be_the_found_one() -> None:
 def test_without_the_rule_the_plank_is_not_read(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(foot_outline, "WIDTH_PAST_PLANK", False)
     assert not _widens_enough((100, 150), (92, 150), (90, 152), PPM)
+
+
+def test_the_plank_s_top_is_the_face_s() -> None:
+    # procedural 3176 hard no rig (new4, text on a face): the width sides 197-327 taken at
+    # WIDTH_PLANK_FACTOR, their top 196 three rows (SIDE_AGREE_ROWS) over the found 199 on
+    # a line of the text; the face's top (PLANK_TOP_RAISED): h -0.4 %
+    eh, ew = room_size_errors("procedural", 3176, True, with_rig=False)
+    assert eh < 0.02 and ew < 0.03
+
+
+def test_with_the_found_top_kept_it_is_a_sure_wrong_answer(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the found top kept (the rule as merged): the foot found lower, the top still the
+    # text's line: h -6.0 % at 0.74
+    monkeypatch.setattr(foot_outline, "PLANK_TOP_RAISED", False)
+    res, truth = measured_room("procedural", 3176, True, False)
+    assert res.confidence is not None and res.height_m is not None
+    assert res.confidence >= 0.5 and res.height_m / truth["height_m"] - 1 < -0.05
+
+
+def test_a_sides_top_under_the_found_one_is_not_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # photo 3369 hard with WIDTH_ONE_MARGIN off: WIDTH_PAST_PLANK alone takes its width
+    # sides 217-329 (found 218-304), their top 146 one row under the found 145: a rise
+    # ended early, the found top stays, the height as with PLANK_TOP_RAISED off
+    monkeypatch.setattr(foot_outline, "WIDTH_ONE_MARGIN", False)
+    res, _ = measured_room("photo", 3369, True)
+    monkeypatch.setattr(foot_outline, "PLANK_TOP_RAISED", False)
+    kept, _ = measured_room("photo", 3369, True)
+    assert res.width_m is not None and kept.width_m is not None
+    assert res.height_m == kept.height_m and res.width_m == kept.width_m

@@ -396,7 +396,9 @@ def _faint_side(
         if share(_present(ax_rows, c, need)) < SIDE_COVERAGE:
             continue
         a, b = FAINT_INSIDE
-        inside = sides[c - step * b : c - step * a + 1] if step > 0 else sides[c + a : c + b + 1]
+        # (towards the face: to the left of a right side; clipped at the image's edge, where
+        # a negative start would wrap round to the far end)
+        inside = sides[max(0, c - b) : c - a + 1] if step > 0 else sides[c + a : c + b + 1]
         if inside.size and v < FAINT_SIDE_CONTRAST * float(inside.mean()):
             continue  # no single edge: texture on every column round it
         if best is None or v > float(sides[best]):

@@ -121,6 +121,17 @@ WIDTH_MIN_FACTOR = 1.4
 WIDTH_PAST_PLANK = True
 WIDTH_PLANK_M = 0.08
 WIDTH_PLANK_FACTOR = 1.1
+#: Where WIDTH_PAST_PLANK alone takes the width sides (not WIDTH_MIN_FACTOR, not
+#: WIDTH_ONE_MARGIN), their top (within SIDE_AGREE_ROWS of the found one, as asked there)
+#: is the face's where it lies over the found top (session 47, review helper J, a
+#: switch): the plank is the same surface as the face, its top the face's one row, and
+#: the sides rising from the floor across the whole widened face step across there; a
+#: found top under it was read on the found part alone, under a line on it (procedural
+#: 3176 hard no rig, text on a face: the found top 199, the sides' 196, the truth about
+#: 195: with the found top kept h -6.0 % at 0.74, a sure wrong answer; with the sides'
+#: -0.4 % at 0.33). A sides' top under the found one is a rise ended early (a faded top
+#: edge), not a lower face: the found top stays.
+PLANK_TOP_RAISED = True
 #: Where the sides read for the width (WIDTH_FROM_FOOT) rise from the floor, one ending
 #: under the found top and the other running on past it, the face's top is lowered to
 #: where the shorter one ends (session 44, branch ``wt-e-44``, a switch): the face is one
@@ -478,11 +489,14 @@ def outline_from_foot(
         if held < CONTAIN_SHARE * (right - left):
             return None
         same_top = abs(new_top - top) <= SIDE_AGREE_ROWS
-        new_top = top
-        if not _widens_enough(
-            (left, right), (new_l, new_r), (run_l, run_r), ppm_u, same_top
-        ) and not _one_side_margin(left, right, new_l, new_r):
-            return None
+        found, new, run = (left, right), (new_l, new_r), (run_l, run_r)
+        wide = _widens_enough(found, new, run, ppm_u, False)  # WIDTH_MIN_FACTOR alone
+        sides_top, new_top = new_top, top
+        if not wide and not _one_side_margin(left, right, new_l, new_r):
+            if not _widens_enough(found, new, run, ppm_u, same_top):
+                return None
+            if PLANK_TOP_RAISED:  # taken at WIDTH_PLANK_FACTOR alone: the plank's top
+                new_top = min(sides_top, top)
     elif held < CONTAIN_SHARE * (right - left) or new_top >= top:
         return None
     if not widened and not grows_face((bottom, top, left, right), new_top, new_l, new_r):
