@@ -71,12 +71,14 @@ def test_without_the_rig_given_the_faded_plank_is_left_out() -> None:
     assert widened(faded_face()[0], faded=False)[1] == SEAM
 
 
-def _past(crossed: int, width: int, peak: float = 50.0, at: int | None = None) -> int | None:
+def _past(
+    crossed: int, width: int, peak: float = 50.0, at: int | None = None, across: float = 0.0
+) -> int | None:
     """``_past_faded_plank`` on drawn profiles (noise 1, so the side needs MIN_EDGE_SNR;
     the minimum move 3): the side at 50 walked rightwards, the ordinary walk's columns
     40-50, ``crossed`` one-line columns past it, a vertical edge of ``peak`` standing every
-    row on column ``at`` (the next one past them unless given); the chosen pair ``width``
-    columns wide."""
+    row on column ``at`` (the next one past them unless given), vertical edges of
+    ``across`` on the one-line columns; the chosen pair ``width`` columns wide."""
     n = 200
     col = 51 + crossed if at is None else at
     ordinary = np.zeros(n, bool)
@@ -84,6 +86,7 @@ def _past(crossed: int, width: int, peak: float = 50.0, at: int | None = None) -
     one_line = np.zeros(n, bool)
     one_line[51 : 51 + crossed] = True
     sides = np.zeros(n, np.float32)
+    sides[51 : 51 + crossed] = across
     sides[col] = peak
     ax_rows = np.zeros((100, n), np.int16)
     ax_rows[:, col] = int(peak)
@@ -146,3 +149,29 @@ def test_a_side_within_the_minimum_move_is_the_sides_own_blur() -> None:
     (photo/3422 ordinary: 221 -> 218 without this, +5.5 %)."""
     assert _past(5, 20, at=53) is None
     assert _past(5, 20, at=54) == 54
+
+
+def test_the_side_stands_out_of_the_plain_plank() -> None:
+    """FADED_SIDE_CONTRAST 2: a side of 50 past one-line columns whose vertical edges'
+    median is 25 is taken, past 25.5 (1.96 times) it is not (a textured floor or clutter
+    beside the face, photo/747 ordinary and photo/2105 hard)."""
+    assert extent.FADED_SIDE_CONTRAST == 2.0
+    assert _past(20, 20, across=25.0) == 71
+    assert _past(20, 20, across=25.5) is None
+
+
+@pytest.mark.parametrize(("family", "seed", "hard"), [("photo", 747, False), ("photo", 2105, True)])
+def test_texture_beside_the_face_is_no_faded_plank(family: str, seed: int, hard: bool) -> None:
+    """photo/747 ordinary (own; a low brick face on a brick floor) and photo/2105 hard
+    (fresh; a small tape face among clutter) answer as with the rule off: with the contrast
+    check off, 747 was refused (w 0.7 % -> missed) and 2105 +0.9 -> +5.0 % wide."""
+    on = room_size_errors(family, seed, hard)
+    assert on[1] < 0.02
+
+
+def test_without_the_contrast_clutter_beside_a_small_face_widens_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(extent, "FADED_SIDE_CONTRAST", 0.0)
+    _, ew = room_size_errors("photo", 2105, True)
+    assert ew > 0.04

@@ -163,6 +163,13 @@ FADED_PLANK_WALK = True
 #: plank is no wider than the planks found; a floor seam or a wall's line on the foot's or
 #: the top's row runs on much farther).
 FADED_MAX_SHARE = 1.0
+#: ... the side standing at least this many times the median vertical edge over the
+#: one-line columns crossed: a plank is one plain surface, while a textured floor beside a
+#: low face (photo/747 ordinary, bricks on a brick floor: a joint 0.84 times the crossed
+#: median, 39 columns past the side, the answer then refused) or clutter beside a small
+#: one (photo/2105 hard, 1.15 and 1.19 times) shows vertical edges on every column; the
+#: planks of 3423, 3431, 3080 hard and 3371 hard 2.8-35 times.
+FADED_SIDE_CONTRAST = 2.0
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -362,7 +369,8 @@ def _past_faded_plank(
     columns, those with the one-line columns, the one-line columns), ends at a vertical edge
     of MIN_EDGE_SNR noise levels standing down to the floor; None where that walk goes no
     farther than the ordinary one, crosses over FADED_MAX_SHARE of ``width`` one-line
-    columns, or ends at no side more than ``min_move`` from ``side`` (see
+    columns, or ends at no side more than ``min_move`` from ``side`` standing
+    FADED_SIDE_CONTRAST times the vertical edges' median over the one-line columns (see
     FADED_PLANK_WALK)."""
     ordinary, widened, one_line = walks
     end0 = walk_on(ordinary, side, step, MAX_GAP)
@@ -380,6 +388,9 @@ def _past_faded_plank(
         return None  # the side's own blur (photo/3422 ordinary: 221 -> 218, +5.5 %)
     if float(sides[best]) < need or not _stands(_present(ax_rows, best, need)):
         return None
+    plain = sides[a : b + 1][one_line[a : b + 1] & ~ordinary[a : b + 1]]
+    if plain.size and float(sides[best]) < FADED_SIDE_CONTRAST * float(median_of(plain)):
+        return None  # vertical edges all across: texture or clutter, not one plank
     return best
 
 
