@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.fused import method, region
+from obstacle_fusion.vision.fused import extent, method, region
 
 from tests.vision_fixtures import room_size_errors
 
@@ -27,6 +27,8 @@ def test_the_face_is_crossed_past_its_tape(with_rig: bool) -> None:
 
 def test_without_the_rule_the_half_stands(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(region, "BRIDGE_STRIPES", False)
+    # (the walk over a plank whose top faded, session 48, crosses the tape too: off here)
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)
     _, ew = room_size_errors("procedural", 3080, True)
     assert ew > 0.5
 
@@ -48,6 +50,7 @@ def test_each_limit(
     monkeypatch: pytest.MonkeyPatch, name: str, value: float, crossed: bool
 ) -> None:
     monkeypatch.setattr(region, name, value)
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)  # (crosses the tape too)
     _, ew = room_size_errors("procedural", 3080, True)
     assert (ew < 0.02) if crossed else (ew > 0.5)
 

@@ -26,12 +26,16 @@ def test_a_face_found_between_inner_lines_is_widened_to_its_sides() -> None:
 
 def test_without_the_rule_the_width_is_the_inner_lines(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(foot_outline, "WIDTH_FROM_FOOT", False)
+    # (extent.FADED_PLANK_WALK, session 48, walks the left side out over the poster's
+    # plain stretch whose foot fades, 222 -> 105, by itself: off in these tests)
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)
     _, ew = room_size_errors("photo", 2070, True)
     assert ew > 0.25
 
 
 def test_the_rise_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # 2070's sides rise 1.05 times the found height: asked 1.0, they stand; 1.1, not
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)
     monkeypatch.setattr(foot_outline, "WIDTH_RISE_SHARE", 1.0)
     _, ew = room_size_errors("photo", 2070, True)
     assert ew < 0.05
@@ -51,6 +55,7 @@ def test_the_widening_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # found one, so the lower WIDTH_PLANK_FACTOR would take it whatever this limit)
     monkeypatch.setattr(foot_outline, "WIDTH_MIN_FACTOR", 1.5)
     monkeypatch.setattr(foot_outline, "WIDTH_PAST_PLANK", False)
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)
     monkeypatch.setattr(extent, "TOP_LINE_SPANS", False)
     monkeypatch.setattr(region, "OUTLINE_SIDE_ON_FOOT", False)
     _, ew = room_size_errors("photo", 2070, True)

@@ -147,6 +147,29 @@ FAINT_SIDE_COLUMNS = 16
 #: photo 3329's sides 3.7 and 3.1 times).
 FAINT_SIDE_CONTRAST = 2.0
 FAINT_INSIDE = (3, 6)
+#: With the rig given, the widening walk runs on over a plank whose grey is that of what
+#: lies beyond one of the face's edges (the wall above its top, the floor below its foot):
+#: there that edge fades out (under MIN_EDGE_SNR noise levels: no edge at all, not a dim
+#: one) while the other stands on its own row (:func:`_line_on_row`), the face one surface
+#: at the sonar's depth (session 48, helper B; procedural/3423 ordinary: a last plank of the
+#: pink wall's grey, top 0 over 266-272 while the foot runs on to the side at 272, -62 %;
+#: procedural/3431 hard: a dark plank on a dark floor, foot 1-2 noise levels over 199-225
+#: while the top runs on to the side at 162, -57 %). The side reached so is against the same
+#: background as the faded edge: it needs only MIN_EDGE_SNR noise levels (not the seams'
+#: share; the seams part planks of other shades), still standing the face's height down to
+#: the floor (a switch) ...
+FADED_PLANK_WALK = True
+#: ... over at most this share of the chosen pair's width of such one-line columns (a
+#: plank is no wider than the planks found; a floor seam or a wall's line on the foot's or
+#: the top's row runs on much farther).
+FADED_MAX_SHARE = 1.0
+#: ... the side standing at least this many times the median vertical edge over the
+#: one-line columns crossed: a plank is one plain surface, while a textured floor beside a
+#: low face (photo/747 ordinary, bricks on a brick floor: a joint 0.84 times the crossed
+#: median, 39 columns past the side, the answer then refused) or clutter beside a small
+#: one (photo/2105 hard, 1.15 and 1.19 times) shows vertical edges on every column; the
+#: planks of 3423, 3431, 3080 hard and 3371 hard 2.8-35 times.
+FADED_SIDE_CONTRAST = 2.0
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
@@ -242,13 +265,15 @@ def widen_across_seams(
     noise: float,
     top_alone: bool = False,
     narrow: bool = False,
+    faded: bool = False,
 ) -> tuple[int, int]:
     """The face's side columns, moved out to where its top and bottom edges both end
     (``top_alone``: or, with the foot edge too faint, where a strong top edge ends, or a
     fainter one standing on its row across the face, see TOP_ALONE_LINE; only
     with the rig: under a row merely tried, that top is often a background line;
     ``narrow``: a last plank under the minimum move taken on the face's rows, see
-    NARROW_PLANK_ON_ROWS, with the rig only)."""
+    NARROW_PLANK_ON_ROWS, with the rig only; ``faded``: the walk run on over a plank whose
+    top or foot edge faded out, see FADED_PLANK_WALK, with the rig given only)."""
     if right - left < 4 or bottom - top < 3:
         return left, right
     gb = _edge_profile(ay, bottom)
@@ -296,6 +321,14 @@ def widen_across_seams(
     lines = None
     if LINES_END_TOGETHER and not faint_b:
         lines = (_line_on_row(ay, top, noise), _line_on_row(ay, bottom, noise))
+    faded_on = None
+    if FADED_PLANK_WALK and faded and not faint_b:
+        # one edge on its row, the other faded out: a plank of the background's grey
+        edge_min = MIN_EDGE_SNR * noise
+        line_t = lines[0] if lines is not None else _line_on_row(ay, top, noise)
+        line_b = lines[1] if lines is not None else _line_on_row(ay, bottom, noise)
+        one_line = (line_t & (gb < edge_min)) | (line_b & (gt < edge_min))
+        faded_on = (runs_on, runs_on | one_line, one_line)
     new = []
     for side, step in ((left, -1), (right, 1)):
         moved = _outer_side(
@@ -311,8 +344,57 @@ def widen_across_seams(
             OUTERMOST_PAST_SEAMS,
             faint_b and FAINT_SIDE_WINDOW,
         )
+        if faded_on is not None:
+            past = _past_faded_plank(
+                ax[top + 1 : bottom], sides, faded_on, side, step, min_move, right - left, noise
+            )
+            if past is not None and (moved is None or step * (past - moved) > min_move):
+                # the side past a plank of the background's grey (not a side the ordinary
+                # walk found already, a column or two out onto its blur: procedural/111
+                # ordinary, photo/719 ordinary, fresh procedural/2175 hard, +1.5-1.8 %)
+                moved = past
         new.append(side if moved is None else moved)
     return new[0], new[1]
+
+
+def _past_faded_plank(
+    ax_rows: npt.NDArray[np.int16],
+    sides: npt.NDArray[np.float32],
+    walks: tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_], npt.NDArray[np.bool_]],
+    side: int,
+    step: int,
+    min_move: float,
+    width: int,
+    noise: float,
+) -> int | None:
+    """The side past ``side`` (towards ``step``) where the walk, run on over columns where
+    one edge stands on its row and the other has faded out (``walks``: the ordinary walk's
+    columns, those with the one-line columns, the one-line columns), ends at a vertical edge
+    of MIN_EDGE_SNR noise levels standing down to the floor; None where that walk goes no
+    farther than the ordinary one, crosses over FADED_MAX_SHARE of ``width`` one-line
+    columns, or ends at no side more than ``min_move`` from ``side`` standing
+    FADED_SIDE_CONTRAST times the vertical edges' median over the one-line columns (see
+    FADED_PLANK_WALK)."""
+    ordinary, widened, one_line = walks
+    end0 = walk_on(ordinary, side, step, MAX_GAP)
+    end = walk_on(widened, side, step, MAX_GAP)
+    if step * (end - end0) <= 0 or abs(end - side) <= min_move:
+        return None
+    a, b = sorted((side, end))
+    crossed = int((one_line[a : b + 1] & ~ordinary[a : b + 1]).sum())
+    if crossed > FADED_MAX_SHARE * width:
+        return None
+    need = MIN_EDGE_SNR * noise
+    lo, hi = _snap_window(side, end, step, sides.size)
+    best = int(lo + sides[lo : hi + 1].argmax())
+    if abs(best - side) <= min_move:
+        return None  # the side's own blur (photo/3422 ordinary: 221 -> 218, +5.5 %)
+    if float(sides[best]) < need or not _stands(_present(ax_rows, best, need)):
+        return None
+    plain = sides[a : b + 1][one_line[a : b + 1] & ~ordinary[a : b + 1]]
+    if plain.size and float(sides[best]) < FADED_SIDE_CONTRAST * float(median_of(plain)):
+        return None  # vertical edges all across: texture or clutter, not one plank
+    return best
 
 
 def _one_line(ay: npt.NDArray[np.float32], row: int, inner: slice, noise: float) -> bool:

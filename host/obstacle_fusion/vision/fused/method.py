@@ -1241,7 +1241,7 @@ class FusedMethod:
         # the face's front top and bottom edges run on across seams out to its real sides
         span = (ul, ur)  # the top and bottom edges are fitted where the search found them
         ul, ur = widen_across_seams(
-            ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known, narrow=rig_given
+            ay, ax3, rb, int(round(vt)), ul, ur, noise, rig_known, narrow=rig_given, faded=rig_given
         )
         # ... and across a stripe down the face (a tape): a marking on it, not a gap
         ul, ur = _across_stripe(
