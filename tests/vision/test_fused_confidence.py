@@ -21,10 +21,12 @@ from obstacle_fusion.vision.fused import search as search_mod
 from obstacle_fusion.vision.fused.confidence import (
     DOUBT_FACTOR,
     DOUBT_FACTORS,
+    FACE_RUNS_ON,
     FLOOR_IN_FACE,
     FOOT_ABOVE_CONTACT,
     FOOT_ABOVE_SHARE,
     FOOT_OFF_FLOOR,
+    FRAME_ROUND,
     FRAMED,
     NEAR_RIVALS,
     NO_RIG_ONLY,
@@ -85,6 +87,8 @@ def test_one_doubt_takes_the_surest_face_under_half() -> None:
         TOP_BAND_UNLIKE_FACE,
         PRINT_OUTLINE,
         TOP_FACE_UNDER_TOP,
+        FACE_RUNS_ON,
+        FRAME_ROUND,
     }
     for doubt in DOUBT_FACTORS:
         rig = doubt in RIG_ONLY
@@ -104,7 +108,7 @@ def test_a_foot_above_the_predicted_contact_is_doubted_past_half_the_band() -> N
 
 
 def test_a_foot_above_the_predicted_contact_cuts_only_with_a_rig() -> None:
-    assert RIG_ONLY == frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP})
+    assert RIG_ONLY == frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP, FACE_RUNS_ON})
     # the top face's doubt too: with no rig the horizon is a guessed pitch's
     assert reported_confidence(0.8, [TOP_FACE_UNDER_TOP], 200.0, 200.0, 0.05, False) == (
         0.8,

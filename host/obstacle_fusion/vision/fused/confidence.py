@@ -202,6 +202,29 @@ TOP_FACE_UNDER_TOP = "top_face_under_top"
 #: than the sonar's range (set by :meth:`FusedMethod._stages`).
 FOOT_ABOVE_CONTACT = "foot_above_contact"
 
+#: The face's top edge and its floor-contact edge both run on past one of its sides, at the
+#: same rows, as lines (FACE_RUNS_ON_LINE times the rows off them: a textured floor or a
+#: photographed background is no line) at FACE_RUNS_ON_SHARE of the face's own strength
+#: or more (:func:`face_runs_on_doubts`): what stands beside that side has the face's top
+#: and foot, at its range and of its height: the face goes on there, and the side found
+#: is a seam on it (a plank's, a panel's). A line of the background meets one of the two
+#: rows now and then, both only where the face goes on. With the rig only (RIG_ONLY): the
+#: contact row is then the range's; with no rig the trials' choice reads the confidence,
+#: and the doubt was not weighed there. Procedural 3423 ordinary (new9, rig): one plank
+#: of three taken for the face, -62 % wide at confidence 0.71. Session 48, branch
+#: ``wt-a-48``.
+FACE_RUNS_ON = "face_runs_on"
+
+#: One colour runs in a thin band over the face's top and under its foot (inside its
+#: sides), unlike the face and unlike what lies beside each band (:func:`frame_doubts`):
+#: the face found is the inner panel of a frame (a plinth and a lid, a print's border),
+#: and the thing itself reaches out to the frame's outer edges; a wall over a face's top
+#: is the wall beside it as well, and a floor under its foot the floor beside it.
+#: Procedural 3400 ordinary (new9, no rig): a brick panel in a green frame, the panel
+#: measured -8.0 % high and -7.1 % wide at confidence 0.955. Session 48, branch
+#: ``wt-a-48``.
+FRAME_ROUND = "frame_round_face"
+
 #: What one doubt leaves of the confidence: a doubt alone takes the surest face (1.0)
 #: under the 0.5 that means "sure" (halving would leave it at 0.5 exactly).
 DOUBT_FACTOR = 0.45
@@ -223,13 +246,15 @@ DOUBT_FACTORS: dict[str, float] = {
     FOOT_ABOVE_CONTACT: DOUBT_FACTOR,
     TRIAL_RIVAL: DOUBT_FACTOR,
     TOP_FACE_UNDER_TOP: DOUBT_FACTOR,
+    FACE_RUNS_ON: DOUBT_FACTOR,
+    FRAME_ROUND: DOUBT_FACTOR,
 }
 
 #: Doubts that cut the confidence only when the floor contact was found in the image.
 NO_RIG_ONLY = frozenset({FRAMED, TRIAL_RIVAL})
 #: ... and only when it was predicted from a rig file (with no rig the contact row is the
 #: trial's own guess, and the horizon a guessed pitch's).
-RIG_ONLY = frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP})
+RIG_ONLY = frozenset({FOOT_ABOVE_CONTACT, TOP_FACE_UNDER_TOP, FACE_RUNS_ON})
 
 #: A face side of this many pixels or more is measured well enough for a 5 % bound: a
 #: size is the distance between two edges, each found to about half a pixel (the tuning
@@ -251,6 +276,32 @@ SECOND_TOP_SHARE = 0.8
 TOP_RUNS_ON_REACH = 0.5
 TOP_RUNS_ON_MIN_COLUMNS = 8
 TOP_RUNS_ON_SHARE = 0.75
+#: FACE_RUNS_ON: a switch for the tests; the columns read past each side (after a gap of
+#: FACE_RUNS_ON_GAP columns clear of the side's own blur; half the face's width, at least
+#: FACE_RUNS_ON_MIN_COLUMNS), and the share of the face's own top and foot strength both
+#: rows must keep there.
+FACE_RUNS_ON_DOUBT = True
+FACE_RUNS_ON_GAP = 3
+FACE_RUNS_ON_REACH = 0.5
+FACE_RUNS_ON_MIN_COLUMNS = 8
+FACE_RUNS_ON_SHARE = 0.4
+#: ... and how many times the rows off the line (FACE_RUNS_ON_GAP to FACE_RUNS_ON_BAND
+#: above and below) the run-on must be.
+FACE_RUNS_ON_LINE = 3.0
+FACE_RUNS_ON_BAND = 8
+#: FRAME_ROUND: a switch for the tests; the bands read over the top and under the foot
+#: (input rows: FRAME_GAP rows off the edge, clear of most of its blur, FRAME_ROWS rows
+#: high: a frame's band is a few rows), over the face's columns but FOOT_INNER_SHARE of
+#: its width off each side, and beside each band over FOOT_BESIDE_SHARE of the width ...
+FRAME_ROUND_DOUBT = True
+FRAME_GAP = 2.0
+FRAME_ROWS = 3.0
+#: ... the two bands' colour distance, against the least of each band's distance to the
+#: face's middle and to what lies beside it, under which they are one frame ...
+FRAME_SHARE = 0.5
+#: ... where that least distance is at least this many levels (in a room of one shade no
+#: band is told from another).
+FRAME_MIN_STEP = 10.0
 #: UNEVEN_SIDES: the left and right heights' difference, as a share of their mean.
 UNEVEN_SIDES_SHARE = 0.04
 #: SKEWED_EDGES: the top's slope minus the bottom's (rows per column).
@@ -357,6 +408,49 @@ def top_edge_doubts(ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: 
     if beside and min(beside) > TOP_RUNS_ON_SHARE * top:
         doubts.append(TOP_RUNS_ON)
     return doubts
+
+
+def face_runs_on_doubts(
+    ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: int
+) -> list[str]:
+    """FACE_RUNS_ON for the face with floor-contact row ``rb``, sides ``ul``, ``ur`` and top
+    row ``vt`` in the working view (``ay``: its |d/dy|, rows down to at least ``rb`` + 1).
+    The face's top and foot strengths are the strongest mean |d/dy| over its inner columns
+    (a tenth of its width off each side) at rows vt-1..vt+1 and rb-1..rb+1; past a side,
+    each row's is the mean over the columns read of the strongest of those three rows."""
+    if not FACE_RUNS_ON_DOUBT:
+        return []
+    n, w = ay.shape
+    height, width = rb - vt, ur - ul
+    if height < 6 or width < 6 or vt < 1 or rb + 2 > n:
+        return []
+    m = max(1, width // 10)
+    own = [float(ay[r - 1 : r + 2, ul + m : ur - m + 1].mean(axis=1).max()) for r in (vt, rb)]
+    if min(own) <= 0.0:
+        return []
+    k = max(FACE_RUNS_ON_MIN_COLUMNS, int(FACE_RUNS_ON_REACH * width))
+    g = FACE_RUNS_ON_GAP
+    for c0, c1 in ((ul - g - k + 1, ul - g + 1), (ur + g, ur + g + k)):
+        c0, c1 = max(0, c0), min(w, c1)
+        if c1 - c0 < k:
+            continue  # the side is too near the view's edge to read what goes on past it
+        if all(_runs_on(ay, r, c0, c1, o) for r, o in zip((vt, rb), own, strict=True)):
+            return [FACE_RUNS_ON]
+    return []
+
+
+def _runs_on(ay: npt.NDArray[np.float32], r: int, c0: int, c1: int, own: float) -> bool:
+    """Whether the face's edge on row ``r`` (``own``: its strength) runs on over columns
+    ``c0``..``c1``: a line there (each column's strongest of rows r-1..r+1, their mean)
+    at FACE_RUNS_ON_SHARE of ``own`` and FACE_RUNS_ON_LINE times what the same columns
+    show FACE_RUNS_ON_GAP to FACE_RUNS_ON_BAND rows above and below (a textured floor or
+    background is as strong off the row as on it)."""
+    line = float(ay[r - 1 : r + 2, c0:c1].max(axis=0).mean())
+    n = ay.shape[0]
+    g, b = FACE_RUNS_ON_GAP, FACE_RUNS_ON_BAND
+    rows = [*range(max(0, r - b), max(0, r - g + 1)), *range(min(n, r + g), min(n, r + b + 1))]
+    off = float(np.median(ay[rows, c0:c1].mean(axis=1))) if rows else 0.0
+    return line > FACE_RUNS_ON_SHARE * own and line > FACE_RUNS_ON_LINE * off
 
 
 def outline_doubts(
@@ -469,6 +563,51 @@ def foot_doubts(
         if dist(lowest, under) < FLOOR_IN_FACE_SHARE * max(1.0, dist(lowest, middle)):
             doubts.append(FLOOR_IN_FACE)
     return doubts
+
+
+def frame_doubts(
+    image: npt.NDArray[np.uint8], lines: Sequence[tuple[float, float, float, float]]
+) -> list[str]:
+    """FRAME_ROUND from the colours just over the face's top and just under its foot, in
+    its middle, and beside the two bands, in the input image (``lines`` as in
+    :func:`outline_doubts`; BGR or grey)."""
+    bands = _face_bands(lines) if FRAME_ROUND_DOUBT else None
+    if bands is None:
+        return []
+    x0, x1, c0, c1, g = bands.x0, bands.x1, bands.c0, bands.c1, FRAME_GAP
+    reach = FOOT_BESIDE_SHARE * bands.width
+    over_rows = (bands.vt - g - FRAME_ROWS, bands.vt - g)
+    under_rows = (bands.rb + g, bands.rb + g + FRAME_ROWS)
+    middle = _band_colour(image, *bands.middle_rows, c0, c1)
+    found = []
+    for r0, r1 in (over_rows, under_rows):
+        band = _band_colour(image, r0, r1, c0, c1)
+        beside = [
+            b
+            for b in (
+                _band_colour(image, r0, r1, x0 - reach, x0 - FOOT_BAND_GAP),
+                _band_colour(image, r0, r1, x1 + FOOT_BAND_GAP, x1 + reach),
+            )
+            if b is not None
+        ]
+        if band is None or not beside or middle is None:
+            return []
+        found.append((band, beside))
+    (over, over_beside), (under, under_beside) = found
+    assert middle is not None
+
+    def dist(a: npt.NDArray[np.float32], b: npt.NDArray[np.float32]) -> float:
+        return float(np.linalg.norm(a - b))
+
+    unlike = min(
+        dist(over, middle),
+        dist(under, middle),
+        *(dist(over, b) for b in over_beside),
+        *(dist(under, b) for b in under_beside),
+    )
+    if unlike >= FRAME_MIN_STEP and dist(over, under) < FRAME_SHARE * unlike:
+        return [FRAME_ROUND]
+    return []
 
 
 def top_band_doubts(
@@ -665,9 +804,11 @@ def face_doubts(
     only, never the face."""
     return [
         *top_edge_doubts(ay, rb, ul, ur, int(round(vt))),
+        *face_runs_on_doubts(ay, rb, ul, ur, int(round(vt))),
         *outline_doubts(camera, lines),
         *foot_doubts(image, lines),
         *top_band_doubts(image, lines),
+        *frame_doubts(image, lines),
         *rival_doubts(best, rivals),
         *top_face_doubts(image, lines, below_horizon),
     ]
