@@ -1499,11 +1499,17 @@ class Measurer:
         # behind it (photo 726 ordinary: a 28 px patch on the wall above a brick face),
         # where the lens it stands for is a small robot's (photo 721 hard: a row near the
         # image's foot stood a face under a lens 1.1 m up, 237 % off)
+        # (UNDER_ON_AXIS: or, not spanning them, covering the beam's axis column while
+        # the found face is not small: the sonar ranges the nearest surface on its axis)
+        depth = self.rig.face_depth(range_m)
+        u_axis = fused.view.camera.cx + fused.view.camera.fx * self.rig.sonar_right_m / depth
         under = (
             SMALL_FACE_UNDER
             and gy0 >= y1
-            and g0 <= x0
-            and g1 >= x1
+            and (
+                (g0 <= x0 and g1 >= x1)
+                or (UNDER_ON_AXIS and not small and _covers(grown.box_px, u_axis))
+            )
             and (grown.confidence or 0.0) >= UNDER_SURE
             and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
         )
@@ -1938,6 +1944,14 @@ UNDER_SURE = 0.15
 #: ... the camera height that row stands for at most this (metres): the issue's robots
 #: carry the lens 0.2-0.5 m up.
 UNDER_MAX_CAMERA_HEIGHT_M = 0.6
+#: ... and, under an unsure face that is not small (UNDER_ANY_UNSURE), a face the rows
+#: read wholly under its foot is taken when it covers the beam's axis column, though it
+#: spans not all of the found face's columns: the sonar ranges the nearest surface on its
+#: axis, and of two faces on the axis the one standing lower in the image is nearer
+#: (photo 3439 ordinary: a cup printed on the wall, 193 px wide, stood on the wall's foot
+#: by the known-floor pass, +226 %; the low box before it on the axis, 148 px wide, read
+#: by the rows at 0.49). Session 48, branch ``wt-e-48``; a switch for the tests.
+UNDER_ON_AXIS = True
 #: ... and the face under is looked for below any unsure face, small or not (a thing
 #: standing behind the obstacle on its top edge: photo 2088 hard, a drum on a poster's
 #: top, +192 %). A switch for the tests.
