@@ -112,8 +112,11 @@ def test_a_face_under_a_tall_lens_is_no_floor_s(monkeypatch: pytest.MonkeyPatch)
     # refuses that face, 1.6 m wide; the texture walk past a highlight (texture.
     # GLOSS_CROSSED) reads the rows' trial's face, a brick floor, otherwise, and that face
     # is not found; with the colour face's sides snapped where its walk up stops
-    # (region.COLOUR_SIDES_SNAP_RETRY) the readings on that row (344) do not agree
+    # (region.COLOUR_SIDES_SNAP_RETRY) the readings on that row (344) do not agree; since
+    # session 48 no reading of theirs under a lens over a robot's gives the row's face
+    # (measure.KNOWN_ROWS_ROBOT_LENS)
     monkeypatch.setattr(measure, "KNOWN_RIG_SIZE_BOUND", False)
+    monkeypatch.setattr(measure, "KNOWN_ROWS_ROBOT_LENS", False)
     monkeypatch.setattr(texture, "GLOSS_CROSSED", False)
     monkeypatch.setattr(region, "COLOUR_SIDES_SNAP_RETRY", False)
     assert _worst("photo", 721, True) < 0.2

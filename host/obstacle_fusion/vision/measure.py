@@ -1431,6 +1431,8 @@ class Measurer:
                 result.camera_pitch_deg = pitch
                 faces.append(result)
         for face in sorted(faces, key=lambda f: f.confidence or 0.0, reverse=True):
+            if KNOWN_ROWS_ROBOT_LENS and not _robot_lens_reading(face):
+                continue  # no robot's lens (a line of the floor near the image's foot)
             same = [f for f in faces if _same_face(face.box_px, f.box_px)]
             if len(same) >= KNOWN_RIG_AGREE:
                 log.debug(
@@ -1498,11 +1500,17 @@ class Measurer:
         # behind it (photo 726 ordinary: a 28 px patch on the wall above a brick face),
         # where the lens it stands for is a small robot's (photo 721 hard: a row near the
         # image's foot stood a face under a lens 1.1 m up, 237 % off)
+        # (UNDER_ON_AXIS: or, not spanning them, covering the beam's axis column while
+        # the found face is not small: the sonar ranges the nearest surface on its axis)
+        depth = self.rig.face_depth(range_m)
+        u_axis = fused.view.camera.cx + fused.view.camera.fx * self.rig.sonar_right_m / depth
         under = (
             SMALL_FACE_UNDER
             and gy0 >= y1
-            and g0 <= x0
-            and g1 >= x1
+            and (
+                (g0 <= x0 and g1 >= x1)
+                or (UNDER_ON_AXIS and not small and _covers(grown.box_px, u_axis))
+            )
             and (grown.confidence or 0.0) >= UNDER_SURE
             and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
         )
@@ -1881,6 +1889,21 @@ KNOWN_RIG_ROWS = True
 KNOWN_RIG_PITCHES_DEG = (-2.0, 0.0, 2.0, 4.0)
 #: ... and how many of those readings must be one face on one foot.
 KNOWN_RIG_AGREE = 3
+#: ... the face given being one of those readings taken under a lens at most
+#: KNOWN_ROWS_MAX_LENS_M up (the issue's robots carry it 0.2-0.5 m up;
+#: :func:`_robot_lens_reading`): readings that agree only under lenses higher than a
+#: robot's stand for no robot. A row near the image's foot puts the lens 0.9-1.2 m up at
+#: every guessed pitch, where the floor's own pattern (paving, its joints converging on the
+#: vanishing point like a face's sides) agrees with itself as one face (photo 3414 hard:
+#: row 332 of a paved floor read as a face 0.81 m high under a lens 0.87-1.22 m up,
+#: +108 %, the box standing on row 197, where the rows then agree: +0.5 %). A row whose
+#: readings agree under a robot's lens among others keeps that face (photo 3411 hard: a
+#: lens 0.34 m up looking up 4.7 degrees; row 274 read at 0.50-0.82 m). Session 48,
+#: branch ``wt-e-48``; a switch for the tests.
+KNOWN_ROWS_ROBOT_LENS = True
+#: ... (metres; the bound UNDER_MAX_CAMERA_HEIGHT_M puts on a face under a small one, for
+#: the same robots, kept apart so that each rule's limit moves alone)
+KNOWN_ROWS_MAX_LENS_M = 0.6
 #: ... when no row agrees, the steps of the bands one band width either side of the beam's
 #: axis read so too, a row near the horizon at pitches this much steeper than
 #: KNOWN_RIG_PITCHES_DEG's steepest in place of those that put the lens under the floor's
@@ -1922,6 +1945,14 @@ UNDER_SURE = 0.15
 #: ... the camera height that row stands for at most this (metres): the issue's robots
 #: carry the lens 0.2-0.5 m up.
 UNDER_MAX_CAMERA_HEIGHT_M = 0.6
+#: ... and, under an unsure face that is not small (UNDER_ANY_UNSURE), a face the rows
+#: read wholly under its foot is taken when it covers the beam's axis column, though it
+#: spans not all of the found face's columns: the sonar ranges the nearest surface on its
+#: axis, and of two faces on the axis the one standing lower in the image is nearer
+#: (photo 3439 ordinary: a cup printed on the wall, 193 px wide, stood on the wall's foot
+#: by the known-floor pass, +226 %; the low box before it on the axis, 148 px wide, read
+#: by the rows at 0.49). Session 48, branch ``wt-e-48``; a switch for the tests.
+UNDER_ON_AXIS = True
 #: ... and the face under is looked for below any unsure face, small or not (a thing
 #: standing behind the obstacle on its top edge: photo 2088 hard, a drum on a poster's
 #: top, +192 %). A switch for the tests.
@@ -3014,6 +3045,12 @@ def _robot_row(height: float, pitch_deg: float, depth: float) -> bool:
     below = math.atan2(height, depth) - math.radians(pitch_deg)  # the row's level angle
     lowest = depth * math.tan(below - math.radians(MAX_ESTIMATED_PITCH_DEG))
     return lowest <= UNDER_MAX_CAMERA_HEIGHT_M
+
+
+def _robot_lens_reading(face: Measurement) -> bool:
+    """Whether a reading of :meth:`Measurer._known_rig_row` was taken under a lens a robot
+    carries: at most KNOWN_ROWS_MAX_LENS_M up (KNOWN_ROWS_ROBOT_LENS)."""
+    return (face.camera_height_m or math.inf) <= KNOWN_ROWS_MAX_LENS_M
 
 
 def _robot_lens(height: float) -> bool:
