@@ -267,22 +267,6 @@ TOP_FACE_PAST_PREDICTED = True
 PREDICTED_TOP_GAP = 0.5
 
 
-#: The top decided again between the settled sides (:meth:`FusedMethod._settled_top`): the
-#: colour walk and the sides' walk each stop where the other may go on. The colour walk
-#: stops at a band across the face's middle (a print's row of patches), which leaves the
-#: sides' steps as they were; the sides' walk stops where a print next to a side takes
-#: that side's step away for more than its gap, while the middle keeps the face's colour.
-#: So after the colour walk and the sides' walk, the two are walked in turn once more from
-#: the top reached, which is kept where it is higher (procedural/3402 hard with the rig: a
-#: poster face, the sides' walk stopped 22 rows under its top at a patch by the left side,
-#: the colour walk from there reached the top: 144 -> 122, -19 -> -3 %; a third walk
-#: moved nothing). With the rig given only, as SETTLED_SEAMS_RAISE: with no rig a trial's
-#: guessed floor contact may stand the face on a frame's bottom rail, its settled sides
-#: the print's, and the walks again carry the top up the print (photo/3070 ordinary with
-#: no rig: -3.6 -> -88 %). A switch for the tests.
-SETTLED_WALKS_ALTERNATE = True
-
-
 def looks_down_on(v: View, row: float) -> bool:
     """Whether the lens looks down on a face's top at view row ``row``: below the
     horizon, or within the rows a guessed pitch's horizon may lie above ``cy``
@@ -1218,7 +1202,7 @@ class FusedMethod:
         found_top = vt
         # a frame's top is its margin's (the print below it is no top face)
         if framed is None:
-            vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+            vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise, horizon_known=rig_given)
             if (
                 colour_top
                 and vt != found_top
@@ -1351,7 +1335,6 @@ class FusedMethod:
                 found_top,
                 colour_top,
                 seams=ax3 if rig_given and SETTLED_SEAMS_RAISE else None,
-                walk_again=rig_given and SETTLED_WALKS_ALTERNATE,
             )
             decided = finish(settled)
             log.debug("top %d between the settled sides, %d as first found", decided[0], vt)
@@ -1512,7 +1495,6 @@ class FusedMethod:
         start: int,
         colour_top: bool,
         seams: npt.NDArray[np.int16] | None = None,
-        walk_again: bool = False,
     ) -> tuple[int, float, float | None]:
         """The face's top decided again between the sides the width stages settled on:
         from ``start`` (the top before its front edge was sought), the colour's and the
@@ -1521,21 +1503,11 @@ class FusedMethod:
         well as up). ``colour_top``: the face's colour ended at the top the search's sides
         gave (a front top edge under it must end it too). ``seams``: the vertical
         gradients, given with the rig given (SETTLED_SEAMS_RAISE): the top is also raised to
-        where the face's own seams between these sides end. ``walk_again``: the rig given
-        (SETTLED_WALKS_ALTERNATE): the colour and the sides' walks are walked in turn once
-        more. Returns the row, its gradient's sign and, from
-        :func:`.top.front_from_back`, a sub-pixel row or None."""
+        where the face's own seams between these sides end. Returns the row, its
+        gradient's sign and, from :func:`.top.front_from_back`, a sub-pixel row or None."""
         v = self.view
         vt = raise_top_by_colour(seen, v, ay, rb, start, ul, ur, depth)
         vt = raise_top_by_sides(seen, v, ay, rb, vt, ul, ur, depth)
-        if walk_again:
-            # each walk stops where the other may go on (see SETTLED_WALKS_ALTERNATE):
-            # walked in turn once more from the top reached
-            walked = raise_top_by_colour(seen, v, ay, rb, vt, ul, ur, depth)
-            walked = raise_top_by_sides(seen, v, ay, rb, walked, ul, ur, depth)
-            if walked < vt:
-                log.debug("settled top %d: the walks in turn go on to %d", vt, walked)
-                vt = walked
         if seams is not None:
             # ... and the face's own seams between these sides run on past it to its top
             by_seams = raise_top_along_seams(ay, seams, rb, vt, ul, ur, noise)
