@@ -1202,7 +1202,7 @@ class FusedMethod:
         found_top = vt
         # a frame's top is its margin's (the print below it is no top face)
         if framed is None:
-            vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise)
+            vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise, horizon_known=rig_given)
             if (
                 colour_top
                 and vt != found_top
