@@ -851,7 +851,7 @@ class FusedMethod:
             if found is None:
                 continue
             sides, pairs = found
-            for cand in score_pairs(v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb):
+            for cand in score_pairs(v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb, lab_rows):
                 if floor_known and not cand.ul <= u_axis <= cand.ur:
                     # the beam's axis hits what the sonar ranges: of two faces at its
                     # depth (a box and a can beside it), the one on the axis
