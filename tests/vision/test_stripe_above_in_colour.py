@@ -9,6 +9,7 @@ import pytest
 from obstacle_fusion.vision.fused import foot_outline, scoring
 from obstacle_fusion.vision.fused.scoring import (
     STRIPE_CHROMA_STEP,
+    STRIPE_PLAIN_TEXTURE,
     STRIPE_SIDES_STOP,
     stripe_in_colour,
 )
@@ -31,7 +32,9 @@ def lab_with_above(shift: int) -> npt.NDArray[np.uint8]:
     return lab
 
 
-def capped(shift: int, face_above: float = 0.7, top: int = TOP, stop: float = 1.0) -> float:
+def capped(
+    shift: int, face_above: float = 0.7, top: int = TOP, stop: float = 1.0, textured: float = 0.0
+) -> float:
     """The stripe share :func:`stripe_in_colour` leaves of ``face_above`` at ``top``
     (the view's horizon at row LOW_CY)."""
     lab = lab_with_above(shift)
@@ -49,6 +52,7 @@ def capped(shift: int, face_above: float = 0.7, top: int = TOP, stop: float = 1.
         KF,
         np.array([face_above]),
         np.array([stop]),
+        np.array([textured]),
     )
     return float(out[0])
 
@@ -81,6 +85,13 @@ def test_sides_stop_limit() -> None:
     assert capped(40, stop=0.89) == pytest.approx(0.7)
 
 
+def test_plain_texture_limit() -> None:
+    # a print's chroma varies over it: the colour speaks only for a plain face
+    assert STRIPE_PLAIN_TEXTURE == 0.3
+    assert capped(40, textured=0.29) == 0.0
+    assert capped(40, textured=0.3) == pytest.approx(0.7)
+
+
 def test_no_stripe_share_is_left_alone() -> None:
     assert capped(40, face_above=0.0) == 0.0
 
@@ -96,6 +107,7 @@ def test_grey_frame_reads_grey_alone() -> None:
         KF,
         np.array([0.7]),
         np.array([1.0]),
+        np.array([0.0]),
     )
     assert float(out[0]) == pytest.approx(0.7)
 

@@ -231,6 +231,7 @@ def score_pairs(
             max(2, min(8, min_h // 2)),
             feats["face_above"],
             feats["stop"],
+            feats["textured"],
         )
     snr_tops, stop, textured = feats["snr"], feats["stop"], feats["textured"]
     cov, contained, face_frac, face_above = (
@@ -775,6 +776,12 @@ STRIPE_ABOVE_IN_COLOUR = True
 #: (photo 3214 hard, a text print, the sides running on over a row of text at stop 0.4:
 #: freed of the stripe term, h -3 -> +15 %).
 STRIPE_SIDES_STOP = 0.9
+#: ... and on a plain face (``textured``, the share of its rows with strong |d/dx|, under
+#: this): a print's colour near the floor is one spot of it, rows above in the same print
+#: differ in chroma (photo 2003 ordinary, planks at 0.68, and photo 2092 hard, bricks at
+#: 0.84-0.96: their small stripe shares freed, later stages went astray, +187 % and -21 %
+#: wide); photo 3415's box is plain (0.00).
+STRIPE_PLAIN_TEXTURE = 0.3
 #: A row above the top has the face's colour when its mean chroma (Lab a, b, 8-bit)
 #: between the pair's inner columns is within this distance of the face's near the floor.
 STRIPE_CHROMA_STEP = 10.0
@@ -790,13 +797,18 @@ def stripe_in_colour(
     kf: int,
     face_above: npt.NDArray[np.float64],
     stop: npt.NDArray[np.float64],
+    textured: npt.NDArray[np.float64],
 ) -> npt.NDArray[np.float64]:
     """``face_above`` capped, per top candidate below the horizon whose sides stop at it
-    (``stop`` >= STRIPE_SIDES_STOP), by the share of the same rows above it (max(3, face
-    height) rows) whose chroma is the face's (:data:`STRIPE_CHROMA_STEP`): the face's
-    chroma is the median row's of the kf rows starting 3 rows above ``rb``."""
+    (``stop`` >= STRIPE_SIDES_STOP) on a plain face (``textured`` < STRIPE_PLAIN_TEXTURE),
+    by the share of the same rows above it (max(3, face height) rows) whose chroma is the
+    face's (:data:`STRIPE_CHROMA_STEP`): the face's chroma is the median row's of the kf
+    rows starting 3 rows above ``rb``."""
     idx = np.flatnonzero(
-        (face_above > 0.0) & (stop >= STRIPE_SIDES_STOP) & (tops > view.cy - view.horizon_slack_px)
+        (face_above > 0.0)
+        & (stop >= STRIPE_SIDES_STOP)
+        & (textured < STRIPE_PLAIN_TEXTURE)
+        & (tops > view.cy - view.horizon_slack_px)
     )
     if idx.size == 0:
         return face_above
