@@ -767,6 +767,10 @@ def band_face_share(
 #: and what follows is the wall, whose grey may match the face's in another colour (photo
 #: 3415 hard: a purple box before a green wall of the same grey; the stripe term took
 #: the true top for a stripe and the tape's edge won, h -56 %).
+#: With the rig given only (method.py passes the Lab rows then): with a guessed pitch the
+#: horizon, so whether the lens looks down on the top, is not known (no rig, own rooms:
+#: procedural 726 hard 3.6 -> 15 %, 2020 hard 11 -> 13 % at 0.33 -> 0.10, photo 2196
+#: ordinary 1.9 -> 4.1 % with the colour read there).
 STRIPE_ABOVE_IN_COLOUR = True
 #: Only for a top the lens looks down on (below the horizon, or within a guessed pitch's
 #: slack: a top face can show there; photo 3408 ordinary, a top over the horizon above the
