@@ -139,3 +139,22 @@ def test_photo_3415_the_outline_from_the_foot_alone_is_wider(
     res, truth = measured_room("photo", 3415, True, True)
     assert res.detected and res.width_m is not None
     assert res.width_m / truth["width_m"] - 1 > 0.05
+
+
+def test_with_no_rig_the_stripe_is_read_in_grey(monkeypatch: pytest.MonkeyPatch) -> None:
+    # a guessed pitch's horizon does not tell whether a top face can show over the top
+    from obstacle_fusion.vision.fused import method as method_mod
+
+    given: list[bool] = []
+    original = method_mod.score_pairs
+
+    def spy(*args: object) -> object:
+        given.append(args[-1] is not None)
+        return original(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(method_mod, "score_pairs", spy)
+    measured_room("photo", 3415, True, False)
+    assert given and not any(given)
+    given.clear()
+    measured_room("photo", 3415, True, True)
+    assert given and all(given)
