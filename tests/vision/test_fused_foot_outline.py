@@ -72,10 +72,8 @@ def test_sides_rising_a_little_apart_stand_together() -> None:
 
 
 def test_the_side_agreement_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
-    # 735's rises differ by 32 rows, 0.18 of the longer one (+3); (its top closed across
-    # the width, foot_outline.SHORTER_RISE_CLOSED would take it apart too: off)
+    # 735's rises differ by 32 rows, 0.18 of the longer one (+3)
     monkeypatch.setattr(foot_outline, "SIDE_AGREE_SHARE", 0.15)
-    monkeypatch.setattr(foot_outline, "SHORTER_RISE_CLOSED", False)
     eh, _ = room_size_errors("photo", 735, True)
     assert eh > 0.5
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.vision.fused import foot_outline, scoring
+from obstacle_fusion.vision.fused import scoring
 from obstacle_fusion.vision.fused.scoring import (
     STRIPE_CHROMA_STEP,
     STRIPE_PLAIN_TEXTURE,
@@ -125,20 +125,8 @@ def test_photo_3415_box_before_a_wall_of_its_grey() -> None:
 
 
 def test_photo_3415_without_the_rule_takes_the_tape(monkeypatch: pytest.MonkeyPatch) -> None:
-    # (foot_outline.SHORTER_RISE_CLOSED also reaches the box's top from its foot: off too)
     monkeypatch.setattr(scoring, "STRIPE_ABOVE_IN_COLOUR", False)
-    monkeypatch.setattr(foot_outline, "SHORTER_RISE_CLOSED", False)
     assert height_error() < -0.5
-
-
-def test_photo_3415_the_outline_from_the_foot_alone_is_wider(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    # without this rule the outline read from the foot takes the box, 6 % too wide
-    monkeypatch.setattr(scoring, "STRIPE_ABOVE_IN_COLOUR", False)
-    res, truth = measured_room("photo", 3415, True, True)
-    assert res.detected and res.width_m is not None
-    assert res.width_m / truth["width_m"] - 1 > 0.05
 
 
 def test_with_no_rig_the_stripe_is_read_in_grey(monkeypatch: pytest.MonkeyPatch) -> None:

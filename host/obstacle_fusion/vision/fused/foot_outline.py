@@ -75,18 +75,6 @@ SIDE_AGREE_SHARE = 0.25
 SIDE_AGREE_ROWS = 3
 #: Rows over and under a top row read for its step (its edge's blur skipped) ...
 TOP_STEP_ROWS = (2, 5)
-#: SHORTER_RISE_CLOSED: where the two sides' rises end apart (past SIDE_AGREE_SHARE), the
-#: outline is still taken at the shorter one's end when the colour steps across that row
-#: along at least SHORTER_RISE_STEP_SHARE of the columns between the sides (session 48,
-#: branch ``wt-c-48``, a switch). The face is one surface whose level top closes both
-#: sides; a side rising on past a row the whole width steps across is something behind
-#: standing in line with it (photo 3405 hard: a print in a cyan frame before a tripod,
-#: its left side rising 90 rows to the frame's top, the right 138 up a leg behind, the
-#: frame's top stepping across 0.97 of the width; the texture rescue's top on a line of
-#: text stood, h -52 %). TOP_STEP_SHARE made stricter (END_STEP_SHARE's figure): the
-#: face's top, not a band on it nor a textured background the sides rose on into.
-SHORTER_RISE_CLOSED = True
-SHORTER_RISE_STEP_SHARE = 0.9
 #: ... which must part the face under it from what is over it along at least this share
 #: of the columns between the sides: a face's top is a boundary across it, not a row of
 #: a textured background the sides' steps rose on into (procedural/746 hard's top: 0.84).
@@ -487,20 +475,9 @@ def outline_from_foot(
         )
         if lowered is not None:
             return _lowered_outline(lowered, new_l, new_r)
-    apart = abs(rise_l - rise_r) > SIDE_AGREE_SHARE * max(rise_l, rise_r) + SIDE_AGREE_ROWS
-    if apart and not SHORTER_RISE_CLOSED:
+    if abs(rise_l - rise_r) > SIDE_AGREE_SHARE * max(rise_l, rise_r) + SIDE_AGREE_ROWS:
         return None  # a level top: both sides end together
-    # (sides rising apart: the shorter one's end is the top only where the colour steps
-    # across nearly the whole width there, SHORTER_RISE_CLOSED)
-    new_top = _top_across(
-        image,
-        view,
-        foot - 1 - min(rise_l, rise_r),
-        new_l,
-        new_r,
-        rise_gap,
-        SHORTER_RISE_STEP_SHARE if apart else None,
-    )
+    new_top = _top_across(image, view, foot - 1 - min(rise_l, rise_r), new_l, new_r, rise_gap)
     if new_top is None:
         return None
     held = min(new_r, right) - max(new_l, left)
