@@ -14,7 +14,7 @@ beside it: WIDTH_MIN_FACTOR leaves it.
 from __future__ import annotations
 
 import pytest
-from obstacle_fusion.vision.fused import extent, foot_outline, region, scoring
+from obstacle_fusion.vision.fused import extent, foot_outline, region
 
 from tests.vision_fixtures import room_size_errors
 
@@ -62,9 +62,6 @@ def test_a_small_widening_onto_the_blur_is_not_taken(monkeypatch: pytest.MonkeyP
     eh, ew = room_size_errors("procedural", 2079, True)
     assert eh < 0.05 and ew < 0.05
     monkeypatch.setattr(foot_outline, "WIDTH_MIN_FACTOR", 1.25)
-    # (with scoring.STRIPE_ABOVE_IN_COLOUR the search takes the box's own top first and
-    # the outline is not read round the found piece: the limit shown on the old path)
-    monkeypatch.setattr(scoring, "STRIPE_ABOVE_IN_COLOUR", False)
     eh, ew = room_size_errors("procedural", 2079, True)
     # widened onto the blur (+7.4 %), its found top kept: no top face's front edge read
     # again under it (that took the height to -39 %)

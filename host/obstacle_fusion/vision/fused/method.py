@@ -851,13 +851,7 @@ class FusedMethod:
             if found is None:
                 continue
             sides, pairs = found
-            # (the stripe term read in colour with the rig given alone: whether the lens
-            # looks down on a top, so a top face can show over it, needs the rig's
-            # horizon; scoring.STRIPE_ABOVE_IN_COLOUR)
-            stripe_lab = lab_rows if rig_given else None
-            for cand in score_pairs(
-                v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb, stripe_lab
-            ):
+            for cand in score_pairs(v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb):
                 if floor_known and not cand.ul <= u_axis <= cand.ur:
                     # the beam's axis hits what the sonar ranges: of two faces at its
                     # depth (a box and a can beside it), the one on the axis

@@ -179,12 +179,8 @@ def score_pairs(
     noise: float,
     rb: int,
     prior_b: float,
-    lab_rows: Callable[[int, int], npt.NDArray[np.uint8] | None] | None = None,
 ) -> list[Candidate]:
     """Score every (left, right) pair at one floor-contact row, each with its best top.
-
-    ``lab_rows(r0, r1)``: the working view's rows r0..r1-1 in 8-bit Lab (None for a grey
-    frame), for :func:`stripe_in_colour`; without it the stripe test reads grey alone.
 
     All pairs' top candidates are scored in one flat pass (pair-major, rows ascending:
     the order a per-pair loop would see them in); the candidates come back in the order
@@ -220,19 +216,6 @@ def score_pairs(
     hole_max = np.maximum(0.0, (tops - view.cy) * 2.0 / depth) + 1.0
     soft = np.exp(-hole / np.maximum(4.0, HOLE_SHARE * h_t))
     feats["hole_fit"] = np.where(hole <= hole_max, np.exp(-hole / 2.0), soft)
-    if STRIPE_ABOVE_IN_COLOUR and lab_rows is not None:
-        feats["face_above"] = stripe_in_colour(
-            view,
-            lab_rows,
-            ps,
-            tops,
-            pp,
-            rb,
-            max(2, min(8, min_h // 2)),
-            feats["face_above"],
-            feats["stop"],
-            feats["textured"],
-        )
     snr_tops, stop, textured = feats["snr"], feats["stop"], feats["textured"]
     cov, contained, face_frac, face_above = (
         feats["cov"],
@@ -758,83 +741,6 @@ def band_face_share(
         np.concatenate([rb - tops] * BANDS),
     )
     return np.minimum.reduce(shares.reshape(BANDS, n), axis=0)
-
-
-#: STRIPE_ABOVE_IN_COLOUR: a band of another shade right above a top with the face's
-#: grey back above it (``face_above``: the top was a stripe across the face) counts only
-#: over the rows above whose colour is the face's too. A tape across a box has the box's
-#: own paint above it; above a box's true top the band is its top face (seen from above)
-#: and what follows is the wall, whose grey may match the face's in another colour (photo
-#: 3415 hard: a purple box before a green wall of the same grey; the stripe term took
-#: the true top for a stripe and the tape's edge won, h -56 %).
-#: With the rig given only (method.py passes the Lab rows then): with a guessed pitch the
-#: horizon, so whether the lens looks down on the top, is not known (no rig, own rooms:
-#: procedural 726 hard 3.6 -> 15 %, 2020 hard 11 -> 13 % at 0.33 -> 0.10, photo 2196
-#: ordinary 1.9 -> 4.1 % with the colour read there).
-STRIPE_ABOVE_IN_COLOUR = True
-#: Only for a top the lens looks down on (below the horizon, or within a guessed pitch's
-#: slack: a top face can show there; photo 3408 ordinary, a top over the horizon above the
-#: face's true one, freed of the stripe term, took its place) and where the sides stop at
-#: it (``stop`` at least STRIPE_SIDES_STOP, :func:`closing_top`'s figure): a stripe across
-#: a face has the face's sides running on above it, and there the grey's match is trusted
-#: (photo 3214 hard, a text print, the sides running on over a row of text at stop 0.4:
-#: freed of the stripe term, h -3 -> +15 %).
-STRIPE_SIDES_STOP = 0.9
-#: ... and on a plain face (``textured``, the share of its rows with strong |d/dx|, under
-#: this): a print's colour near the floor is one spot of it, rows above in the same print
-#: differ in chroma (photo 2003 ordinary, planks at 0.68, and photo 2092 hard, bricks at
-#: 0.84-0.96: their small stripe shares freed, later stages went astray, +187 % and -21 %
-#: wide); photo 3415's box is plain (0.00).
-STRIPE_PLAIN_TEXTURE = 0.3
-#: A row above the top has the face's colour when its mean chroma (Lab a, b, 8-bit)
-#: between the pair's inner columns is within this distance of the face's near the floor.
-STRIPE_CHROMA_STEP = 10.0
-
-
-def stripe_in_colour(
-    view: View,
-    lab_rows: Callable[[int, int], npt.NDArray[np.uint8] | None],
-    ps: list[tuple[int, int, int, int]],
-    tops: npt.NDArray[np.intp],
-    pp: npt.NDArray[np.intp],
-    rb: int,
-    kf: int,
-    face_above: npt.NDArray[np.float64],
-    stop: npt.NDArray[np.float64],
-    textured: npt.NDArray[np.float64],
-) -> npt.NDArray[np.float64]:
-    """``face_above`` capped, per top candidate below the horizon whose sides stop at it
-    (``stop`` >= STRIPE_SIDES_STOP) on a plain face (``textured`` < STRIPE_PLAIN_TEXTURE),
-    by the share of the same rows above it (max(3, face height) rows) whose chroma is the
-    face's (:data:`STRIPE_CHROMA_STEP`): the face's chroma is the median row's of the kf
-    rows starting 3 rows above ``rb``."""
-    idx = np.flatnonzero(
-        (face_above > 0.0)
-        & (stop >= STRIPE_SIDES_STOP)
-        & (textured < STRIPE_PLAIN_TEXTURE)
-        & (tops > view.cy - view.horizon_slack_px)
-    )
-    if idx.size == 0:
-        return face_above
-    h_t = rb - tops[idx]
-    a0 = np.maximum(tops[idx] - np.maximum(3, h_t), 0)
-    r0 = int(a0.min())
-    lab = lab_rows(r0, rb)
-    if lab is None:
-        return face_above
-    out = face_above.copy()
-    chroma: dict[int, npt.NDArray[np.float64]] = {}
-    for k, lo in zip(idx.tolist(), a0.tolist(), strict=True):
-        j = int(pp[k])
-        if j not in chroma:
-            _, _, c0, c1 = ps[j]
-            ab = lab[:, c0:c1, 1:].astype(np.float64).mean(axis=1)  # rows r0..rb-1
-            face = np.median(ab[rb - 3 - kf - r0 : rb - 3 - r0], axis=0)
-            chroma[j] = np.hypot(ab[:, 0] - face[0], ab[:, 1] - face[1])
-        t = int(tops[k])
-        share = float(np.mean(chroma[j][lo - r0 : t - r0] <= STRIPE_CHROMA_STEP))
-        out[k] = min(float(out[k]), share)
-    return out
 
 
 def _top_score(
