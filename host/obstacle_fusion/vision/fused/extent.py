@@ -169,7 +169,7 @@ FADED_MAX_SHARE = 1.0
 #: median, 39 columns past the side, the answer then refused) or clutter beside a small
 #: one (photo/2105 hard, 1.15 and 1.19 times) shows vertical edges on every column; the
 #: planks of 3423, 3431, 3080 hard and 3371 hard 2.8-35 times.
-FADED_SIDE_CONTRAST = 2.0
+FADED_SIDE_CONTRAST = 2.5
 
 
 def _p90(values: npt.NDArray[np.float32]) -> float:
