@@ -152,12 +152,46 @@ def test_a_side_within_the_minimum_move_is_the_sides_own_blur() -> None:
 
 
 def test_the_side_stands_out_of_the_plain_plank() -> None:
-    """FADED_SIDE_CONTRAST 2: a side of 50 past one-line columns whose vertical edges'
-    median is 25 is taken, past 25.5 (1.96 times) it is not (a textured floor or clutter
-    beside the face, photo/747 ordinary and photo/2105 hard)."""
-    assert extent.FADED_SIDE_CONTRAST == 2.0
-    assert _past(20, 20, across=25.0) == 71
-    assert _past(20, 20, across=25.5) is None
+    """FADED_SIDE_CONTRAST 2.5: a side of 50 past one-line columns whose vertical edges'
+    median is 20 is taken, past 20.5 (2.44 times) it is not (a textured floor or clutter
+    beside the face, photo/747 ordinary and photo/2105 hard; a cylinder's edge past a face
+    whose own side the ordinary walk overran, photo/3288 ordinary, 2.27 times)."""
+    assert extent.FADED_SIDE_CONTRAST == 2.5
+    assert _past(20, 20, across=20.0) == 71
+    assert _past(20, 20, across=20.5) is None
+
+
+def test_photo_3288_with_the_rig_keeps_its_side() -> None:
+    """photo/3288 ordinary (new6): the ordinary walk runs from the pair's right side 224
+    past the face's side 305 to 342 and finds no side there; the faded walk ran on over 16
+    one-line columns to a cylinder's edge at 354 standing 2.27 times their vertical edges'
+    median (w +0.5 -> -7.3 % at FADED_SIDE_CONTRAST 2.0, the leftmost plank then left
+    out)."""
+    _, ew = room_size_errors("photo", 3288, False)
+    assert ew < 0.02
+
+
+def test_at_contrast_2_photo_3288_walks_onto_the_cylinder(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(extent, "FADED_SIDE_CONTRAST", 2.0)
+    _, ew = room_size_errors("photo", 3288, False)
+    assert ew > 0.05
+
+
+def test_a_faded_side_a_column_past_the_ordinary_walks_is_not_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Where the ordinary walk found a side (a last plank of its own grey, its top edge
+    standing: the walk crosses the seam to it), a faded side at most the minimum move (15
+    columns for the pair's 100) farther out is that side's blur and is not taken
+    (procedural/111 ordinary, photo/719 ordinary, fresh procedural/2175 hard, +1.5-1.8 %);
+    farther out it is."""
+    img, side = faded_face()
+    img[TOP:BOTTOM, SEAM + 1 : side] = 150  # a plank of its own grey: both edges stand
+    assert abs(widened(img)[1] - side) <= 2
+    ordinary = widened(img)[1]
+    for offset, taken in ((15, False), (16, True)):
+        monkeypatch.setattr(extent, "_past_faded_plank", lambda *_a, o=offset: ordinary + o)
+        assert widened(img)[1] == (ordinary + offset if taken else ordinary)
 
 
 @pytest.mark.parametrize(("family", "seed", "hard"), [("photo", 747, False), ("photo", 2105, True)])
