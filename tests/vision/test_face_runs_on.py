@@ -8,7 +8,11 @@ Diagnosis room: procedural 3423 ordinary (new9), measured with the rig: a face o
 green planks, the brightest one taken for the face (-62 % wide) and reported at 0.71;
 past its right side the top row keeps 0.60 and the foot row 0.50 of the plank's own
 strength (the darker planks stand out less from the wall and the floor), past its left
-side (a poster, the skirting) both rows keep under 0.05.
+side (a poster, the skirting) both rows keep under 0.05. Helper B's
+``extent.FADED_PLANK_WALK`` (merged just before this doubt) now walks that face out to
+all three planks (w +0.9 % at 0.99), and the doubt does not fire there: the diagnosis
+tests turn the walk off to read the plank this doubt was made for, and one test holds
+that the widened, right answer stays sure.
 
 The limit tests use a drawn |d/dy| (a face's top and foot rows at 100 between its sides,
 and a pattern past its right side) so that each constant's one step (share and reach
@@ -20,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.vision.fused import confidence
+from obstacle_fusion.vision.fused import confidence, extent
 from obstacle_fusion.vision.fused.confidence import FACE_RUNS_ON, face_runs_on_doubts
 
 from tests.vision_fixtures import measured_room
@@ -63,18 +67,30 @@ def doubts(ay: npt.NDArray[np.float32], width: int) -> list[str]:
     return face_runs_on_doubts(ay, FOOT, LEFT, LEFT + width, TOP)
 
 
-def test_the_plank_taken_for_the_face_is_doubted() -> None:
-    res, _ = measured_room("procedural", 3423, False)
+def test_the_plank_taken_for_the_face_is_doubted(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)
+    res, truth = measured_room("procedural", 3423, False)
     assert FACE_RUNS_ON in res.doubts
     assert res.confidence is not None and res.confidence < 0.5
+    assert res.width_m is not None and res.width_m < 0.5 * truth["width_m"]
 
 
 def test_without_the_doubt_the_plank_is_sure(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(extent, "FADED_PLANK_WALK", False)
     monkeypatch.setattr(confidence, "FACE_RUNS_ON_DOUBT", False)
     res, truth = measured_room("procedural", 3423, False)
     assert FACE_RUNS_ON not in res.doubts
     assert res.confidence is not None and res.confidence > 0.5
     assert res.width_m is not None and res.width_m < 0.5 * truth["width_m"]
+
+
+def test_the_face_walked_past_the_faded_plank_is_not_doubted() -> None:
+    """With ``FADED_PLANK_WALK`` the face is all three planks: the right answer, and past
+    its sides the top and foot rows do not run on, so it stays sure."""
+    res, truth = measured_room("procedural", 3423, False)
+    assert FACE_RUNS_ON not in res.doubts
+    assert res.width_m is not None and abs(res.width_m / truth["width_m"] - 1) < 0.05
+    assert res.confidence is not None and res.confidence > 0.5
 
 
 def test_a_face_whose_top_and_foot_run_on_is_doubted() -> None:

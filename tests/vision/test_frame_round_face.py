@@ -16,6 +16,12 @@ Fresh photo 2109 hard, no rig (found on the full run, not diagnosed further): a 
 -11 / -14 % reported at 0.05 with four other doubts; counted, the doubt turned it into
 no answer.
 
+The doubt cuts with no rig too, where the trials are chosen by their confidence: it can
+choose a face there, not only flag one. Procedural 3366 hard (new8, no rig): the print's
+face in its khaki margin (row 269, -22.9 %) is framed, and with
+``measure.JITTER_FOOT_ABOVE_WEIGHED`` off the doubt alone lets row 271's whole face
+(+1.0 %) be taken; with both rules on the answer is that face either way.
+
 The limit tests draw a grey face (120) on a wall (200) over a floor (60), the top on row
 40, the foot on row 90, the frame's bands (160) on the rows each test names, so that each
 constant's one step (share 0.05, levels and rows 1) turns the answer.
@@ -34,7 +40,7 @@ from obstacle_fusion.vision.fused.confidence import (
     frame_doubts,
 )
 
-from tests.vision_fixtures import measured_room
+from tests.vision_fixtures import measured_room, room_size_errors
 
 TOP, FOOT, LEFT, RIGHT = 40, 90, 40, 80
 WALL, FACE, FLOOR, FRAME = 200, 120, 60, 160
@@ -84,6 +90,20 @@ def test_counted_by_the_refusal_the_frame_refuses_it(monkeypatch: pytest.MonkeyP
     monkeypatch.setattr(measure, "REFUSAL_IGNORES", frozenset({TOP_BAND_UNLIKE_FACE}))
     res, _ = measured_room("photo", 2109, True, with_rig=False)
     assert not res.detected and "doubted on every count" in res.reason
+
+
+def test_with_no_rig_the_frame_alone_takes_the_whole_face(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """3366 hard, no rig, the foot-above-contact weighing off: the print in its margin is
+    doubted for the frame round it, and the whole face is chosen; with the doubt off too,
+    the print."""
+    monkeypatch.setattr(measure, "JITTER_FOOT_ABOVE_WEIGHED", False)
+    eh, ew = room_size_errors("procedural", 3366, True, with_rig=False)
+    assert eh < 0.03 and ew < 0.03
+    monkeypatch.setattr(confidence, "FRAME_ROUND_DOUBT", False)
+    eh, _ = room_size_errors("procedural", 3366, True, with_rig=False)
+    assert eh > 0.15
 
 
 def test_a_wall_over_the_top_and_a_floor_under_the_foot_are_no_frame() -> None:

@@ -391,7 +391,7 @@ def top_edge_doubts(ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: 
         return []
     m = max(1, width // 10)
     cols = ay[:, ul + m : ur - m + 1]
-    top = float(cols[vt - 1 : vt + 2].mean(axis=1).max())
+    top = _edge_strength(ay, vt, ul, ur)
     if top <= 0.0:
         return []
     doubts = []
@@ -410,6 +410,15 @@ def top_edge_doubts(ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: 
     return doubts
 
 
+def _edge_strength(ay: npt.NDArray[np.float32], r: int, ul: int, ur: int) -> float:
+    """A face edge's strength on row ``r``: the strongest mean |d/dy| over the face's inner
+    columns (a tenth of its width off each side, away from the corners' blur) at rows
+    r-1..r+1 (the edge found to a row). Shared by the top's doubts and FACE_RUNS_ON, so
+    that both weigh what lies past a side against the same strength."""
+    m = max(1, (ur - ul) // 10)
+    return float(ay[r - 1 : r + 2, ul + m : ur - m + 1].mean(axis=1).max())
+
+
 def face_runs_on_doubts(
     ay: npt.NDArray[np.float32], rb: int, ul: int, ur: int, vt: int
 ) -> list[str]:
@@ -424,8 +433,7 @@ def face_runs_on_doubts(
     height, width = rb - vt, ur - ul
     if height < 6 or width < 6 or vt < 1 or rb + 2 > n:
         return []
-    m = max(1, width // 10)
-    own = [float(ay[r - 1 : r + 2, ul + m : ur - m + 1].mean(axis=1).max()) for r in (vt, rb)]
+    own = [_edge_strength(ay, r, ul, ur) for r in (vt, rb)]
     if min(own) <= 0.0:
         return []
     k = max(FACE_RUNS_ON_MIN_COLUMNS, int(FACE_RUNS_ON_REACH * width))
@@ -472,6 +480,11 @@ def outline_doubts(
     if abs(slope_top - slope_bottom) > SKEWED_SLOPE:
         doubts.append(SKEWED_EDGES)
     return doubts
+
+
+def _dist(a: npt.NDArray[np.float32], b: npt.NDArray[np.float32]) -> float:
+    """The distance between two colours (or greys), as the colour doubts compare bands."""
+    return float(np.linalg.norm(a - b))
 
 
 def _band_colour(
@@ -545,22 +558,19 @@ def foot_doubts(
     if middle is None or under is None:
         return []
 
-    def dist(a: npt.NDArray[np.float32], b: npt.NDArray[np.float32]) -> float:
-        return float(np.linalg.norm(a - b))
-
     doubts = []
     beside = [
-        dist(under, floor)
+        _dist(under, floor)
         for floor in (
             _band_colour(image, rb + g, rb + g + k, x0 - FOOT_BESIDE_SHARE * width, x0 - g),
             _band_colour(image, rb + g, rb + g + k, x1 + g, x1 + FOOT_BESIDE_SHARE * width),
         )
         if floor is not None
     ]
-    if beside and min(beside) > max(1.0, dist(under, middle)):
+    if beside and min(beside) > max(1.0, _dist(under, middle)):
         doubts.append(FOOT_OFF_FLOOR)
     if lowest is not None:
-        if dist(lowest, under) < FLOOR_IN_FACE_SHARE * max(1.0, dist(lowest, middle)):
+        if _dist(lowest, under) < FLOOR_IN_FACE_SHARE * max(1.0, _dist(lowest, middle)):
             doubts.append(FLOOR_IN_FACE)
     return doubts
 
@@ -579,6 +589,8 @@ def frame_doubts(
     over_rows = (bands.vt - g - FRAME_ROWS, bands.vt - g)
     under_rows = (bands.rb + g, bands.rb + g + FRAME_ROWS)
     middle = _band_colour(image, *bands.middle_rows, c0, c1)
+    if middle is None:
+        return []
     found = []
     for r0, r1 in (over_rows, under_rows):
         band = _band_colour(image, r0, r1, c0, c1)
@@ -590,22 +602,18 @@ def frame_doubts(
             )
             if b is not None
         ]
-        if band is None or not beside or middle is None:
+        if band is None or not beside:
             return []
         found.append((band, beside))
     (over, over_beside), (under, under_beside) = found
-    assert middle is not None
-
-    def dist(a: npt.NDArray[np.float32], b: npt.NDArray[np.float32]) -> float:
-        return float(np.linalg.norm(a - b))
 
     unlike = min(
-        dist(over, middle),
-        dist(under, middle),
-        *(dist(over, b) for b in over_beside),
-        *(dist(under, b) for b in under_beside),
+        _dist(over, middle),
+        _dist(under, middle),
+        *(_dist(over, b) for b in over_beside),
+        *(_dist(under, b) for b in under_beside),
     )
-    if unlike >= FRAME_MIN_STEP and dist(over, under) < FRAME_SHARE * unlike:
+    if unlike >= FRAME_MIN_STEP and _dist(over, under) < FRAME_SHARE * unlike:
         return [FRAME_ROUND]
     return []
 
