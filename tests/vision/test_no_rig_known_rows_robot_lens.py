@@ -121,3 +121,12 @@ def test_the_lens_limit_is_the_robots(monkeypatch: pytest.MonkeyPatch, step: flo
     monkeypatch.setattr(measure, "KNOWN_ROWS_MAX_LENS_M", measure.KNOWN_ROWS_MAX_LENS_M + step)
     face = _row_read(monkeypatch, EDGE)
     assert face is None or face.camera_height_m != pytest.approx(0.58)
+
+
+def test_a_reading_at_the_limit_is_a_robots(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the surest reading exactly KNOWN_ROWS_MAX_LENS_M up (read when the test runs), the
+    # others over it: the limit is a robot's lens, that reading the face given
+    limit = measure.KNOWN_ROWS_MAX_LENS_M
+    at = {-2.0: (limit, 0.5), 0.0: (0.9, 0.4), 2.0: (1.0, 0.3), 4.0: (1.1, 0.2)}
+    face = _row_read(monkeypatch, at)
+    assert face is not None and face.camera_height_m == pytest.approx(limit)

@@ -842,7 +842,7 @@ class Measurer:
         none given: the lens beside the sonar). With ``unsure`` (``trials`` every trial's
         face, AXIS_UNSURE_TRIAL), only a face of full size (not :func:`_small`) whose foot
         is not doubted (FOOT_DOUBTS) is taken."""
-        u_axis = view.camera.cx + view.camera.fx * self.rig.sonar_right_m / depth
+        u_axis = _axis_column(view, self.rig, depth)
         if best.box_px is None or _covers(best.box_px, u_axis):
             return None
         chosen: Measurement | None = None
@@ -895,7 +895,7 @@ class Measurer:
             return None
         rival = accept is not None
         least = accept if accept is not None else NEARER_AXIS_ACCEPT
-        u_axis = view.camera.cx + view.camera.fx * self.rig.sonar_right_m / depth
+        u_axis = _axis_column(view, self.rig, depth)
         off_axis = not _covers(best.box_px, u_axis)
         foot = best.box_px[3]
         found: list[tuple[float, Measurement]] = []  # (foot row, face)
@@ -1502,8 +1502,7 @@ class Measurer:
         # image's foot stood a face under a lens 1.1 m up, 237 % off)
         # (UNDER_ON_AXIS: or, not spanning them, covering the beam's axis column while
         # the found face is not small: the sonar ranges the nearest surface on its axis)
-        depth = self.rig.face_depth(range_m)
-        u_axis = fused.view.camera.cx + fused.view.camera.fx * self.rig.sonar_right_m / depth
+        u_axis = _axis_column(fused.view, self.rig, self.rig.face_depth(range_m))
         under = (
             SMALL_FACE_UNDER
             and gy0 >= y1
@@ -1945,7 +1944,8 @@ UNDER_SURE = 0.15
 #: ... the camera height that row stands for at most this (metres): the issue's robots
 #: carry the lens 0.2-0.5 m up.
 UNDER_MAX_CAMERA_HEIGHT_M = 0.6
-#: ... and, under an unsure face that is not small (UNDER_ANY_UNSURE), a face the rows
+#: ... and, under an unsure face that is not small (UNDER_ANY_UNSURE; or a framed one,
+#: however sure, that FRAMED_READ_SURE has read under), a face the rows
 #: read wholly under its foot is taken when it covers the beam's axis column, though it
 #: spans not all of the found face's columns: the sonar ranges the nearest surface on its
 #: axis, and of two faces on the axis the one standing lower in the image is nearer
@@ -2564,6 +2564,14 @@ def _refine_offsets(reach: int) -> list[int]:
     """The offsets from a step's row to its neighbours within ``reach`` rows, nearest
     first, the lower of each pair first (rows are tried lowest first): +1, -1, +2, -2, ..."""
     return [sign * d for d in range(1, reach + 1) for sign in (1, -1)]
+
+
+def _axis_column(view: View, rig: Rig, depth: float) -> float:
+    """The input image's column of the beam's axis at ``depth`` (metres): the sonar's
+    lateral offset seen at the face's depth (the rig's default, 0, with none given: the
+    lens beside the sonar). One formula for the axis swaps and UNDER_ON_AXIS, so that
+    they cannot disagree on which column the sonar ranges."""
+    return view.camera.cx + view.camera.fx * rig.sonar_right_m / depth
 
 
 def _covers(box: tuple[float, float, float, float], u: float) -> bool:
