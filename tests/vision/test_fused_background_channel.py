@@ -11,7 +11,7 @@ import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import channel, extent, method, region
+from obstacle_fusion.vision.fused import channel, extent, method, region, top
 from obstacle_fusion.vision.fused.channel import (
     BACKGROUND_ROWS_M,
     MIN_CHROMA_STEP,
@@ -265,6 +265,9 @@ def test_a_last_try_face_off_the_contact_row_is_not_taken(
     # finds the face before the last try, tests/vision/test_foot_at_view_edge.py; off
     # here, the last try is this test's)
     monkeypatch.setattr(method, "FOOT_AT_VIEW_EDGE", False)
+    # (top.STAIRS_CHAINED, session 48, reads that outline's top on down a staircase, and
+    # no face is then found at all: off, to keep the outline this test refuses)
+    monkeypatch.setattr(top, "STAIRS_CHAINED", False)
     image, truth, spec = render_room("photo", 1303, False, CAM)
     assert not Measurer(CAM, spec.rig).measure(image, truth["range_m"]).detected
     assert FOOT_ABOVE_CONTACT in measure.LAST_TRY_FOOT_DOUBTS

@@ -20,7 +20,7 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import method, region
+from obstacle_fusion.vision.fused import confidence, method, region
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import View
 
@@ -78,6 +78,8 @@ def test_a_dark_frame_of_the_floors_hue_over_the_print_is_no_shadow() -> None:
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(region, "MARGIN_OVER_NOT_SHADOW", False)
         mp.setattr(method, "FRAMED_PAST_ROWS_DOUBT", False)
+        # (and confidence.FRAME_ROUND_DOUBT, session 48, reads the frame round it too)
+        mp.setattr(confidence, "FRAME_ROUND_DOUBT", False)
         assert _confidence("procedural", 708, True) > 0.9
 
 

@@ -14,6 +14,8 @@ of them a robot's: its answer is kept.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from obstacle_fusion.vision import measure
@@ -54,11 +56,14 @@ def test_a_row_with_a_robots_lens_among_its_readings_keeps_its_face() -> None:
 
 
 def _row_read(
-    monkeypatch: pytest.MonkeyPatch, lenses: dict[float, tuple[float, float]]
+    monkeypatch: pytest.MonkeyPatch,
+    lenses: dict[float, tuple[float, float]],
+    slack: bool = False,
 ) -> Measurement | None:
     """One row read as with a rig (:meth:`Measurer._known_rig_row`) at PITCHES, the lens
     each pitch stands for and the confidence of the face (BOX, standing on its foot) read
-    there given by ``lenses`` (pitch: (camera height, confidence))."""
+    there given by ``lenses`` (pitch: (camera height, confidence)), the face DEPTH off.
+    ``slack``: whether the limit keeps KNOWN_ROWS_UP_SLACK_DEG (off: the lens limit alone)."""
 
     def fake_rig(
         self: Measurer,
@@ -82,15 +87,18 @@ def _row_read(
         )
 
     monkeypatch.setattr(Measurer, "_run_guessed_rig", fake_rig)
+    if not slack:
+        monkeypatch.setattr(measure, "KNOWN_ROWS_UP_SLACK_DEG", 0.0)
     monkeypatch.setattr(measure, "camera_height_for_row", lambda r, d, p, fy, cy: lenses[p][0])
     monkeypatch.setattr(measure, "sides_reach_foot", lambda *a: True)
     monkeypatch.setattr(measure, "_outside_beam", lambda *a: False)
     measurer = Measurer(CAM, None)
     fused = measurer._method_for(500, 375)
     image = np.zeros((375, 500, 3), np.uint8)
-    return measurer._known_rig_row(fused, image, 2.0, Timer(), 300, PITCHES)  # type: ignore[arg-type]
+    return measurer._known_rig_row(fused, image, DEPTH, Timer(), 300, PITCHES)  # type: ignore[arg-type]
 
 
+DEPTH = 2.0
 HIGH = {-2.0: (0.87, 0.3), 0.0: (0.99, 0.4), 2.0: (1.10, 0.5), 4.0: (1.22, 0.2)}
 
 
@@ -130,3 +138,48 @@ def test_a_reading_at_the_limit_is_a_robots(monkeypatch: pytest.MonkeyPatch) -> 
     at = {-2.0: (limit, 0.5), 0.0: (0.9, 0.4), 2.0: (1.0, 0.3), 4.0: (1.1, 0.2)}
     face = _row_read(monkeypatch, at)
     assert face is not None and face.camera_height_m == pytest.approx(limit)
+
+
+def _slack_m() -> float:
+    """The lens limit's allowance at DEPTH for a lens looking up past the steepest reading
+    (KNOWN_ROWS_UP_SLACK_DEG, read when the test runs)."""
+    return DEPTH * math.tan(math.radians(measure.KNOWN_ROWS_UP_SLACK_DEG))
+
+
+@pytest.mark.parametrize(("over", "taken"), [(-0.005, True), (0.005, False)])
+def test_the_limit_grows_with_the_depth_for_a_lens_looking_up(
+    monkeypatch: pytest.MonkeyPatch, over: float, taken: bool
+) -> None:
+    # the surest reading just under (over) the lens limit plus the depth's allowance
+    at = measure.KNOWN_ROWS_MAX_LENS_M + _slack_m() + over
+    lenses = {-2.0: (at, 0.5), 0.0: (1.0, 0.4), 2.0: (1.1, 0.3), 4.0: (1.2, 0.2)}
+    face = _row_read(monkeypatch, lenses, slack=True)
+    assert (face is not None and face.camera_height_m == pytest.approx(at)) is taken
+
+
+@pytest.mark.parametrize("step", [-0.5, 0.5])
+def test_the_allowance_is_the_pitch_past_the_steepest_reading(
+    monkeypatch: pytest.MonkeyPatch, step: float
+) -> None:
+    # a reading 0.003 m inside the allowance at 3 degrees: half a degree less refuses it,
+    # half a degree more keeps it, and one 0.003 m outside then
+    inside = measure.KNOWN_ROWS_MAX_LENS_M + _slack_m() - 0.003
+    outside = inside + 0.006
+    monkeypatch.setattr(measure, "KNOWN_ROWS_UP_SLACK_DEG", measure.KNOWN_ROWS_UP_SLACK_DEG + step)
+    limit = measure.KNOWN_ROWS_MAX_LENS_M + _slack_m()
+    for at in (inside, outside):
+        lenses = {-2.0: (at, 0.5), 0.0: (1.0, 0.4), 2.0: (1.1, 0.3), 4.0: (1.2, 0.2)}
+        face = _row_read(monkeypatch, lenses, slack=True)
+        assert (face is not None) is (at <= limit)
+    assert (inside <= limit) is (step > 0)
+
+
+def test_a_lens_looking_up_past_the_readings_keeps_the_box(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # photo 1190 ordinary (a tuning room): a lens 0.49 m up looking up 4.2 degrees, the box
+    # 3.1 m off read at 0.61 m under the steepest reading; with no allowance the can on
+    # the box is taken (test_fused_stands_on_top holds the answer with the allowance)
+    monkeypatch.setattr(measure, "KNOWN_ROWS_UP_SLACK_DEG", 0.0)
+    res, truth = measured_room("photo", 1190, False, False)
+    assert max(_errors(res, truth)) > 0.25

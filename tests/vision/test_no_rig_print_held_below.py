@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import pytest
 from obstacle_fusion.vision import measure
+from obstacle_fusion.vision.fused import confidence
 from obstacle_fusion.vision.measure import _holds_print
 from obstacle_fusion.vision.types import Measurement
 
@@ -47,6 +48,9 @@ def test_a_sure_framed_answer_is_checked_only_with_the_switch(
 ) -> None:
     # 3057's print is reported at 0.35, over GROWN_CONFIDENCE: read under only when framed
     monkeypatch.setattr(measure, "FRAMED_READ_SURE", False)
+    # (confidence.FRAME_ROUND_DOUBT, session 48, doubts the print in its frame, and the
+    # trials then take the whole face: off, to show this rule's own part)
+    monkeypatch.setattr(confidence, "FRAME_ROUND_DOUBT", False)
     eh, _ = room_size_errors("procedural", 3057, True, with_rig=False)
     assert eh > 0.2
 

@@ -1903,6 +1903,13 @@ KNOWN_ROWS_ROBOT_LENS = True
 #: ... (metres; the bound UNDER_MAX_CAMERA_HEIGHT_M puts on a face under a small one, for
 #: the same robots, kept apart so that each rule's limit moves alone)
 KNOWN_ROWS_MAX_LENS_M = 0.6
+#: ... plus the face's depth times the tangent of this many degrees: the issue's rigs look
+#: up to 5 degrees up, the readings' steepest is KNOWN_RIG_PITCHES_DEG's 2 up, and a lens
+#: looking up further than the reading stands higher by the depth times the tangent of
+#: the difference (photo 1190 ordinary: a lens 0.49 m up looking up 4.2 degrees, the box
+#: 3.1 m off, read at 0.61 m under the steepest reading; without this the can on the box
+#: was taken, +58 %; session 48, review of ``wt-e-48``).
+KNOWN_ROWS_UP_SLACK_DEG = 3.0
 #: ... when no row agrees, the steps of the bands one band width either side of the beam's
 #: axis read so too, a row near the horizon at pitches this much steeper than
 #: KNOWN_RIG_PITCHES_DEG's steepest in place of those that put the lens under the floor's
@@ -3057,8 +3064,12 @@ def _robot_row(height: float, pitch_deg: float, depth: float) -> bool:
 
 def _robot_lens_reading(face: Measurement) -> bool:
     """Whether a reading of :meth:`Measurer._known_rig_row` was taken under a lens a robot
-    carries: at most KNOWN_ROWS_MAX_LENS_M up (KNOWN_ROWS_ROBOT_LENS)."""
-    return (face.camera_height_m or math.inf) <= KNOWN_ROWS_MAX_LENS_M
+    carries: at most KNOWN_ROWS_MAX_LENS_M up, and the face's depth times the tangent of
+    KNOWN_ROWS_UP_SLACK_DEG for a lens looking up past the steepest reading
+    (KNOWN_ROWS_ROBOT_LENS)."""
+    depth = face.distance_m or face.range_m or 0.0
+    slack = depth * math.tan(math.radians(KNOWN_ROWS_UP_SLACK_DEG))
+    return (face.camera_height_m or math.inf) <= KNOWN_ROWS_MAX_LENS_M + slack
 
 
 def _robot_lens(height: float) -> bool:
