@@ -125,14 +125,25 @@ def low_box_view() -> View:
     return View(CameraModel(k, np.zeros(5), LOW_W, LOW_H), Rig(), "level")
 
 
-def low_box_front_row(img: npt.NDArray[np.uint8]) -> int:
-    """The front top edge :func:`.top.front_top` finds under the face's top in ``img``."""
+def low_box_front_row(
+    img: npt.NDArray[np.uint8], horizon_known: bool = False, top_row: int = LOW_TOP
+) -> int:
+    """The front top edge :func:`.top.front_top` finds under the face's top (``top_row``)
+    in ``img`` (``horizon_known``: as with the rig given, see ``top.STAIRS_CHAINED``)."""
     dy = np.empty(img.shape, np.int16)
     dx = np.empty(img.shape, np.int16)
     cv2.spatialGradient(img, dx, dy)
     noise = float(np.median(np.abs(dy[::4, ::4]))) / 0.6745 + 1.0
     row, _ = top.front_top(
-        low_box_view(), LOW_DEPTH, dy, LOW_BOTTOM, LOW_LEFT, LOW_RIGHT, LOW_TOP, noise
+        low_box_view(),
+        LOW_DEPTH,
+        dy,
+        LOW_BOTTOM,
+        LOW_LEFT,
+        LOW_RIGHT,
+        top_row,
+        noise,
+        horizon_known=horizon_known,
     )
     return row
 

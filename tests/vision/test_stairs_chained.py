@@ -23,13 +23,12 @@ from obstacle_fusion.vision.fused import top
 
 from tests.vision_fixtures import (
     LOW_BOTTOM,
-    LOW_DEPTH,
     LOW_H,
     LOW_LEFT,
     LOW_RIGHT,
     LOW_TOP,
     LOW_W,
-    low_box_view,
+    low_box_front_row,
     measured_room,
 )
 
@@ -41,39 +40,33 @@ from tests.vision_fixtures import (
 BACK, FRONT = LOW_TOP + 32, LOW_TOP + 39
 
 
-def staircase(front: float) -> npt.NDArray[np.uint8]:
-    """A dark wall over LOW_TOP, the background's band (90) under it to the floor, the
-    box's top face (130) and its front ``front``; floor under LOW_BOTTOM; blurred as by
-    the optics."""
-    rng = np.random.default_rng(11)
+def staircase(
+    front: float, band: float = 90.0, face: float = 130.0, rows: tuple[int, int] = (BACK, FRONT)
+) -> npt.NDArray[np.uint8]:
+    """A dark wall (50) over LOW_TOP, the background's ``band`` under it to the floor, the
+    box's top ``face`` from ``rows[0]`` and its front ``front`` from ``rows[1]``; floor
+    under LOW_BOTTOM; blurred as by the optics."""
     img = np.full((LOW_H, LOW_W), 50.0)
-    img[LOW_TOP:] = 90.0
+    img[LOW_TOP:] = band
     img[LOW_BOTTOM:] = 60.0
-    img[BACK:LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = 130.0
-    img[FRONT:LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = front
+    img[rows[0] : LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = face
+    img[rows[1] : LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = front
+    return optics(img)
+
+
+def optics(img: npt.NDArray[np.float64]) -> npt.NDArray[np.uint8]:
+    """``img`` blurred as by the optics, with the sensor's noise (one fixed draw), in
+    8 bits."""
+    rng = np.random.default_rng(11)
     blurred = np.asarray(cv2.GaussianBlur(img, (0, 0), 0.6), np.float64)
     noisy = blurred + rng.normal(0, 1.0, img.shape)
     return np.clip(noisy, 0, 255).astype(np.uint8)
 
 
 def front_row(img: npt.NDArray[np.uint8], horizon_known: bool = True) -> int:
-    """The front top edge :func:`.top.front_top` finds under LOW_TOP in ``img``."""
-    dy = np.empty(img.shape, np.int16)
-    dx = np.empty(img.shape, np.int16)
-    cv2.spatialGradient(img, dx, dy)
-    noise = float(np.median(np.abs(dy[::4, ::4]))) / 0.6745 + 1.0
-    row, _ = top.front_top(
-        low_box_view(),
-        LOW_DEPTH,
-        dy,
-        LOW_BOTTOM,
-        LOW_LEFT,
-        LOW_RIGHT,
-        LOW_TOP,
-        noise,
-        horizon_known=horizon_known,
-    )
-    return row
+    """The front top edge :func:`.top.front_top` finds under LOW_TOP in ``img`` (the
+    horizon known unless told: as with the rig given)."""
+    return low_box_front_row(img, horizon_known)
 
 
 def test_the_front_top_edge_of_the_frame_box() -> None:
@@ -105,6 +98,62 @@ def test_a_darker_front_is_no_step_on() -> None:
     under the step taken falls where the staircase rises; the step taken stays."""
     row = front_row(staircase(100.0))
     assert abs(row - BACK) <= 1
+
+
+def test_a_staircase_down_under_a_rising_top_is_not_read_on() -> None:
+    """The top edge rising (wall 50, band 150), the step taken falling (a top face of 110,
+    a bump's fall, see ``top._front_step``) and the front falling again (70): two steps
+    alike but not of the top edge's sign, no staircase up from the wall; the step taken
+    stays."""
+    img = staircase(70.0, band=150.0, face=110.0)
+    assert abs(front_row(img, horizon_known=False) - BACK) <= 1
+    assert abs(front_row(img) - BACK) <= 1
+
+
+def test_a_dark_front_under_a_thin_top_face_is_no_step_on() -> None:
+    """A thin top face (two rows, LOW_TOP + 35 and 36) at the end of the 36-row reach from
+    the line behind, over a dark front (20): the step taken is the face's back edge (34,
+    its blur), and the front's fall under it, stronger, is the top edge the second search
+    reads its steps' sign from; that search takes the fall (37), which steps the other way
+    from the step taken (no staircase): the step taken stays."""
+    rows = (LOW_TOP + 35, LOW_TOP + 37)
+    img = staircase(20.0, rows=rows)
+    assert front_row(img, horizon_known=False) == LOW_TOP + 34
+    assert front_row(img) == LOW_TOP + 34
+
+
+def test_a_falling_step_under_a_rising_top_is_no_staircase() -> None:
+    """The top rising (wall 50, band 90 from row 26, six rows under the horizon: a reach
+    of 4 rows), a darker face falling (40) three rows under it and its front falling
+    again (10) four rows further, past the reach: the top edge's peak, read two rows
+    either side of the top, is the fall's (stronger), so the step taken has the peak's
+    sign but not the top row's. No staircase up from the wall: the step taken stays
+    (new6 photo/3287 hard with the rig, read on down the step's own tail, 1.0 -> 6.2 %)."""
+    t = 26
+    img = np.full((LOW_H, LOW_W), 50.0)
+    img[t:] = 90.0
+    img[LOW_BOTTOM:] = 60.0
+    img[t + 3 : LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = 40.0
+    img[t + 7 : LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = 10.0
+    drawn = optics(img)
+    assert low_box_front_row(drawn, False, t) == t + 3
+    assert low_box_front_row(drawn, True, t) == t + 3
+
+
+def test_a_staircase_down_under_a_bright_band_is_not_read_on() -> None:
+    """The top row falling (wall 90, a dark line of 70 two rows high), the band under it
+    rising strongly (150: the top edge's peak, read two rows either side of the top), the
+    top face falling (110, a bump's fall) and the front falling again (70): two falls
+    alike, of the top row's sign but not of the peak's; the step taken stays."""
+    img = np.full((LOW_H, LOW_W), 90.0)
+    img[LOW_TOP:] = 70.0
+    img[LOW_TOP + 2 :] = 150.0
+    img[LOW_BOTTOM:] = 60.0
+    img[BACK:LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = 110.0
+    img[FRONT:LOW_BOTTOM, LOW_LEFT:LOW_RIGHT] = 70.0
+    drawn = optics(img)
+    assert front_row(drawn, horizon_known=False) == BACK
+    assert front_row(drawn) == BACK
 
 
 def test_with_no_rig_the_staircase_is_not_read_on() -> None:

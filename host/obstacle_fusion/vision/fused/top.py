@@ -113,9 +113,18 @@ def front_top(
         # a staircase of three steps: the top taken on a line behind the box (its own
         # band between it and the top face's back edge), the front top edge beyond the
         # reach from that line; sought again from the step taken, the staircase's steps
-        # alone (the step taken and the one under it both of the top edge's sign)
+        # alone (the step taken and the one under it both of the top edge's sign). The
+        # top edge's sign is its own row's as well: the peak is read two rows either side
+        # of the top, where a stronger step taken a few rows under it may lie (new6
+        # photo/3287 hard: the top rising, the step three rows under it falling, taken for
+        # the peak, read on down the step's own blur tail, +1.0 -> -6.2 %)
         again, sign = front_top(view, depth, dy, rb, ul, ur, best, noise, chained=True)
-        if again - best >= 2 and sign * prof[best - vt] > 0.0 and peak * prof[best - vt] > 0.0:
+        if (
+            again - best >= 2
+            and sign * prof[best - vt] > 0.0
+            and peak * prof[best - vt] > 0.0
+            and prof[0] * prof[best - vt] > 0.0
+        ):
             log.debug("top %d: a staircase on from %d to %d", vt, best, again)
             return again, sign
     return best, (1.0 if prof[best - vt] >= 0 else -1.0)
