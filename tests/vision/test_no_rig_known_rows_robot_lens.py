@@ -59,10 +59,11 @@ def _row_read(
     monkeypatch: pytest.MonkeyPatch,
     lenses: dict[float, tuple[float, float]],
     slack: bool = False,
+    depth: float = 2.0,
 ) -> Measurement | None:
     """One row read as with a rig (:meth:`Measurer._known_rig_row`) at PITCHES, the lens
     each pitch stands for and the confidence of the face (BOX, standing on its foot) read
-    there given by ``lenses`` (pitch: (camera height, confidence)), the face DEPTH off.
+    there given by ``lenses`` (pitch: (camera height, confidence)), the face ``depth`` off.
     ``slack``: whether the limit keeps KNOWN_ROWS_UP_SLACK_DEG (off: the lens limit alone)."""
 
     def fake_rig(
@@ -95,10 +96,9 @@ def _row_read(
     measurer = Measurer(CAM, None)
     fused = measurer._method_for(500, 375)
     image = np.zeros((375, 500, 3), np.uint8)
-    return measurer._known_rig_row(fused, image, DEPTH, Timer(), 300, PITCHES)  # type: ignore[arg-type]
+    return measurer._known_rig_row(fused, image, depth, Timer(), 300, PITCHES)  # type: ignore[arg-type]
 
 
-DEPTH = 2.0
 HIGH = {-2.0: (0.87, 0.3), 0.0: (0.99, 0.4), 2.0: (1.10, 0.5), 4.0: (1.22, 0.2)}
 
 
@@ -140,38 +140,76 @@ def test_a_reading_at_the_limit_is_a_robots(monkeypatch: pytest.MonkeyPatch) -> 
     assert face is not None and face.camera_height_m == pytest.approx(limit)
 
 
-def _slack_m() -> float:
-    """The lens limit's allowance at DEPTH for a lens looking up past the steepest reading
-    (KNOWN_ROWS_UP_SLACK_DEG, read when the test runs)."""
-    return DEPTH * math.tan(math.radians(measure.KNOWN_ROWS_UP_SLACK_DEG))
+FAR = 3.0  # the depth at which a lens looking up reads higher than KNOWN_ROWS_MAX_LENS_M
+
+
+def _looking_up_limit() -> float:
+    """The lens limit at FAR for a lens looking up past the steepest reading (a robot's
+    highest lens plus FAR times the tangent of KNOWN_ROWS_UP_SLACK_DEG, read when the test
+    runs)."""
+    slack = FAR * math.tan(math.radians(measure.KNOWN_ROWS_UP_SLACK_DEG))
+    return measure.KNOWN_ROWS_ROBOT_MAX_M + slack
+
+
+def _lenses(at: float) -> dict[float, tuple[float, float]]:
+    return {-2.0: (at, 0.5), 0.0: (1.0, 0.4), 2.0: (1.1, 0.3), 4.0: (1.2, 0.2)}
+
+
+def test_far_off_the_limit_is_a_lens_looking_up() -> None:
+    # the allowance is what sets the limit at FAR (else this file's edges test nothing)
+    assert _looking_up_limit() > measure.KNOWN_ROWS_MAX_LENS_M + 0.02
 
 
 @pytest.mark.parametrize(("over", "taken"), [(-0.005, True), (0.005, False)])
 def test_the_limit_grows_with_the_depth_for_a_lens_looking_up(
     monkeypatch: pytest.MonkeyPatch, over: float, taken: bool
 ) -> None:
-    # the surest reading just under (over) the lens limit plus the depth's allowance
-    at = measure.KNOWN_ROWS_MAX_LENS_M + _slack_m() + over
-    lenses = {-2.0: (at, 0.5), 0.0: (1.0, 0.4), 2.0: (1.1, 0.3), 4.0: (1.2, 0.2)}
-    face = _row_read(monkeypatch, lenses, slack=True)
+    at = _looking_up_limit() + over
+    face = _row_read(monkeypatch, _lenses(at), slack=True, depth=FAR)
     assert (face is not None and face.camera_height_m == pytest.approx(at)) is taken
 
 
-@pytest.mark.parametrize("step", [-0.5, 0.5])
-def test_the_allowance_is_the_pitch_past_the_steepest_reading(
-    monkeypatch: pytest.MonkeyPatch, step: float
+@pytest.mark.parametrize(
+    "name, step", [("KNOWN_ROWS_UP_SLACK_DEG", 0.5), ("KNOWN_ROWS_ROBOT_MAX_M", 0.01)]
+)
+@pytest.mark.parametrize("sign", [-1.0, 1.0])
+def test_the_allowance_moves_with_its_constants(
+    monkeypatch: pytest.MonkeyPatch, name: str, step: float, sign: float
 ) -> None:
-    # a reading 0.003 m inside the allowance at 3 degrees: half a degree less refuses it,
-    # half a degree more keeps it, and one 0.003 m outside then
-    inside = measure.KNOWN_ROWS_MAX_LENS_M + _slack_m() - 0.003
+    # a reading 0.003 m inside the limit at FAR: the constant a step lower refuses it; one
+    # 0.003 m outside is taken with it a step higher
+    inside = _looking_up_limit() - 0.003
     outside = inside + 0.006
-    monkeypatch.setattr(measure, "KNOWN_ROWS_UP_SLACK_DEG", measure.KNOWN_ROWS_UP_SLACK_DEG + step)
-    limit = measure.KNOWN_ROWS_MAX_LENS_M + _slack_m()
-    for at in (inside, outside):
-        lenses = {-2.0: (at, 0.5), 0.0: (1.0, 0.4), 2.0: (1.1, 0.3), 4.0: (1.2, 0.2)}
-        face = _row_read(monkeypatch, lenses, slack=True)
-        assert (face is not None) is (at <= limit)
-    assert (inside <= limit) is (step > 0)
+    monkeypatch.setattr(measure, name, getattr(measure, name) + sign * step)
+    inside_face = _row_read(monkeypatch, _lenses(inside), slack=True, depth=FAR)
+    outside_face = _row_read(monkeypatch, _lenses(outside), slack=True, depth=FAR)
+    assert (inside_face is not None) is (sign > 0)
+    assert (outside_face is not None) is (sign > 0)
+
+
+# The issue's robots: a lens at most 0.5 m up, looking at most 5 degrees up or down; the
+# readings' steepest pitch up is KNOWN_RIG_PITCHES_DEG's least (down positive).
+ISSUE_LENS_MAX_M = 0.5
+ISSUE_PITCH_MAX_DEG = 5.0
+
+
+@pytest.mark.parametrize(("over", "taken"), [(-0.003, True), (0.003, False)])
+def test_the_allowance_is_the_issues_robots(
+    monkeypatch: pytest.MonkeyPatch, over: float, taken: bool
+) -> None:
+    steepest_up = -min(measure.KNOWN_RIG_PITCHES_DEG)
+    limit = ISSUE_LENS_MAX_M + FAR * math.tan(math.radians(ISSUE_PITCH_MAX_DEG - steepest_up))
+    face = _row_read(monkeypatch, _lenses(limit + over), slack=True, depth=FAR)
+    assert (face is not None) is taken
+
+
+def test_near_the_lens_limit_holds(monkeypatch: pytest.MonkeyPatch) -> None:
+    # at 2 m the allowance is under KNOWN_ROWS_MAX_LENS_M, which holds: a reading just
+    # under it is taken, one just over it not
+    for over, taken in ((-0.005, True), (0.005, False)):
+        at = measure.KNOWN_ROWS_MAX_LENS_M + over
+        face = _row_read(monkeypatch, _lenses(at), slack=True)
+        assert (face is not None) is taken
 
 
 def test_a_lens_looking_up_past_the_readings_keeps_the_box(
