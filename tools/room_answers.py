@@ -15,7 +15,8 @@ validation rooms, procedural and photo seeds 100-159, 700-759, 2000-2099), ``fre
 ``new4`` (seeds 3150-3199, opened at session 43), ``new5`` (seeds 3200-3249, opened at
 session 44), ``new6`` (seeds 3250-3299, opened at session 45), ``new7`` (seeds 3300-3349,
 opened at session 46), ``new8`` (seeds 3350-3399, opened at session 47), ``new9``
-(seeds 3400-3449, opened at session 48), or ``FAMILY:FIRST-LAST``.
+(seeds 3400-3449, opened at session 48), ``new10`` (seeds 3450-3499, opened at session 49),
+or ``FAMILY:FIRST-LAST``.
 
     .venv/bin/python tools/room_answers.py run -o /tmp/before.tsv --sets own,fresh,ho -j 2
     .venv/bin/python tools/room_answers.py compare /tmp/before.tsv /tmp/after.tsv -v
@@ -60,6 +61,8 @@ SETS: dict[str, list[tuple[str, int, int]]] = {
     "new8": [(f, 3350, 3399) for f in TUNED],
     # opened for diagnosis at session 48, after "new8" had been used for tuning
     "new9": [(f, 3400, 3449) for f in TUNED],
+    # opened for diagnosis at session 49, after "new9" had been used for tuning
+    "new10": [(f, 3450, 3499) for f in TUNED],
 }
 COLUMNS = (
     "set family seed kind rig detected clipped flagged err_h_pct err_w_pct confidence "
