@@ -1695,7 +1695,9 @@ class Measurer:
             or found_sure <= CHECK_SURER * sure
         ):
             return result
-        if overlap >= CHECK_SAME_FACE:
+        if overlap >= CHECK_SAME_FACE and not (
+            CHECK_DOUBTED_TOP_LOWERS and _doubted_top_lowered(result, found, image)
+        ):
             return result  # one face read twice: the rig's reading (its true pitch) stands
         # the face keeps the size read at the search's guessed pitch; the camera height
         # and pitch reported are the given rig's, not the search's guess
@@ -1837,6 +1839,81 @@ CHECK_SAME_FACE = 0.7
 #: ... and its box narrower than the image by this share (a face as wide as the image is
 #: clipped, not measured) ...
 CHECK_MAX_WIDTH_SHARE = 0.9
+#: ... and one face read twice keeps the rig's reading unless the rig's top is doubted
+#: for the band under it being unlike the face (TOP_BAND_UNLIKE_FACE) and the search, on
+#: the same foot, stops the face lower by over CHECK_TOP_LOWER_PX with no doubt of
+#: CHECK_TOP_DOUBTS on its own top, the band between the two tops framing no part of the
+#: face (:func:`_doubted_top_lowered`). Session 49, branch ``wt-b-49``; a switch for the
+#: tests.
+CHECK_DOUBTED_TOP_LOWERS = True
+#: ... the doubts that say a top may stand on something above the face ...
+CHECK_TOP_DOUBTS = frozenset({SECOND_TOP, TOP_RUNS_ON, TOP_BAND_UNLIKE_FACE})
+#: ... the search's top lower than the rig's by more than this (input rows; both tops
+#: read on one blurred edge differ by a row or two) ...
+CHECK_TOP_LOWER_PX = 2.0
+#: ... its foot within this many rows of the rig's (the same contact edge) ...
+CHECK_SAME_FOOT_PX = 3.0
+#: ... and the band between the two tops (median Lab between the sides, inset by
+#: CHECK_BAND_INSET of the width) further than this from the median of both strips just
+#: inside the face's sides under the search's top: a band of the margins' colour is a
+#: frame round a print (procedural 137, 3026: the rig's top the frame's, right), a band
+#: the sides do not share is what stands behind the face.
+CHECK_FRAME_LAB = 15.0
+CHECK_BAND_INSET = 0.15
+
+
+def _doubted_top_lowered(result: Measurement, found: Measurement, image: npt.NDArray[Any]) -> bool:
+    """Whether the search's reading of the rig's face (same foot) stops it lower where the
+    rig doubts its own top for the band under it being unlike the face, the search doubts
+    its top not at all, and the band between the two tops is not the colour of the face's
+    side margins: the rig's path raised its top onto what stands behind the face (the
+    background's edge, a wall line), and the search, reading the same surface from the
+    same contact row, found the face's material ending lower (photo 3480 and 3410
+    ordinary: the rig's top on the sky or a gantry over a plank or seam box, the
+    search's on the box's front top edge). The face is one surface: a band that belongs
+    to it (a print's frame) runs down its sides too."""
+    if result.box_px is None or found.box_px is None:
+        return False
+    if TOP_BAND_UNLIKE_FACE not in result.doubts or CHECK_TOP_DOUBTS & set(found.doubts):
+        return False
+    if abs(found.box_px[3] - result.box_px[3]) > CHECK_SAME_FOOT_PX:
+        return False
+    top, low = result.box_px[1], found.box_px[1]
+    if low - top <= CHECK_TOP_LOWER_PX:
+        return False
+    return not _band_frames_face(image, found.box_px, top)
+
+
+def _band_frames_face(image: npt.NDArray[Any], box: Box, top: float) -> bool:
+    """Whether the band from ``top`` down to the box's top (between its sides, inset)
+    has the colour of a strip just inside either side of the box below its top (each as
+    wide as the band is tall, within CHECK_BAND_INSET of the width): one material framing
+    the face, so the band is the face's own."""
+    x0, y0, x1, y1 = box
+    h_img, w_img = image.shape[:2]
+    gap = y0 - top
+    width = x1 - x0
+    inset = CHECK_BAND_INSET * width
+    c0, c1 = max(0, round(x0 + inset)), min(w_img, round(x1 - inset))
+    b0, b1 = max(0, math.ceil(top) + 1), min(h_img, math.floor(y0))
+    margin = int(min(max(round(gap), 2), max(2.0, inset)))
+    r0, r1 = math.ceil(y0) + 2, min(h_img, math.floor(y1) - margin)
+    l0, r_end = max(0, math.ceil(x0) + 2), min(w_img, math.floor(x1) - 2)
+    if c1 <= c0 or b1 <= b0 or r1 <= r0 or r_end - margin <= l0:
+        return False
+    grey = image if image.ndim == 2 else None
+    lab = (
+        cv2.cvtColor(cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR), cv2.COLOR_BGR2LAB)
+        if grey is not None
+        else cv2.cvtColor(image[:, :, :3], cv2.COLOR_BGR2LAB)
+    ).astype(np.float32)
+
+    def median(part: npt.NDArray[Any]) -> npt.NDArray[Any]:
+        return np.asarray(np.median(part.reshape(-1, 3), axis=0))
+
+    band = median(lab[b0:b1, c0:c1])
+    sides = (lab[r0:r1, l0 : l0 + margin], lab[r0:r1, r_end - margin : r_end])
+    return any(float(np.linalg.norm(median(s) - band)) <= CHECK_FRAME_LAB for s in sides)
 
 
 def _foot_off_rig_row(view: View, found: Measurement, range_m: float) -> float | None:
