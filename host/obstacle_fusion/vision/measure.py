@@ -2281,8 +2281,11 @@ RERUN_AGREE = 0.05
 #: face, however the raw scores tie (photo 3454 hard: a planked box, the level face 13
 #: columns short on one side and 8 rows high at 0.61 with near_rivals and
 #: foot_above_contact, 0.12 with them; the levelled face at 0.60 with none, the pitch read
-#: 4.2 degrees against the true 4.1; 11.5 -> 0.8 %). Session 49, branch ``wt-d-49``; a
-#: switch for the tests.
+#: 4.2 degrees against the true 4.1; 11.5 -> 0.8 %). Only a levelled face on the pitch-0
+#: face's foot (within ROW_JITTER_PX): the pitch read and that foot's row give the camera
+#: height, and a face on another foot is another reading (procedural 3499 hard: a levelled
+#: face 4 rows up and 8 columns in, 1.9 -> 10.2 % without this). Session 49, branch
+#: ``wt-d-49``; a switch for the tests.
 LEVELLED_LESS_DOUBTED = True
 LEVELLED_DOUBTED_MARGIN = 0.2
 
@@ -3578,11 +3581,19 @@ def _holds_above(outer: Measurement, inner: Measurement) -> bool:
 def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
     """Whether the face found in the view levelled for the pitch the sides read
     (``levelled``), disagreeing with the pitch-0 face ``found`` on its size, is taken over
-    it: surer as measured, or (LEVELLED_LESS_DOUBTED) surer by more than
-    LEVELLED_DOUBTED_MARGIN with each face's doubts applied (:func:`_doubted`)."""
+    it: surer as measured, or (LEVELLED_LESS_DOUBTED) standing on ``found``'s foot (within
+    ROW_JITTER_PX) and surer by more than LEVELLED_DOUBTED_MARGIN with each face's doubts
+    applied (:func:`_doubted`). The pitch read and ``found``'s foot row give the camera
+    height: a levelled face on another foot is not that surface read again."""
     if (levelled.confidence or 0.0) > (found.confidence or 0.0):
         return True
-    return LEVELLED_LESS_DOUBTED and _doubted(levelled) > _doubted(found) + LEVELLED_DOUBTED_MARGIN
+    return (
+        LEVELLED_LESS_DOUBTED
+        and found.box_px is not None
+        and levelled.box_px is not None
+        and abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
+        and _doubted(levelled) > _doubted(found) + LEVELLED_DOUBTED_MARGIN
+    )
 
 
 def _doubted(found: Measurement, ignore: frozenset[str] = frozenset()) -> float:
