@@ -269,7 +269,9 @@ class Measurer:
             finally:
                 method.view = base
             if _wall_band(result):
-                if result.box_px is not None:
+                if result.box_px is not None and not (
+                    BAND_ON_FLOOR and _band_on_floor(image, result.box_px)
+                ):
                     bands.append(result.box_px)
                 # a band along the wall (its foot, a skirting board) on a row taken for the
                 # floor contact: no obstacle's face; the rows go on as if it found none
@@ -1145,7 +1147,7 @@ class Measurer:
         )
         if agree:
             return result
-        if (result.confidence or 0.0) > (found.confidence or 0.0):
+        if _levelled_taken(found, result):
             # the levelled view (the lens's true geometry, near enough) finds a surer face
             # than the level guess did: that face, doubted as the two disagree
             result.doubts = [*result.doubts, PITCH_RERUN_DISAGREES]
@@ -1527,6 +1529,13 @@ class Measurer:
         lower = lower or (
             SURER_TOP_RAISES
             and _top_moves_up(found, grown)
+            and face_runs_above(image, found.box_px, grown.box_px)
+        )
+        # ... or a surer answer's, when the rows' face is far the surer and its top far
+        # higher (_top_moves_far_up)
+        lower = lower or (
+            FAR_TOP_RAISES
+            and _top_moves_far_up(found, grown)
             and face_runs_above(image, found.box_px, grown.box_px)
         )
         # the rows' face holding the found face inside its sides and top, its foot lower:
@@ -2099,6 +2108,22 @@ SURER_TOP_RAISES = True
 #: 8-11 %). It lies under GROWN_SURE (asserted below): the rows' face taken is the surer.
 TOP_RAISE_MAX_FOUND_CONFIDENCE = 0.2
 assert TOP_RAISE_MAX_FOUND_CONFIDENCE < GROWN_SURE
+#: ... and an unsure answer found surer than that (its raw confidence under
+#: FAR_TOP_MAX_FOUND_CONFIDENCE) gives way too, when the rows' face on its foot and
+#: columns is far the surer (at least FAR_TOP_SURE and FAR_TOP_RATIO times the answer's
+#: raw confidence) and raises the top by at least FAR_TOP_SHARE of the answer's height
+#: (:func:`_top_moves_far_up`), the rows it adds the face's colour (face_runs_above): one
+#: surface from its contact up to where its sides end, read by the rig's walks up the
+#: sides, against a level trial's top on a line across it or on what stands behind at
+#: that row (photo 3465 hard: a plain blue box, the trials' top 33 rows low at 0.40,
+#: -14 %; the rows' face at 0.81 on the same foot and sides). The surer answers
+#: SURER_TOP_RAISES leaves alone (procedural 145 hard, 108 ordinary) had the rows' top
+#: only 3-5 rows higher. Session 49, branch ``wt-d-49``; a switch for the tests.
+FAR_TOP_RAISES = True
+FAR_TOP_MAX_FOUND_CONFIDENCE = 0.5
+FAR_TOP_SURE = 0.6
+FAR_TOP_RATIO = 1.5
+FAR_TOP_SHARE = 0.1
 
 #: With no rig, an unsure face the search settled (ESTIMATED_RIG_AGAIN) is measured once
 #: more with the camera height and pitch the search estimated taken as known: the stages
@@ -2324,6 +2349,22 @@ PITCH_MIN_CONFIDENCE = ESTIMATE_ACCEPT
 #: agree with those within this share: a new search can settle on another face (a seam,
 #: the box's top), and the pitch changes a face's size by a few percent, never more.
 RERUN_AGREE = 0.05
+#: ... and a levelled face that disagrees is taken over the pitch-0 one, as a surer face
+#: is, when its confidence with its doubts applied (:func:`_doubted`) is more than
+#: LEVELLED_DOUBTED_MARGIN over the pitch-0 face's: the sides read the pitch, the view
+#: levelled for it is the lens's geometry near enough, and a face found there with none
+#: of the doubts the level guess's face carries (its foot above the contact its row
+#: stands for, rivals near its score: the level guess stood it on a wrong row) is the
+#: face, however the raw scores tie (photo 3454 hard: a planked box, the level face 13
+#: columns short on one side and 8 rows high at 0.61 with near_rivals and
+#: foot_above_contact, 0.12 with them; the levelled face at 0.60 with none, the pitch read
+#: 4.2 degrees against the true 4.1; 11.5 -> 0.8 %). Only a levelled face on the pitch-0
+#: face's foot (within ROW_JITTER_PX): the pitch read and that foot's row give the camera
+#: height, and a face on another foot is another reading (procedural 3499 hard: a levelled
+#: face 4 rows up and 8 columns in, 1.9 -> 10.2 % without this). Session 49, branch
+#: ``wt-d-49``; a switch for the tests.
+LEVELLED_LESS_DOUBTED = True
+LEVELLED_DOUBTED_MARGIN = 0.2
 
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
@@ -2595,6 +2636,22 @@ BAND_MAX_ASPECT = 0.1
 BAND_FOOT_MARGIN_PX = 2.0
 #: ... sharing at least this share of the narrower one's columns is on the wall, not taken.
 BAND_SHARED_WIDTH = 0.5
+#: With no rig, a band a trial found (BAND_MAX_ASPECT) whose rows just above it and just
+#: below it both have the floor's colour at the image's foot (:func:`_band_on_floor`) lies
+#: on the floor, not along the wall: a shade on the floor (a cast shadow, a patch of the
+#: floor's texture) with floor before and behind it, where a wall's foot or skirting has
+#: the wall above it. It refuses no face standing in it (photo 3493 ordinary: a faint
+#: strip of a grey gravel floor under a seamed box's foot, running out to one side,
+#: refused the box's own face at 0.77; the search then took a face 15 rows low, +14 %).
+#: Session 49, branch ``wt-d-49``; a switch for the tests.
+BAND_ON_FLOOR = True
+#: ... the rows read above and below the band (from, to, pixels past its edge) ...
+BAND_FLOOR_ROWS = (3, 9)
+#: ... the floor's colour read on this many rows at the image's foot, the band's columns ...
+BAND_FLOOR_FOOT_ROWS = 12
+#: ... and each strip within this of it (median Lab, 8-bit; the floor strips round the
+#: gravel's band 2-3 off, a wall above a skirting tens).
+BAND_FLOOR_MATCH = 8.0
 #: ... unless the band is the face's contact shadow: under this share of the face's
 #: columns or more ...
 SHADOW_COVER = 0.9
@@ -2996,6 +3053,29 @@ def _top_moves_up(found: Measurement, grown: Measurement) -> bool:
     )
 
 
+def _top_moves_far_up(found: Measurement, grown: Measurement) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig) is ``found`` up to its top,
+    ``found`` surer than :func:`_top_moves_up` allows (raw confidence under
+    FAR_TOP_MAX_FOUND_CONFIDENCE): its foot within ROW_JITTER_PX of ``found``'s, its top
+    higher by at least FAR_TOP_SHARE of ``found``'s height, on ``found``'s columns at least
+    FAR_TOP_SURE with its lens at most UNDER_MAX_CAMERA_HEIGHT_M up, and at least
+    FAR_TOP_RATIO times ``found``'s confidence. A face read far the surer up to a top far
+    higher is the one surface; a top a few rows up on what stands behind is no such move."""
+    if found.box_px is None or grown.box_px is None:
+        return False
+    _, y0, _, y1 = found.box_px
+    _, gy0, _, gy1 = grown.box_px
+    conf = found.confidence or 0.0
+    return (
+        abs(gy1 - y1) <= ROW_JITTER_PX
+        and y0 - gy0 >= FAR_TOP_SHARE * (y1 - y0)
+        and y0 - gy0 > ROW_JITTER_PX
+        and conf < FAR_TOP_MAX_FOUND_CONFIDENCE
+        and (grown.confidence or 0.0) >= FAR_TOP_RATIO * conf
+        and _rows_face_on_columns(found.box_px, grown, FAR_TOP_SURE)
+    )
+
+
 def _on_found(found: Measurement, again: Measurement) -> bool:
     """Whether a second reading ``again`` stands on ``found``'s foot (within AGAIN_FOOT_ROWS)
     between its sides (overlapping the narrower by AGAIN_SIDES_SHARE), doubting its sides
@@ -3342,6 +3422,41 @@ def _wall_band(found: Measurement) -> bool:
     return x1 > x0 and (y1 - y0) < BAND_MAX_ASPECT * (x1 - x0)
 
 
+def _band_on_floor(image: npt.NDArray[Any], band: tuple[float, float, float, float]) -> bool:
+    """Whether a band a no-rig trial found (input pixel box ``band``) lies on the floor:
+    the strips just above and just below it (BAND_FLOOR_ROWS past its edges) both within
+    BAND_FLOOR_MATCH (median Lab) of the floor at the image's foot (BAND_FLOOR_FOOT_ROWS,
+    the band's columns). A band along the wall (its foot, a skirting) has the wall above
+    it; a shade on the floor has the floor on both sides. A grey image, a band at the
+    image's foot or a strip with no pixel: False (the band kept)."""
+    if image.ndim != 3:
+        return False
+    h = image.shape[0]
+    x0, y0, x1, y1 = band
+    a, b = BAND_FLOOR_ROWS
+    if y1 + b > h - BAND_FLOOR_FOOT_ROWS:
+        return False
+    floor = _median_lab(image, h - BAND_FLOOR_FOOT_ROWS, h, x0, x1)
+    above = _median_lab(image, y0 - b, y0 - a, x0, x1)
+    below = _median_lab(image, y1 + a, y1 + b, x0, x1)
+    if floor is None or above is None or below is None:
+        return False
+    return all(float(np.linalg.norm(p - floor)) <= BAND_FLOOR_MATCH for p in (above, below))
+
+
+def _median_lab(
+    image: npt.NDArray[Any], y0: float, y1: float, x0: float, x1: float
+) -> npt.NDArray[np.float32] | None:
+    """The median Lab colour (8-bit) of a box of the image, clipped to it; None if empty."""
+    h, w = image.shape[:2]
+    r0, r1 = max(0, int(y0)), min(h, int(y1))
+    c0, c1 = max(0, int(x0)), min(w, int(x1))
+    if r1 <= r0 or c1 <= c0:
+        return None
+    lab = cv2.cvtColor(np.ascontiguousarray(image[r0:r1, c0:c1]), cv2.COLOR_BGR2Lab)
+    return np.median(lab.reshape(-1, 3).astype(np.float32), axis=0).astype(np.float32)
+
+
 def _in_wall_band(
     box: tuple[float, float, float, float] | None,
     bands: list[tuple[float, float, float, float]],
@@ -3537,6 +3652,24 @@ def _holds_above(outer: Measurement, inner: Measurement) -> bool:
         gy1 - y1 > j
         and _holds(outer.box_px, inner.box_px, j)
         and max(y0 - gy0, x0 - g0, g1 - x1) > j
+    )
+
+
+def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
+    """Whether the face found in the view levelled for the pitch the sides read
+    (``levelled``), disagreeing with the pitch-0 face ``found`` on its size, is taken over
+    it: surer as measured, or (LEVELLED_LESS_DOUBTED) standing on ``found``'s foot (within
+    ROW_JITTER_PX) and surer by more than LEVELLED_DOUBTED_MARGIN with each face's doubts
+    applied (:func:`_doubted`). The pitch read and ``found``'s foot row give the camera
+    height: a levelled face on another foot is not that surface read again."""
+    if (levelled.confidence or 0.0) > (found.confidence or 0.0):
+        return True
+    return (
+        LEVELLED_LESS_DOUBTED
+        and found.box_px is not None
+        and levelled.box_px is not None
+        and abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
+        and _doubted(levelled) > _doubted(found) + LEVELLED_DOUBTED_MARGIN
     )
 
 
