@@ -31,6 +31,9 @@ WALL_LAB = (120.0, 128.0, 128.0)
 PRINT_LAB = (110.0, 128.0, 128.0)
 RIM_LAB = (130.0, 108.0, 104.0)
 FLOOR_LAB = (90.0, 128.0, 128.0)
+#: Rows of the rim's colour over the board that put the band's top RIM_FOOT_ROWS (6) rows
+#: over the rim's lowest row (the rim is 2 rows).
+RIM_FOOT_ROWS_OVER = 5
 
 
 def level_view() -> View:
@@ -40,12 +43,18 @@ def level_view() -> View:
 
 
 def board(
-    rim_lab: tuple[float, float, float] = RIM_LAB, top_rim: bool = True, line_across: bool = False
+    rim_lab: tuple[float, float, float] = RIM_LAB,
+    top_rim: bool = True,
+    line_across: bool = False,
+    over: int = 0,
 ) -> npt.NDArray[np.uint8]:
     """The rimmed board; ``top_rim``: the rim drawn across its top; ``line_across``: a
-    line of the rim's colour across the whole wall at the board's top row instead."""
+    line of the rim's colour across the whole wall at the board's top row instead;
+    ``over``: that many rows of the rim's colour over the board, between its sides."""
     lab = np.empty((H, W, 3), np.float64)
     lab[:] = WALL_LAB
+    if over:
+        lab[TOP - over : TOP, LEFT:RIGHT] = rim_lab
     lab[BOTTOM:] = FLOOR_LAB
     lab[TOP:BOTTOM, LEFT:RIGHT] = rim_lab
     lab[TOP + RIM : BOTTOM - RIM, LEFT + RIM : RIGHT - RIM] = PRINT_LAB
@@ -75,6 +84,18 @@ def test_no_rim_across_the_top_keeps_the_found_top() -> None:
 def test_a_line_across_the_whole_wall_is_not_the_rim() -> None:
     # the line runs on beside the sides: the wall's, not the board's
     assert raised(board(line_across=True)) == FOUND
+
+
+def test_a_band_thicker_than_a_rim_is_no_line() -> None:
+    # a band of the rim's colour RIM_FOOT_ROWS rows over the rim's lowest row: no
+    # background closes a line over the board (fresh procedural 2120 hard: a light rim
+    # before a wall of its colour, the wall read up to the view's top, -8 -> +40 %)
+    assert raised(board(over=RIM_FOOT_ROWS_OVER)) == FOUND
+
+
+def test_a_line_as_thin_as_the_limit_is_a_rim() -> None:
+    # one row less: the band's top 5 rows over the rim's lowest, under RIM_FOOT_ROWS
+    assert abs(raised(board(over=RIM_FOOT_ROWS_OVER - 1)) - (TOP - 4)) <= 1
 
 
 def test_a_grey_rim_is_no_rim() -> None:
