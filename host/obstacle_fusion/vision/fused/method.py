@@ -82,6 +82,7 @@ from obstacle_fusion.vision.fused.region import (
     raise_top_by_windows,
     raise_top_past_band,
     raise_top_to_frame,
+    raise_top_to_rim,
     side_agreement,
     sides_rising,
     snap_sides_to_steps,
@@ -435,6 +436,13 @@ SKIRTING_WALK = True
 #: pattern stops the colour walks at a row of the pattern; region.raise_top_by_outline; a
 #: switch for the tests).
 PRINT_OUTLINE_TOP = True
+#: With the rig, the colour rescue's top is raised to a coloured rim's line across the
+#: face: a board's edge band of one hue, read across its foot, that runs across the
+#: face's whole width at a row over the found top and stops at its sides
+#: (region.raise_top_to_rim): a print or text panel inside the rim, grey on a grey
+#: background, stopped every walk at a row of the print (photo/3458 hard). A switch for
+#: the tests.
+RIM_LINE_TOP = True
 #: Whether the edge search's face, its foot in the contact band and no margin round it
 #: found, is tried for a print whose frame shows only beside it
 #: (:func:`.region.enclose_beside_foot`, else only after the texture rescue).
@@ -1677,6 +1685,12 @@ class FusedMethod:
             if outlined < vt:
                 log.debug("rescue: top %d up the print's outline: %d", vt, outlined)
                 vt = outlined
+        if RIM_LINE_TOP and floor_known and rig_known and not self.rig_guessed:
+            # a print inside a board's coloured rim stopped the walks: the rim closes it
+            rimmed = raise_top_to_rim(seen, self.view, rb, vt, ul, ur, depth)
+            if rimmed < vt:
+                log.debug("rescue: top %d, the rim's line across the face at %d", vt, rimmed)
+                vt = rimmed
         if WINDOW_RESCUE_TOP and floor_known and rig_known and not self.rig_guessed:
             # a textured face's pattern stopped the row walks: its windows' mean holds on
             windowed = raise_top_by_windows(seen, self.view, ay, rb, vt, ul, ur, depth)
