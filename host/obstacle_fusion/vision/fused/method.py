@@ -565,6 +565,11 @@ FOOT_TRIAL_ROWS = 5
 #: whose foot is a few rows above its own was grown to the drum, 2.6 -> 102 % off; most
 #: trials of the prints' pieces the rule fixes found them at 0.16-0.52).
 FOOT_TRIAL_MIN_CONFIDENCE = 0.15
+#: With the rig given, a miss (no face, or one refused) where a seam's two edges took two
+#: of a side's ranked places and left out the nearest peak beyond the seam is searched
+#: again with that peak a candidate (search.SEAM_TAKES_TWO; session 49, helper E: on
+#: every frame the extra pairs moved right answers' confidence both ways).
+SEAM_MISS_RERUN = True
 #: A face found by its colour in place of the edges' face standing above the contact band
 #: (STANDING_BEHIND_RESCUE), lying between that face's sides and reaching as high (its top
 #: at most RESCUE_SAME_TOP_ROWS under that face's: the same face, its foot read in the
@@ -730,6 +735,10 @@ class FusedMethod:
         #: camera height and pitch taken as known): the rules for a rig given alone skip
         self.rig_guessed = False
         self._rig_given = True  # the frame's rig given (not tried, nor guessed)
+        #: the search's side candidates beyond a seam (search.SEAM_TAKES_TWO): the peaks
+        #: it would add, gathered in a first search; taken in a rerun of a miss
+        self._beside_seam = False
+        self._seam_sides: list[int] = []
 
     def run(
         self,
@@ -756,8 +765,23 @@ class FusedMethod:
         leaves a contact band running past the image's foot alone."""
         # the colour stages read blocks of the frame in Lab, some inside others
         self.view.hold_colour(colour if colour is not None else image)
+        self._seam_sides = []
         try:
-            return self._stages(image, range_m, timer, colour, rescue, floor_known, rig_known)
+            found = self._stages(image, range_m, timer, colour, rescue, floor_known, rig_known)
+            if SEAM_MISS_RERUN and not found.detected and self._rig_given:
+                if self._seam_sides:
+                    # a miss where a seam's edges took two of a side's places and a peak
+                    # beyond the seam was left out: the search again with it
+                    self._beside_seam = True
+                    try:
+                        again = self._stages(
+                            image, range_m, timer, colour, rescue, floor_known, rig_known
+                        )
+                    finally:
+                        self._beside_seam = False
+                    if again.detected:
+                        return again
+            return found
         finally:
             self.view.hold_colour(None)
 
@@ -846,7 +870,20 @@ class FusedMethod:
 
         for rb, pb in bottoms:
             found = side_candidates(
-                v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows, rig_known
+                v,
+                ax,
+                ax3,
+                rb,
+                depth,
+                noise,
+                u_lo,
+                u_hi,
+                min_w,
+                roi,
+                lab_rows,
+                rig_known,
+                self._beside_seam,
+                self._seam_sides if self._rig_given and not self._beside_seam else None,
             )
             if found is None:
                 continue
