@@ -22,6 +22,7 @@ import numpy.typing as npt
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import FusedMethod
+from obstacle_fusion.vision.fused import method as fused_method
 from obstacle_fusion.vision.fused.channel import (
     face_background_grey,
     face_floor_grey,
@@ -1163,7 +1164,31 @@ class Measurer:
         timer: Timer,
     ) -> Measurement:
         """The fused method with ``rig`` known (``fused``'s view's rig): the face-floor
-        channel, then luminance, then the channel turned against the background."""
+        channel, then luminance, then the channel turned against the background; where all
+        miss and a seam's edges left out a side beyond them, all again with it
+        (``method.SEAM_MISS_RERUN``)."""
+        fused.seam_sides = []
+        result = self._run_rig_channels(fused, rig, image, range_m, timer)
+        if fused_method.SEAM_MISS_RERUN and not result.detected and fused.seam_sides:
+            # the seam's sides: a last resort, after every channel missed without them
+            fused.beside_seam = True
+            try:
+                again = self._run_rig_channels(fused, rig, image, range_m, timer)
+            finally:
+                fused.beside_seam = False
+            if again.detected:
+                return again
+        return result
+
+    def _run_rig_channels(
+        self,
+        fused: FusedMethod,
+        rig: Rig,
+        image: npt.NDArray[Any],
+        range_m: float,
+        timer: Timer,
+    ) -> Measurement:
+        """:meth:`_run_rig`'s channels, one after another where the last missed."""
         view: View = fused.view
         depth = rig.face_depth(range_m)
         if depth <= 0.0:

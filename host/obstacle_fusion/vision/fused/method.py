@@ -573,6 +573,13 @@ FOOT_TRIAL_ROWS = 5
 #: whose foot is a few rows above its own was grown to the drum, 2.6 -> 102 % off; most
 #: trials of the prints' pieces the rule fixes found them at 0.16-0.52).
 FOOT_TRIAL_MIN_CONFIDENCE = 0.15
+#: With the rig given, a miss (no face, or one refused, after every channel measure's
+#: _run_rig tries) where a seam's two edges took two of a side's ranked places and left
+#: out the nearest peak beyond the seam is measured again with that peak a candidate
+#: (search.SEAM_TAKES_TWO; session 49, helper E: on every frame the extra pairs moved
+#: right answers' confidence both ways; as a rerun of each channel's own miss, it
+#: pre-empted luminance's right answer: own procedural/2022 ordinary 0.2 -> 5.6 %).
+SEAM_MISS_RERUN = True
 #: A face found by its colour in place of the edges' face standing above the contact band
 #: (STANDING_BEHIND_RESCUE), lying between that face's sides and reaching as high (its top
 #: at most RESCUE_SAME_TOP_ROWS under that face's: the same face, its foot read in the
@@ -738,6 +745,11 @@ class FusedMethod:
         #: camera height and pitch taken as known): the rules for a rig given alone skip
         self.rig_guessed = False
         self._rig_given = True  # the frame's rig given (not tried, nor guessed)
+        #: the search's side candidates beyond a seam (search.SEAM_TAKES_TWO): taken
+        #: (``beside_seam``) in the rig path's rerun of a miss (measure's _run_rig); the
+        #: peaks the searches would add, gathered while it is off (``seam_sides``)
+        self.beside_seam = False
+        self.seam_sides: list[int] = []
 
     def run(
         self,
@@ -854,7 +866,20 @@ class FusedMethod:
 
         for rb, pb in bottoms:
             found = side_candidates(
-                v, ax, ax3, rb, depth, noise, u_lo, u_hi, min_w, roi, lab_rows, rig_known
+                v,
+                ax,
+                ax3,
+                rb,
+                depth,
+                noise,
+                u_lo,
+                u_hi,
+                min_w,
+                roi,
+                lab_rows,
+                rig_known,
+                self.beside_seam,
+                self.seam_sides if self._rig_given and not self.beside_seam else None,
             )
             if found is None:
                 continue

@@ -127,6 +127,8 @@ def side_candidates(
     grey: npt.NDArray[np.uint8] | None = None,
     lab: Callable[[int, int], npt.NDArray[np.uint8] | None] | None = None,
     rig_known: bool = True,
+    beside_seam: bool = False,
+    seam_sides: list[int] | None = None,
 ) -> tuple[Sides, list[tuple[int, int]]] | None:
     """The side columns at floor-contact row ``rb``: their presence tables and the
     (left, right) pairs at least ``min_w`` apart, or None when no side stands there.
@@ -136,7 +138,10 @@ def side_candidates(
     height and pitch given, not tried), where thin lines (:func:`line_columns`) took every
     ranked place of a side, the strongest other columns are its candidates too (where over
     LINE_MOST peaks are lines' edges, a pattern of joints, only those beyond its outermost
-    lines: JOINT_PATTERN_ENDS)."""
+    lines: JOINT_PATTERN_ENDS); with ``beside_seam`` too, where a seam's edges take two of
+    a side's places, the nearest peak beyond the seam (:func:`_beside_seam`). Such peaks
+    are appended to ``seam_sides`` whether or not ``beside_seam`` is on (a caller reruns
+    a miss with it on only where it would add a side)."""
     v = view
     k = int(clamp(round(v.fy * SHORT_STRIP_M / depth), 3, 25))
     top_strip = max(0, rb - 1 - k)
@@ -171,6 +176,30 @@ def side_candidates(
         # widen_across_seams runs a seam pair's top out to the face's sides)
         lines = line_columns(grey[top_strip : rb - 1], [*left, *right])
         all_lines = [bool(cs) and all(c in lines for c in cs) for cs in (left, right)]
+        if SEAM_TAKES_TWO and not all(all_lines) and (beside_seam or seam_sides is not None):
+            # a seam's two edges in two of a side's places leave one for the true side,
+            # which a floor joint beside the face may outrank: the face's shade runs out
+            # from the seam to the face's side, the first edge beyond the seam that runs
+            # up from the floor and is no line
+            more_left, more_right = _beside_seam(
+                grey[top_strip : rb - 1],
+                ax3,
+                prof_v,
+                prof_short,
+                peaks,
+                lines,
+                (left, right),
+                rb,
+                noise,
+                rb - 1 - tall,
+            )
+            added = [c for c in more_left if c not in left]
+            added += [c for c in more_right if c not in right]
+            if seam_sides is not None:
+                seam_sides.extend(added)
+            if beside_seam and added:
+                log.debug("bottom %d: sides beyond a seam %s", rb, added)
+                left, right = more_left, more_right
         if any(all_lines):
             seen = {*left, *right}
             lines |= line_columns(
@@ -225,11 +254,58 @@ LINE_BESIDE = 4
 LINE_SAME = 0.25
 LINE_SAME_MAX = 8.0
 LINE_CONTRAST = 12.0
+#: Where a seam's two edges (two lines' edges) take two of a side's ranked places but not
+#: all of them (LINE_SIDES stands aside), the nearest peak beyond the seam on that side
+#: that is no line's edge and runs up from the floor is that side's candidate too: the
+#: face's shade runs on from the seam to its side, and the one place left goes to a floor
+#: joint or a step beside the face as often as to that side, weak where the face's shade
+#: is near the floor's or the wall's (session 49). Only in a rerun of a miss with the rig
+#: given (method.SEAM_MISS_RERUN): on every frame, its extra pairs moved the confidence of
+#: right answers both ways by up to 0.5 (own procedural/702 ordinary 0.68 -> 0.24).
+SEAM_TAKES_TWO = True
+#: ... the peaks walked over beyond the seam, lines' edges (another seam) skipped.
+SEAM_WALK_PEAKS = 4
 #: ... where at most this many of the peaks are such lines' edges (two seams) ...
 LINE_MOST = 8
 #: ... and, where more are (a pattern of joints: a brick or plank print), the strongest
 #: peaks beyond the pattern's outermost lines (where it ends) are (session 29, `rigphoto`)
 JOINT_PATTERN_ENDS = True
+
+
+def _beside_seam(
+    strip: npt.NDArray[np.uint8],
+    ax3: I16,
+    prof_v: F32,
+    prof_short: F32,
+    peaks: npt.NDArray[np.intp],
+    lines: set[int],
+    sides: tuple[list[int], list[int]],
+    rb: int,
+    noise: float,
+    late_rows: int,
+) -> tuple[list[int], list[int]]:
+    """The (left, right) candidates ``sides`` with, for a side two or more of whose places
+    but not all are lines' edges (a seam's two edges), the nearest peak beyond the seam on
+    that side (left of its leftmost line, right of its rightmost; at most SEAM_WALK_PEAKS
+    peaks walked, lines' edges in ``strip`` skipped) added, where it runs up from the
+    floor (:func:`_rank_sides`): the face's shade runs on from a seam to its side."""
+    out = [sides[0], sides[1]]
+    for i, cs in enumerate(sides):
+        seam = [c for c in cs if c in lines]
+        if len(seam) < 2 or len(seam) == len(cs):
+            continue
+        beyond = peaks[peaks < min(seam)][::-1] if i == 0 else peaks[peaks > max(seam)]
+        walk = [int(c) for c in beyond.tolist()[:SEAM_WALK_PEAKS]]
+        more = line_columns(strip, [c for c in walk if c not in lines])
+        near = [c for c in walk if c not in lines and c not in more][:1]
+        if not near or near[0] in cs:
+            continue
+        ranked = _rank_sides(
+            ax3, prof_v, prof_short, [np.array(near, dtype=np.intp)], rb, noise, late_rows
+        )[0]
+        if ranked:
+            out[i] = [*cs, *ranked]
+    return out[0], out[1]
 
 
 def line_columns(strip: npt.NDArray[np.uint8], cols: list[int]) -> set[int]:
