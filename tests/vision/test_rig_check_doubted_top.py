@@ -238,3 +238,14 @@ def test_the_shipped_band_inset(
     image = _image(frame=BAND)
     image[100:110, 130 + grey_cols : 270 - grey_cols] = SKY
     assert (_checked(monkeypatch, rig_face, found, image) is found) is taken
+
+
+def test_an_unread_band_keeps_the_rig_s_top(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the rig's top at 100.4, the search's at 102.5 (over 2 rows lower): no whole row
+    # between them (rows 102 to 101) to test for a frame, and the rig's reading stands
+    # (red where an unread band let the swap through)
+    rig_face = _face(100.4, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(102.5, 200.0, 0.3, [])
+    assert _checked(monkeypatch, rig_face, found) is rig_face
+    found = _face(103.5, 200.0, 0.3, [])  # one row read (102): grey, unlike the sides
+    assert _checked(monkeypatch, rig_face, found) is found
