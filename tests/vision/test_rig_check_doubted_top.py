@@ -173,3 +173,79 @@ def test_without_the_rule_photo_3480_keeps_the_background_s_top(
     monkeypatch.setattr(measure, "CHECK_DOUBTED_TOP_LOWERS", False)
     eh, _ = room_size_errors("photo", 3480, False)
     assert eh > 0.1
+
+
+@pytest.mark.parametrize(("found_top", "taken"), [(102.0, False), (102.5, True)])
+def test_the_shipped_top_step(
+    monkeypatch: pytest.MonkeyPatch, found_top: float, taken: bool
+) -> None:
+    # the shipped CHECK_TOP_LOWER_PX 2, its comparison strict: 2 rows lower is an edge's
+    # blur (red at 1 or with ``<``), 2.5 rows a lower top (red at 3)
+    rig_face = _face(100.0, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(found_top, 200.0, 0.3, [])
+    assert (_checked(monkeypatch, rig_face, found) is found) is taken
+
+
+@pytest.mark.parametrize(
+    ("found_foot", "taken"), [(203.0, True), (197.0, True), (203.5, False), (196.5, False)]
+)
+def test_the_shipped_foot_step(
+    monkeypatch: pytest.MonkeyPatch, found_foot: float, taken: bool
+) -> None:
+    # the shipped CHECK_SAME_FOOT_PX 3 either way of the rig's foot: 3 rows off is the
+    # same contact edge (red at 2 or with ``>=``), 3.5 rows another (red at 4, or with
+    # the foot's offset read one way only)
+    rig_face = _face(100.0, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(110.0, found_foot, 0.3, [])
+    assert (_checked(monkeypatch, rig_face, found) is found) is taken
+
+
+@pytest.mark.parametrize(("frame", "taken"), [((74, 74, 74), False), ((72, 73, 74), True)])
+def test_the_shipped_frame_limit(
+    monkeypatch: pytest.MonkeyPatch, frame: tuple[int, int, int], taken: bool
+) -> None:
+    # side margins 15.0 Lab (8-bit OpenCV Lab) from the band's grey are a frame under the
+    # shipped CHECK_FRAME_LAB 15 (red at 14 or with ``<``), 15.03 not (red at 16)
+    rig_face = _face(100.0, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(110.0, 200.0, 0.3, [])
+    image = _image(frame=frame)
+    assert (_checked(monkeypatch, rig_face, found, image) is found) is taken
+
+
+def test_one_framed_side_is_enough(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the band is the face's where it matches the strip inside either side (red with
+    # both required): a print framed down its left side only
+    rig_face = _face(100.0, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(110.0, 200.0, 0.3, [])
+    image = _image()
+    image[110:200, 100:110] = BAND
+    assert _checked(monkeypatch, rig_face, found, image) is rig_face
+
+
+SKY = (200, 150, 100)  # what stands behind the face over the band's middle: blue
+
+
+@pytest.mark.parametrize(("grey_cols", "taken"), [(36, False), (34, True)])
+def test_the_shipped_band_inset(
+    monkeypatch: pytest.MonkeyPatch, grey_cols: int, taken: bool
+) -> None:
+    # a framed print (the frame the band's grey) under a band grey for ``30 + grey_cols``
+    # columns in from either side and blue between: the band read between the sides
+    # inset by the shipped CHECK_BAND_INSET 0.15 (columns 130-269) is grey at 36 (72 of
+    # 140 columns: the frame's, red at 0.2) and blue at 34 (68 of 140: taken, red at 0.1)
+    rig_face = _face(100.0, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(110.0, 200.0, 0.3, [])
+    image = _image(frame=BAND)
+    image[100:110, 130 + grey_cols : 270 - grey_cols] = SKY
+    assert (_checked(monkeypatch, rig_face, found, image) is found) is taken
+
+
+def test_an_unread_band_keeps_the_rig_s_top(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the rig's top at 100.4, the search's at 102.5 (over 2 rows lower): no whole row
+    # between them (rows 102 to 101) to test for a frame, and the rig's reading stands
+    # (red where an unread band let the swap through)
+    rig_face = _face(100.4, 200.0, 0.06, [TOP_BAND_UNLIKE_FACE])
+    found = _face(102.5, 200.0, 0.3, [])
+    assert _checked(monkeypatch, rig_face, found) is rig_face
+    found = _face(103.5, 200.0, 0.3, [])  # one row read (102): grey, unlike the sides
+    assert _checked(monkeypatch, rig_face, found) is found

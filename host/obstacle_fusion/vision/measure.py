@@ -1922,7 +1922,10 @@ def _band_frames_face(image: npt.NDArray[Any], box: Box, top: float) -> bool:
     """Whether the band from ``top`` down to the box's top (between its sides, inset)
     has the colour of a strip just inside either side of the box below its top (each as
     wide as the band is tall, within CHECK_BAND_INSET of the width): one material framing
-    the face, so the band is the face's own."""
+    the face, so the band is the face's own. A band or strip with no whole row or column
+    to read (a top under two rows lower, a sliver of a face) is taken as the face's: the
+    frame test is what keeps the swap off prints, and unread it does not let the swap
+    through (review F, session 49)."""
     x0, y0, x1, y1 = box
     h_img, w_img = image.shape[:2]
     gap = y0 - top
@@ -1934,7 +1937,7 @@ def _band_frames_face(image: npt.NDArray[Any], box: Box, top: float) -> bool:
     r0, r1 = math.ceil(y0) + 2, min(h_img, math.floor(y1) - margin)
     l0, r_end = max(0, math.ceil(x0) + 2), min(w_img, math.floor(x1) - 2)
     if c1 <= c0 or b1 <= b0 or r1 <= r0 or r_end - margin <= l0:
-        return False
+        return True  # nothing to read: the rig's reading stands
     grey = image if image.ndim == 2 else None
     lab = (
         cv2.cvtColor(cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR), cv2.COLOR_BGR2LAB)
