@@ -79,6 +79,35 @@ def test_the_strips_skip_the_bands_blur() -> None:
     assert not _band_on_floor(img, BAND)
 
 
+@pytest.mark.parametrize("side", ["above", "below"])
+def test_the_strips_rows_exactly(side: str) -> None:
+    # BAND_FLOOR_ROWS (3, 9): rows 141-146 read above the band, 163-168 below. The wall
+    # on 70 % of the columns of the four inner rows read and on the rows just past each
+    # end: 560 of the 1,200 pixels read are the wall's, the median the floor's; a row
+    # more or fewer read at either end (a strip from 2 or 4, to 8 or 10) tips it.
+    img = _scene()
+    inner, outer = ((142, 146), (140, 147)) if side == "above" else ((164, 168), (162, 169))
+    img[inner[0] : inner[1], 100:240] = WALL
+    for row in outer:
+        img[row, 100:300] = WALL
+    assert _band_on_floor(img, BAND)
+
+
+def test_the_foot_rows_exactly() -> None:
+    # BAND_FLOOR_FOOT_ROWS 12: rows 228-239 read. The wall on 58 % of the columns of rows
+    # 229-238 and on row 227: 1,160 of 2,400 pixels the wall's, the floor's colour read;
+    # 11 rows read (1,160 of 2,200) or 13 (1,360 of 2,600) read the wall's.
+    img = _scene()
+    img[229:239, 100:216] = WALL
+    img[227, 100:300] = WALL
+    assert _band_on_floor(img, BAND)
+
+
+def test_a_band_just_over_the_foot_rows() -> None:
+    # its lower strip ends at row 227, just over the rows read for the floor: judged
+    assert _band_on_floor(_scene(), (100.0, 209.0, 300.0, 219.0))
+
+
 def test_the_floor_read_at_the_images_foot() -> None:
     # BAND_FLOOR_FOOT_ROWS 12: the rows 228-239; a band reaching down into them is kept
     img = _scene()

@@ -41,6 +41,14 @@ def test_without_the_rule_the_top_stays_low(monkeypatch: pytest.MonkeyPatch) -> 
     assert eh > 0.1
 
 
+def test_the_rows_it_adds_must_be_the_faces(monkeypatch: pytest.MonkeyPatch) -> None:
+    # face_runs_above at the call: the rows' face taken only when the rows it adds have
+    # the face's colour (here read as never so)
+    monkeypatch.setattr(measure, "face_runs_above", lambda *_: False)
+    eh, _ = room_size_errors("photo", 3465, True, with_rig=False)
+    assert eh > 0.1
+
+
 @pytest.mark.parametrize(
     ("grown", "conf", "lens", "raises"),
     [
@@ -78,6 +86,14 @@ def test_far_the_surer(grown: float, raises: bool, monkeypatch: pytest.MonkeyPat
     # rows' face at 0.75 at least, over FAR_TOP_SURE both
     monkeypatch.setattr(measure, "FAR_TOP_MAX_FOUND_CONFIDENCE", 0.6)
     assert _top_moves_far_up(_face(FOUND, 0.5), _face(GROWN, grown)) is raises
+
+
+@pytest.mark.parametrize(("top", "raises"), [(183.0, False), (182.9, True)])
+def test_a_small_faces_top_moves_past_the_jitter(top: float, raises: bool) -> None:
+    # a face 15 rows high: FAR_TOP_SHARE of it is 1.5 rows, under ROW_JITTER_PX 2: a top
+    # 2 rows up is the same top read again, 2.1 rows up a move
+    found = _face((100.0, 185.0, 200.0, 200.0), 0.39)
+    assert _top_moves_far_up(found, _face((100.0, top, 200.0, 200.0), 0.8)) is raises
 
 
 def test_a_lower_top_never_raises_it() -> None:

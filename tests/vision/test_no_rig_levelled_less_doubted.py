@@ -7,7 +7,7 @@ its score) say the guess stood it on a wrong row.
 
 The room is a diagnosis room (new10), measured with no rig. Photo 3454 (hard): a planked
 box; the level face 13 columns short on one side and 8 rows high at 0.61 with
-near_rivals (0.27 with it), the levelled face at 0.60 with no doubt, the pitch read 4.2
+near_rivals and foot_above_contact (0.27 with them), the levelled face at 0.60 with no doubt, the pitch read 4.2
 degrees against the true 4.1; 11.5 % -> 0.8 %. Only a levelled face on the pitch-0 face's
 foot (within ROW_JITTER_PX) is taken so.
 """

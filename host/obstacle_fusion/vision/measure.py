@@ -2385,8 +2385,9 @@ RERUN_AGREE = 0.05
 #: stands for, rivals near its score: the level guess stood it on a wrong row) is the
 #: face, however the raw scores tie (photo 3454 hard: a planked box, the level face 13
 #: columns short on one side and 8 rows high at 0.61 with near_rivals and
-#: foot_above_contact, 0.12 with them; the levelled face at 0.60 with none, the pitch read
-#: 4.2 degrees against the true 4.1; 11.5 -> 0.8 %). Only a levelled face on the pitch-0
+#: foot_above_contact, 0.27 with them (0.12 as reported, the two views' disagreement added);
+#: the levelled face at 0.60 with none, the pitch read 4.2 degrees against the true 4.1;
+#: 11.5 -> 0.8 %). Only a levelled face on the pitch-0
 #: face's foot (within ROW_JITTER_PX): the pitch read and that foot's row give the camera
 #: height, and a face on another foot is another reading (procedural 3499 hard: a levelled
 #: face 4 rows up and 8 columns in, 1.9 -> 10.2 % without this). Session 49, branch
