@@ -31,7 +31,7 @@ WALL_LAB = (120.0, 128.0, 128.0)
 PRINT_LAB = (110.0, 128.0, 128.0)
 RIM_LAB = (130.0, 108.0, 104.0)
 FLOOR_LAB = (90.0, 128.0, 128.0)
-#: Rows of the rim's colour over the board that put the band's top RIM_FOOT_ROWS (6) rows
+#: Rows of the rim's colour over the board that put the band's top RIM_THIN_ROWS (6) rows
 #: over the rim's lowest row (the rim is 2 rows).
 RIM_FOOT_ROWS_OVER = 5
 
@@ -47,17 +47,22 @@ def board(
     top_rim: bool = True,
     line_across: bool = False,
     over: int = 0,
+    foot_rim: bool = True,
+    floor_lab: tuple[float, float, float] = FLOOR_LAB,
 ) -> npt.NDArray[np.uint8]:
     """The rimmed board; ``top_rim``: the rim drawn across its top; ``line_across``: a
     line of the rim's colour across the whole wall at the board's top row instead;
-    ``over``: that many rows of the rim's colour over the board, between its sides."""
+    ``over``: that many rows of the rim's colour over the board, between its sides;
+    ``foot_rim``: the rim drawn across its foot; ``floor_lab``: the floor's colour."""
     lab = np.empty((H, W, 3), np.float64)
     lab[:] = WALL_LAB
     if over:
         lab[TOP - over : TOP, LEFT:RIGHT] = rim_lab
-    lab[BOTTOM:] = FLOOR_LAB
+    lab[BOTTOM:] = floor_lab
     lab[TOP:BOTTOM, LEFT:RIGHT] = rim_lab
     lab[TOP + RIM : BOTTOM - RIM, LEFT + RIM : RIGHT - RIM] = PRINT_LAB
+    if not foot_rim:
+        lab[BOTTOM - RIM : BOTTOM, LEFT + RIM : RIGHT - RIM] = PRINT_LAB
     # the print's text: dark strokes every 12 rows
     for r in range(TOP + 8, BOTTOM - 8, 12):
         lab[r : r + 2, LEFT + 10 : RIGHT - 10, 0] -= 40.0
@@ -87,14 +92,14 @@ def test_a_line_across_the_whole_wall_is_not_the_rim() -> None:
 
 
 def test_a_band_thicker_than_a_rim_is_no_line() -> None:
-    # a band of the rim's colour RIM_FOOT_ROWS rows over the rim's lowest row: no
+    # a band of the rim's colour RIM_THIN_ROWS rows over the rim's lowest row: no
     # background closes a line over the board (fresh procedural 2120 hard: a light rim
     # before a wall of its colour, the wall read up to the view's top, -8 -> +40 %)
     assert raised(board(over=RIM_FOOT_ROWS_OVER)) == FOUND
 
 
 def test_a_line_as_thin_as_the_limit_is_a_rim() -> None:
-    # one row less: the band's top 5 rows over the rim's lowest, under RIM_FOOT_ROWS
+    # one row less: the band's top 5 rows over the rim's lowest, under RIM_THIN_ROWS
     assert abs(raised(board(over=RIM_FOOT_ROWS_OVER - 1)) - (TOP - 4)) <= 1
 
 
@@ -141,3 +146,28 @@ def test_the_match_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
     # no pixel of the top's line within 1 of the foot's rim (the noise's 1.5)
     monkeypatch.setattr(region, "RIM_MATCH", 1.0)
     assert raised(board()) == FOUND
+
+
+def test_the_thin_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the band 6 rows over the rim's lowest row is a line under a limit one row wider
+    monkeypatch.setattr(region, "RIM_THIN_ROWS", 7)
+    assert abs(raised(board(over=RIM_FOOT_ROWS_OVER)) - (TOP - RIM_FOOT_ROWS_OVER)) <= 1
+
+
+def test_a_floor_of_the_rim_colour_is_no_rim() -> None:
+    # no rim across the foot, the floor (from the contact row down) of the top line's
+    # colour: the rim is read over the contact row, the floor's colour there is no rim
+    assert raised(board(foot_rim=False, floor_lab=RIM_LAB)) == FOUND
+
+
+def test_a_faintly_hued_rim_is_no_rim() -> None:
+    # a rim of chroma about 15 (under RIM_CHROMA 20), 24 Lab from the print
+    assert raised(board(rim_lab=(130.0, 117.0, 117.0))) == FOUND
+
+
+def test_the_reach_limit_decides(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the rim's line is BOTTOM - TOP = 140 rows (0.467 m at 300 px/m) over the foot
+    monkeypatch.setattr(region, "RIM_REACH_M", (BOTTOM - TOP - 3) / 300.0 * DEPTH)
+    assert raised(board()) == FOUND
+    monkeypatch.setattr(region, "RIM_REACH_M", (BOTTOM - TOP + 3) / 300.0 * DEPTH)
+    assert abs(raised(board()) - TOP) <= 1
