@@ -4687,8 +4687,12 @@ def bridge_stripe(
 
 
 #: The rim's colour is read in the rows this far over the found foot (the row of them
-#: the most chromatic): a board's coloured edge band runs across its foot.
+#: the most chromatic; the contact row itself not: the floor's): a board's coloured edge
+#: band runs across its foot.
 RIM_FOOT_ROWS = 6
+#: The rim's line across the top is thinner than this (rows from its lowest row up to
+#: where half of RIM_SPAN stops holding): a rim is a line, the background closes over it.
+RIM_THIN_ROWS = 6
 #: ... a rim this chromatic (8-bit Lab, from grey) only: a grey line is any print's row.
 RIM_CHROMA = 20.0
 #: ... and this far (Lab) from the face's inside under the found top: a rim, not the face.
@@ -4735,7 +4739,8 @@ def raise_top_to_rim(
     inner = band[:, 2 * span : -2 * span]
     beside = np.concatenate([band[:, :BESIDE_COLUMNS], band[:, -BESIDE_COLUMNS:]], axis=1)
     kb, kt = bottom - r0, top - r0
-    foot = np.median(inner[kb - RIM_FOOT_ROWS : kb + 1], axis=1)
+    # (the rows over the contact row: a chromatic floor's colour there is no rim)
+    foot = np.median(inner[kb - RIM_FOOT_ROWS : kb], axis=1)
     chroma = np.hypot(foot[:, 1] - 128.0, foot[:, 2] - 128.0)
     rim = foot[int(np.argmax(chroma))]
     if float(chroma.max()) < RIM_CHROMA:
@@ -4754,7 +4759,7 @@ def raise_top_to_rim(
             # a line, as thin as a rim: the background closes over it (a light rim
             # before a wall of its own colour: the wall over the face is no line; fresh
             # procedural 2120 hard, -8 -> +40 % without this)
-            if k - upper >= RIM_FOOT_ROWS:
+            if k - upper >= RIM_THIN_ROWS:
                 return top
             return r0 + upper
     return top
