@@ -73,3 +73,51 @@ def test_a_surer_levelled_face_is_taken_as_before(monkeypatch: pytest.MonkeyPatc
 def test_the_levelled_faces_doubts_count_too() -> None:
     # both doubted alike: no margin between them
     assert not _levelled_taken(_face(0.4, [NEAR_RIVALS]), _face(0.39, [NEAR_RIVALS]))
+
+
+def _box_face(conf: float, x0: float, x1: float, doubts: list[str] | None = None) -> Measurement:
+    return Measurement(
+        True,
+        "fused",
+        2.0,
+        box_px=(x0, 100.0, x1, 200.0),
+        confidence=conf,
+        height_px=100.0,
+        width_px=x1 - x0,
+        doubts=doubts or [],
+    )
+
+
+@pytest.mark.parametrize(
+    ("x0", "x1", "taken"),
+    [
+        (102.1, 297.9, False),  # both sides in by over ROW_JITTER_PX 2: a print on the face
+        (102.0, 297.9, True),  # the left side within the jitter: the face read again
+        (102.1, 298.0, True),  # the right side within the jitter
+        (90.0, 297.9, True),  # wider on the left (photo 3454's case)
+    ],
+)
+def test_a_levelled_face_inside_both_sides_is_a_print(x0: float, x1: float, taken: bool) -> None:
+    found = _box_face(0.4, 100.0, 300.0, [NEAR_RIVALS])
+    assert _levelled_taken(found, _box_face(0.39, x0, x1)) is taken
+
+
+def test_without_the_inside_check_the_print_is_taken(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(measure, "LEVELLED_NOT_INSIDE", False)
+    found = _box_face(0.4, 100.0, 300.0, [NEAR_RIVALS])
+    assert _levelled_taken(found, _box_face(0.39, 110.0, 290.0))
+
+
+def test_the_framed_print_stays_the_frames_face() -> None:
+    # procedural 3247 hard (new5), no rig: the olive frame's face (0.4 % wide, framed_print)
+    # against the text print 11 columns in on each side (-13 % wide)
+    eh, ew = room_size_errors("procedural", 3247, True, with_rig=False)
+    assert ew < 0.03 and eh < 0.09
+
+
+def test_without_the_inside_check_the_framed_print_is_taken(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(measure, "LEVELLED_NOT_INSIDE", False)
+    _, ew = room_size_errors("procedural", 3247, True, with_rig=False)
+    assert ew > 0.1

@@ -2394,6 +2394,12 @@ RERUN_AGREE = 0.05
 #: ``wt-d-49``; a switch for the tests.
 LEVELLED_LESS_DOUBTED = True
 LEVELLED_DOUBTED_MARGIN = 0.2
+#: ... but not a levelled face with both sides inside the pitch-0 face's (each by over
+#: ROW_JITTER_PX): on the same foot and within both sides it is a print on that face, not
+#: the surface read again (procedural 3247 hard: a text print inside an olive frame, the
+#: frame's face 0.4 % wide with framed_print, the print's 11 columns in on each side, 7.9
+#: -> 13.0 % without this). Session 49, found on the stop's full run; a switch for the tests.
+LEVELLED_NOT_INSIDE = True
 
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
@@ -3698,8 +3704,17 @@ def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
         and found.box_px is not None
         and levelled.box_px is not None
         and abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
+        and not (LEVELLED_NOT_INSIDE and _inside_both_sides(levelled.box_px, found.box_px))
         and _doubted(levelled) > _doubted(found) + LEVELLED_DOUBTED_MARGIN
     )
+
+
+def _inside_both_sides(
+    inner: tuple[float, float, float, float], outer: tuple[float, float, float, float]
+) -> bool:
+    """Whether ``inner``'s sides both stand inside ``outer``'s, each by over ROW_JITTER_PX
+    (a print on a face, not the face read again)."""
+    return inner[0] > outer[0] + ROW_JITTER_PX and inner[2] < outer[2] - ROW_JITTER_PX
 
 
 def _doubted(found: Measurement, ignore: frozenset[str] = frozenset()) -> float:
