@@ -16,6 +16,7 @@ validation rooms, procedural and photo seeds 100-159, 700-759, 2000-2099), ``fre
 session 44), ``new6`` (seeds 3250-3299, opened at session 45), ``new7`` (seeds 3300-3349,
 opened at session 46), ``new8`` (seeds 3350-3399, opened at session 47), ``new9``
 (seeds 3400-3449, opened at session 48), ``new10`` (seeds 3450-3499, opened at session 49),
+``new11`` (seeds 3500-3549, opened at session 50),
 or ``FAMILY:FIRST-LAST``.
 
     .venv/bin/python tools/room_answers.py run -o /tmp/before.tsv --sets own,fresh,ho -j 2
@@ -63,6 +64,8 @@ SETS: dict[str, list[tuple[str, int, int]]] = {
     "new9": [(f, 3400, 3449) for f in TUNED],
     # opened for diagnosis at session 49, after "new9" had been used for tuning
     "new10": [(f, 3450, 3499) for f in TUNED],
+    # opened for diagnosis at session 50, after "new10" had been used for tuning
+    "new11": [(f, 3500, 3549) for f in TUNED],
 }
 COLUMNS = (
     "set family seed kind rig detected clipped flagged err_h_pct err_w_pct confidence "
