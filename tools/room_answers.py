@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import math
 import multiprocessing
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -344,5 +345,16 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def main_to_a_pipe() -> int:
+    """Ends quietly when the reader stops early (`summary ... | head`), as the shell's tools do."""
+    try:
+        code = main()
+        sys.stdout.flush()
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + 13  # the status of a process ended by SIGPIPE
+    return code
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main_to_a_pipe())

@@ -146,3 +146,18 @@ def test_summary_means_skip_misses_and_reliability_holds_sure_answers_to_five_pe
     assert room_answers.summarize(room_answers.load(path), {"fresh"}) == []
     done = cli("summary", str(path), "--sets", "fresh")
     assert done.returncode == 1 and "no unclipped answers" in done.stderr
+
+
+def test_a_reader_that_stops_early_ends_the_tool_quietly(tmp_path: Path) -> None:
+    path = tsv(tmp_path / "s.tsv", [{"err_h_pct": "1.0"}] * 3)
+    tool = subprocess.Popen(
+        [sys.executable, str(SCRIPT), "summary", str(path)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert tool.stdout is not None and tool.stderr is not None
+    tool.stdout.close()  # `| head` gone before the tool prints
+    err = tool.stderr.read()
+    assert tool.wait(timeout=300) == 141
+    assert "Traceback" not in err and "BrokenPipeError" not in err
