@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import dataclasses
 
+import pytest
 from obstacle_fusion.api import LazyMeasurer
 from obstacle_fusion.sim.room_scene import RoomRenderer, RoomSpec
 from obstacle_fusion.vision.camera import CameraModel
 
 from tests.vision.rooms import plain_room
+
+pytestmark = pytest.mark.cpu_only
 
 CAM = CameraModel.paper(500, 375)
 

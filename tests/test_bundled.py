@@ -10,6 +10,8 @@ import pytest
 from obstacle_fusion import bundled
 from obstacle_fusion.sim.emulator import EmulatorError, check_built
 
+pytestmark = pytest.mark.cpu_only
+
 
 def test_in_the_clone_the_build_tree_is_used(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv("OF_EMULATOR", raising=False)

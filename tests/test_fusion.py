@@ -21,6 +21,8 @@ from obstacle_fusion.fusion import (
 from obstacle_fusion.sonar import SonarReading, SonarStatus
 from obstacle_fusion.sources.frames import Frame
 
+pytestmark = pytest.mark.cpu_only
+
 
 def _reading(
     t: float, d: float | None, status: SonarStatus = SonarStatus.OK, m: int = 0, sensor: int = 0

@@ -16,6 +16,8 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.rig_estimator import floor_row
 
+pytestmark = pytest.mark.cpu_only
+
 W, H_IMG = 500, 375
 FY = 459.0
 CAMERA = CameraModel(np.array([[FY, 0, 249.5], [0, FY, 187.0], [0, 0, 1]]), np.zeros(5), W, H_IMG)

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.cpu_only
+
 PACKAGE_ROOT = Path(__file__).resolve().parents[1] / "host" / "obstacle_fusion"
 
 

@@ -8,6 +8,8 @@ import pytest
 from obstacle_fusion.protocol.generated import Range, RangeStatus
 from obstacle_fusion.sonar import SonarConverter, SonarStatus, speed_of_sound
 
+pytestmark = pytest.mark.cpu_only
+
 
 def _range(ticks: int, status: RangeStatus = RangeStatus.OK, m: int = 0) -> Range:
     return Range(measurement=m, sensor_id=0, trigger_us=1000, echo_ticks=ticks, status=int(status))

@@ -182,6 +182,7 @@ def test_installed_flash_needs_no_compiler(installed: dict[str, Path], tmp_path:
     )
 
 
+@pytest.mark.cpu_only  # its own wheel, no run: on the xdist workers (tests/conftest.py)
 def test_a_c_accelerator_that_does_not_compile_leaves_the_pure_decoder(tmp_path: Path) -> None:
     """An install on a machine where the decoder's C accelerator fails to compile (here: an
     #error in its source) succeeds; the package then decodes in pure Python, says so in a

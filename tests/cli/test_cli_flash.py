@@ -11,6 +11,8 @@ import pytest
 from obstacle_fusion.cli import flash as flash_cli
 from obstacle_fusion.cli import main
 
+pytestmark = pytest.mark.cpu_only
+
 HAVE_AVR = shutil.which("avr-gcc") is not None and shutil.which("make") is not None
 
 

@@ -22,6 +22,9 @@ from obstacle_fusion.sources.frames import Frame
 
 from tests.cli_fixtures import unreadable_run
 
+#: one xdist worker builds the module fixture once (run_tests.sh: --dist loadgroup)
+pytestmark = [pytest.mark.cpu_only, pytest.mark.xdist_group("replay_damage")]
+
 N_FRAMES = 117
 
 

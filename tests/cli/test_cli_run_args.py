@@ -20,6 +20,8 @@ from obstacle_fusion.sources.frames import Frame
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 
+pytestmark = pytest.mark.cpu_only
+
 
 def _refused(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
     with pytest.raises(SystemExit) as exc:

@@ -15,6 +15,9 @@ from pathlib import Path
 
 import pytest
 
+#: one xdist worker builds the module fixture once (run_tests.sh: --dist loadgroup)
+pytestmark = [pytest.mark.cpu_only, pytest.mark.xdist_group("firmware_build")]
+
 ROOT = Path(__file__).resolve().parents[2]
 FIRMWARE = ROOT / "firmware"
 LIMITS = {"uno": (6144, 768), "bluepill": (8192, 20480)}

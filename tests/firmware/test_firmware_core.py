@@ -15,6 +15,9 @@ from pathlib import Path
 
 import pytest
 
+#: one xdist worker builds the module fixture once (run_tests.sh: --dist loadgroup)
+pytestmark = [pytest.mark.cpu_only, pytest.mark.xdist_group("firmware_core")]
+
 ROOT = Path(__file__).resolve().parents[2]
 CORE = ROOT / "firmware" / "core"
 NATIVE = ROOT / "tests" / "native"

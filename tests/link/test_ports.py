@@ -8,6 +8,8 @@ import pytest
 from obstacle_fusion.errors import UserError
 from obstacle_fusion.link.ports import find_board_port, known_device, list_board_ports
 
+pytestmark = pytest.mark.cpu_only
+
 
 @dataclass
 class FakePort:

@@ -8,7 +8,10 @@ import json
 from pathlib import Path
 from typing import Any
 
+import pytest
 from obstacle_fusion.outputs.foxglove_schemas import topic_schemas
+
+pytestmark = pytest.mark.cpu_only
 
 TOOL = Path(__file__).resolve().parents[2] / "tools/foxglove/make_layout.py"
 

@@ -39,6 +39,8 @@ from obstacle_fusion.sources.frames import Frame
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 
+pytestmark = pytest.mark.cpu_only
+
 UNIX = 1_750_000_000_000_000_000
 VENDORED = Path(__file__).resolve().parents[2] / "host/obstacle_fusion/outputs/foxglove_jsonschema"
 
@@ -173,6 +175,7 @@ def test_times_are_unix_nanoseconds_with_the_mapping_in_the_metadata(tmp_path: P
     assert meta["obstacle_fusion"]["time_base"].startswith("unix epoch")
 
 
+@pytest.mark.realtime  # two clocks read 50 ms apart at most
 def test_default_offset_maps_monotonic_time_to_now() -> None:
     import time
 

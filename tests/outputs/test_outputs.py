@@ -36,6 +36,8 @@ from obstacle_fusion.sources.frames import Frame
 
 from tests.link_fixtures import FakeBoard
 
+pytestmark = pytest.mark.cpu_only
+
 
 def _record(t: float = 1.5, alert: bool = False, distance: float | None = 1.2) -> ObstacleRecord:
     return ObstacleRecord(
@@ -137,6 +139,7 @@ def test_a_non_mcap_file_is_refused_clearly(tmp_path: Path) -> None:
         read_recording(tmp_path / "missing.mcap")
 
 
+@pytest.mark.realtime  # the fake board's link, paced in real time
 def test_a_recording_across_a_reconnect_holds_both_sides(tmp_path: Path) -> None:
     path = tmp_path / "reconnect.mcap"
     conv = SonarConverter()

@@ -25,6 +25,8 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 from rosbags.rosbag2 import Reader
 
+pytestmark = pytest.mark.cpu_only
+
 UNIX = 1_750_000_000_000_000_000
 CHESSBOARDS = Path(__file__).resolve().parents[3] / "shared/data/opencv-chessboard"
 

@@ -15,6 +15,8 @@ from obstacle_fusion.errors import UserError
 from obstacle_fusion.fusion import ObstacleRecord
 from obstacle_fusion.outputs.video import AnnotatedVideoWriter, annotate
 
+pytestmark = pytest.mark.cpu_only
+
 
 def _record(**kw: Any) -> ObstacleRecord:
     base: dict[str, Any] = {

@@ -24,6 +24,8 @@ from obstacle_fusion.protocol.generated import (
 
 from tests.protocol.test_protocol_generated import gen
 
+pytestmark = pytest.mark.cpu_only
+
 ROOT = Path(__file__).resolve().parents[2]
 VECTORS = json.loads((ROOT / "protocol" / "vectors" / "golden.json").read_text())
 

@@ -20,6 +20,8 @@ from obstacle_fusion.protocol.generated import (
     TimeSyncReply,
 )
 
+pytestmark = pytest.mark.cpu_only
+
 u32 = st.integers(0, 0xFFFFFFFF)
 u8 = st.integers(0, 0xFF)
 messages = st.one_of(

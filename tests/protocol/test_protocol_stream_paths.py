@@ -29,6 +29,8 @@ from hypothesis import strategies as st
 from obstacle_fusion.protocol import StreamDecoder, encode, stream
 from obstacle_fusion.protocol.generated import MESSAGES, Heartbeat, Hello, Message, Range
 
+pytestmark = pytest.mark.cpu_only
+
 _INT_RANGES = {
     "B": (0, 0xFF),
     "H": (0, 0xFFFF),

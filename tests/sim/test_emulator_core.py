@@ -431,6 +431,7 @@ def test_control_socket_of_a_running_emulator_is_not_stolen(
     assert sock.exists() and "cycle" in first.control.stats()
 
 
+@pytest.mark.cpu_only  # refused before the emulator starts: on the xdist workers
 def test_emulate_cli_names_folders_and_bad_durations(emulator_built: Path, tmp_path: Path) -> None:
     def emulate(*args: str) -> str:
         proc = subprocess.run(

@@ -16,6 +16,8 @@ from obstacle_fusion.sim.room_scene import (
 )
 from obstacle_fusion.vision.camera import CameraModel
 
+pytestmark = pytest.mark.cpu_only
+
 CAM = CameraModel.paper(500, 375)
 
 

@@ -16,6 +16,8 @@ from obstacle_fusion.sim.scenario import (
     parse_keyframes,
 )
 
+pytestmark = pytest.mark.cpu_only
+
 
 def test_demo_has_an_approach_a_gap_and_a_different_obstacle() -> None:
     s = demo_scenario()

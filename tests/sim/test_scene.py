@@ -8,6 +8,8 @@ from obstacle_fusion.sim.scene import SceneSpec, render_scene
 from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.rig import Rig
 
+pytestmark = pytest.mark.cpu_only
+
 CAM = CameraModel.paper()
 
 

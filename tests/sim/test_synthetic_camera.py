@@ -12,6 +12,8 @@ from obstacle_fusion.sim.scene import render_scene
 from obstacle_fusion.sim.synthetic_camera import SyntheticCamera, synthetic_camera_model
 from obstacle_fusion.vision.rig import Rig
 
+pytestmark = pytest.mark.cpu_only
+
 
 def test_frames_follow_the_scene_clock_and_show_the_scenarios_obstacle() -> None:
     scenario = demo_scenario()

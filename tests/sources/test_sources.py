@@ -17,6 +17,8 @@ from obstacle_fusion.sources.opencv_sources import (
     open_source,
 )
 
+pytestmark = pytest.mark.cpu_only
+
 W, H = 160, 120
 
 

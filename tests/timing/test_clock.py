@@ -9,6 +9,8 @@ from obstacle_fusion.timing.clock import ClockModel, Unwrapper, frame_bytes
 
 from tests.clock_fixtures import LinkSim, percentile
 
+pytestmark = pytest.mark.cpu_only
+
 
 def test_unwrap_across_the_32_bit_boundary_and_back() -> None:
     u = Unwrapper()
@@ -106,6 +108,7 @@ emulator_built = emulator_fixtures.emulator_built
 emulator_factory = emulator_fixtures.emulator_factory
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("ppm", [5000.0, -5000.0])
 def test_emulated_crystal_error_is_tracked_within_half_a_millisecond(
     ppm: float, uno_elf: object, emulator_factory: object

@@ -9,6 +9,8 @@ from obstacle_fusion.timing.clock import ClockEstimate, ClockModel, WindowHull, 
 
 from tests.clock_fixtures import LinkSim
 
+pytestmark = pytest.mark.cpu_only
+
 
 class ReferenceModel(ClockModel):
     """The model as it was: the window sorted and its hull rebuilt at every solve."""

@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 from obstacle_fusion.timing.latency import CameraLatencyEstimator
 
+pytestmark = pytest.mark.cpu_only
+
 FY, H = 459.0, 0.4  # paper lens at 500x375, a 0.4 m tall face
 
 
