@@ -1359,6 +1359,17 @@ SIDE_WALK_REACH_M = 1.0
 HELD_BAND_ROWS_SHARE = 0.9
 
 
+#: The sides' walk is judged against the horizon by the top edge it snaps to, not by the
+#: row where its step faded (:func:`raise_top_by_sides`): the step fades a few rows under
+#: the face's top edge (the edge's blur), so a face whose top stands at the camera's
+#: height ends its walk just under the horizon while its edge lies over it. A top face's
+#: back edge, which the horizon guard keeps the walk off, lies under the horizon always
+#: (nearer the camera's height than the front edge, never over it): an edge over the
+#: horizon is no top face's (photo/3546 hard with the rig: a taped face whose top is
+#: 1 cm over the camera, the walk's end 1 row under the horizon, the edge 2 over it).
+WALK_EDGE_HORIZON = True
+
+
 def raise_top_by_sides(
     image: npt.NDArray[Any] | None,
     view: View,
@@ -1414,11 +1425,14 @@ def raise_top_by_sides(
     if end is None:
         return top  # a side that does not part the face from its surroundings
     r0, k = short, top - short
-    if k - end <= SNAP_ROWS or r0 + end > view.cy:
+    if k - end <= SNAP_ROWS:
+        return top
+    snapped = _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
+    if r0 + end > view.cy and not (WALK_EDGE_HORIZON and snapped < view.cy):
         # below the horizon the lens looks down on the face's top: a top face's colour
         # stands apart from the wall beside it as well, so the walk cannot tell its end
         return top
-    return _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
+    return snapped
 
 
 #: The face's hue walk (:func:`raise_top_by_hue`) reads a plain face only: its rows under
