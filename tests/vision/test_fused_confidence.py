@@ -28,6 +28,7 @@ from obstacle_fusion.vision.fused.confidence import (
     FOOT_OFF_FLOOR,
     FRAME_ROUND,
     FRAMED,
+    FRONT_STEP_UNDONE,
     NEAR_RIVALS,
     NO_RIG_ONLY,
     PITCH_RERUN_DISAGREES,
@@ -89,6 +90,7 @@ def test_one_doubt_takes_the_surest_face_under_half() -> None:
         TOP_FACE_UNDER_TOP,
         FACE_RUNS_ON,
         FRAME_ROUND,
+        FRONT_STEP_UNDONE,
     }
     for doubt in DOUBT_FACTORS:
         rig = doubt in RIG_ONLY

@@ -22,6 +22,8 @@ import numpy.typing as npt
 from obstacle_fusion.vision.fused.confidence import (
     FOOT_ABOVE_SHARE,
     FRAMED,
+    FRONT_STEP_UNDONE,
+    FRONT_STEP_UNDONE_SHARE,
     PRINT_OUTLINE,
     TOP_FACE_GAP,
     TOP_FACE_STEP,
@@ -221,6 +223,12 @@ def _front_ends_colour(
     step = FRONT_COLOUR_STEP if front - top >= MIN_TOP_FACE_ROWS else TOP_COLOUR_STEP
     return ends_in_colour(seen, v, rb, front, ul, ur, step)
 
+
+#: With the rig given, a front top edge found under a top where the face's colour ends
+#: and undone for want of a colour step there leaves the doubt FRONT_STEP_UNDONE
+#: (:data:`~obstacle_fusion.vision.fused.confidence.FRONT_STEP_UNDONE`): the top kept may
+#: be a faint top face's back edge. A switch for the tests.
+FRONT_STEP_UNDONE_DOUBT = True
 
 #: The colour rescue's face has its top raised to where its sides end only where the
 #: face's colour is back under that row (region.face_under_raised_top), with the rig.
@@ -1242,6 +1250,15 @@ class FusedMethod:
                 and not _front_ends_colour(seen, v, rb, found_top, vt, ul, ur)
             ):
                 # under a top where the face's colour ends, a front top edge ends it too
+                if (
+                    FRONT_STEP_UNDONE_DOUBT
+                    and rig_given
+                    and vt - found_top >= FRONT_STEP_UNDONE_SHARE * (rb - found_top)
+                    and FRONT_STEP_UNDONE not in doubts
+                ):
+                    # ... or the top kept is a faint top face's back edge (see the doubt)
+                    log.debug("top %d: the front step at %d undone by colour", found_top, vt)
+                    doubts.append(FRONT_STEP_UNDONE)
                 vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         else:
             sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
