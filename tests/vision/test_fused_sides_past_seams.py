@@ -96,8 +96,12 @@ def test_a_real_side_with_lines_running_on_stays() -> None:
 
 
 def test_the_colour_past_the_side_decides(monkeypatch: pytest.MonkeyPatch) -> None:
-    # taken for the face's colour, the wall and the shadowed floor move the side out
+    # any colour within SAME_SURFACE: the strips past are the wall's and the floor's
+    # as beyond the corner, still not the face's
     monkeypatch.setattr(past_seam, "SAME_SURFACE", 500.0)
+    assert sides(room(shelf=True, shadow=True), (LEFT, RIGHT))[1] == RIGHT
+    # taken for the face's colour, the wall and the shadowed floor move the side out
+    monkeypatch.setattr(past_seam, "_same_surface", lambda *_: True)
     _, right = sides(room(shelf=True, shadow=True), (LEFT, RIGHT))
     assert right > RIGHT + past_seam.MIN_RUN
 
@@ -162,3 +166,43 @@ def test_the_widest_face(monkeypatch: pytest.MonkeyPatch) -> None:
     assert sides(room(), (SEAM1, RIGHT))[0] == SEAM1
     monkeypatch.setattr(past_seam, "MAX_WIDTH_M", 0.65)
     assert abs(sides(room(), (SEAM1, RIGHT))[0] - LEFT) <= 2
+
+
+def test_a_strip_off_the_view_reads_nothing() -> None:
+    # a strip past a corner at the view's edge: nothing to read (it once made OpenCV's
+    # remap fail); one running off the edge reads the columns in view
+    img, view = room(), level_view()
+    assert past_seam._strip(img, view, TOP + 3, TOP + 7, W, W + 8) is None
+    assert past_seam._strip(img, view, TOP + 3, TOP + 7, W + 2, W + 10) is None
+    strip = past_seam._strip(img, view, TOP + 3, TOP + 7, W - 2, W + 6)
+    assert strip is not None
+    wall = past_seam._strip(img, view, TOP + 3, TOP + 7, W - 10, W - 2)
+    assert wall is not None and np.allclose(strip, wall)
+
+
+def test_a_corner_out_of_the_view_is_not_seen(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the left plank runs on to the image's edge: its top and foot run out of the view
+    img = room()
+    img[TOP:CONTACT, :SEAM1] = PLANK
+    assert sides(img, (SEAM1, RIGHT))[0] == SEAM1
+    # (nothing past the view's edge to read the colour from: taken as the face's)
+    monkeypatch.setattr(past_seam, "_same_surface", lambda *_: True)
+    assert sides(img, (SEAM1, RIGHT))[0] == SEAM1
+    monkeypatch.setattr(past_seam, "IN_VIEW", False)
+    assert sides(img, (SEAM1, RIGHT))[0] < past_seam.VIEW_MARGIN
+
+
+@pytest.mark.parametrize(
+    ("beyond", "face"), [((200, 170, 200), False), ((200, 160, 200), False), (WALL, True)]
+)
+def test_a_strip_as_near_what_lies_past_is_not_the_face_s(
+    beyond: tuple[int, int, int], face: bool
+) -> None:
+    # a strip within SAME_SURFACE of the plank inside, but as near or nearer what lies
+    # past the corner (a faint top over the wall's colour, new10 photo/3458): not the face
+    img = np.zeros((H, W, 3), np.uint8)
+    img[:, 100:120] = PLANK  # inside the side at 120
+    img[:, 120:160] = (200, 170, 200)  # past it, to the corner at 160
+    img[:, 160:] = beyond
+    got = past_seam._same_surface(img, level_view(), (TOP, TOP + 4), 120, 160, 1)
+    assert got is face

@@ -51,6 +51,11 @@ SIDE_SKIP = 2
 #: SNAP columns either side of the foot's end) against the median column of the face.
 SIDE_OVER_FACE = 3.0
 SNAP = 3
+#: The corner must be seen: a foot running on to within VIEW_MARGIN columns of the view's
+#: edge moves nothing (new10 photo/3474 ordinary: a faint top and the floor's line ran to
+#: the edge, w +55 %).
+IN_VIEW = True
+VIEW_MARGIN = 4
 #: The widest face the move may give (metres at the face's depth).
 MAX_WIDTH_M = 1.5
 
@@ -93,7 +98,10 @@ def _face_grain(ax: npt.NDArray[np.int16], top: int, bottom: int, inner: slice) 
 def _strip(
     image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int, c1: int
 ) -> npt.NDArray[np.float32] | None:
-    """The median Lab colour of rows r0..r1-1, columns c0..c1-1 (None when empty)."""
+    """The median Lab colour of rows r0..r1-1, columns c0..c1-1 (None when empty, or
+    off the view: a strip past a corner at the view's edge is not there to read)."""
+    h, w = view.out.shape
+    r1, c1 = min(r1, h), min(c1, w)
     if r0 < 0 or r1 <= r0 or c1 <= c0 or c0 < 0:
         return None
     lab = view.lab(image, r0, r1, c0, c1, 1)
@@ -128,7 +136,11 @@ def _same_surface(
     log.debug(
         "strip %s past %d: %.1f from inside, %.1f from beyond", rows, side, to_inside, to_beyond
     )
-    return to_inside <= SAME_SURFACE or to_inside <= NEARER_SHARE * to_beyond
+    # never nearer what lies past the corner than the face (new10 photo/3458 ordinary: a
+    # faint top over the wall's colour, 9.6 from the face and 0.2 from the wall past it)
+    return to_inside < to_beyond and (
+        to_inside <= SAME_SURFACE or to_inside <= NEARER_SHARE * to_beyond
+    )
 
 
 def _side_past_seam(
@@ -166,6 +178,11 @@ def _side_past_seam(
     if run < MIN_RUN or step * (top_end - foot_end) < -ENDS_APART:
         return side
     # the corner: the strongest vertical edge at the foot's end, standing up the face
+    if IN_VIEW and not VIEW_MARGIN <= foot_end < ax.shape[1] - VIEW_MARGIN:
+        # the foot runs on out of the view: no corner is seen (a floor line, the face
+        # running out of sight), the side is not moved to the view's edge
+        log.debug("side %d: the foot runs on out of the view", side)
+        return side
     end, strength = _snap(ax, top, bottom, foot_end)
     grain = _face_grain(ax, top, bottom, inner)
     together = abs(top_end - foot_end) <= ENDS_APART
