@@ -11,7 +11,7 @@ import pytest
 from obstacle_fusion.sim.room_scene import render_room
 from obstacle_fusion.vision import measure
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import channel, extent, method, region, top
+from obstacle_fusion.vision.fused import channel, extent, method, past_seam, region, top
 from obstacle_fusion.vision.fused.channel import (
     BACKGROUND_ROWS_M,
     MIN_CHROMA_STEP,
@@ -247,7 +247,10 @@ def test_the_background_is_read_on_its_rows(height_m: float) -> None:
 
 def test_a_last_try_face_on_a_seam_is_not_taken(monkeypatch: pytest.MonkeyPatch) -> None:
     # photo 1113 ordinary: a face of two planks, missed on luminance; on the background
-    # channel the left plank alone, its right side the joint, 31 % narrow
+    # channel the left plank alone, its right side the joint, 31 % narrow (since session
+    # 50 past_seam.SIDES_PAST_SEAMS finds the face before the last try, w +1.0 % at 0.07:
+    # off here, the last try is this test's)
+    monkeypatch.setattr(past_seam, "SIDES_PAST_SEAMS", False)
     image, truth, spec = render_room("photo", 1113, False, CAM)
     assert not Measurer(CAM, spec.rig).measure(image, truth["range_m"]).detected
     monkeypatch.setattr(measure, "side_on_seam", lambda *_: False)

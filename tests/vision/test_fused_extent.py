@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 import pytest
-from obstacle_fusion.vision.fused import extent, foot_outline, method, region
+from obstacle_fusion.vision.fused import extent, foot_outline, method, past_seam, region
 from obstacle_fusion.vision.fused.extent import (
     enclose_inner_frame,
     raise_top_past_inner_edges,
@@ -207,5 +207,7 @@ def test_without_the_line_rule_the_plank_face_is_one_plank(
     monkeypatch.setattr(method, "FAR_OFF_AXIS", False)
     # and so does crossing a plank's dark seam as a stripe (region.BRIDGE_STRIPES)
     monkeypatch.setattr(region, "BRIDGE_STRIPES", False)
+    # and so does following the top and foot past the seam (past_seam.SIDES_PAST_SEAMS)
+    monkeypatch.setattr(past_seam, "SIDES_PAST_SEAMS", False)
     _, ew = room_size_errors("photo", 2143, False)
     assert ew > 0.5

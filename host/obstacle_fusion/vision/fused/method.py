@@ -49,6 +49,7 @@ from obstacle_fusion.vision.fused.extent import (
     widen_across_seams,
 )
 from obstacle_fusion.vision.fused.foot_outline import grows_face, outline_from_foot
+from obstacle_fusion.vision.fused.past_seam import sides_past_seams
 from obstacle_fusion.vision.fused.profiles import VerticalFits, clamp, median
 from obstacle_fusion.vision.fused.refine import refine
 from obstacle_fusion.vision.fused.region import (
@@ -1010,6 +1011,9 @@ class FusedMethod:
                 log.debug("rescue: top %d, front top %d", vt, front)
                 if front != vt and looks_like_top_face(seen, v, vt, front, ul, ur, pattern=True):
                     vt, sign = front, front_sign
+            if rig_given:
+                # a side on a seam: the top and the foot run on past it to the face's corner
+                ul, ur = sides_past_seams(seen, v, ay, ax3, vt, rb, (ul, ur), depth)
             colour_face = self._refine(
                 ax, ay, ax3, dy, rb, ul, ur, vt, sign, None, conf, depth, range_m, timer, None
             )
@@ -1406,6 +1410,9 @@ class FusedMethod:
             # shadow's, no floor's at its foot): read under the top found for the sides the
             # walk gave (before it, a top found too high read the background up there)
             ul, ur = sides_rising(seen, v, ax3, rb, int(round(vt)), walked_from, (ul, ur))
+        if rig_given:
+            # a side on a seam: the top and the foot run on past it to the face's corner
+            ul, ur = sides_past_seams(seen, v, ay, ax3, int(round(vt)), rb, (ul, ur), depth)
         conf = face_conf
         reason = refusal(conf, self.min_confidence)
         if reason is not None:
