@@ -2413,6 +2413,13 @@ LEVELLED_DOUBTED_MARGIN = 0.2
 #: frame's face 0.4 % wide with framed_print, the print's 11 columns in on each side, 7.9
 #: -> 13.0 % without this). Session 49, found on the stop's full run; a switch for the tests.
 LEVELLED_NOT_INSIDE = True
+#: ... and a levelled face surer as measured is not taken either where it lies on the
+#: pitch-0 face as a print: on its foot, its sides and top inside the pitch-0 face's, each
+#: by over ROW_JITTER_PX (:func:`_print_on_face`); the pitch-0 face, scaled to the levelled
+#: view, stands (new11 procedural 3525 ordinary: a teal brick print in a pink box's face,
+#: the box at 0.90 level, the print at 0.94 levelled, -17 % wide). Session 50, branch
+#: ``wt-d-50``; a switch for the tests.
+LEVELLED_PRINT_REFUSED = True
 
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
@@ -3735,7 +3742,7 @@ def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
     applied (:func:`_doubted`). The pitch read and ``found``'s foot row give the camera
     height: a levelled face on another foot is not that surface read again."""
     if (levelled.confidence or 0.0) > (found.confidence or 0.0):
-        return True
+        return not (LEVELLED_PRINT_REFUSED and _print_on_face(levelled, found))
     return (
         LEVELLED_LESS_DOUBTED
         and found.box_px is not None
@@ -3743,6 +3750,20 @@ def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
         and abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
         and not (LEVELLED_NOT_INSIDE and _inside_both_sides(levelled.box_px, found.box_px))
         and _doubted(levelled) > _doubted(found) + LEVELLED_DOUBTED_MARGIN
+    )
+
+
+def _print_on_face(levelled: Measurement, found: Measurement) -> bool:
+    """Whether ``levelled`` lies on ``found`` as a print on its face: on ``found``'s foot
+    (within ROW_JITTER_PX), both sides and its top inside ``found``'s, each by over
+    ROW_JITTER_PX. A pitch changes a face's metres, not its outline; a smaller outline
+    inside the face on three sides is a print's (a margin of the face round it)."""
+    if levelled.box_px is None or found.box_px is None:
+        return False
+    return (
+        abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
+        and levelled.box_px[1] > found.box_px[1] + ROW_JITTER_PX
+        and _inside_both_sides(levelled.box_px, found.box_px)
     )
 
 
