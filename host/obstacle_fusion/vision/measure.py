@@ -1579,9 +1579,14 @@ class Measurer:
                 or (HELD_BY_MARGIN and face_runs_below(image, found.box_px, grown.box_px))
             )
         )
+        # a found face that leaves the beam's axis out, where the rows read a surer face
+        # on it: the sonar ranges what its axis hits (the obstacle's face, which the
+        # level trials stood on no row of theirs: a camera pitched away from level), the
+        # found face is a patch beside it (a skirting's stretch, a floor mark)
+        beside = ROWS_ON_AXIS and _axis_face_beside(found, grown, u_axis)
         if framed_only:
-            under = lower = False  # a sure face gives way to the face round it alone
-        if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower or held):
+            under = lower = beside = False  # a sure face gives way to the face round it alone
+        if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower or held or beside):
             self._start_rest(small)
             return found
         taller = (grown.height_px or 0.0) >= GROWN_FACTOR * (found.height_px or 0.0)
@@ -1589,7 +1594,7 @@ class Measurer:
         taken = g0 <= (x0 + x1) / 2.0 <= g1 and (taller or wider)  # covers it, and grows
         if not small:  # only the face under it
             taken = under
-        taken = taken or lower or held
+        taken = taken or lower or held or beside
         log.debug(
             "no rig, %s face %s at %.3f; rows as with a rig: %s at %.3f: %s",
             "small" if small else "unsure",
@@ -2079,6 +2084,14 @@ UNDER_MAX_CAMERA_HEIGHT_M = 0.6
 #: by the known-floor pass, +226 %; the low box before it on the axis, 148 px wide, read
 #: by the rows at 0.49). Session 48, branch ``wt-e-48``; a switch for the tests.
 UNDER_ON_AXIS = True
+#: ... and a found face leaving the beam's axis column out gives way to a surer face the
+#: rows read across it, wherever its foot (:func:`_axis_face_beside`): the sonar ranges
+#: what its axis hits, and the obstacle stands across it; the level trials, with a camera
+#: pitched away from level, stood a patch beside it instead (new11 procedural 3520
+#: ordinary: a stretch of the skirting beside a plain box, -78 %; photo 3504 ordinary: a
+#: patch of floor tiles under and beside a green box, -82 %). Session 50, branch
+#: ``wt-d-50``; a switch for the tests.
+ROWS_ON_AXIS = True
 #: ... and the face under is looked for below any unsure face, small or not (a thing
 #: standing behind the obstacle on its top edge: photo 2088 hard, a drum on a poster's
 #: top, +192 %). A switch for the tests.
@@ -2400,6 +2413,13 @@ LEVELLED_DOUBTED_MARGIN = 0.2
 #: frame's face 0.4 % wide with framed_print, the print's 11 columns in on each side, 7.9
 #: -> 13.0 % without this). Session 49, found on the stop's full run; a switch for the tests.
 LEVELLED_NOT_INSIDE = True
+#: ... and a levelled face surer as measured is not taken either where it lies on the
+#: pitch-0 face as a print: on its foot, its sides and top inside the pitch-0 face's, each
+#: by over ROW_JITTER_PX (:func:`_print_on_face`); the pitch-0 face, scaled to the levelled
+#: view, stands (new11 procedural 3525 ordinary: a teal brick print in a pink box's face,
+#: the box at 0.90 level, the print at 0.94 levelled, -17 % wide). Session 50, branch
+#: ``wt-d-50``; a switch for the tests.
+LEVELLED_PRINT_REFUSED = True
 
 #: The pitch estimate is rounded to this many decimals of a degree (the levelled views
 #: built for a stream are keyed by it; 0.05 degrees moves no measurement).
@@ -3111,6 +3131,30 @@ def _top_moves_far_up(found: Measurement, grown: Measurement) -> bool:
     )
 
 
+def _axis_face_beside(found: Measurement, grown: Measurement, u_axis: float) -> bool:
+    """Whether ``grown`` (the rows' face read as with a rig) is the face the sonar ranged
+    and ``found`` a face beside it: ``found``'s columns leave the beam's axis column
+    ``u_axis`` out by more than ROW_JITTER_PX, ``grown``'s take it in by as much, and
+    ``grown`` is surer than ``found`` (raw confidences, both under their own doubts), at
+    least UNDER_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. The sonar ranges what
+    its axis hits; the obstacle stands across it, and a patch the trials stood beside it
+    (a skirting's stretch, a mark on the floor) is not what was ranged."""
+    if found.box_px is None or grown.box_px is None:
+        return False
+    x0, _, x1, _ = found.box_px
+    g0, _, g1, _ = grown.box_px
+    off = x0 - u_axis > ROW_JITTER_PX or u_axis - x1 > ROW_JITTER_PX
+    on = u_axis - g0 > ROW_JITTER_PX and g1 - u_axis > ROW_JITTER_PX
+    conf = grown.confidence or 0.0
+    return (
+        off
+        and on
+        and conf > (found.confidence or 0.0)
+        and conf >= UNDER_SURE
+        and (grown.camera_height_m or math.inf) <= UNDER_MAX_CAMERA_HEIGHT_M
+    )
+
+
 def _on_found(found: Measurement, again: Measurement) -> bool:
     """Whether a second reading ``again`` stands on ``found``'s foot (within AGAIN_FOOT_ROWS)
     between its sides (overlapping the narrower by AGAIN_SIDES_SHARE), doubting its sides
@@ -3698,7 +3742,7 @@ def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
     applied (:func:`_doubted`). The pitch read and ``found``'s foot row give the camera
     height: a levelled face on another foot is not that surface read again."""
     if (levelled.confidence or 0.0) > (found.confidence or 0.0):
-        return True
+        return not (LEVELLED_PRINT_REFUSED and _print_on_face(levelled, found))
     return (
         LEVELLED_LESS_DOUBTED
         and found.box_px is not None
@@ -3706,6 +3750,20 @@ def _levelled_taken(found: Measurement, levelled: Measurement) -> bool:
         and abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
         and not (LEVELLED_NOT_INSIDE and _inside_both_sides(levelled.box_px, found.box_px))
         and _doubted(levelled) > _doubted(found) + LEVELLED_DOUBTED_MARGIN
+    )
+
+
+def _print_on_face(levelled: Measurement, found: Measurement) -> bool:
+    """Whether ``levelled`` lies on ``found`` as a print on its face: on ``found``'s foot
+    (within ROW_JITTER_PX), both sides and its top inside ``found``'s, each by over
+    ROW_JITTER_PX. A pitch changes a face's metres, not its outline; a smaller outline
+    inside the face on three sides is a print's (a margin of the face round it)."""
+    if levelled.box_px is None or found.box_px is None:
+        return False
+    return (
+        abs(levelled.box_px[3] - found.box_px[3]) <= ROW_JITTER_PX
+        and levelled.box_px[1] > found.box_px[1] + ROW_JITTER_PX
+        and _inside_both_sides(levelled.box_px, found.box_px)
     )
 
 
