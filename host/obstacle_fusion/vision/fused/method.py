@@ -21,6 +21,7 @@ import numpy.typing as npt
 
 from obstacle_fusion.vision.fused.confidence import (
     FOOT_ABOVE_SHARE,
+    FOOT_UNSEEN,
     FRAMED,
     PRINT_OUTLINE,
     TOP_FACE_GAP,
@@ -884,7 +885,9 @@ class FusedMethod:
             if found is None:
                 continue
             sides, pairs = found
-            for cand in score_pairs(v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb):
+            for cand in score_pairs(
+                v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb, rig_given and floor_known
+            ):
                 if floor_known and not cand.ul <= u_axis <= cand.ur:
                     # the beam's axis hits what the sonar ranges: of two faces at its
                     # depth (a box and a can beside it), the one on the axis
@@ -1070,6 +1073,8 @@ class FusedMethod:
         doubts = [TOP_FROM_SIDES] if raised < vt or closed else []
         if outlined:
             doubts.append(PRINT_OUTLINE)
+        if best.foot_unseen:
+            doubts.append(FOOT_UNSEEN)  # the rig's contact row stood in for the foot edge
         vt = raised
         # a print on the face with a margin of the face's colour: the face is its frame
         ul, ur, frame_top = enclose_inner_frame(ay, ax3, rb, vt, ul, ur, noise)
