@@ -9,9 +9,10 @@ import numpy as np
 import numpy.typing as npt
 import pytest
 from obstacle_fusion.vision.camera import CameraModel
-from obstacle_fusion.vision.fused import scoring
+from obstacle_fusion.vision.fused import method, scoring
 from obstacle_fusion.vision.fused.confidence import FOOT_UNSEEN
-from obstacle_fusion.vision.fused.scoring import foot_from_rig, pair_passes
+from obstacle_fusion.vision.fused.method import foot_seen_first
+from obstacle_fusion.vision.fused.scoring import Candidate, foot_from_rig, pair_passes
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import Measurement
@@ -97,3 +98,28 @@ def test_photo_3520_a_pink_board_on_a_pink_floor(monkeypatch: pytest.MonkeyPatch
     assert FOOT_UNSEEN in m.doubts and (m.confidence or 0.0) < 0.5
     monkeypatch.setattr(scoring, "FOOT_FROM_RIG", False)
     assert not measured_room("photo", 3520, False)[0].detected
+
+
+def _cand(ul: int, ur: int, rb: int, unseen: bool) -> Candidate:
+    return Candidate(1.0, rb, ul, ur, 100, 0.5, foot_unseen=unseen)
+
+
+@pytest.mark.parametrize("off, kept", [(3, False), (4, True)])
+def test_a_seen_foot_of_the_same_pair_comes_first(off: int, kept: bool) -> None:
+    """Procedural 715 hard (own, rig): the pair on the rig's row 6 rows under its own seen
+    foot gave way to nothing, -11 % wide; a pair within FOOT_SEEN_SIDE_PX (3) of a pair on
+    a seen foot gives way to it."""
+    seen, unseen = _cand(191, 286, 279, False), _cand(191 + off, 286, 285, True)
+    assert (unseen in foot_seen_first([seen, unseen])) is kept
+    assert seen in foot_seen_first([seen, unseen])
+    assert foot_seen_first([unseen]) == [unseen]  # no seen foot: the rig's row stands
+
+
+def test_procedural_715_hard_keeps_its_seen_foot(monkeypatch: pytest.MonkeyPatch) -> None:
+    m, truth = measured_room("procedural", 715, True)
+    assert m.detected and m.width_m is not None, m.reason
+    assert abs(m.width_m / truth["width_m"] - 1) < 0.02
+    monkeypatch.setattr(method, "FOOT_SEEN_FIRST", False)
+    m, truth = measured_room("procedural", 715, True)
+    assert m.detected and m.width_m is not None, m.reason
+    assert abs(m.width_m / truth["width_m"] - 1) > 0.05
