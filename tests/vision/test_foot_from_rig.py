@@ -123,3 +123,17 @@ def test_procedural_715_hard_keeps_its_seen_foot(monkeypatch: pytest.MonkeyPatch
     m, truth = measured_room("procedural", 715, True)
     assert m.detected and m.width_m is not None, m.reason
     assert abs(m.width_m / truth["width_m"] - 1) > 0.05
+
+
+def test_procedural_146_hard_no_rival_on_the_rigs_row(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Own procedural 146 hard (rig, a tape-wrapped face): pairs let in on the rig's row
+    beside the face chosen on its seen foot took its confidence as rivals, and another
+    reading took over at +5.7 % wide; they are no rivals of it. (With the rig check off,
+    as these tests run, the rule off gives a face on the rig's row alone, +3.2 % wide.)"""
+    m, truth = measured_room("procedural", 146, True)
+    assert m.detected and m.width_m is not None, m.reason
+    assert abs(m.width_m / truth["width_m"] - 1) < 0.02 and FOOT_UNSEEN not in m.doubts
+    monkeypatch.setattr(method, "FOOT_SEEN_FIRST", False)
+    m, truth = measured_room("procedural", 146, True)
+    assert m.detected and m.width_m is not None, m.reason
+    assert abs(m.width_m / truth["width_m"] - 1) > 0.025 and FOOT_UNSEEN in m.doubts
