@@ -880,6 +880,9 @@ class FusedMethod:
         beam_half = 0.5 * v.fx * (xb1 - xb0) / depth  # the cone's half-width in columns
         rig_given = rig_known and not self.rig_guessed
         bottoms = bottom_candidates(ay, vb0, tol, r0b, r1b, u_lo, u_hi)
+        # the rows searched are the rig's prediction, not cut short by the view's foot (there
+        # a face's foot is FOOT_AT_VIEW_EDGE's: past the last row searched)
+        foot_known = rig_given and floor_known and math.ceil(vb0 + tol) <= r1b
         best: Candidate | None = None
         cands: list[Candidate] = []
         min_w = min_width_px(v, depth)
@@ -912,7 +915,7 @@ class FusedMethod:
                 continue
             sides, pairs = found
             for cand in score_pairs(
-                v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb, rig_given and floor_known
+                v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb, foot_known
             ):
                 if floor_known and not cand.ul <= u_axis <= cand.ur:
                     # the beam's axis hits what the sonar ranges: of two faces at its
