@@ -202,6 +202,13 @@ TOP_FACE_UNDER_TOP = "top_face_under_top"
 #: than the sonar's range (set by :meth:`FusedMethod._stages`).
 FOOT_ABOVE_CONTACT = "foot_above_contact"
 
+#: With a rig, the face passed the pair gate only with the contact row the rig and the
+#: range predict standing in for a foot edge too faint to see (a face of the floor's own
+#: shade: :data:`~obstacle_fusion.vision.fused.scoring.FOOT_FROM_RIG`): its height rests on
+#: the rig's row alone, unchecked by the image. Photo 3520 ordinary (new11, rig): a pink
+#: board on a pink floor, refused at 0.045 before. Session 50, branch ``wt-e-50``.
+FOOT_UNSEEN = "foot_unseen"
+
 #: The face's top edge and its floor-contact edge both run on past one of its sides, at the
 #: same rows, as lines (FACE_RUNS_ON_LINE times the rows off them: a textured floor or a
 #: photographed background is no line) at FACE_RUNS_ON_SHARE of the face's own strength
@@ -256,6 +263,7 @@ DOUBT_FACTORS: dict[str, float] = {
     FLOOR_IN_FACE: DOUBT_FACTOR,
     TOP_BAND_UNLIKE_FACE: DOUBT_FACTOR,
     FOOT_ABOVE_CONTACT: DOUBT_FACTOR,
+    FOOT_UNSEEN: DOUBT_FACTOR,
     TRIAL_RIVAL: DOUBT_FACTOR,
     TOP_FACE_UNDER_TOP: DOUBT_FACTOR,
     FACE_RUNS_ON: DOUBT_FACTOR,

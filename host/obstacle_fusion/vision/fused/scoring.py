@@ -48,6 +48,24 @@ from obstacle_fusion.vision.types import View
 
 log = logging.getLogger(__name__)
 
+#: With the rig given, the floor-contact row is predicted from the range: a face of the
+#: floor's own shade (a pink board on a pink floor) stands there with no foot edge to see,
+#: and the pair gate (sides times the weaker of top and foot) refused it. Where the sides
+#: are clear (FOOT_FROM_RIG_SIDE noise levels, down to the predicted row) and the face
+#: stands at least FOOT_FROM_RIG_MIN_M tall (a short pair with no foot is a mark on a
+#: print, not a face), the top edge read at FOOT_FROM_RIG_SHARE of its strength stands in
+#: for the foot (its best among the pair's tops scoring FOOT_FROM_RIG_NEAR of the best).
+FOOT_FROM_RIG = True
+FOOT_FROM_RIG_SIDE = 4.0
+FOOT_FROM_RIG_MIN_M = 0.1
+FOOT_FROM_RIG_SHARE = 0.5
+FOOT_FROM_RIG_NEAR = 0.5
+#: The pair gate: each side PAIR_SIDE_MIN noise levels, the weaker of top and foot
+#: PAIR_HORIZ_MIN, their product PAIR_PRODUCT_MIN.
+PAIR_SIDE_MIN = 2.0
+PAIR_HORIZ_MIN = 1.0
+PAIR_PRODUCT_MIN = 6.0
+
 _c_score_tops: Callable[..., int] | None
 try:  # the optional C accelerator (setup.py): score_pairs' top candidates in one call
     from obstacle_fusion.vision.fused._cmiddle import score_tops as _c_score_tops
@@ -125,6 +143,9 @@ class Candidate:
     #: the evidence with the face's texture left out, for a face textured from its foot
     #: up over PRINT_COVERS_FACE of its rows (a print of its own); else the evidence
     print_evidence: float = 0.0
+    #: the pair passed the gate only with the rig's predicted contact row standing in for
+    #: a foot edge too faint to see (FOOT_FROM_RIG)
+    foot_unseen: bool = False
 
     def overlap(self, other: Candidate) -> float:
         """Intersection over union of the two face rectangles."""
@@ -168,6 +189,20 @@ def sides_vertical(view: View, ax: I16, cand: Candidate, fits: VerticalFits | No
 PRINT_COVERS_FACE = 0.8
 
 
+def pair_passes(side: float, horiz: float) -> bool:
+    """The pair gate: clear sides, and a top and foot clear enough beside them."""
+    return side >= PAIR_SIDE_MIN and horiz >= PAIR_HORIZ_MIN and side * horiz >= PAIR_PRODUCT_MIN
+
+
+def foot_from_rig(side: float, horiz: float, top_snr: float, height_m: float) -> float:
+    """The weaker of top and foot for the pair gate where the rig predicts the foot's row
+    (FOOT_FROM_RIG): the top at FOOT_FROM_RIG_SHARE of its strength when the foot edge is
+    too faint but the sides are clear and the face is tall enough; else ``horiz``."""
+    if not FOOT_FROM_RIG or side < FOOT_FROM_RIG_SIDE or height_m < FOOT_FROM_RIG_MIN_M:
+        return horiz
+    return max(horiz, min(top_snr, 30.0) * FOOT_FROM_RIG_SHARE)
+
+
 def score_pairs(
     view: View,
     depth: float,
@@ -179,13 +214,15 @@ def score_pairs(
     noise: float,
     rb: int,
     prior_b: float,
+    foot_known: bool = False,
 ) -> list[Candidate]:
     """Score every (left, right) pair at one floor-contact row, each with its best top.
 
     All pairs' top candidates are scored in one flat pass (pair-major, rows ascending:
     the order a per-pair loop would see them in); the candidates come back in the order
     of ``pairs``. Row sums of integer gradients are exact in float32, so they are the
-    per-pair values bit for bit.
+    per-pair values bit for bit. ``foot_known``: ``rb`` is the contact row the given rig
+    predicts from the range (FOOT_FROM_RIG may then excuse a faint foot edge).
     """
     min_h = max(3, int(view.fy * MIN_SIZE_M / depth))
     top_limit = rb - min_h
@@ -265,7 +302,19 @@ def score_pairs(
         snr_r = float(np.float32(csum_s[rb, b] - csum_s[vt, b]) * inv_h) / noise
         side = min(snr_l, snr_r, 30.0)
         horiz = min(max(float(snr_tops[i]), 2.0 * float(stop[i])), snr_b, 30.0)
-        if side < 2.0 or horiz < 1.0 or side * horiz < 6.0:
+        unseen = False
+        if foot_known and not pair_passes(side, horiz):
+            # the rig's contact row stands in for a foot edge the face's shade hides
+            near = score_t[s0:s1] >= FOOT_FROM_RIG_NEAR * score_t[i]
+            read = foot_from_rig(
+                side, horiz, float(snr_tops[s0:s1][near].max()), (rb - vt) * depth / view.fy
+            )
+            if read != horiz:
+                log.debug(
+                    "pair %d-%d at %d: foot from the rig, %.1f for %.1f", ul, ur, rb, read, horiz
+                )
+                horiz, unseen = read, True
+        if not pair_passes(side, horiz):
             log.debug(
                 "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
             )
@@ -336,6 +385,7 @@ def score_pairs(
                 print_top,
                 clamp(c_ev, 0.0, 1.0),
                 clamp(print_ev, 0.0, 1.0),
+                unseen,
             )
         )
     return cands
