@@ -83,3 +83,22 @@ def test_with_the_switch_off_the_faded_step_refuses_it(monkeypatch: pytest.Monke
 def test_an_edge_under_the_horizon_stays_refused() -> None:
     # one row lower the horizon lies over the edge: a top face's back edge may be there
     assert walk(99.5) == TAPE[1]
+
+
+def test_an_edge_on_the_horizon_row_is_not_over_it() -> None:
+    # the edge (100) on the horizon itself is not over it: refused as before the rule
+    assert walk(100.0) == TAPE[1]
+
+
+def test_the_edge_must_lie_over_a_guessed_pitchs_slack_too() -> None:
+    """A no-rig trial's guessed pitch may put the true horizon ``horizon_slack_px`` rows
+    over ``cy`` (a top face's back edge with it): the edge must lie over that row too."""
+    img = taped_face()
+    grey = img.mean(axis=2)
+    ay = np.zeros(grey.shape, np.float32)
+    ay[1:-1] = np.abs(grey[2:] - grey[:-2])
+    v = view(100.5)
+    v.horizon_slack_px = 1.0  # the true horizon may lie at 99.5: over the edge (100)
+    assert region.raise_top_by_sides(img, v, ay, BOTTOM, TAPE[1], LEFT, RIGHT, DEPTH) == TAPE[1]
+    v.horizon_slack_px = 0.25  # ... at 100.25 at most: under the edge
+    assert region.raise_top_by_sides(img, v, ay, BOTTOM, TAPE[1], LEFT, RIGHT, DEPTH) == FACE_TOP

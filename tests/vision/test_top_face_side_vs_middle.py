@@ -74,3 +74,30 @@ def test_photo_3506_hard_is_measured_on_its_front_top() -> None:
         return float(res.height_m / truth["height_m"] - 1)
 
     assert abs(error()) < 0.02
+
+
+#: the side strips' colour over the middle rows: 7 from the lid's (GREY_FACE + 10, over
+#: TOP_FACE_SIDE_AGREE of its 17.3 step: no one column refuses), 22 from the face's
+SIDES = np.array([110.0, 117.0, 110.0])
+
+
+def _sides_and_middle(off: float) -> npt.NDArray[np.uint8]:
+    """The lid image, its middle rows (130-170) in SIDES from each side to the inner
+    columns (150-190, 310-350) and ``off`` levels (blue) from SIDES between them."""
+    img = _lid_image(GREY_FACE + 10.0)
+    img[130:170, 150:190] = np.round(SIDES)
+    img[130:170, 310:350] = np.round(SIDES)
+    img[130:170, 190:310] = np.round(SIDES + np.array([off, 0.0, 0.0]))
+    return img
+
+
+@pytest.mark.parametrize(("off", "margin"), [(6.0, False), (8.0, True)])
+def test_the_strip_is_weighed_against_the_middle_and_the_band_alike(
+    off: float, margin: bool
+) -> None:
+    """The strips lie 7 from the band: a middle 6 from them is the face the strips read
+    (a stripe across it), a middle 8 from them a print between margins of the band's
+    colour, shaded (the strips' median refuses it; no one column does)."""
+    band = top_face_band(_sides_and_middle(off), LINES)
+    assert band is not None
+    assert (band[0] < TOP_FACE_STEP) is margin

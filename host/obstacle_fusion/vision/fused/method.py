@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import cv2
@@ -115,7 +116,7 @@ from obstacle_fusion.vision.fused.texture import face_from_texture
 from obstacle_fusion.vision.fused.top import front_from_back, front_top
 from obstacle_fusion.vision.fused.tuning import DEFAULT_MIN_CONFIDENCE, MIN_SIZE_M
 from obstacle_fusion.vision.fused.undistort import TableRemap
-from obstacle_fusion.vision.types import Measurement, Timer, Uncovered, View
+from obstacle_fusion.vision.types import Line, Measurement, Timer, Uncovered, View
 
 _c_uncovered: Uncovered | None
 try:  # the optional C accelerator (setup.py): View.lab's held blocks' bookkeeping
@@ -231,6 +232,37 @@ def _front_ends_colour(
 #: (:data:`~obstacle_fusion.vision.fused.confidence.FRONT_STEP_UNDONE`): the top kept may
 #: be a faint top face's back edge. A switch for the tests.
 FRONT_STEP_UNDONE_DOUBT = True
+#: ... kept only where the top measured still lies over the midpoint between the top kept
+#: and the front step undone: a later stage that moved the top down to that step (the top
+#: face's band read to its end, TOP_FACE_TO_FRONT) measured the front top edge, and the
+#: two readings the doubt weighs agree (own photo 2042 ordinary with the rig: the step at
+#: 179 undone under 175, the band's end 178.8 measured, +2.1 %, doubted 0.58 -> 0.26;
+#: session 50's review). A switch for the tests.
+FRONT_STEP_UNDONE_KEPT_TOP = True
+
+
+def _front_step_doubt_stands(
+    v: View, lines: Sequence[Line], undone: tuple[int, int] | None
+) -> bool:
+    """Whether FRONT_STEP_UNDONE still holds for a face measured with ``lines``: its top
+    line (input pixels) lies over the midpoint of ``undone`` (the view rows of the top kept
+    and of the front step undone under it; FRONT_STEP_UNDONE_KEPT_TOP)."""
+    if not FRONT_STEP_UNDONE_KEPT_TOP or undone is None or len(lines) != 4:
+        return True
+    top = lines[1]
+    row = view_row(v, 0.5 * (top[0] + top[2]), 0.5 * (top[1] + top[3]))
+    return row < 0.5 * (undone[0] + undone[1])
+
+
+def _kept_doubts(
+    v: View, doubts: list[str], lines: Sequence[Line], undone: tuple[int, int] | None
+) -> list[str]:
+    """``doubts`` without FRONT_STEP_UNDONE where the top measured left it
+    (:func:`_front_step_doubt_stands`)."""
+    if FRONT_STEP_UNDONE in doubts and not _front_step_doubt_stands(v, lines, undone):
+        return [d for d in doubts if d != FRONT_STEP_UNDONE]
+    return doubts
+
 
 #: The colour rescue's face has its top raised to where its sides end only where the
 #: face's colour is back under that row (region.face_under_raised_top), with the rig.
@@ -1284,6 +1316,7 @@ class FusedMethod:
 
         # the front top edge, then sub-pixel refinement
         found_top = vt
+        undone: tuple[int, int] | None = None  # FRONT_STEP_UNDONE's top kept and step
         # a frame's top is its margin's (the print below it is no top face)
         if framed is None:
             vt, sign = front_top(v, depth, dy, rb, ul, ur, vt, noise, horizon_known=rig_given)
@@ -1302,6 +1335,7 @@ class FusedMethod:
                     # ... or the top kept is a faint top face's back edge (see the doubt)
                     log.debug("top %d: the front step at %d undone by colour", found_top, vt)
                     doubts.append(FRONT_STEP_UNDONE)
+                    undone = (found_top, vt)
                 vt, sign = found_top, (1.0 if int(dy[found_top, ul:ur].sum()) >= 0 else -1.0)
         else:
             sign = 1.0 if int(dy[vt, ul:ur].sum()) >= 0 else -1.0
@@ -1507,7 +1541,9 @@ class FusedMethod:
             measured.lines,
             below_horizon=looks_down_on(v, vt),
         )
-        measured.doubts = [*doubts, *faced, *contact_doubts(rb, vb0, tol)]
+        measured.doubts = _kept_doubts(
+            v, [*doubts, *faced, *contact_doubts(rb, vb0, tol)], measured.lines, undone
+        )
         strip = measured
         if band_rows and measured.height_px is not None:
             # a thin strip carried past a band's edge is weighed as the edges found it
@@ -1536,7 +1572,12 @@ class FusedMethod:
                     regrown.lines,
                     below_horizon=looks_down_on(v, g_top),
                 )
-                regrown.doubts = [*doubts, *faced, *contact_doubts(g_bottom, vb0, tol)]
+                regrown.doubts = _kept_doubts(
+                    v,
+                    [*doubts, *faced, *contact_doubts(g_bottom, vb0, tol)],
+                    regrown.lines,
+                    undone,
+                )
                 return regrown
         return measured
 

@@ -1367,6 +1367,9 @@ HELD_BAND_ROWS_SHARE = 0.9
 #: (nearer the camera's height than the front edge, never over it): an edge over the
 #: horizon is no top face's (photo/3546 hard with the rig: a taped face whose top is
 #: 1 cm over the camera, the walk's end 1 row under the horizon, the edge 2 over it).
+#: Over the horizon the view's ``horizon_slack_px`` allows for too (a no-rig trial's
+#: guessed pitch may put the true horizon that many rows over ``cy``, and a top face's
+#: back edge with it; session 50's review).
 WALK_EDGE_HORIZON = True
 
 
@@ -1428,7 +1431,10 @@ def raise_top_by_sides(
     if k - end <= SNAP_ROWS:
         return top
     snapped = _snap_top_edge(ay, r0, end, k, left + SIDE_SKIP, right - SIDE_SKIP)
-    if r0 + end > view.cy and not (WALK_EDGE_HORIZON and snapped < view.cy):
+    # (the edge over the highest the true horizon may lie: a guessed pitch's horizon may
+    # lie horizon_slack_px rows over cy, and a top face's back edge under it)
+    over = snapped < view.cy - view.horizon_slack_px
+    if r0 + end > view.cy and not (WALK_EDGE_HORIZON and over):
         # below the horizon the lens looks down on the face's top: a top face's colour
         # stands apart from the wall beside it as well, so the walk cannot tell its end
         return top
