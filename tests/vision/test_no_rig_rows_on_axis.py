@@ -12,11 +12,16 @@ and beside it (-82 %), the rows read the box at 0.27.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from obstacle_fusion.vision import measure
-from obstacle_fusion.vision.measure import _axis_face_beside
-from obstacle_fusion.vision.types import Measurement
+from obstacle_fusion.vision.fused.confidence import FRAMED
+from obstacle_fusion.vision.fused.method import FusedMethod
+from obstacle_fusion.vision.measure import Measurer, _axis_face_beside
+from obstacle_fusion.vision.rig import Rig
+from obstacle_fusion.vision.types import Measurement, Timer
 
+from tests.vision.test_rig_source_and_clipping import CAM
 from tests.vision_fixtures import room_size_errors
 
 AXIS = 250.0
@@ -88,3 +93,98 @@ def test_no_box_no_move() -> None:
     found = Measurement(True, "fused", 2.0, confidence=0.1)
     assert not _axis_face_beside(found, _face(GROWN, 0.9), AXIS)
     assert not _axis_face_beside(_face(FOUND, 0.1), Measurement(False, "fused", 2.0), AXIS)
+
+
+def _answer(
+    monkeypatch: pytest.MonkeyPatch,
+    found_box: tuple[float, float, float, float],
+    found_conf: float,
+    grown_conf: float,
+    doubts: tuple[str, ...] = (),
+) -> tuple[float, float, float, float] | None:
+    """The box :meth:`Measurer._grown_small_face` answers for a found face ``found_box``
+    at ``found_conf`` (with ``doubts``) and the rows' face across the beam's axis column
+    (the lens's, no rig: ``CAM.cx``), rows 120-260, at ``grown_conf`` under a lens 0.3 m
+    up (neither under the found face's foot nor holding it)."""
+    axis = CAM.cx
+    grown = Measurement(
+        True,
+        "fused",
+        2.0,
+        height_m=0.5,
+        width_m=0.3,
+        box_px=(axis - 40.0, 120.0, axis + 40.0, 260.0),
+        height_px=140.0,
+        width_px=80.0,
+        confidence=grown_conf,
+        camera_height_m=0.3,
+    )
+    x0, y0, x1, y1 = found_box
+    found = Measurement(
+        True,
+        "fused",
+        2.0,
+        height_m=0.2,
+        width_m=0.2,
+        box_px=found_box,
+        height_px=y1 - y0,
+        width_px=x1 - x0,
+        confidence=found_conf,
+        doubts=list(doubts),
+    )
+    monkeypatch.setattr(Measurer, "_known_rig_rows", lambda self, *a, **k: grown)
+    measurer = Measurer(CAM, None)
+    fused = measurer._method_for(500, 375)
+    assert isinstance(fused, FusedMethod)
+    image = np.zeros((375, 500, 3), np.uint8)
+    return measurer._grown_small_face(fused, found, image, 2.0, Timer()).box_px
+
+
+#: a face left of the axis (its right side 60 columns short), 100 x 100 px: not small
+BESIDE = (CAM.cx - 160.0, 150.0, CAM.cx - 60.0, 250.0)
+
+
+def test_an_unsure_face_beside_the_axis_gives_way(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the rows' face at 0.3 (under GROWN_SURE), on the found face's foot: taken for the
+    # axis alone; not with the rule off, nor when the found face takes the axis in
+    assert _answer(monkeypatch, BESIDE, 0.1, 0.3) != BESIDE
+    on = (CAM.cx - 60.0, 150.0, CAM.cx + 40.0, 250.0)
+    assert _answer(monkeypatch, on, 0.1, 0.3) == on
+    monkeypatch.setattr(measure, "ROWS_ON_AXIS", False)
+    assert _answer(monkeypatch, BESIDE, 0.1, 0.3) == BESIDE
+
+
+def test_a_sure_framed_face_gives_way_to_no_face_beside(monkeypatch: pytest.MonkeyPatch) -> None:
+    # a face read in a margin of another colour, sure (framed_only): it gives way to the
+    # face round it alone (PRINT_HELD_BELOW), never to the axis's face, however surer
+    assert _answer(monkeypatch, BESIDE, 0.6, 0.9, (FRAMED,)) == BESIDE
+
+
+@pytest.mark.parametrize(("gap", "taken"), [(2.0, False), (2.1, True)])
+@pytest.mark.parametrize("side", [-1.0, 1.0])
+def test_the_mounting_unknown_widens_the_axis(gap: float, taken: bool, side: float) -> None:
+    # the found face beside the axis by ROW_JITTER_PX + mount_px (the columns the unknown
+    # mounting may put the axis on) is not beside it; by 0.1 more it is, either side
+    mount = 20.0
+    edge = AXIS + side * (mount + gap)
+    found = (edge - 100.0, 200.0, edge, 260.0) if side < 0 else (edge, 200.0, edge + 100.0, 260.0)
+    assert _axis_face_beside(_face(found, 0.3), _face(GROWN, 0.5), AXIS, mount) is taken
+
+
+def test_no_rig_a_face_beside_rigs_axis_by_less_than_the_mounting_stays(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # with no rig the sonar may sit BEAM_MOUNT_ALLOWANCE_M either side of the lens: a
+    # face whose right side is 2.1 columns short of the lens's axis may stand on the
+    # sonar's axis, and stays; one 2.1 columns short of every column the axis may stand
+    # on gives way, one 1.9 short stays
+    mount = CAM.fx * measure.BEAM_MOUNT_ALLOWANCE_M / Rig().face_depth(2.0)
+    assert mount > 10.0
+    near = (CAM.cx - 102.1, 150.0, CAM.cx - 2.1, 250.0)
+    assert _answer(monkeypatch, near, 0.1, 0.3) == near
+    edge = CAM.cx - mount - 2.1
+    far = (edge - 100.0, 150.0, edge, 250.0)
+    assert _answer(monkeypatch, far, 0.1, 0.3) != far
+    edge = CAM.cx - mount - 1.9
+    close = (edge - 100.0, 150.0, edge, 250.0)
+    assert _answer(monkeypatch, close, 0.1, 0.3) == close

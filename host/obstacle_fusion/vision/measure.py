@@ -1529,7 +1529,8 @@ class Measurer:
         # image's foot stood a face under a lens 1.1 m up, 237 % off)
         # (UNDER_ON_AXIS: or, not spanning them, covering the beam's axis column while
         # the found face is not small: the sonar ranges the nearest surface on its axis)
-        u_axis = _axis_column(fused.view, self.rig, self.rig.face_depth(range_m))
+        depth = self.rig.face_depth(range_m)
+        u_axis = _axis_column(fused.view, self.rig, depth)
         under = (
             SMALL_FACE_UNDER
             and gy0 >= y1
@@ -1583,7 +1584,10 @@ class Measurer:
         # on it: the sonar ranges what its axis hits (the obstacle's face, which the
         # level trials stood on no row of theirs: a camera pitched away from level), the
         # found face is a patch beside it (a skirting's stretch, a floor mark)
-        beside = ROWS_ON_AXIS and _axis_face_beside(found, grown, u_axis)
+        # (with the sonar's mounting unknown, the found face leaves out every column the
+        # axis may stand on: Rig()'s axis widened by BEAM_MOUNT_ALLOWANCE_M each side)
+        mount_px = fused.view.camera.fx * self._allowance() / depth
+        beside = ROWS_ON_AXIS and _axis_face_beside(found, grown, u_axis, mount_px)
         if framed_only:
             under = lower = beside = False  # a sure face gives way to the face round it alone
         if (grown.confidence or 0.0) < GROWN_SURE and not (under or lower or held or beside):
@@ -3131,10 +3135,15 @@ def _top_moves_far_up(found: Measurement, grown: Measurement) -> bool:
     )
 
 
-def _axis_face_beside(found: Measurement, grown: Measurement, u_axis: float) -> bool:
+def _axis_face_beside(
+    found: Measurement, grown: Measurement, u_axis: float, mount_px: float = 0.0
+) -> bool:
     """Whether ``grown`` (the rows' face read as with a rig) is the face the sonar ranged
     and ``found`` a face beside it: ``found``'s columns leave the beam's axis column
-    ``u_axis`` out by more than ROW_JITTER_PX, ``grown``'s take it in by as much, and
+    ``u_axis`` out by more than ROW_JITTER_PX + ``mount_px`` (the columns the axis may
+    stand on with the sonar's mounting unknown, BEAM_MOUNT_ALLOWANCE_M at the face's depth:
+    a face beside Rig()'s axis by less may be on the sonar's), ``grown``'s take ``u_axis``
+    in by more than ROW_JITTER_PX, and
     ``grown`` is surer than ``found`` (raw confidences, both under their own doubts), at
     least UNDER_SURE, its lens at most UNDER_MAX_CAMERA_HEIGHT_M up. The sonar ranges what
     its axis hits; the obstacle stands across it, and a patch the trials stood beside it
@@ -3143,7 +3152,7 @@ def _axis_face_beside(found: Measurement, grown: Measurement, u_axis: float) -> 
         return False
     x0, _, x1, _ = found.box_px
     g0, _, g1, _ = grown.box_px
-    off = x0 - u_axis > ROW_JITTER_PX or u_axis - x1 > ROW_JITTER_PX
+    off = x0 - u_axis > ROW_JITTER_PX + mount_px or u_axis - x1 > ROW_JITTER_PX + mount_px
     on = u_axis - g0 > ROW_JITTER_PX and g1 - u_axis > ROW_JITTER_PX
     conf = grown.confidence or 0.0
     return (
