@@ -12,7 +12,14 @@ from obstacle_fusion.vision.camera import CameraModel
 from obstacle_fusion.vision.fused import method, scoring
 from obstacle_fusion.vision.fused.confidence import FOOT_UNSEEN
 from obstacle_fusion.vision.fused.method import foot_seen_first
-from obstacle_fusion.vision.fused.scoring import Candidate, foot_from_rig, pair_passes
+from obstacle_fusion.vision.fused.scoring import (
+    Candidate,
+    foot_from_rig,
+    foot_stand_in,
+    near_top_snr,
+    on_rigs_row,
+    pair_passes,
+)
 from obstacle_fusion.vision.measure import Measurer
 from obstacle_fusion.vision.rig import Rig
 from obstacle_fusion.vision.types import Measurement
@@ -88,6 +95,81 @@ def test_the_rule_never_weakens_a_horizontal_term() -> None:
     assert foot_from_rig(5.0, 3.0, 2.0, 0.5) == 3.0
 
 
+@pytest.mark.parametrize(
+    "top, foot, read, unseen",
+    [
+        (1.2, 0.5, 10.0, True),  # the foot alone fails the gate (5 x 1.2 = 6): it stands in
+        (1.19, 0.5, 0.5, False),  # the top fails it too: no clear face, nothing stands in
+        (1.0, 10.0, 1.0, False),  # a faint top on a seen foot is not let in
+        (2.0, 1.2, 1.2, False),  # the pair passes: nothing to stand in for
+    ],
+)
+def test_only_a_missing_foot_is_stood_in_for(
+    top: float, foot: float, read: float, unseen: bool
+) -> None:
+    """The sides 5 noise levels, the pair's tops at most 20 (half: 10), 0.5 m tall."""
+    assert foot_stand_in(5.0, top, foot, 20.0, 0.5) == (read, unseen)
+
+
+@pytest.mark.parametrize(
+    "score, snr",
+    [
+        (0.5, 8.0),  # a top scoring FOOT_FROM_RIG_NEAR (0.5) of the best is read ...
+        (0.49, 2.0),  # ... one scoring less is not: the best's own strength
+    ],
+)
+def test_the_top_read_is_the_strongest_near_the_best(score: float, snr: float) -> None:
+    scores = np.array([1.0, score, 0.1], np.float64)
+    snrs = np.array([2.0, 8.0, 20.0], np.float32)
+    assert near_top_snr(scores, snrs) == snr
+    assert near_top_snr(np.zeros(0), np.zeros(0)) == 0.0  # no tops: nothing stands in
+
+
+@pytest.mark.parametrize(
+    "off, on",
+    [(2.5, True), (-2.5, True), (2.51, False), (-2.51, False), (0.0, True)],
+)
+def test_the_rigs_row_is_within_half_the_band(off: float, on: bool) -> None:
+    """FOOT_FROM_RIG_ROW (0.5) of the band's half-height (here 5 rows) about the row the
+    rig predicts: 2.5 rows either side."""
+    assert on_rigs_row(100, 100 + off, 5.0) is on
+
+
+def test_no_stand_in_with_no_rig() -> None:
+    """With no rig given the contact row is only tried: nothing stands in for a foot
+    (photo 3520 ordinary, no rig: the rule's row, not the rig's, would stand in)."""
+    m, _ = measured_room("photo", 3520, False, with_rig=False)
+    assert m.detected and FOOT_UNSEEN not in m.doubts
+
+
+def test_no_stand_in_where_the_view_cuts_the_band(monkeypatch: pytest.MonkeyPatch) -> None:
+    """New6 procedural 3253 ordinary (rig, FOOT_AT_VIEW_EDGE's room): the rig's row (379)
+    lies past the rows searched (366-371, cut short by the view's foot); the rows searched
+    stand in for no foot, even with FOOT_FROM_RIG_ROW widened to the whole band (with it,
+    h -3.0 % under 0.05, doubt foot_unseen)."""
+    monkeypatch.setattr(scoring, "FOOT_FROM_RIG_ROW", 2.0)
+    m, truth = measured_room("procedural", 3253, False)
+    assert m.detected and m.height_m is not None, m.reason
+    assert abs(m.height_m / truth["height_m"] - 1) < 0.01 and FOOT_UNSEEN not in m.doubts
+
+
+@pytest.mark.parametrize("seed", [741, 3113])
+def test_photo_hard_no_stand_in_off_the_rigs_row(
+    monkeypatch: pytest.MonkeyPatch, seed: int
+) -> None:
+    """Own photo 741 hard (rig, a panelled box on gravel, its foot faint at 239-240, the
+    rig's row 239.1, the band 5.4 rows each way): a pair let in on row 235 stood in for it
+    4 rows up inside the face, h -0.2 -> +5.6 %; new3 photo 3113 hard (rig): a pair on row
+    232 for 236.0 (band 4.7), h -0.8 -> -16.7 % (review j, session 50)."""
+    m, truth = measured_room("photo", seed, True)
+    assert m.detected and m.height_m is not None, m.reason
+    assert abs(m.height_m / truth["height_m"] - 1) < 0.01 and FOOT_UNSEEN not in m.doubts
+    monkeypatch.setattr(scoring, "FOOT_FROM_RIG_ROW", 2.0)  # the whole band
+    m, truth = measured_room("photo", seed, True)
+    assert m.detected and m.height_m is not None, m.reason
+    assert abs(m.height_m / truth["height_m"] - 1) > 0.04 and FOOT_UNSEEN in m.doubts
+
+
 def test_photo_3520_a_pink_board_on_a_pink_floor(monkeypatch: pytest.MonkeyPatch) -> None:
     """New11 photo 3520 ordinary with the rig: the board's foot 2 grey levels off the floor,
     refused at 0.045 before; found within 2 %, unsure."""
@@ -116,6 +198,9 @@ def test_a_seen_foot_of_the_same_pair_comes_first(off: int, kept: bool) -> None:
 
 
 def test_procedural_715_hard_keeps_its_seen_foot(monkeypatch: pytest.MonkeyPatch) -> None:
+    """(Its stand-in lies off the rig's row: FOOT_FROM_RIG_ROW alone refuses it too; the
+    test widens the row to the whole band to try FOOT_SEEN_FIRST.)"""
+    monkeypatch.setattr(scoring, "FOOT_FROM_RIG_ROW", 2.0)
     m, truth = measured_room("procedural", 715, True)
     assert m.detected and m.width_m is not None, m.reason
     assert abs(m.width_m / truth["width_m"] - 1) < 0.02
@@ -129,7 +214,10 @@ def test_procedural_146_hard_no_rival_on_the_rigs_row(monkeypatch: pytest.Monkey
     """Own procedural 146 hard (rig, a tape-wrapped face): pairs let in on the rig's row
     beside the face chosen on its seen foot took its confidence as rivals, and another
     reading took over at +5.7 % wide; they are no rivals of it. (With the rig check off,
-    as these tests run, the rule off gives a face on the rig's row alone, +3.2 % wide.)"""
+    as these tests run, the rule off gives a face on the rig's row alone, +3.2 % wide.)
+    Its stand-ins lie off the rig's row (FOOT_FROM_RIG_ROW refuses them too): the test
+    widens the row to the whole band to try FOOT_SEEN_FIRST."""
+    monkeypatch.setattr(scoring, "FOOT_FROM_RIG_ROW", 2.0)
     m, truth = measured_room("procedural", 146, True)
     assert m.detected and m.width_m is not None, m.reason
     assert abs(m.width_m / truth["width_m"] - 1) < 0.02 and FOOT_UNSEEN not in m.doubts

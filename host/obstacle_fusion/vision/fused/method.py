@@ -103,6 +103,7 @@ from obstacle_fusion.vision.fused.scoring import (
     edge_cover,
     enclosing_outline,
     nested,
+    on_rigs_row,
     score_pairs,
     verified,
 )
@@ -956,7 +957,17 @@ class FusedMethod:
                 continue
             sides, pairs = found
             for cand in score_pairs(
-                v, depth, roi, ax3, ay, sides, pairs, noise, rb, pb, foot_known
+                v,
+                depth,
+                roi,
+                ax3,
+                ay,
+                sides,
+                pairs,
+                noise,
+                rb,
+                pb,
+                foot_known and on_rigs_row(rb, vb0, tol),
             ):
                 if floor_known and not cand.ul <= u_axis <= cand.ur:
                     # the beam's axis hits what the sonar ranges: of two faces at its

@@ -60,6 +60,14 @@ FOOT_FROM_RIG_SIDE = 4.0
 FOOT_FROM_RIG_MIN_M = 0.1
 FOOT_FROM_RIG_SHARE = 0.5
 FOOT_FROM_RIG_NEAR = 0.5
+#: ... and only on a row within FOOT_FROM_RIG_ROW of the band's half-height of the row the
+#: rig predicts (the bottoms' prior >= 0.8; a row next to the predicted one is always
+#: tried): a row further off stands in for a foot the rig does not predict. Own photo 741
+#: hard (rig, panels on gravel): its faint foot at 239-240, the rig's at 239.1; the pair
+#: let in on row 235 (4.1 rows off, 5.4 the half-height), 4 rows up inside the face, went
+#: h -0.2 -> +5.6 % at 0.273 -> 0.083; new3 photo 3113 hard (rig): row 232 for 236.0,
+#: h -0.8 -> -16.7 % (review j, session 50).
+FOOT_FROM_RIG_ROW = 0.5
 #: The pair gate: each side PAIR_SIDE_MIN noise levels, the weaker of top and foot
 #: PAIR_HORIZ_MIN, their product PAIR_PRODUCT_MIN.
 PAIR_SIDE_MIN = 2.0
@@ -203,6 +211,38 @@ def foot_from_rig(side: float, horiz: float, top_snr: float, height_m: float) ->
     return max(horiz, min(top_snr, 30.0) * FOOT_FROM_RIG_SHARE)
 
 
+def foot_stand_in(
+    side: float, top_term: float, foot: float, near: float, height_m: float
+) -> tuple[float, bool]:
+    """The weaker of top and foot for the pair gate, the foot from the rig where only the
+    foot fails the gate (FOOT_FROM_RIG: :func:`foot_from_rig` with the top ``near``), and
+    whether it stood in. Where the top term (``top_term``) fails the gate on its own, the
+    pair is no clear face whatever its foot: nothing stands in (review j, session 50:
+    before, a faint top on a seen foot was let in on another top's strength, its doubt
+    ``foot_unseen``)."""
+    horiz = min(top_term, foot)
+    if pair_passes(side, horiz) or not pair_passes(side, top_term):
+        return horiz, False
+    read = foot_from_rig(side, horiz, near, height_m)
+    return read, read != horiz
+
+
+def near_top_snr(scores: npt.NDArray[Any], snrs: npt.NDArray[Any]) -> float:
+    """The strongest of a pair's tops (``snrs``) among those scoring at least
+    FOOT_FROM_RIG_NEAR of its best score (``scores``): the top the score chose may be a
+    faint line above the face (FOOT_FROM_RIG); 0 when none (no tops)."""
+    if scores.size == 0:
+        return 0.0
+    near = scores >= FOOT_FROM_RIG_NEAR * scores.max()
+    return float(snrs[near].max()) if near.any() else 0.0
+
+
+def on_rigs_row(rb: int, vb0: float, tol: float) -> bool:
+    """Whether the floor-contact row ``rb`` is the rig's for FOOT_FROM_RIG: within
+    FOOT_FROM_RIG_ROW of the band's half-height ``tol`` of the predicted row ``vb0``."""
+    return abs(rb - vb0) <= FOOT_FROM_RIG_ROW * tol
+
+
 def score_pairs(
     view: View,
     depth: float,
@@ -301,19 +341,23 @@ def score_pairs(
         snr_l = float(np.float32(csum_s[rb, a] - csum_s[vt, a]) * inv_h) / noise
         snr_r = float(np.float32(csum_s[rb, b] - csum_s[vt, b]) * inv_h) / noise
         side = min(snr_l, snr_r, 30.0)
-        horiz = min(max(float(snr_tops[i]), 2.0 * float(stop[i])), snr_b, 30.0)
+        top_term = min(max(float(snr_tops[i]), 2.0 * float(stop[i])), 30.0)
+        horiz = min(top_term, snr_b)
         unseen = False
         if foot_known and not pair_passes(side, horiz):
             # the rig's contact row stands in for a foot edge the face's shade hides
-            near = score_t[s0:s1] >= FOOT_FROM_RIG_NEAR * score_t[i]
-            read = foot_from_rig(
-                side, horiz, float(snr_tops[s0:s1][near].max()), (rb - vt) * depth / view.fy
+            read, unseen = foot_stand_in(
+                side,
+                top_term,
+                snr_b,
+                near_top_snr(score_t[s0:s1], snr_tops[s0:s1]),
+                (rb - vt) * depth / view.fy,
             )
-            if read != horiz:
+            if unseen:
                 log.debug(
                     "pair %d-%d at %d: foot from the rig, %.1f for %.1f", ul, ur, rb, read, horiz
                 )
-                horiz, unseen = read, True
+                horiz = read
         if not pair_passes(side, horiz):
             log.debug(
                 "pair %d-%d at %d: weak sides %.1f or top/bottom %.1f", ul, ur, rb, side, horiz
