@@ -83,11 +83,17 @@ def _run_end(edge: npt.NDArray[np.float32], start: int, step: int, level: float)
 
 def _snap(ax: npt.NDArray[np.int16], top: int, bottom: int, column: int) -> tuple[int, float]:
     """The column within SNAP of ``column`` whose |d/dx| is strongest over the face's rows:
-    (column, that mean)."""
+    (column, that mean). The middle of the strongest columns (rounded up): the 1x3
+    dilation makes an edge a plateau, whose first column (argmax's) lay one column left
+    of the edge, out past a left side, in from a right one (the sides' convention: the
+    left the face's first column, the right the first past it)."""
     lo, hi = max(column - SNAP, 0), min(column + SNAP + 1, ax.shape[1])
     means = ax[top:bottom, lo:hi].astype(np.float32).mean(axis=0)
     best = int(np.argmax(means))
-    return lo + best, float(means[best])
+    last = best
+    while last + 1 < means.size and means[last + 1] >= means[best]:
+        last += 1
+    return lo + (best + last + 1) // 2, float(means[best])
 
 
 def _face_grain(ax: npt.NDArray[np.int16], top: int, bottom: int, inner: slice) -> float:
@@ -98,11 +104,15 @@ def _face_grain(ax: npt.NDArray[np.int16], top: int, bottom: int, inner: slice) 
 def _strip(
     image: npt.NDArray[Any], view: View, r0: int, r1: int, c0: int, c1: int
 ) -> npt.NDArray[np.float32] | None:
-    """The median Lab colour of rows r0..r1-1, columns c0..c1-1 (None when empty, or
-    off the view: a strip past a corner at the view's edge is not there to read)."""
+    """The median Lab colour of rows r0..r1-1, columns c0..c1-1 in the view (None when
+    empty, or off the view: a strip past a corner at the view's edge is not there to
+    read; one running off either edge reads its columns in view)."""
     h, w = view.out.shape
-    r1, c1 = min(r1, h), min(c1, w)
-    if r0 < 0 or r1 <= r0 or c1 <= c0 or c0 < 0:
+    # (clipped at both ends: a negative start once read nothing at the left edge, where
+    # the right edge read the columns in view, so a corner 4-11 columns from the left
+    # edge was never taken, one as near the right edge was)
+    r0, r1, c0, c1 = max(r0, 0), min(r1, h), max(c0, 0), min(c1, w)
+    if r1 <= r0 or c1 <= c0:
         return None
     lab = view.lab(image, r0, r1, c0, c1, 1)
     return np.asarray(np.median(lab.reshape(-1, 3).astype(np.float32), axis=0), np.float32)
